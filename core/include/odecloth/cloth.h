@@ -1,0 +1,266 @@
+/*
+ * odecloth core: plastic cloth of Oh, Jung, Song, Lee (2006), pure C11.
+ *
+ * A grid of R x C particles joined by
+ *   - sequential links (8 immediate neighbours): tension k_t, compression k_c;
+ *   - interlaced links (8 skip-one neighbours): bending k_b, plastic past the
+ *     yield ratio alpha, spreading stiffness k_s.
+ * Stepped by backward Euler + Baraff-Witkin modified PCG (default), explicit
+ * Euler, symplectic Euler or BDF2.
+ *
+ * Conventions: SI units (m, kg, s, N); double throughout; descriptors with
+ * defaults (cloth_default_desc()); errors are values (cloth_status + message);
+ * the library never prints, aborts or exits; a call that fails leaves its
+ * object unchanged.
+ */
+#ifndef ODECLOTH_CLOTH_H
+#define ODECLOTH_CLOTH_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define ODECLOTH_VERSION_MAJOR 0
+#define ODECLOTH_VERSION_MINOR 1
+#define ODECLOTH_VERSION_PATCH 0
+
+/* "0.1.0" */
+const char *cloth_version(void);
+
+/* ------------------------------------------------------------------ errors */
+
+typedef enum cloth_status {
+    CLOTH_OK = 0,
+    CLOTH_EINVAL,  /* a bad argument: NULL, NaN/inf, out of range      */
+    CLOTH_ENOMEM,  /* allocation failed or size overflows              */
+    CLOTH_ESTEP    /* the step failed and was rolled back (see stats)  */
+} cloth_status;
+
+/* Short name of a status ("invalid argument", ...). Never NULL. */
+const char *cloth_status_string(cloth_status s);
+
+/* Where create functions put a readable message; may be NULL. */
+typedef struct cloth_error {
+    cloth_status code;
+    char message[256];
+} cloth_error;
+
+/* --------------------------------------------------------------- material */
+
+typedef enum cloth_preset {
+    CLOTH_COTTON = 0, /* Table 1: delta 0.03, alpha 0.8, k_s 10  */
+    CLOTH_WOOL,       /* Table 1: delta 0.10, alpha 0.1, k_s 0.1 */
+    CLOTH_ELASTIC     /* cotton with alpha = 0: never plastic    */
+} cloth_preset;
+
+typedef struct cloth_material {
+    double k_t;      /* N/m     sequential link stiffness in tension (d >= l0)     */
+    double k_c;      /* N/m     sequential link stiffness in compression (d < l0)   */
+    double k_b;      /* N/m     interlaced link bending stiffness                  */
+    double k_s;      /* N/m     spreading stiffness: resists unbending a crease    */
+    double alpha;    /* 1       plastic yield ratio d/l0, in [0, 1]; 0 = elastic   */
+    double delta;    /* 1       elongation limit: sequential links stretch <= delta */
+    double c_t;      /* N s/m   damping along sequential links                     */
+    double c_b;      /* N s/m   damping along interlaced links                     */
+    double density;  /* kg/m^2  areal density                                      */
+} cloth_material;
+
+/* A preset's values; an unknown preset gives cotton. */
+cloth_material cloth_material_preset(cloth_preset p);
+/* CLOTH_OK or CLOTH_EINVAL with a message in err (may be NULL). */
+cloth_status cloth_material_validate(const cloth_material *m, cloth_error *err);
+
+/* ----------------------------------------------------------------- solver */
+
+typedef enum cloth_method {
+    CLOTH_BACKWARD_EULER = 0, /* implicit, eq. 21, modified PCG (default) */
+    CLOTH_EXPLICIT_EULER,     /* forward Euler                             */
+    CLOTH_SYMPLECTIC_EULER,   /* semi-implicit: v first, then x            */
+    CLOTH_BDF2                /* 2nd-order backward differences, MPCG      */
+} cloth_method;
+
+typedef enum cloth_precond {
+    CLOTH_PRECOND_BLOCK_JACOBI = 0, /* inverse 3x3 diagonal blocks (default) */
+    CLOTH_PRECOND_JACOBI            /* inverse scalar diagonal (Baraff-Witkin) */
+} cloth_precond;
+
+typedef struct cloth_solver {
+    cloth_method method;
+    cloth_precond precond;
+    /* Stop when |S r|_P <= cg_tolerance |S (b - A z)|_P, where |y|_P^2 =
+     * y^T P^-1 y is the preconditioner-weighted norm and S the constraint
+     * filter (the reduced system's relative residual). */
+    double cg_tolerance;          /* 1, in (0, 1)                         */
+    int cg_max_iterations;        /* >= 1; reaching it fails the step     */
+    int definiteness_rule;        /* 1: compressed links keep only k uu^T (paper sec. 3.2) */
+    int warm_start;               /* 1: start CG from last step's dv in free directions */
+    int strain_limit_iterations;  /* Provot passes after a step; 0 = off  */
+    double strain_fail;           /* 1, a step whose max sequential strain
+                                     exceeds this after limiting fails    */
+} cloth_solver;
+
+cloth_status cloth_solver_validate(const cloth_solver *s, cloth_error *err);
+
+/* ------------------------------------------------------------------ cloth */
+
+typedef struct cloth_desc {
+    int rows, cols;        /* nodes along axis_v and axis_u; each >= 3          */
+    double width, height;  /* m, extent along axis_u (cols) and axis_v (rows)   */
+    double origin[3];      /* m, rest position of node (0, 0)                   */
+    double axis_u[3];      /* direction of increasing column (normalised)       */
+    double axis_v[3];      /* direction of increasing row (made orthogonal to u) */
+    double gravity[3];     /* m/s^2                                             */
+    cloth_material material;
+    cloth_solver solver;
+} cloth_desc;
+
+/* 21 x 21 nodes, 1 m x 1 m, horizontal (xy plane) at z = 1 centred on the z
+ * axis, gravity (0, 0, -9.81), cotton, backward Euler + block-Jacobi MPCG. */
+cloth_desc cloth_default_desc(void);
+cloth_status cloth_desc_validate(const cloth_desc *d, cloth_error *err);
+
+typedef struct cloth cloth;
+
+/* Node (r, c) has index r * cols + c. On failure *out is NULL and err says why. */
+cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err);
+void cloth_destroy(cloth *c); /* NULL is fine */
+
+/* The message of the last failing call on this cloth ("" if none). */
+const char *cloth_last_error(const cloth *c);
+
+int cloth_rows(const cloth *c);
+int cloth_cols(const cloth *c);
+int cloth_vertex_count(const cloth *c);
+cloth_desc cloth_get_desc(const cloth *c); /* material, solver, gravity as now set */
+
+/* Read-only arrays of 3 * vertex_count doubles, valid until the cloth is destroyed. */
+const double *cloth_positions(const cloth *c);  /* m   */
+const double *cloth_velocities(const cloth *c); /* m/s */
+const double *cloth_masses(const cloth *c);     /* kg, one per vertex */
+
+/* Set all positions / velocities (3 * vertex_count doubles, all finite). */
+cloth_status cloth_set_positions(cloth *c, const double *x);
+cloth_status cloth_set_velocities(cloth *c, const double *v);
+cloth_status cloth_set_vertex(cloth *c, int vertex, const double x[3], const double v[3]);
+
+/* Change parameters after creation (the topology, rest lengths and masses stay). */
+cloth_status cloth_set_material(cloth *c, const cloth_material *m); /* masses unchanged */
+cloth_status cloth_set_solver(cloth *c, const cloth_solver *s);
+cloth_status cloth_set_gravity(cloth *c, const double g[3]);
+
+/* ------------------------------------------------------------------ links */
+
+typedef enum cloth_link_type {
+    CLOTH_SEQUENTIAL = 0, /* 8 immediate neighbours      */
+    CLOTH_INTERLACED = 1  /* 8 skip-one neighbours (bend) */
+} cloth_link_type;
+
+typedef struct cloth_link {
+    int i, j;         /* vertex indices, i < j                 */
+    double rest;      /* m, l0                                 */
+    int plastic;      /* interlaced only: 1 in the plastic region */
+    double l1;        /* m, plastic rest length (valid when plastic) */
+} cloth_link;
+
+int cloth_link_count(const cloth *c, cloth_link_type t);
+cloth_status cloth_get_link(const cloth *c, cloth_link_type t, int index, cloth_link *out);
+
+/* Apply the plastic rule (paper eq. 8-12) to the current positions; the step
+ * does this after every step. Returns the number of plastic links. */
+int cloth_update_plastic(cloth *c);
+
+/* ------------------------------------------------------ forces and energy */
+
+typedef struct cloth_energy {
+    double elastic;       /* J, springs (sequential + interlaced)    */
+    double kinetic;       /* J                                        */
+    double gravitational; /* J, -sum m g . x                          */
+} cloth_energy;
+
+cloth_energy cloth_energies(const cloth *c);
+
+/* Internal spring + damping forces (no gravity), 3 * vertex_count doubles. */
+cloth_status cloth_internal_forces(const cloth *c, double *f);
+
+/* Largest (d - l0) / l0 over sequential links. */
+double cloth_max_strain(const cloth *c);
+
+/* ------------------------------------------------------------ constraints */
+
+/* A velocity constraint on one vertex (Baraff-Witkin 1998 sec. 5): after the
+ * step the vertex's position, along the constrained directions, equals those
+ * components of `target`. The core turns this into a target velocity
+ * ((target - x) / h for backward Euler) held exactly by the filtered CG.
+ *   ndof 3: pin (axis ignored)
+ *   ndof 1: plane, axis = normal (the one constrained direction)
+ *   ndof 2: line,  axis = the line's direction (the one free direction)
+ * A moving pin: set a new target before every step. */
+typedef struct cloth_constraint {
+    int vertex;
+    int ndof;          /* 1, 2 or 3; 0 = free */
+    double axis[3];    /* unit vector (normalised on set)  */
+    double target[3];  /* m, end-of-step position          */
+} cloth_constraint;
+
+/* One constraint per vertex; setting replaces the vertex's constraint. */
+cloth_status cloth_set_constraint(cloth *c, const cloth_constraint *k);
+cloth_status cloth_pin(cloth *c, int vertex, const double target[3]);
+cloth_status cloth_release(cloth *c, int vertex);
+void cloth_release_all(cloth *c);
+cloth_status cloth_get_constraint(const cloth *c, int vertex, cloth_constraint *out);
+int cloth_constraint_count(const cloth *c);
+
+/* Force (N) the vertex's constraint exerted on it, averaged over the last
+ * step (Baraff-Witkin: from the solve's residual). Zero if unconstrained. */
+cloth_status cloth_constraint_force(const cloth *c, int vertex, double f[3]);
+
+/* ------------------------------------------------------------------- step */
+
+typedef enum cloth_failure {
+    CLOTH_FAIL_NONE = 0,
+    CLOTH_FAIL_NAN,            /* NaN or inf appeared                      */
+    CLOTH_FAIL_CG_MAX_ITER,    /* CG hit its iteration cap unconverged     */
+    CLOTH_FAIL_CG_INDEFINITE,  /* CG met p^T A p <= 0 (non-positive curvature) */
+    CLOTH_FAIL_STRAIN,         /* strain past solver.strain_fail           */
+    CLOTH_FAIL_BAD_STEP        /* h not finite or <= 0                     */
+} cloth_failure;
+
+const char *cloth_failure_string(cloth_failure f);
+
+typedef struct cloth_step_stats {
+    cloth_method method;
+    cloth_failure failure;
+    int iterations;        /* CG iterations (0 for explicit methods)  */
+    double residual;       /* final relative residual (solver norm)   */
+    cloth_energy energy;   /* after the step (before it, if it failed) */
+    double max_strain;     /* after strain limiting                    */
+    int plastic_links;
+    int constrained;       /* constrained vertices                    */
+    int strain_limited;    /* sequential links corrected by the limit  */
+} cloth_step_stats;
+
+/* Advance by h seconds. On failure the state is exactly as before the call,
+ * the return is CLOTH_ESTEP and stats->failure says why. stats may be NULL. */
+cloth_status cloth_step(cloth *c, double h, cloth_step_stats *stats);
+const cloth_step_stats *cloth_last_stats(const cloth *c);
+
+/* ------------------------------------------------------------------ state */
+
+/* Positions, velocities, plastic state, and what BDF2 and warm starting carry
+ * between steps: everything that evolves. Constraints are not state. */
+typedef struct cloth_state cloth_state;
+
+cloth_state *cloth_state_create(const cloth *c); /* NULL on no memory */
+void cloth_state_destroy(cloth_state *s);
+cloth_status cloth_save(const cloth *c, cloth_state *s);
+cloth_status cloth_restore(cloth *c, const cloth_state *s); /* sizes must match */
+/* Largest absolute difference of positions, velocities and l1, plus 1 for
+ * any plastic flag that differs; 0 means identical. Negative if sizes differ. */
+double cloth_state_diff(const cloth_state *a, const cloth_state *b);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

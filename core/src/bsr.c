@@ -1,0 +1,118 @@
+/* Block-CSR matrix of 3x3 blocks with a pattern fixed at creation. */
+#include <stdlib.h>
+#include <string.h>
+#include "bsr.h"
+
+void bsr_free(bsr *A)
+{
+    free(A->row_ptr);
+    free(A->col);
+    free(A->diag);
+    free(A->val);
+    memset(A, 0, sizeof *A);
+}
+
+static int cmp_int(const void *a, const void *b)
+{
+    int x = *(const int *)a, y = *(const int *)b;
+    return (x > y) - (x < y);
+}
+
+/* Index of block (i, j), or -1. Rows are short (<= 17 blocks for a cloth),
+ * so a linear scan is as fast as a bisection. */
+static int find_block(const bsr *A, int i, int j)
+{
+    for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++)
+        if (A->col[k] == j) return k;
+    return -1;
+}
+
+int bsr_build(bsr *A, int n, int nedges, const int *ei, const int *ej, int *blk)
+{
+    memset(A, 0, sizeof *A);
+    if (n <= 0 || nedges < 0) return -1;
+    for (int e = 0; e < nedges; e++)
+        if (ei[e] < 0 || ei[e] >= n || ej[e] < 0 || ej[e] >= n || ei[e] == ej[e]) return -1;
+
+    int *count = calloc((size_t)n + 1, sizeof *count);
+    if (!count) return -1;
+    for (int i = 0; i < n; i++) count[i] = 1; /* the diagonal */
+    for (int e = 0; e < nedges; e++) {
+        count[ei[e]]++;
+        count[ej[e]]++;
+    }
+    size_t upper = (size_t)n + 2 * (size_t)nedges; /* before removing duplicates */
+    A->n = n;
+    A->row_ptr = malloc(((size_t)n + 1) * sizeof *A->row_ptr);
+    A->col = malloc(upper * sizeof *A->col);
+    A->diag = malloc((size_t)n * sizeof *A->diag);
+    int *fill = malloc((size_t)n * sizeof *fill);
+    if (!A->row_ptr || !A->col || !A->diag || !fill) goto fail;
+
+    A->row_ptr[0] = 0;
+    for (int i = 0; i < n; i++) A->row_ptr[i + 1] = A->row_ptr[i] + count[i];
+    for (int i = 0; i < n; i++) {
+        fill[i] = A->row_ptr[i];
+        A->col[fill[i]++] = i;
+    }
+    for (int e = 0; e < nedges; e++) {
+        A->col[fill[ei[e]]++] = ej[e];
+        A->col[fill[ej[e]]++] = ei[e];
+    }
+    /* sort each row and squeeze out duplicate edges */
+    int out = 0;
+    for (int i = 0; i < n; i++) {
+        int lo = A->row_ptr[i], hi = A->row_ptr[i + 1];
+        qsort(A->col + lo, (size_t)(hi - lo), sizeof *A->col, cmp_int);
+        A->row_ptr[i] = out;
+        for (int k = lo; k < hi; k++)
+            if (k == lo || A->col[k] != A->col[k - 1]) A->col[out++] = A->col[k];
+    }
+    A->row_ptr[n] = out;
+    A->nnzb = out;
+    A->val = calloc(9 * (size_t)out, sizeof *A->val);
+    if (!A->val) goto fail;
+    for (int i = 0; i < n; i++) A->diag[i] = find_block(A, i, i);
+    for (int e = 0; e < nedges; e++) {
+        blk[2 * e] = find_block(A, ei[e], ej[e]);
+        blk[2 * e + 1] = find_block(A, ej[e], ei[e]);
+    }
+    free(count);
+    free(fill);
+    return 0;
+fail:
+    free(count);
+    free(fill);
+    bsr_free(A);
+    return -1;
+}
+
+void bsr_zero(bsr *A) { memset(A->val, 0, 9 * (size_t)A->nnzb * sizeof *A->val); }
+
+void bsr_mul(const bsr *A, const double *x, double *y)
+{
+    for (int i = 0; i < A->n; i++) {
+        double y0 = 0.0, y1 = 0.0, y2 = 0.0;
+        for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++) {
+            const double *B = A->val + 9 * (size_t)k;
+            const double *xj = x + 3 * (size_t)A->col[k];
+            y0 += B[0] * xj[0] + B[1] * xj[1] + B[2] * xj[2];
+            y1 += B[3] * xj[0] + B[4] * xj[1] + B[5] * xj[2];
+            y2 += B[6] * xj[0] + B[7] * xj[1] + B[8] * xj[2];
+        }
+        y[3 * i] = y0;
+        y[3 * i + 1] = y1;
+        y[3 * i + 2] = y2;
+    }
+}
+
+void bsr_to_dense(const bsr *A, double *dense)
+{
+    size_t N = 3 * (size_t)A->n;
+    memset(dense, 0, N * N * sizeof *dense);
+    for (int i = 0; i < A->n; i++)
+        for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++)
+            for (int a = 0; a < 3; a++)
+                for (int b = 0; b < 3; b++)
+                    dense[(3 * (size_t)i + a) * N + 3 * (size_t)A->col[k] + b] = A->val[9 * (size_t)k + 3 * a + b];
+}

@@ -1,0 +1,28 @@
+/* A symmetric-pattern sparse matrix of 3x3 blocks in block-CSR form (bsr.c).
+ * The pattern is built once from an edge list (the cloth's links) when the
+ * cloth is created; the step only rewrites values. */
+#ifndef ODECLOTH_BSR_H
+#define ODECLOTH_BSR_H
+
+typedef struct bsr {
+    int n;          /* block rows (= block columns) */
+    int nnzb;       /* stored blocks, diagonal included */
+    int *row_ptr;   /* n + 1 */
+    int *col;       /* nnzb, sorted within each row */
+    int *diag;      /* n: index of block (i, i) */
+    double *val;    /* 9 * nnzb, each block row-major */
+} bsr;
+
+/* Pattern: every diagonal block plus (i,j) and (j,i) for each edge
+ * (ei[e] != ej[e]; duplicate edges share a block). blk[2e] receives the index
+ * of block (ei[e], ej[e]) and blk[2e+1] that of (ej[e], ei[e]).
+ * Returns 0, or -1 on allocation failure or bad indices (A is then empty). */
+int bsr_build(bsr *A, int n, int nedges, const int *ei, const int *ej, int *blk);
+void bsr_free(bsr *A);
+void bsr_zero(bsr *A);
+/* y = A x (x and y of length 3n, distinct). */
+void bsr_mul(const bsr *A, const double *x, double *y);
+/* Dense copy (3n x 3n, row-major) for tests and small problems. */
+void bsr_to_dense(const bsr *A, double *dense);
+
+#endif

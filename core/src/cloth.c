@@ -1,0 +1,318 @@
+/* The cloth model: descriptor, creation (topology, rest lengths, masses,
+ * workspaces), accessors and setters. Everything allocated here; the step
+ * allocates nothing. */
+#include <limits.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "internal.h"
+
+/* Largest vertex count: keeps every index (3 per vertex, 16 links per vertex,
+ * 2 blocks per link) within int. */
+#define CLOTH_MAX_VERTICES (INT_MAX / 64)
+
+cloth_desc cloth_default_desc(void)
+{
+    cloth_desc d;
+    memset(&d, 0, sizeof d);
+    d.rows = d.cols = 21;
+    d.width = d.height = 1.0;
+    d.origin[0] = -0.5;
+    d.origin[1] = -0.5;
+    d.origin[2] = 1.0;
+    d.axis_u[0] = 1.0;
+    d.axis_v[1] = 1.0;
+    d.gravity[2] = -9.81;
+    d.material = cloth_material_preset(CLOTH_COTTON);
+    d.solver.method = CLOTH_BACKWARD_EULER;
+    d.solver.precond = CLOTH_PRECOND_BLOCK_JACOBI;
+    d.solver.cg_tolerance = 1e-3;
+    d.solver.cg_max_iterations = 2000;
+    d.solver.definiteness_rule = 1;
+    d.solver.warm_start = 1;
+    d.solver.strain_limit_iterations = 10;
+    d.solver.strain_fail = 0.5;
+    return d;
+}
+
+static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+cloth_status cloth_desc_validate(const cloth_desc *d, cloth_error *err)
+{
+    if (!d) return error_set(err, CLOTH_EINVAL, "descriptor is NULL");
+    if (d->rows < 3 || d->cols < 3)
+        return error_set(err, CLOTH_EINVAL, "grid %d x %d: rows and cols must be >= 3", d->rows, d->cols);
+    if ((long long)d->rows * d->cols > CLOTH_MAX_VERTICES)
+        return error_set(err, CLOTH_EINVAL, "grid %d x %d has more than %d nodes", d->rows, d->cols,
+                         CLOTH_MAX_VERTICES);
+    if (!isfinite(d->width) || !(d->width > 0.0) || !isfinite(d->height) || !(d->height > 0.0))
+        return error_set(err, CLOTH_EINVAL, "size %g x %g m: width and height must be finite and > 0",
+                         d->width, d->height);
+    const struct { const char *name; const double *v; } vec[] = {
+        {"origin", d->origin}, {"axis_u", d->axis_u}, {"axis_v", d->axis_v}, {"gravity", d->gravity}};
+    for (size_t k = 0; k < 4; k++)
+        if (!finite3(vec[k].v)) return error_set(err, CLOTH_EINVAL, "%s is not finite", vec[k].name);
+    double uu = dot3(d->axis_u, d->axis_u), vv = dot3(d->axis_v, d->axis_v), uv = dot3(d->axis_u, d->axis_v);
+    if (!(uu > 1e-24) || !(vv > 1e-24)) return error_set(err, CLOTH_EINVAL, "axis_u and axis_v must be non-zero");
+    if (uu * vv - uv * uv <= 1e-12 * uu * vv)
+        return error_set(err, CLOTH_EINVAL, "axis_u and axis_v must not be parallel");
+    cloth_status s = cloth_material_validate(&d->material, err);
+    if (s != CLOTH_OK) return s;
+    return cloth_solver_validate(&d->solver, err);
+}
+
+/* Orthonormal frame: u normalised, v made orthogonal to u (Gram-Schmidt). */
+static void frame(const cloth_desc *d, double u[3], double v[3])
+{
+    double nu = sqrt(dot3(d->axis_u, d->axis_u));
+    for (int k = 0; k < 3; k++) u[k] = d->axis_u[k] / nu;
+    double p = dot3(d->axis_v, u);
+    for (int k = 0; k < 3; k++) v[k] = d->axis_v[k] - p * u[k];
+    double nv = sqrt(dot3(v, v));
+    for (int k = 0; k < 3; k++) v[k] /= nv;
+}
+
+/* Links from node (r, c) to (r + dr, c + dc) for the four "forward" offsets
+ * of a neighbourhood at distance s (1: sequential, 2: interlaced), each
+ * undirected link once with i < j. */
+static int make_links(int R, int C, int s, const double *x0, link_topo *out)
+{
+    const int off[4][2] = {{0, 1}, {1, 0}, {1, 1}, {1, -1}};
+    int m = 0;
+    for (int r = 0; r < R; r++)
+        for (int c = 0; c < C; c++)
+            for (int k = 0; k < 4; k++) {
+                int r2 = r + s * off[k][0], c2 = c + s * off[k][1];
+                if (r2 >= R || c2 < 0 || c2 >= C) continue;
+                int i = r * C + c, j = r2 * C + c2;
+                const double *a = x0 + 3 * i, *b = x0 + 3 * j;
+                double dx = b[0] - a[0], dy = b[1] - a[1], dz = b[2] - a[2];
+                if (out) {
+                    out[m].i = i;
+                    out[m].j = j;
+                    out[m].rest = sqrt(dx * dx + dy * dy + dz * dz);
+                }
+                m++;
+            }
+    return m;
+}
+
+static int links_to_blocks(bsr *A, int n, const link_topo *seq, int n_seq, const link_topo *lint,
+                           int n_int, int *seq_blk, int *int_blk)
+{
+    int ne = n_seq + n_int;
+    int *ei = malloc((size_t)ne * sizeof *ei), *ej = malloc((size_t)ne * sizeof *ej);
+    int *blk = malloc(2 * (size_t)ne * sizeof *blk);
+    int rc = -1;
+    if (ei && ej && blk) {
+        for (int e = 0; e < n_seq; e++) { ei[e] = seq[e].i; ej[e] = seq[e].j; }
+        for (int e = 0; e < n_int; e++) { ei[n_seq + e] = lint[e].i; ej[n_seq + e] = lint[e].j; }
+        rc = bsr_build(A, n, ne, ei, ej, blk);
+        if (rc == 0) {
+            memcpy(seq_blk, blk, 2 * (size_t)n_seq * sizeof *blk);
+            memcpy(int_blk, blk + 2 * (size_t)n_seq, 2 * (size_t)n_int * sizeof *blk);
+        }
+    }
+    free(ei);
+    free(ej);
+    free(blk);
+    return rc;
+}
+
+void cloth_destroy(cloth *c)
+{
+    if (!c) return;
+    free(c->mass);
+    free(c->seq);
+    free(c->lint);
+    state_free(&c->st);
+    state_free(&c->backup);
+    free(c->con);
+    free(c->con_force);
+    bsr_free(&c->A);
+    free(c->seq_blk);
+    free(c->int_blk);
+    free(c->K_seq);
+    free(c->K_int);
+    free(c->work);
+    free(c);
+}
+
+cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
+{
+    if (err) {
+        err->code = CLOTH_OK;
+        err->message[0] = '\0';
+    }
+    if (!out) return error_set(err, CLOTH_EINVAL, "cloth_create: out is NULL");
+    *out = NULL;
+    cloth_status s = cloth_desc_validate(d, err);
+    if (s != CLOTH_OK) return s;
+
+    cloth *c = calloc(1, sizeof *c);
+    if (!c) return error_set(err, CLOTH_ENOMEM, "cloth_create: out of memory");
+    c->desc = *d;
+    int R = d->rows, C = d->cols, n = R * C;
+    c->rows = R;
+    c->cols = C;
+    c->n = n;
+    size_t n3 = 3 * (size_t)n;
+
+    c->mass = malloc((size_t)n * sizeof *c->mass);
+    double *x0 = malloc(n3 * sizeof *x0);
+    if (!c->mass || !x0 || state_alloc(&c->st, n, 0) != 0) goto nomem;
+
+    /* rest positions and lumped masses: each node carries the area of the
+     * cells around it (a quarter cell per adjacent cell) */
+    double u[3], v[3];
+    frame(d, u, v);
+    double dx = d->width / (C - 1), dy = d->height / (R - 1);
+    for (int r = 0; r < R; r++)
+        for (int col = 0; col < C; col++) {
+            int i = r * C + col;
+            for (int k = 0; k < 3; k++) x0[3 * i + k] = d->origin[k] + col * dx * u[k] + r * dy * v[k];
+            double wr = (r == 0 || r == R - 1) ? 0.5 : 1.0, wc = (col == 0 || col == C - 1) ? 0.5 : 1.0;
+            c->mass[i] = d->material.density * dx * dy * wr * wc;
+        }
+
+    c->n_seq = make_links(R, C, 1, x0, NULL);
+    c->n_int = make_links(R, C, 2, x0, NULL);
+    c->seq = malloc((size_t)c->n_seq * sizeof *c->seq);
+    c->lint = malloc((size_t)c->n_int * sizeof *c->lint);
+    if (!c->seq || !c->lint) goto nomem;
+    make_links(R, C, 1, x0, c->seq);
+    make_links(R, C, 2, x0, c->lint);
+
+    /* the state has the interlaced links' plastic state: allocate it now */
+    state_free(&c->st);
+    if (state_alloc(&c->st, n, c->n_int) != 0 || state_alloc(&c->backup, n, c->n_int) != 0) goto nomem;
+    memcpy(c->st.x, x0, n3 * sizeof *x0);
+    for (int e = 0; e < c->n_int; e++) c->st.l1[e] = c->lint[e].rest;
+    free(x0);
+    x0 = NULL;
+
+    c->con = calloc((size_t)n, sizeof *c->con);
+    c->con_force = calloc(n3, sizeof *c->con_force);
+    c->seq_blk = malloc(2 * (size_t)c->n_seq * sizeof *c->seq_blk);
+    c->int_blk = malloc(2 * (size_t)c->n_int * sizeof *c->int_blk);
+    c->K_seq = malloc(9 * (size_t)c->n_seq * sizeof *c->K_seq);
+    c->K_int = malloc(9 * (size_t)c->n_int * sizeof *c->K_int);
+    if (!c->con || !c->con_force || !c->seq_blk || !c->int_blk || !c->K_seq || !c->K_int) goto nomem;
+    if (links_to_blocks(&c->A, n, c->seq, c->n_seq, c->lint, c->n_int, c->seq_blk, c->int_blk) != 0) goto nomem;
+    if (workspace_alloc(c) != 0) goto nomem;
+
+    *out = c;
+    return CLOTH_OK;
+nomem:
+    free(x0);
+    cloth_destroy(c);
+    return error_set(err, CLOTH_ENOMEM, "cloth_create: out of memory for a %d x %d grid", R, C);
+}
+
+const char *cloth_last_error(const cloth *c) { return c ? c->err : "cloth is NULL"; }
+int cloth_rows(const cloth *c) { return c ? c->rows : 0; }
+int cloth_cols(const cloth *c) { return c ? c->cols : 0; }
+int cloth_vertex_count(const cloth *c) { return c ? c->n : 0; }
+const double *cloth_positions(const cloth *c) { return c ? c->st.x : NULL; }
+const double *cloth_velocities(const cloth *c) { return c ? c->st.v : NULL; }
+const double *cloth_masses(const cloth *c) { return c ? c->mass : NULL; }
+
+cloth_desc cloth_get_desc(const cloth *c)
+{
+    if (!c) return cloth_default_desc();
+    return c->desc;
+}
+
+/* Setting positions or velocities by hand breaks the BDF2 history and the
+ * warm start: they restart from this state. */
+static void forget_history(cloth *c)
+{
+    c->st.has_prev = 0;
+    memset(c->st.dv_prev, 0, 3 * (size_t)c->n * sizeof *c->st.dv_prev);
+}
+
+cloth_status cloth_set_positions(cloth *c, const double *x)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!x) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_positions: x is NULL");
+    if (!all_finite(x, 3 * (size_t)c->n))
+        return cloth_fail(c, CLOTH_EINVAL, "cloth_set_positions: positions must be finite");
+    memcpy(c->st.x, x, 3 * (size_t)c->n * sizeof *x);
+    forget_history(c);
+    return CLOTH_OK;
+}
+
+cloth_status cloth_set_velocities(cloth *c, const double *v)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!v) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_velocities: v is NULL");
+    if (!all_finite(v, 3 * (size_t)c->n))
+        return cloth_fail(c, CLOTH_EINVAL, "cloth_set_velocities: velocities must be finite");
+    memcpy(c->st.v, v, 3 * (size_t)c->n * sizeof *v);
+    forget_history(c);
+    return CLOTH_OK;
+}
+
+cloth_status cloth_set_vertex(cloth *c, int vertex, const double x[3], const double v[3])
+{
+    if (!c) return CLOTH_EINVAL;
+    if (vertex < 0 || vertex >= c->n)
+        return cloth_fail(c, CLOTH_EINVAL, "cloth_set_vertex: vertex %d out of range [0, %d)", vertex, c->n);
+    if ((x && !finite3(x)) || (v && !finite3(v)))
+        return cloth_fail(c, CLOTH_EINVAL, "cloth_set_vertex: position and velocity must be finite");
+    for (int k = 0; k < 3; k++) {
+        if (x) c->st.x[3 * vertex + k] = x[k];
+        if (v) c->st.v[3 * vertex + k] = v[k];
+    }
+    forget_history(c);
+    return CLOTH_OK;
+}
+
+cloth_status cloth_set_material(cloth *c, const cloth_material *m)
+{
+    if (!c) return CLOTH_EINVAL;
+    cloth_error e;
+    if (cloth_material_validate(m, &e) != CLOTH_OK) return cloth_fail(c, e.code, "%s", e.message);
+    c->desc.material = *m;
+    return CLOTH_OK;
+}
+
+cloth_status cloth_set_solver(cloth *c, const cloth_solver *s)
+{
+    if (!c) return CLOTH_EINVAL;
+    cloth_error e;
+    if (cloth_solver_validate(s, &e) != CLOTH_OK) return cloth_fail(c, e.code, "%s", e.message);
+    c->desc.solver = *s;
+    return CLOTH_OK;
+}
+
+cloth_status cloth_set_gravity(cloth *c, const double g[3])
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!g || !finite3(g)) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_gravity: gravity must be finite");
+    memcpy(c->desc.gravity, g, sizeof c->desc.gravity);
+    return CLOTH_OK;
+}
+
+int cloth_link_count(const cloth *c, cloth_link_type t)
+{
+    if (!c) return 0;
+    return t == CLOTH_SEQUENTIAL ? c->n_seq : t == CLOTH_INTERLACED ? c->n_int : 0;
+}
+
+cloth_status cloth_get_link(const cloth *c, cloth_link_type t, int index, cloth_link *out)
+{
+    if (!c || !out) return CLOTH_EINVAL;
+    int m = cloth_link_count(c, t);
+    if (t != CLOTH_SEQUENTIAL && t != CLOTH_INTERLACED)
+        return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_get_link: unknown link type %d", (int)t);
+    if (index < 0 || index >= m)
+        return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_get_link: index %d out of range [0, %d)", index, m);
+    const link_topo *L = t == CLOTH_SEQUENTIAL ? &c->seq[index] : &c->lint[index];
+    out->i = L->i;
+    out->j = L->j;
+    out->rest = L->rest;
+    out->plastic = t == CLOTH_INTERLACED ? c->st.plastic[index] : 0;
+    out->l1 = t == CLOTH_INTERLACED ? c->st.l1[index] : L->rest;
+    return CLOTH_OK;
+}

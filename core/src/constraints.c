@@ -1,0 +1,81 @@
+/* Per-vertex velocity constraints (Baraff-Witkin 1998, section 5) as plain
+ * data: pins (3 DOF), planes (1 DOF), lines (2 DOF). The step turns each into
+ * a filter S_i and a target velocity change z_i (step.c). */
+#include <math.h>
+#include <string.h>
+#include "internal.h"
+
+cloth_status cloth_set_constraint(cloth *c, const cloth_constraint *k)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!k) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_constraint: constraint is NULL");
+    if (k->vertex < 0 || k->vertex >= c->n)
+        return cloth_fail(c, CLOTH_EINVAL, "cloth_set_constraint: vertex %d out of range [0, %d)", k->vertex, c->n);
+    if (k->ndof < 0 || k->ndof > 3)
+        return cloth_fail(c, CLOTH_EINVAL, "cloth_set_constraint: ndof %d must be 0, 1, 2 or 3", k->ndof);
+    if (!finite3(k->target))
+        return cloth_fail(c, CLOTH_EINVAL, "cloth_set_constraint: target must be finite");
+    cloth_constraint kk = *k;
+    if (k->ndof == 1 || k->ndof == 2) {
+        if (!finite3(k->axis))
+            return cloth_fail(c, CLOTH_EINVAL, "cloth_set_constraint: axis must be finite");
+        double n = sqrt(k->axis[0] * k->axis[0] + k->axis[1] * k->axis[1] + k->axis[2] * k->axis[2]);
+        if (!(n > 1e-12))
+            return cloth_fail(c, CLOTH_EINVAL, "cloth_set_constraint: axis must be non-zero");
+        for (int a = 0; a < 3; a++) kk.axis[a] = k->axis[a] / n;
+    } else {
+        kk.axis[0] = kk.axis[1] = kk.axis[2] = 0.0;
+    }
+    int was = c->con[k->vertex].ndof != 0, now = kk.ndof != 0;
+    c->con[k->vertex] = kk;
+    c->n_con += now - was;
+    if (!now) memset(c->con_force + 3 * k->vertex, 0, 3 * sizeof(double));
+    return CLOTH_OK;
+}
+
+cloth_status cloth_pin(cloth *c, int vertex, const double target[3])
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!target) return cloth_fail(c, CLOTH_EINVAL, "cloth_pin: target is NULL");
+    cloth_constraint k = {.vertex = vertex, .ndof = 3};
+    memcpy(k.target, target, sizeof k.target);
+    return cloth_set_constraint(c, &k);
+}
+
+cloth_status cloth_release(cloth *c, int vertex)
+{
+    if (!c) return CLOTH_EINVAL;
+    cloth_constraint k = {.vertex = vertex, .ndof = 0};
+    return cloth_set_constraint(c, &k);
+}
+
+void cloth_release_all(cloth *c)
+{
+    if (!c) return;
+    memset(c->con, 0, (size_t)c->n * sizeof *c->con);
+    memset(c->con_force, 0, 3 * (size_t)c->n * sizeof *c->con_force);
+    c->n_con = 0;
+}
+
+cloth_status cloth_get_constraint(const cloth *c, int vertex, cloth_constraint *out)
+{
+    if (!c || !out) return CLOTH_EINVAL;
+    if (vertex < 0 || vertex >= c->n)
+        return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_get_constraint: vertex %d out of range [0, %d)",
+                          vertex, c->n);
+    *out = c->con[vertex];
+    out->vertex = vertex;
+    return CLOTH_OK;
+}
+
+int cloth_constraint_count(const cloth *c) { return c ? c->n_con : 0; }
+
+cloth_status cloth_constraint_force(const cloth *c, int vertex, double f[3])
+{
+    if (!c || !f) return CLOTH_EINVAL;
+    if (vertex < 0 || vertex >= c->n)
+        return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_constraint_force: vertex %d out of range [0, %d)",
+                          vertex, c->n);
+    memcpy(f, c->con_force + 3 * vertex, 3 * sizeof(double));
+    return CLOTH_OK;
+}

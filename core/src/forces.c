@@ -1,0 +1,87 @@
+/* Forces and energies of the whole cloth (paper eq. 4): springs of both link
+ * types in their current regions, damping along links, gravity. */
+#include <math.h>
+#include <string.h>
+#include "internal.h"
+
+static void add3(double *a, const double b[3], double s)
+{
+    a[0] += s * b[0];
+    a[1] += s * b[1];
+    a[2] += s * b[2];
+}
+
+void forces_eval(const cloth *c, const double *x, const double *v, int with_gravity, double *f)
+{
+    const cloth_material *m = &c->desc.material;
+    size_t n3 = 3 * (size_t)c->n;
+    memset(f, 0, n3 * sizeof *f);
+    double fe[3], fd[3];
+    for (int e = 0; e < c->n_seq; e++) {
+        int i = c->seq[e].i, j = c->seq[e].j;
+        spring_eval(x + 3 * i, x + 3 * j, seq_law(m, c->seq[e].rest), 0, fe, NULL);
+        damper_eval(x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, m->c_t, fd, NULL);
+        add3(fe, fd, 1.0);
+        add3(f + 3 * i, fe, 1.0);
+        add3(f + 3 * j, fe, -1.0);
+    }
+    for (int e = 0; e < c->n_int; e++) {
+        int i = c->lint[e].i, j = c->lint[e].j;
+        spring_law s = int_law(m, c->lint[e].rest, c->st.plastic[e], c->st.l1[e]);
+        spring_eval(x + 3 * i, x + 3 * j, s, 0, fe, NULL);
+        damper_eval(x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, m->c_b, fd, NULL);
+        add3(fe, fd, 1.0);
+        add3(f + 3 * i, fe, 1.0);
+        add3(f + 3 * j, fe, -1.0);
+    }
+    if (with_gravity)
+        for (int i = 0; i < c->n; i++) add3(f + 3 * i, c->desc.gravity, c->mass[i]);
+}
+
+double elastic_energy(const cloth *c, const double *x)
+{
+    const cloth_material *m = &c->desc.material;
+    double E = 0.0;
+    for (int e = 0; e < c->n_seq; e++)
+        E += spring_energy(x + 3 * c->seq[e].i, x + 3 * c->seq[e].j, seq_law(m, c->seq[e].rest));
+    for (int e = 0; e < c->n_int; e++)
+        E += spring_energy(x + 3 * c->lint[e].i, x + 3 * c->lint[e].j,
+                           int_law(m, c->lint[e].rest, c->st.plastic[e], c->st.l1[e]));
+    return E;
+}
+
+cloth_energy cloth_energies(const cloth *c)
+{
+    cloth_energy en = {0.0, 0.0, 0.0};
+    if (!c) return en;
+    en.elastic = elastic_energy(c, c->st.x);
+    const double *x = c->st.x, *v = c->st.v, *g = c->desc.gravity;
+    for (int i = 0; i < c->n; i++) {
+        const double *vi = v + 3 * i, *xi = x + 3 * i;
+        en.kinetic += 0.5 * c->mass[i] * (vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2]);
+        en.gravitational -= c->mass[i] * (g[0] * xi[0] + g[1] * xi[1] + g[2] * xi[2]);
+    }
+    return en;
+}
+
+cloth_status cloth_internal_forces(const cloth *c, double *f)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!f) return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_internal_forces: f is NULL");
+    forces_eval(c, c->st.x, c->st.v, 0, f);
+    return CLOTH_OK;
+}
+
+double cloth_max_strain(const cloth *c)
+{
+    if (!c) return 0.0;
+    double m = -INFINITY;
+    const double *x = c->st.x;
+    for (int e = 0; e < c->n_seq; e++) {
+        const double *a = x + 3 * c->seq[e].i, *b = x + 3 * c->seq[e].j;
+        double dx = b[0] - a[0], dy = b[1] - a[1], dz = b[2] - a[2];
+        double s = (sqrt(dx * dx + dy * dy + dz * dz) - c->seq[e].rest) / c->seq[e].rest;
+        if (s > m || s != s) m = s;
+    }
+    return m;
+}

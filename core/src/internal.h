@@ -1,0 +1,127 @@
+/* Internal structures and kernels of the cloth core. Unit tests include this
+ * header to check single links against finite differences; users should not. */
+#ifndef ODECLOTH_INTERNAL_H
+#define ODECLOTH_INTERNAL_H
+
+#include "odecloth/cloth.h"
+#include "bsr.h"
+
+/* ---------------------------------------------------------------- springs */
+
+/* A piecewise-quadratic spring between x_i and x_j (springs.c):
+ *   E = 1/2 k_hi (d - rest)^2  if d >= rest,  1/2 k_lo (d - rest)^2  if d < rest.
+ * Every link type and region of the paper reduces to one of these (see
+ * cloth_link_law). */
+typedef struct spring_law {
+    double k_hi, k_lo, rest;
+} spring_law;
+
+/* Energy (J). */
+double spring_energy(const double xi[3], const double xj[3], spring_law s);
+
+/* Elastic force on node i (f_j = -f_i), and K = df_i/dx_j (3x3 row-major),
+ * the block that also gives df_i/dx_i = df_j/dx_j = -K and df_j/dx_i = K.
+ * definiteness != 0 applies the paper's rule: when d < rest the transverse
+ * term k (1 - rest/d)(I - uu^T) is dropped. K may be NULL. */
+void spring_eval(const double xi[3], const double xj[3], spring_law s,
+                 int definiteness, double f_i[3], double K[9]);
+
+/* Damping along the link (eq. 4): f_i = c ((v_j - v_i) . u) u, f_j = -f_i,
+ * and D = df_i/dv_j = c uu^T (3x3), also df_i/dv_i = -D. D may be NULL. */
+void damper_eval(const double xi[3], const double xj[3], const double vi[3],
+                 const double vj[3], double c, double f_i[3], double D[9]);
+
+/* ------------------------------------------------------- link topology */
+
+typedef struct link_topo {
+    int i, j;
+    double rest;    /* l0 */
+} link_topo;
+
+/* The spring law of link e in its current region (plastic.c):
+ * sequential: (k_t, k_c, l0); interlaced elastic: (k_b, k_b, l0);
+ * interlaced plastic: (k_s, k_b, l1). */
+spring_law seq_law(const cloth_material *m, double rest);
+spring_law int_law(const cloth_material *m, double rest, int plastic, double l1);
+
+/* The plastic rule for one interlaced link of current length d: updates
+ * *plastic and *l1 (paper eq. 8-12). */
+void plastic_rule(double alpha, double rest, double d, int *plastic, double *l1);
+
+/* ------------------------------------------------------------------ state */
+
+struct cloth_state {
+    int n;          /* vertices */
+    int n_int;      /* interlaced links */
+    double *x, *v;  /* 3n */
+    unsigned char *plastic; /* n_int */
+    double *l1;             /* n_int */
+    /* carried between steps */
+    double *x_prev, *v_prev; /* 3n, BDF2 history (valid if has_prev) */
+    double h_prev;
+    int has_prev;
+    double *dv_prev;         /* 3n, warm start */
+};
+
+/* ------------------------------------------------------------------ cloth */
+
+struct cloth {
+    cloth_desc desc;           /* as created, with material/solver/gravity kept current */
+    int rows, cols, n;
+    double *mass;              /* n   */
+    int n_seq, n_int;
+    link_topo *seq, *lint;     /* sequential and interlaced links */
+    struct cloth_state st;     /* the evolving state */
+
+    /* constraints: one slot per vertex */
+    cloth_constraint *con;     /* n, ndof 0 = free */
+    int n_con;
+    double *con_force;         /* 3n, N, from the last step */
+
+    /* step workspace, sized at creation: the step allocates nothing */
+    bsr A;                     /* pattern: diagonal + one block pair per link */
+    int *seq_blk, *int_blk;    /* 2 per link: blocks (i,j) and (j,i) in A */
+    double *K_seq, *K_int;     /* per-link 3x3 df_i/dx_j (for K v products) */
+    double *work;              /* one allocation behind the vectors below */
+    double *f, *b, *dv, *z, *y, *x_new, *v_new; /* 3n each */
+    double *cg;                /* 5 * 3n: MPCG workspace */
+    double *con_new;           /* 3n: constraint forces of the step being taken */
+    double *pre;               /* 9n: preconditioner blocks */
+    double *S;                 /* 9n: per-vertex filter (I - constrained projector) */
+    struct cloth_state backup; /* rollback copy */
+
+    cloth_step_stats stats;
+    char err[256];
+};
+
+/* Set c->err and return code (printf-style). */
+cloth_status cloth_fail(cloth *c, cloth_status code, const char *fmt, ...);
+/* Same for a cloth_error (may be NULL). */
+cloth_status error_set(cloth_error *e, cloth_status code, const char *fmt, ...);
+
+/* step.c: carve the step's vectors out of c->work (0 or -1 on no memory) */
+int workspace_alloc(cloth *c);
+
+/* strain_limit.c: Provot's elongation limit on sequential links. Moves
+ * x (and v by dx / cfac, the method's dx/dv_new) for at most `iterations`
+ * passes; returns the number of links over the limit in the first pass. */
+int strain_limit(const cloth *c, double *x, double *v, const double *S, double cfac, int iterations);
+
+/* state.c */
+int state_alloc(struct cloth_state *s, int n, int n_int);
+void state_free(struct cloth_state *s);
+void state_copy(struct cloth_state *dst, const struct cloth_state *src);
+
+/* forces.c: f = internal forces (+ gravity if with_gravity); optionally
+ * assemble per-link K and D into the matrix via the callback-free kernels in
+ * step.c. */
+void forces_eval(const cloth *c, const double *x, const double *v, int with_gravity, double *f);
+double elastic_energy(const cloth *c, const double *x);
+
+/* small vector helpers */
+static inline int finite3(const double a[3]) {
+    return a[0] - a[0] == 0.0 && a[1] - a[1] == 0.0 && a[2] - a[2] == 0.0;
+}
+int all_finite(const double *a, size_t n);
+
+#endif

@@ -1,0 +1,88 @@
+/* Fabric presets (paper Table 1) and parameter validation.
+ *
+ * Table 1 gives delta, alpha and k_s. The rest are ours, in SI units, for a
+ * cloth of about 1 m with 21 x 21 nodes (the paper's resolution):
+ *  - k_t 2000 N/m (cotton): per-link stiffness of a square lattice with
+ *    diagonals is also its 2-D membrane stiffness, independent of resolution;
+ *    2000 N/m keeps stretch under gravity far below delta, so the elongation
+ *    limit only acts in impacts and pulls. Wool, which the paper says
+ *    stretches a lot (delta 0.1), gets 500 N/m.
+ *  - k_c = k_t / 40: "much softer" compression lets the cloth buckle into
+ *    wrinkles instead of shrinking in-plane, yet is stiff enough that the
+ *    plastic interlaced links cannot shrink the cloth (paper Fig. 6).
+ *  - k_b 20 N/m (cotton), 10 (wool): an interlaced link measures bending
+ *    through the shortening of a 2-cell chord, a quadratic-in-angle effect, so
+ *    it must be stronger than k_s (10) for a crease to cost less than a bend.
+ *  - damping ~1% of critical for one sequential link at 21 x 21
+ *    (2 sqrt(k_t m) ~ 1.9 N s/m): c_t 0.02, c_b 0.002 N s/m. Backward Euler
+ *    adds its own numerical damping; the paper argues against heavy damping.
+ *  - density 0.2 kg/m^2 (light cotton, and the 1 m, 0.2 kg benchmark cloth),
+ *    wool 0.3 kg/m^2. */
+#include <math.h>
+#include "internal.h"
+
+cloth_material cloth_material_preset(cloth_preset p)
+{
+    cloth_material cotton = {
+        .k_t = 2000.0, .k_c = 50.0, .k_b = 20.0, .k_s = 10.0,
+        .alpha = 0.8, .delta = 0.03,
+        .c_t = 0.02, .c_b = 0.002, .density = 0.2,
+    };
+    switch (p) {
+    case CLOTH_WOOL: {
+        cloth_material wool = {
+            .k_t = 500.0, .k_c = 12.5, .k_b = 10.0, .k_s = 0.1,
+            .alpha = 0.1, .delta = 0.1,
+            .c_t = 0.01, .c_b = 0.001, .density = 0.3,
+        };
+        return wool;
+    }
+    case CLOTH_ELASTIC:
+        cotton.alpha = 0.0;
+        return cotton;
+    case CLOTH_COTTON:
+    default:
+        return cotton;
+    }
+}
+
+static int bad(double x) { return !isfinite(x); }
+
+cloth_status cloth_material_validate(const cloth_material *m, cloth_error *err)
+{
+    if (!m) return error_set(err, CLOTH_EINVAL, "material is NULL");
+    const struct { const char *name; double v; int positive; } f[] = {
+        {"k_t", m->k_t, 1}, {"k_c", m->k_c, 0}, {"k_b", m->k_b, 0},
+        {"k_s", m->k_s, 0}, {"alpha", m->alpha, 0}, {"delta", m->delta, 1},
+        {"c_t", m->c_t, 0}, {"c_b", m->c_b, 0}, {"density", m->density, 1},
+    };
+    for (size_t k = 0; k < sizeof f / sizeof f[0]; k++) {
+        if (bad(f[k].v))
+            return error_set(err, CLOTH_EINVAL, "material.%s is not finite", f[k].name);
+        if (f[k].positive ? !(f[k].v > 0.0) : f[k].v < 0.0)
+            return error_set(err, CLOTH_EINVAL, "material.%s = %g must be %s", f[k].name,
+                             f[k].v, f[k].positive ? "> 0" : ">= 0");
+    }
+    if (m->alpha > 1.0)
+        return error_set(err, CLOTH_EINVAL, "material.alpha = %g must be in [0, 1]", m->alpha);
+    return CLOTH_OK;
+}
+
+cloth_status cloth_solver_validate(const cloth_solver *s, cloth_error *err)
+{
+    if (!s) return error_set(err, CLOTH_EINVAL, "solver is NULL");
+    if ((int)s->method < CLOTH_BACKWARD_EULER || (int)s->method > CLOTH_BDF2)
+        return error_set(err, CLOTH_EINVAL, "solver.method = %d is not a cloth_method", (int)s->method);
+    if ((int)s->precond < CLOTH_PRECOND_BLOCK_JACOBI || (int)s->precond > CLOTH_PRECOND_JACOBI)
+        return error_set(err, CLOTH_EINVAL, "solver.precond = %d is not a cloth_precond", (int)s->precond);
+    if (!(s->cg_tolerance > 0.0 && s->cg_tolerance < 1.0))
+        return error_set(err, CLOTH_EINVAL, "solver.cg_tolerance = %g must be in (0, 1)", s->cg_tolerance);
+    if (s->cg_max_iterations < 1)
+        return error_set(err, CLOTH_EINVAL, "solver.cg_max_iterations = %d must be >= 1", s->cg_max_iterations);
+    if (s->strain_limit_iterations < 0)
+        return error_set(err, CLOTH_EINVAL, "solver.strain_limit_iterations = %d must be >= 0",
+                         s->strain_limit_iterations);
+    if (!(s->strain_fail > 0.0) || bad(s->strain_fail))
+        return error_set(err, CLOTH_EINVAL, "solver.strain_fail = %g must be finite and > 0", s->strain_fail);
+    return CLOTH_OK;
+}

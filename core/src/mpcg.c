@@ -1,0 +1,107 @@
+/* Modified preconditioned conjugate gradient (Baraff and Witkin 1998, sec.
+ * 5.3), with the changes Ascher and Boxerman (2003) showed are needed:
+ *   - the start vector is z in the constrained directions plus a guess (the
+ *     last step's dv: warm start) in the free ones;
+ *   - convergence is measured on the reduced system S A S y = S (b - A z),
+ *     so the tolerance is relative to what actually remains to be solved.
+ * Every search direction is filtered, so the constrained components of x never
+ * move from z: the constraints hold exactly, not approximately. */
+#include <math.h>
+#include <string.h>
+#include "mpcg.h"
+
+void filter_apply(int n, const double *S, const double *x, double *y)
+{
+    for (int i = 0; i < n; i++) {
+        const double *B = S + 9 * (size_t)i, *a = x + 3 * (size_t)i;
+        double y0 = B[0] * a[0] + B[1] * a[1] + B[2] * a[2];
+        double y1 = B[3] * a[0] + B[4] * a[1] + B[5] * a[2];
+        double y2 = B[6] * a[0] + B[7] * a[1] + B[8] * a[2];
+        y[3 * i] = y0;
+        y[3 * i + 1] = y1;
+        y[3 * i + 2] = y2;
+    }
+}
+
+static double dot(const double *a, const double *b, size_t n)
+{
+    double s = 0.0;
+    for (size_t k = 0; k < n; k++) s += a[k] * b[k];
+    return s;
+}
+
+/* s = S Pinv r, blockwise */
+static void precondition(int n, const double *S, const double *Pinv, const double *r, double *s)
+{
+    filter_apply(n, Pinv, r, s);
+    filter_apply(n, S, s, s);
+}
+
+mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const double *z,
+                       const double *Pinv, double tol, int max_iter, double *x, double *w)
+{
+    int n = A->n;
+    size_t N = 3 * (size_t)n;
+    double *r = w, *p = w + N, *q = w + 2 * N, *s = w + 3 * N, *t = w + 4 * N;
+    mpcg_result res = {0, 0.0, CLOTH_FAIL_NONE};
+
+    /* reference: the reduced right-hand side S (b - A z) */
+    bsr_mul(A, z, t);
+    for (size_t k = 0; k < N; k++) r[k] = b[k] - t[k];
+    filter_apply(n, S, r, r);
+    precondition(n, S, Pinv, r, s);
+    double ref = dot(r, s, N);
+    if (!isfinite(ref)) {
+        res.failure = CLOTH_FAIL_NAN;
+        return res;
+    }
+    if (ref <= 0.0) { /* nothing to solve: x = z */
+        memcpy(x, z, N * sizeof *x);
+        return res;
+    }
+
+    /* x = S guess + z */
+    filter_apply(n, S, x, x);
+    for (size_t k = 0; k < N; k++) x[k] += z[k];
+    bsr_mul(A, x, t);
+    for (size_t k = 0; k < N; k++) r[k] = b[k] - t[k];
+    filter_apply(n, S, r, r);
+    precondition(n, S, Pinv, r, s);
+    double delta = dot(r, s, N);
+    memcpy(p, s, N * sizeof *p);
+    double tol2 = tol * tol * ref;
+
+    int it = 0;
+    while (delta > tol2) {
+        if (it >= max_iter) {
+            res.failure = CLOTH_FAIL_CG_MAX_ITER;
+            break;
+        }
+        bsr_mul(A, p, q);
+        filter_apply(n, S, q, q);
+        double pq = dot(p, q, N);
+        if (!isfinite(pq)) {
+            res.failure = CLOTH_FAIL_NAN;
+            break;
+        }
+        if (pq <= 0.0) { /* non-positive curvature: A is not definite on the free space */
+            res.failure = CLOTH_FAIL_CG_INDEFINITE;
+            break;
+        }
+        double alpha = delta / pq;
+        for (size_t k = 0; k < N; k++) {
+            x[k] += alpha * p[k];
+            r[k] -= alpha * q[k];
+        }
+        precondition(n, S, Pinv, r, s);
+        double dnew = dot(r, s, N);
+        double beta = dnew / delta;
+        for (size_t k = 0; k < N; k++) p[k] = s[k] + beta * p[k];
+        delta = dnew;
+        it++;
+    }
+    res.iterations = it;
+    res.residual = sqrt(fmax(delta, 0.0) / ref);
+    if (res.failure == CLOTH_FAIL_NONE && !isfinite(delta)) res.failure = CLOTH_FAIL_NAN;
+    return res;
+}

@@ -1,0 +1,30 @@
+/* Baraff and Witkin's modified preconditioned conjugate gradient (mpcg.c). */
+#ifndef ODECLOTH_MPCG_H
+#define ODECLOTH_MPCG_H
+
+#include "odecloth/cloth.h"
+#include "bsr.h"
+
+typedef struct mpcg_result {
+    int iterations;
+    double residual;       /* final |S r|_P / |S (b - A z)|_P */
+    cloth_failure failure; /* NONE, CG_MAX_ITER, CG_INDEFINITE or NAN */
+} mpcg_result;
+
+/* Solve A x = b for the free components, with the constrained components of x
+ * held at z (Baraff-Witkin 1998 sec. 5.3; Ascher-Boxerman 2003):
+ *   S   9n: per-vertex filter blocks (symmetric projectors onto the free
+ *       directions); z 3n: constrained values, (I - S_i) z_i = z_i;
+ *   Pinv 9n: per-vertex preconditioner blocks (symmetric positive definite
+ *       on the free directions);
+ *   x   3n: in, a guess for the free components (warm start; zeros for a
+ *       cold start); out, the solution, with (I - S) x = z exactly;
+ *   w   5 * 3n doubles of workspace.
+ * Stops when |S r|_P <= tol |S (b - A z)|_P with |y|_P^2 = y^T Pinv y. */
+mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const double *z,
+                       const double *Pinv, double tol, int max_iter, double *x, double *w);
+
+/* y = S_i x_i per vertex (may alias). */
+void filter_apply(int n, const double *S, const double *x, double *y);
+
+#endif

@@ -1,0 +1,56 @@
+/* The plastic rule of interlaced links (paper eq. 8-12, paper.md sec. 3) and
+ * the spring law of each link type and region. */
+#include <math.h>
+#include "internal.h"
+
+spring_law seq_law(const cloth_material *m, double rest)
+{
+    /* eq. 6-7: asymmetric, tension k_t, compression k_c << k_t */
+    spring_law s = {m->k_t, m->k_c, rest};
+    return s;
+}
+
+spring_law int_law(const cloth_material *m, double rest, int plastic, double l1)
+{
+    if (!plastic) {
+        spring_law s = {m->k_b, m->k_b, rest}; /* eq. 9-10: elastic bend */
+        return s;
+    }
+    /* eq. 11-12: around the plastic rest length l1, unbending (d > l1) is
+     * resisted by the spreading stiffness k_s, further bending by k_b. */
+    spring_law s = {m->k_s, m->k_b, l1};
+    return s;
+}
+
+/* Where the region is decided: by the current ratio d / l0 against alpha,
+ * every time the rule runs (after each step). A link pulled back above
+ * alpha l0 is elastic again, and its l1 is set anew on its next entry. */
+void plastic_rule(double alpha, double rest, double d, int *plastic, double *l1)
+{
+    if (alpha <= 0.0 || d > alpha * rest) {
+        *plastic = 0;          /* elastic region, rest length l0 */
+    } else if (!*plastic) {
+        *plastic = 1;          /* entry: l1 = the length at entry (<= alpha l0) */
+        *l1 = d;
+    } else if (d < *l1) {
+        *l1 = d;               /* the crease deepens: stores no bending energy */
+    }
+}
+
+int cloth_update_plastic(cloth *c)
+{
+    if (!c) return 0;
+    const double *x = c->st.x;
+    double alpha = c->desc.material.alpha;
+    int count = 0;
+    for (int e = 0; e < c->n_int; e++) {
+        const double *xi = x + 3 * c->lint[e].i, *xj = x + 3 * c->lint[e].j;
+        double dx = xj[0] - xi[0], dy = xj[1] - xi[1], dz = xj[2] - xi[2];
+        double d = sqrt(dx * dx + dy * dy + dz * dz);
+        int p = c->st.plastic[e];
+        plastic_rule(alpha, c->lint[e].rest, d, &p, &c->st.l1[e]);
+        c->st.plastic[e] = (unsigned char)p;
+        count += p;
+    }
+    return count;
+}

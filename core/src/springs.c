@@ -1,0 +1,80 @@
+/* One link as a spring and a damper: energy, force and Jacobian blocks
+ * (paper eq. 6-7, 9-14 and section 4).
+ *
+ * Every link type and region is a piecewise-quadratic spring (spring_law): the
+ * stiffness is k_hi above the rest length and k_lo below it. With
+ * x_ij = x_j - x_i, d = |x_ij|, u = x_ij / d and k the active stiffness,
+ *   E   = 1/2 k (d - l)^2
+ *   f_i = -dE/dx_i = k (d - l) u            (f_j = -f_i)
+ *   K   = df_i/dx_j = k uu^T + k (1 - l/d)(I - uu^T)          (eq. 14)
+ * K's eigenvalues are k (along u) and k (1 - l/d) (twice, across u); the
+ * latter is negative when d < l, and an indefinite matrix breaks CG. The
+ * paper's rule (section 3.2 / paper.md sec. 4): when d < l keep only k uu^T. */
+#include <math.h>
+#include "internal.h"
+
+/* Below this length a link has no direction; it exerts no force. Only
+ * reachable by collapsing two nodes onto each other. */
+#define SPRING_MIN_LENGTH 1e-12
+
+static double link_vec(const double xi[3], const double xj[3], double u[3])
+{
+    u[0] = xj[0] - xi[0];
+    u[1] = xj[1] - xi[1];
+    u[2] = xj[2] - xi[2];
+    double d = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    if (d > SPRING_MIN_LENGTH) {
+        u[0] /= d;
+        u[1] /= d;
+        u[2] /= d;
+    }
+    return d;
+}
+
+double spring_energy(const double xi[3], const double xj[3], spring_law s)
+{
+    double u[3];
+    double e = link_vec(xi, xj, u) - s.rest;
+    return 0.5 * (e >= 0.0 ? s.k_hi : s.k_lo) * e * e;
+}
+
+void spring_eval(const double xi[3], const double xj[3], spring_law s,
+                 int definiteness, double f_i[3], double K[9])
+{
+    double u[3];
+    double d = link_vec(xi, xj, u);
+    if (d <= SPRING_MIN_LENGTH) {
+        f_i[0] = f_i[1] = f_i[2] = 0.0;
+        if (K)
+            for (int k = 0; k < 9; k++) K[k] = 0.0;
+        return;
+    }
+    double k = d >= s.rest ? s.k_hi : s.k_lo;
+    double fm = k * (d - s.rest);
+    f_i[0] = fm * u[0];
+    f_i[1] = fm * u[1];
+    f_i[2] = fm * u[2];
+    if (!K) return;
+    /* transverse coefficient k (1 - l/d), dropped for compressed links */
+    double kt = (definiteness && d < s.rest) ? 0.0 : k * (1.0 - s.rest / d);
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++)
+            K[3 * a + b] = (k - kt) * u[a] * u[b] + (a == b ? kt : 0.0);
+}
+
+void damper_eval(const double xi[3], const double xj[3], const double vi[3],
+                 const double vj[3], double c, double f_i[3], double D[9])
+{
+    double u[3];
+    double d = link_vec(xi, xj, u);
+    if (d <= SPRING_MIN_LENGTH) {
+        u[0] = u[1] = u[2] = 0.0;
+    }
+    double rate = (vj[0] - vi[0]) * u[0] + (vj[1] - vi[1]) * u[1] + (vj[2] - vi[2]) * u[2];
+    f_i[0] = c * rate * u[0];
+    f_i[1] = c * rate * u[1];
+    f_i[2] = c * rate * u[2];
+    if (D)
+        for (int a = 0; a < 3; a++)
+            for (int b = 0; b < 3; b++) D[3 * a + b] = c * u[a] * u[b];
+}

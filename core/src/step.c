@@ -1,0 +1,328 @@
+/* One time step: backward Euler (paper eq. 15-21) or BDF2 solved by the
+ * modified PCG, or explicit / symplectic Euler for comparison; then the
+ * elongation limit and the plastic update. A step that fails leaves the state
+ * untouched: everything is computed into workspace and committed at the end. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "internal.h"
+#include "mpcg.h"
+
+int workspace_alloc(cloth *c)
+{
+    size_t n3 = 3 * (size_t)c->n;
+    /* f b dv z y x_new v_new con_new (8) + cg (5) vectors of 3n; pre, S of 9n */
+    c->work = calloc(13 * n3 + 6 * n3, sizeof *c->work);
+    if (!c->work) return -1;
+    double *w = c->work;
+    c->f = w; w += n3;
+    c->b = w; w += n3;
+    c->dv = w; w += n3;
+    c->z = w; w += n3;
+    c->y = w; w += n3;
+    c->x_new = w; w += n3;
+    c->v_new = w; w += n3;
+    c->con_new = w; w += n3;
+    c->cg = w; w += 5 * n3;
+    c->pre = w; w += 3 * n3;
+    c->S = w;
+    return 0;
+}
+
+static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+
+/* The filter S_i (projector onto the free directions) of each vertex, and
+ * z_i = (I - S_i)(v_target - v0): the velocity change that lands the vertex's
+ * constrained components on the target, given x_new = a + cfac v_new. */
+static void build_constraints(cloth *c, const double *a, const double *v0, double cfac)
+{
+    for (int i = 0; i < c->n; i++) {
+        double *S = c->S + 9 * (size_t)i, *z = c->z + 3 * (size_t)i;
+        const cloth_constraint *k = &c->con[i];
+        memcpy(S, I3, sizeof I3);
+        z[0] = z[1] = z[2] = 0.0;
+        if (k->ndof == 0) continue;
+        const double *n = k->axis;
+        for (int r = 0; r < 3; r++)
+            for (int s = 0; s < 3; s++) {
+                double nn = n[r] * n[s];
+                if (k->ndof == 3) S[3 * r + s] = 0.0;
+                else if (k->ndof == 1) S[3 * r + s] -= nn; /* plane: normal constrained */
+                else S[3 * r + s] = nn;                   /* line: only the axis free  */
+            }
+        double dvt[3];
+        for (int r = 0; r < 3; r++) dvt[r] = (k->target[r] - a[3 * i + r]) / cfac - v0[3 * i + r];
+        for (int r = 0; r < 3; r++)
+            z[r] = dvt[r] - (S[3 * r] * dvt[0] + S[3 * r + 1] * dvt[1] + S[3 * r + 2] * dvt[2]);
+    }
+}
+
+static void add_blk(double *A, const double *B, double s)
+{
+    for (int k = 0; k < 9; k++) A[k] += s * B[k];
+}
+
+/* A = M - beta h df/dv - gamma h^2 df/dx (eq. 21 for beta = gamma = 1),
+ * keeping each link's K = df_i/dx_j for the right-hand side. */
+static void assemble(cloth *c, const double *x, double beta_h, double gamma_h2)
+{
+    const cloth_material *m = &c->desc.material;
+    int defin = c->desc.solver.definiteness_rule;
+    bsr *A = &c->A;
+    bsr_zero(A);
+    for (int i = 0; i < c->n; i++) {
+        double *B = A->val + 9 * (size_t)A->diag[i];
+        B[0] = B[4] = B[8] = c->mass[i];
+    }
+    double f[3], D[9], blk[9];
+    for (int t = 0; t < 2; t++) {
+        int ne = t ? c->n_int : c->n_seq;
+        const link_topo *L = t ? c->lint : c->seq;
+        const int *bl = t ? c->int_blk : c->seq_blk;
+        double *Ks = t ? c->K_int : c->K_seq;
+        double damp = t ? m->c_b : m->c_t;
+        for (int e = 0; e < ne; e++) {
+            int i = L[e].i, j = L[e].j;
+            spring_law s = t ? int_law(m, L[e].rest, c->st.plastic[e], c->st.l1[e]) : seq_law(m, L[e].rest);
+            double *K = Ks + 9 * (size_t)e;
+            spring_eval(x + 3 * i, x + 3 * j, s, defin, f, K);
+            damper_eval(x + 3 * i, x + 3 * j, x, x, damp, f, D); /* D only: velocities unused */
+            for (int k = 0; k < 9; k++) blk[k] = gamma_h2 * K[k] + beta_h * D[k];
+            add_blk(A->val + 9 * (size_t)A->diag[i], blk, 1.0);
+            add_blk(A->val + 9 * (size_t)A->diag[j], blk, 1.0);
+            add_blk(A->val + 9 * (size_t)bl[2 * e], blk, -1.0);
+            add_blk(A->val + 9 * (size_t)bl[2 * e + 1], blk, -1.0);
+        }
+    }
+}
+
+/* out += (df/dx) w, link by link: link (i, j) adds K (w_j - w_i) to i and
+ * subtracts it from j. */
+static void add_Kw(const cloth *c, const double *w, double *out)
+{
+    for (int t = 0; t < 2; t++) {
+        int ne = t ? c->n_int : c->n_seq;
+        const link_topo *L = t ? c->lint : c->seq;
+        const double *Ks = t ? c->K_int : c->K_seq;
+        for (int e = 0; e < ne; e++) {
+            const double *K = Ks + 9 * (size_t)e, *wi = w + 3 * L[e].i, *wj = w + 3 * L[e].j;
+            double d0 = wj[0] - wi[0], d1 = wj[1] - wi[1], d2 = wj[2] - wi[2];
+            double *oi = out + 3 * L[e].i, *oj = out + 3 * L[e].j;
+            for (int r = 0; r < 3; r++) {
+                double y = K[3 * r] * d0 + K[3 * r + 1] * d1 + K[3 * r + 2] * d2;
+                oi[r] += y;
+                oj[r] -= y;
+            }
+        }
+    }
+}
+
+static int inv3(const double *m, double *o)
+{
+    double c0 = m[4] * m[8] - m[5] * m[7], c1 = m[5] * m[6] - m[3] * m[8], c2 = m[3] * m[7] - m[4] * m[6];
+    double det = m[0] * c0 + m[1] * c1 + m[2] * c2;
+    if (!(fabs(det) > 0.0) || !isfinite(det)) return -1;
+    double id = 1.0 / det;
+    o[0] = c0 * id;
+    o[1] = (m[2] * m[7] - m[1] * m[8]) * id;
+    o[2] = (m[1] * m[5] - m[2] * m[4]) * id;
+    o[3] = c1 * id;
+    o[4] = (m[0] * m[8] - m[2] * m[6]) * id;
+    o[5] = (m[2] * m[3] - m[0] * m[5]) * id;
+    o[6] = c2 * id;
+    o[7] = (m[1] * m[6] - m[0] * m[7]) * id;
+    o[8] = (m[0] * m[4] - m[1] * m[3]) * id;
+    return 0;
+}
+
+/* Per-vertex preconditioner blocks. Block Jacobi inverts the diagonal block
+ * restricted to the free directions, S A_ii S + (I - S), so a vertex sliding
+ * on a plane is preconditioned by its own 2x2 free block. Jacobi (Baraff-
+ * Witkin's choice) inverts the scalar diagonal. */
+static void build_preconditioner(cloth *c)
+{
+    int block = c->desc.solver.precond == CLOTH_PRECOND_BLOCK_JACOBI;
+    for (int i = 0; i < c->n; i++) {
+        const double *Aii = c->A.val + 9 * (size_t)c->A.diag[i], *S = c->S + 9 * (size_t)i;
+        double *P = c->pre + 9 * (size_t)i;
+        if (block) {
+            double SA[9], SAS[9];
+            for (int r = 0; r < 3; r++)
+                for (int s = 0; s < 3; s++)
+                    SA[3 * r + s] = S[3 * r] * Aii[s] + S[3 * r + 1] * Aii[3 + s] + S[3 * r + 2] * Aii[6 + s];
+            for (int r = 0; r < 3; r++)
+                for (int s = 0; s < 3; s++)
+                    SAS[3 * r + s] = SA[3 * r] * S[s] + SA[3 * r + 1] * S[3 + s] + SA[3 * r + 2] * S[6 + s] +
+                                     (I3[3 * r + s] - S[3 * r + s]);
+            if (inv3(SAS, P) == 0) continue;
+        }
+        memset(P, 0, 9 * sizeof *P);
+        for (int r = 0; r < 3; r++) P[4 * r] = Aii[4 * r] > 0.0 ? 1.0 / Aii[4 * r] : 1.0;
+    }
+}
+
+/* Backward Euler (bdf2 = 0) or BDF2 (Choi-Ko 2002) with the same linear
+ * solve. With a = the part of x_new known before the solve and
+ * x_new = a + cfac v_new:
+ *   BE:   (M - h D - h^2 K) dv = h f0 + K (h^2 v0),                  a = x0
+ *   BDF2: (M - 2/3 h D - 4/9 h^2 K) dv = 2/3 h f0 + 1/3 M (v0 - v_-1)
+ *            + K (2/9 h (x0 - x_-1) + 4/9 h^2 v0),      a = x0 + (x0 - x_-1)/3
+ * (linearising f about (x0, v0); K = df/dx, D = df/dv). */
+static cloth_failure implicit_step(cloth *c, double h, int bdf2, cloth_step_stats *st)
+{
+    const struct cloth_state *S0 = &c->st;
+    const double *x0 = S0->x, *v0 = S0->v;
+    size_t n3 = 3 * (size_t)c->n;
+    double beta = bdf2 ? 2.0 / 3.0 : 1.0, cfac = beta * h;
+    double *a = c->x_new, *w = c->y, *b = c->b;
+
+    for (size_t k = 0; k < n3; k++) {
+        a[k] = bdf2 ? x0[k] + (x0[k] - S0->x_prev[k]) / 3.0 : x0[k];
+        w[k] = bdf2 ? (2.0 / 9.0) * h * (x0[k] - S0->x_prev[k]) + (4.0 / 9.0) * h * h * v0[k] : h * h * v0[k];
+    }
+    forces_eval(c, x0, v0, 1, c->f);
+    assemble(c, x0, beta * h, beta * beta * h * h);
+    for (size_t k = 0; k < n3; k++) b[k] = beta * h * c->f[k];
+    if (bdf2)
+        for (size_t k = 0; k < n3; k++) b[k] += c->mass[k / 3] * (v0[k] - S0->v_prev[k]) / 3.0;
+    add_Kw(c, w, b);
+
+    build_constraints(c, a, v0, cfac);
+    build_preconditioner(c);
+    const cloth_solver *sv = &c->desc.solver;
+    if (sv->warm_start) memcpy(c->dv, S0->dv_prev, n3 * sizeof *c->dv);
+    else memset(c->dv, 0, n3 * sizeof *c->dv);
+    mpcg_result r = mpcg_solve(&c->A, b, c->S, c->z, c->pre, sv->cg_tolerance, sv->cg_max_iterations, c->dv, c->cg);
+    st->iterations = r.iterations;
+    st->residual = r.residual;
+    if (r.failure != CLOTH_FAIL_NONE) return r.failure;
+
+    for (size_t k = 0; k < n3; k++) {
+        c->v_new[k] = v0[k] + c->dv[k];
+        c->x_new[k] = a[k] + cfac * c->v_new[k];
+    }
+    /* Constraint forces (Baraff-Witkin sec. 5.3): the part of A dv - b the
+     * filter removed is the impulse the constraints applied, (beta h) f_c. */
+    memset(c->con_new, 0, n3 * sizeof *c->con_new);
+    if (c->n_con > 0) {
+        bsr_mul(&c->A, c->dv, c->y);
+        for (int i = 0; i < c->n; i++) {
+            if (c->con[i].ndof == 0) continue;
+            const double *Si = c->S + 9 * (size_t)i;
+            double e[3];
+            for (int r2 = 0; r2 < 3; r2++) e[r2] = (c->y[3 * i + r2] - b[3 * i + r2]) / cfac;
+            for (int r2 = 0; r2 < 3; r2++)
+                c->con_new[3 * i + r2] = e[r2] - (Si[3 * r2] * e[0] + Si[3 * r2 + 1] * e[1] + Si[3 * r2 + 2] * e[2]);
+        }
+    }
+    return CLOTH_FAIL_NONE;
+}
+
+/* Explicit (forward) Euler: x1 = x0 + h v0, v1 = v0 + h a0. Symplectic
+ * (semi-implicit) Euler: v1 = v0 + h a0, x1 = x0 + h v1. Constrained
+ * components go to their targets in both, v1 = (target - x0) / h. */
+static cloth_failure explicit_step(cloth *c, double h, int symplectic)
+{
+    const double *x0 = c->st.x, *v0 = c->st.v;
+    forces_eval(c, x0, v0, 1, c->f);
+    build_constraints(c, x0, v0, h);
+    memset(c->con_new, 0, 3 * (size_t)c->n * sizeof *c->con_new);
+    for (int i = 0; i < c->n; i++) {
+        const double *Si = c->S + 9 * (size_t)i, *z = c->z + 3 * (size_t)i;
+        double dv[3], fdv[3];
+        for (int r = 0; r < 3; r++) dv[r] = h * c->f[3 * i + r] / c->mass[i];
+        filter_apply(1, Si, dv, fdv);
+        for (int r = 0; r < 3; r++) {
+            double v1 = v0[3 * i + r] + fdv[r] + z[r];
+            c->v_new[3 * i + r] = v1;
+            /* the constrained part of the force: M dv / h - f, where the filter acted */
+            if (c->con[i].ndof) c->con_new[3 * i + r] = c->mass[i] * (fdv[r] + z[r]) / h - c->f[3 * i + r];
+        }
+        /* symplectic: x1 = x0 + h v1. explicit: x1 = x0 + h (v0 + z), whose
+         * free part moves with v0 and whose constrained part, since
+         * z = (I - S)(v_target - v0), lands on (I - S) target. */
+        for (int r = 0; r < 3; r++)
+            c->x_new[3 * i + r] = x0[3 * i + r] + h * (symplectic ? c->v_new[3 * i + r] : v0[3 * i + r] + z[r]);
+    }
+    return CLOTH_FAIL_NONE;
+}
+
+static void fill_stats(cloth *c, cloth_step_stats *st)
+{
+    st->energy = cloth_energies(c);
+    st->max_strain = cloth_max_strain(c);
+    st->constrained = c->n_con;
+    int p = 0;
+    for (int e = 0; e < c->n_int; e++) p += c->st.plastic[e];
+    st->plastic_links = p;
+}
+
+static cloth_status finish(cloth *c, cloth_step_stats *st, cloth_step_stats *out, cloth_status s)
+{
+    c->stats = *st;
+    if (out) *out = *st;
+    return s;
+}
+
+cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
+{
+    if (!c) return CLOTH_EINVAL;
+    cloth_step_stats st;
+    memset(&st, 0, sizeof st);
+    const cloth_solver *sv = &c->desc.solver;
+    st.method = sv->method;
+    if (!(h > 0.0) || !isfinite(h)) {
+        st.failure = CLOTH_FAIL_BAD_STEP;
+        fill_stats(c, &st);
+        finish(c, &st, out, CLOTH_EINVAL);
+        return cloth_fail(c, CLOTH_EINVAL, "cloth_step: h = %g must be finite and > 0", h);
+    }
+    size_t n3 = 3 * (size_t)c->n;
+    int bdf2 = sv->method == CLOTH_BDF2 && c->st.has_prev && fabs(c->st.h_prev - h) <= 1e-12 * h;
+    double cfac = h;
+    cloth_failure fail;
+    switch (sv->method) {
+    case CLOTH_EXPLICIT_EULER: fail = explicit_step(c, h, 0); break;
+    case CLOTH_SYMPLECTIC_EULER: fail = explicit_step(c, h, 1); break;
+    default:
+        /* BDF2's first step, or a step after h changed, is backward Euler */
+        fail = implicit_step(c, h, bdf2, &st);
+        if (bdf2) cfac = 2.0 * h / 3.0;
+        break;
+    }
+    if (fail == CLOTH_FAIL_NONE && !(all_finite(c->x_new, n3) && all_finite(c->v_new, n3))) fail = CLOTH_FAIL_NAN;
+    if (fail == CLOTH_FAIL_NONE && sv->strain_limit_iterations > 0)
+        st.strain_limited = strain_limit(c, c->x_new, c->v_new, c->S, cfac, sv->strain_limit_iterations);
+    if (fail == CLOTH_FAIL_NONE && !(all_finite(c->x_new, n3) && all_finite(c->v_new, n3))) fail = CLOTH_FAIL_NAN;
+
+    if (fail == CLOTH_FAIL_NONE) {
+        /* strain of the candidate: swap it in, measure, swap back on failure */
+        double *x_old = c->st.x;
+        c->st.x = c->x_new;
+        double ms = cloth_max_strain(c);
+        c->st.x = x_old;
+        if (!(ms <= sv->strain_fail)) fail = ms != ms ? CLOTH_FAIL_NAN : CLOTH_FAIL_STRAIN;
+    }
+    if (fail != CLOTH_FAIL_NONE) {
+        st.failure = fail;
+        fill_stats(c, &st); /* the unchanged state */
+        finish(c, &st, out, CLOTH_ESTEP);
+        return cloth_fail(c, CLOTH_ESTEP, "cloth_step: %s (state unchanged)", cloth_failure_string(fail));
+    }
+
+    /* commit */
+    struct cloth_state *s = &c->st;
+    memcpy(s->x_prev, s->x, n3 * sizeof *s->x);
+    memcpy(s->v_prev, s->v, n3 * sizeof *s->v);
+    memcpy(s->x, c->x_new, n3 * sizeof *s->x);
+    memcpy(s->v, c->v_new, n3 * sizeof *s->v);
+    s->h_prev = h;
+    s->has_prev = 1;
+    if (sv->method == CLOTH_BACKWARD_EULER || sv->method == CLOTH_BDF2) memcpy(s->dv_prev, c->dv, n3 * sizeof *c->dv);
+    memcpy(c->con_force, c->con_new, n3 * sizeof *c->con_force);
+    cloth_update_plastic(c);
+    fill_stats(c, &st);
+    return finish(c, &st, out, CLOTH_OK);
+}
+
+const cloth_step_stats *cloth_last_stats(const cloth *c) { return c ? &c->stats : NULL; }
