@@ -14,7 +14,7 @@
 static void usage(void)
 {
     puts("usage: drape_pinned [--grid N] [--hz F] [--seconds T] [--alpha A]\n"
-         "                    [--method be|bdf2|symplectic|explicit]\n"
+         "                    [--method be|bdf2|symplectic|explicit] [--precond block|jacobi|mg]\n"
          "A cotton cloth of N x N nodes (default 21), 1 m square, pinned at two\n"
          "adjacent corners, falls from horizontal for T seconds (default 3) at F\n"
          "steps per second (default 60). Prints energies, CG iterations, strain\n"
@@ -46,6 +46,14 @@ int main(int argc, char **argv)
             seconds = atof(v);
         } else if (v && !strcmp(o, "--alpha")) {
             d.material.alpha = atof(v);
+        } else if (v && !strcmp(o, "--precond")) {
+            if (!strcmp(v, "block")) d.solver.precond = CLOTH_PRECOND_BLOCK_JACOBI;
+            else if (!strcmp(v, "jacobi")) d.solver.precond = CLOTH_PRECOND_JACOBI;
+            else if (!strcmp(v, "mg")) d.solver.precond = CLOTH_PRECOND_MULTIGRID;
+            else {
+                fprintf(stderr, "drape_pinned: unknown preconditioner '%s'\n", v);
+                return 2;
+            }
         } else if (v && !strcmp(o, "--method")) {
             if (!strcmp(v, "be")) d.solver.method = CLOTH_BACKWARD_EULER;
             else if (!strcmp(v, "bdf2")) d.solver.method = CLOTH_BDF2;

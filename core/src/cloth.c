@@ -135,6 +135,8 @@ void cloth_destroy(cloth *c)
     free(c->K_seq);
     free(c->K_int);
     free(c->work);
+    free(c->cflag);
+    mg_free(&c->mg);
     free(c);
 }
 
@@ -200,6 +202,8 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
     if (!c->con || !c->con_force || !c->seq_blk || !c->int_blk || !c->K_seq || !c->K_int) goto nomem;
     if (links_to_blocks(&c->A, n, c->seq, c->n_seq, c->lint, c->n_int, c->seq_blk, c->int_blk) != 0) goto nomem;
     if (workspace_alloc(c) != 0) goto nomem;
+    c->cflag = calloc((size_t)n, 1);
+    if (!c->cflag || mg_create(&c->mg, R, C) != 0) goto nomem;
 
     *out = c;
     return CLOTH_OK;

@@ -5,6 +5,7 @@
 
 #include "odecloth/cloth.h"
 #include "bsr.h"
+#include "multigrid.h"
 
 /* ---------------------------------------------------------------- springs */
 
@@ -84,7 +85,10 @@ struct cloth {
     double *K_seq, *K_int;     /* per-link 3x3 df_i/dx_j (for K v products) */
     double *work;              /* one allocation behind the vectors below */
     double *f, *b, *dv, *z, *y, *x_new, *v_new; /* 3n each */
-    double *cg;                /* 5 * 3n: MPCG workspace */
+    double *cg;                /* 6 * 3n: MPCG workspace */
+    double *jac;               /* 3n: scalar Jacobi inverse diagonal */
+    unsigned char *cflag;      /* n: vertex constrained (filter needed) */
+    multigrid mg;              /* levels sized at creation */
     double *con_new;           /* 3n: constraint forces of the step being taken */
     double *pre;               /* 9n: preconditioner blocks */
     double *S;                 /* 9n: per-vertex filter (I - constrained projector) */

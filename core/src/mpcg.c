@@ -30,27 +30,45 @@ static double dot(const double *a, const double *b, size_t n)
     return s;
 }
 
-/* s = S Pinv r, blockwise */
-static void precondition(int n, const double *S, const double *Pinv, const double *r, double *s)
+typedef struct blocks_ctx {
+    int n;
+    const double *P;
+} blocks_ctx;
+
+static void blocks_apply(void *ctx, const double *r, double *s)
 {
-    filter_apply(n, Pinv, r, s);
-    filter_apply(n, S, s, s);
+    const blocks_ctx *b = ctx;
+    filter_apply(b->n, b->P, r, s);
 }
 
 mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const double *z,
                        const double *Pinv, double tol, int max_iter, double *x, double *w)
 {
+    blocks_ctx ctx = {A->n, Pinv};
+    return mpcg_solve_pc(A, b, S, z, Pinv, blocks_apply, &ctx, tol, max_iter, x, w);
+}
+
+mpcg_result mpcg_solve_pc(const bsr *A, const double *b, const double *S, const double *z,
+                          const double *Dinv, mpcg_precond_fn pc, void *ctx, double tol, int max_iter,
+                          double *x, double *w)
+{
     int n = A->n;
     size_t N = 3 * (size_t)n;
-    double *r = w, *p = w + N, *q = w + 2 * N, *s = w + 3 * N, *t = w + 4 * N;
+    double *r = w, *p = w + N, *q = w + 2 * N, *s = w + 3 * N, *t = w + 4 * N, *u = w + 5 * N;
     mpcg_result res = {0, 0.0, CLOTH_FAIL_NONE};
+    /* s = S M r (the filtered preconditioned residual); u = Dinv r for the norm */
+#define PRECONDITION()                 \
+    do {                               \
+        pc(ctx, r, s);                 \
+        filter_apply(n, S, s, s);      \
+    } while (0)
+#define NORM2() (filter_apply(n, Dinv, r, u), dot(r, u, N))
 
     /* reference: the reduced right-hand side S (b - A z) */
     bsr_mul(A, z, t);
     for (size_t k = 0; k < N; k++) r[k] = b[k] - t[k];
     filter_apply(n, S, r, r);
-    precondition(n, S, Pinv, r, s);
-    double ref = dot(r, s, N);
+    double ref = NORM2();
     if (!isfinite(ref)) {
         res.failure = CLOTH_FAIL_NAN;
         return res;
@@ -66,13 +84,17 @@ mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const dou
     bsr_mul(A, x, t);
     for (size_t k = 0; k < N; k++) r[k] = b[k] - t[k];
     filter_apply(n, S, r, r);
-    precondition(n, S, Pinv, r, s);
-    double delta = dot(r, s, N);
+    PRECONDITION();
+    double delta = dot(r, s, N), rr = NORM2();
     memcpy(p, s, N * sizeof *p);
     double tol2 = tol * tol * ref;
 
     int it = 0;
-    while (delta > tol2) {
+    while (rr > tol2) {
+        if (!(delta > 0.0)) { /* r^T M r <= 0: the preconditioner is not definite */
+            res.failure = isfinite(delta) ? CLOTH_FAIL_CG_INDEFINITE : CLOTH_FAIL_NAN;
+            break;
+        }
         if (it >= max_iter) {
             res.failure = CLOTH_FAIL_CG_MAX_ITER;
             break;
@@ -93,15 +115,18 @@ mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const dou
             x[k] += alpha * p[k];
             r[k] -= alpha * q[k];
         }
-        precondition(n, S, Pinv, r, s);
+        PRECONDITION();
         double dnew = dot(r, s, N);
+        rr = NORM2();
         double beta = dnew / delta;
         for (size_t k = 0; k < N; k++) p[k] = s[k] + beta * p[k];
         delta = dnew;
         it++;
     }
     res.iterations = it;
-    res.residual = sqrt(fmax(delta, 0.0) / ref);
-    if (res.failure == CLOTH_FAIL_NONE && !isfinite(delta)) res.failure = CLOTH_FAIL_NAN;
+    res.residual = sqrt(fmax(rr, 0.0) / ref);
+    if (res.failure == CLOTH_FAIL_NONE && !isfinite(rr)) res.failure = CLOTH_FAIL_NAN;
     return res;
+#undef PRECONDITION
+#undef NORM2
 }

@@ -19,10 +19,22 @@ typedef struct mpcg_result {
  *       on the free directions);
  *   x   3n: in, a guess for the free components (warm start; zeros for a
  *       cold start); out, the solution, with (I - S) x = z exactly;
- *   w   5 * 3n doubles of workspace.
- * Stops when |S r|_P <= tol |S (b - A z)|_P with |y|_P^2 = y^T Pinv y. */
+ *   w   6 * 3n doubles of workspace.
+ * Stops when |S r|_P <= tol |S (b - A z)|_P with |y|_P^2 = y^T Pinv y
+ * (the preconditioner is also the norm's weight here; see mpcg_solve_pc). */
 mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const double *z,
                        const double *Pinv, double tol, int max_iter, double *x, double *w);
+
+/* A preconditioner: s = M r for a symmetric positive definite M (on the free
+ * directions; the solver filters s afterwards). */
+typedef void (*mpcg_precond_fn)(void *ctx, const double *r, double *s);
+
+/* As mpcg_solve, with any preconditioner pc. The stopping norm stays
+ * |y|_D^2 = y^T Dinv y with Dinv the per-vertex blocks given, so a tolerance
+ * means the same whatever the preconditioner. w: 6 * 3n doubles. */
+mpcg_result mpcg_solve_pc(const bsr *A, const double *b, const double *S, const double *z,
+                          const double *Dinv, mpcg_precond_fn pc, void *ctx, double tol, int max_iter,
+                          double *x, double *w);
 
 /* y = S_i x_i per vertex (may alias). */
 void filter_apply(int n, const double *S, const double *x, double *y);

@@ -72,7 +72,8 @@ void cloth_state_destroy(cloth_state *s)
 
 cloth_status cloth_save(const cloth *c, cloth_state *s)
 {
-    if (!c || !s) return CLOTH_EINVAL;
+    if (!c) return CLOTH_EINVAL;
+    if (!s) return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_save: state is NULL");
     if (s->n != c->n || s->n_int != c->n_int)
         return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_save: state was made for another cloth size");
     state_copy(s, &c->st);

@@ -11,8 +11,8 @@
 int workspace_alloc(cloth *c)
 {
     size_t n3 = 3 * (size_t)c->n;
-    /* f b dv z y x_new v_new con_new (8) + cg (5) vectors of 3n; pre, S of 9n */
-    c->work = calloc(13 * n3 + 6 * n3, sizeof *c->work);
+    /* f b dv z y x_new v_new con_new jac (9) + cg (6) vectors of 3n; pre, S of 9n */
+    c->work = calloc(15 * n3 + 6 * n3, sizeof *c->work);
     if (!c->work) return -1;
     double *w = c->work;
     c->f = w; w += n3;
@@ -23,7 +23,8 @@ int workspace_alloc(cloth *c)
     c->x_new = w; w += n3;
     c->v_new = w; w += n3;
     c->con_new = w; w += n3;
-    c->cg = w; w += 5 * n3;
+    c->jac = w; w += n3;
+    c->cg = w; w += 6 * n3;
     c->pre = w; w += 3 * n3;
     c->S = w;
     return 0;
@@ -39,6 +40,7 @@ static void build_constraints(cloth *c, const double *a, const double *v0, doubl
     for (int i = 0; i < c->n; i++) {
         double *S = c->S + 9 * (size_t)i, *z = c->z + 3 * (size_t)i;
         const cloth_constraint *k = &c->con[i];
+        c->cflag[i] = k->ndof != 0;
         memcpy(S, I3, sizeof I3);
         z[0] = z[1] = z[2] = 0.0;
         if (k->ndof == 0) continue;
@@ -135,30 +137,40 @@ static int inv3(const double *m, double *o)
     return 0;
 }
 
-/* Per-vertex preconditioner blocks. Block Jacobi inverts the diagonal block
- * restricted to the free directions, S A_ii S + (I - S), so a vertex sliding
- * on a plane is preconditioned by its own 2x2 free block. Jacobi (Baraff-
- * Witkin's choice) inverts the scalar diagonal. */
+/* Per-vertex inverse diagonal blocks of the filtered matrix, S A_ii S +
+ * (I - S): the weight of the stopping norm, the block-Jacobi preconditioner
+ * and the multigrid smoother (a vertex sliding on a plane gets its own 2x2
+ * free block). Also the scalar Jacobi inverse (Baraff-Witkin's choice). */
 static void build_preconditioner(cloth *c)
 {
-    int block = c->desc.solver.precond == CLOTH_PRECOND_BLOCK_JACOBI;
     for (int i = 0; i < c->n; i++) {
         const double *Aii = c->A.val + 9 * (size_t)c->A.diag[i], *S = c->S + 9 * (size_t)i;
         double *P = c->pre + 9 * (size_t)i;
-        if (block) {
-            double SA[9], SAS[9];
-            for (int r = 0; r < 3; r++)
-                for (int s = 0; s < 3; s++)
-                    SA[3 * r + s] = S[3 * r] * Aii[s] + S[3 * r + 1] * Aii[3 + s] + S[3 * r + 2] * Aii[6 + s];
-            for (int r = 0; r < 3; r++)
-                for (int s = 0; s < 3; s++)
-                    SAS[3 * r + s] = SA[3 * r] * S[s] + SA[3 * r + 1] * S[3 + s] + SA[3 * r + 2] * S[6 + s] +
-                                     (I3[3 * r + s] - S[3 * r + s]);
-            if (inv3(SAS, P) == 0) continue;
-        }
+        for (int r = 0; r < 3; r++) c->jac[3 * i + r] = Aii[4 * r] > 0.0 ? 1.0 / Aii[4 * r] : 1.0;
+        double SA[9], SAS[9];
+        for (int r = 0; r < 3; r++)
+            for (int s = 0; s < 3; s++)
+                SA[3 * r + s] = S[3 * r] * Aii[s] + S[3 * r + 1] * Aii[3 + s] + S[3 * r + 2] * Aii[6 + s];
+        for (int r = 0; r < 3; r++)
+            for (int s = 0; s < 3; s++)
+                SAS[3 * r + s] = SA[3 * r] * S[s] + SA[3 * r + 1] * S[3 + s] + SA[3 * r + 2] * S[6 + s] +
+                                 (I3[3 * r + s] - S[3 * r + s]);
+        if (inv3(SAS, P) == 0) continue;
+        /* singular block (only without the definiteness rule, or zero mass) */
         memset(P, 0, 9 * sizeof *P);
         for (int r = 0; r < 3; r++) P[4 * r] = Aii[4 * r] > 0.0 ? 1.0 / Aii[4 * r] : 1.0;
     }
+}
+
+typedef struct jacobi_ctx {
+    int n;
+    const double *d;
+} jacobi_ctx;
+
+static void jacobi_apply(void *ctx, const double *r, double *s)
+{
+    const jacobi_ctx *j = ctx;
+    for (size_t k = 0; k < 3 * (size_t)j->n; k++) s[k] = j->d[k] * r[k];
 }
 
 /* Backward Euler (bdf2 = 0) or BDF2 (Choi-Ko 2002) with the same linear
@@ -192,7 +204,18 @@ static cloth_failure implicit_step(cloth *c, double h, int bdf2, cloth_step_stat
     const cloth_solver *sv = &c->desc.solver;
     if (sv->warm_start) memcpy(c->dv, S0->dv_prev, n3 * sizeof *c->dv);
     else memset(c->dv, 0, n3 * sizeof *c->dv);
-    mpcg_result r = mpcg_solve(&c->A, b, c->S, c->z, c->pre, sv->cg_tolerance, sv->cg_max_iterations, c->dv, c->cg);
+    mpcg_result r;
+    if (sv->precond == CLOTH_PRECOND_MULTIGRID) {
+        mg_setup(&c->mg, &c->A, c->S, c->cflag, c->pre);
+        r = mpcg_solve_pc(&c->A, b, c->S, c->z, c->pre, mg_apply, &c->mg, sv->cg_tolerance,
+                          sv->cg_max_iterations, c->dv, c->cg);
+    } else if (sv->precond == CLOTH_PRECOND_JACOBI) {
+        jacobi_ctx ctx = {c->n, c->jac};
+        r = mpcg_solve_pc(&c->A, b, c->S, c->z, c->pre, jacobi_apply, &ctx, sv->cg_tolerance,
+                          sv->cg_max_iterations, c->dv, c->cg);
+    } else {
+        r = mpcg_solve(&c->A, b, c->S, c->z, c->pre, sv->cg_tolerance, sv->cg_max_iterations, c->dv, c->cg);
+    }
     st->iterations = r.iterations;
     st->residual = r.residual;
     if (r.failure != CLOTH_FAIL_NONE) return r.failure;

@@ -82,16 +82,18 @@ typedef enum cloth_method {
 } cloth_method;
 
 typedef enum cloth_precond {
-    CLOTH_PRECOND_BLOCK_JACOBI = 0, /* inverse 3x3 diagonal blocks (default) */
-    CLOTH_PRECOND_JACOBI            /* inverse scalar diagonal (Baraff-Witkin) */
+    CLOTH_PRECOND_BLOCK_JACOBI = 0, /* inverse 3x3 diagonal blocks                */
+    CLOTH_PRECOND_JACOBI,           /* inverse scalar diagonal (Baraff-Witkin)    */
+    CLOTH_PRECOND_MULTIGRID         /* geometric multigrid V-cycle on the grid    */
 } cloth_precond;
 
 typedef struct cloth_solver {
     cloth_method method;
     cloth_precond precond;
-    /* Stop when |S r|_P <= cg_tolerance |S (b - A z)|_P, where |y|_P^2 =
-     * y^T P^-1 y is the preconditioner-weighted norm and S the constraint
-     * filter (the reduced system's relative residual). */
+    /* Stop when |S r|_D <= cg_tolerance |S (b - A z)|_D: the reduced
+     * system's relative residual, S the constraint filter, and |y|_D^2 =
+     * y^T D^-1 y with D the 3x3 diagonal blocks of the filtered matrix
+     * (a block-diagonal-weighted norm, the same whatever the preconditioner). */
     double cg_tolerance;          /* 1, in (0, 1)                         */
     int cg_max_iterations;        /* >= 1; reaching it fails the step     */
     int definiteness_rule;        /* 1: compressed links keep only k uu^T (paper sec. 3.2) */
@@ -241,8 +243,10 @@ typedef struct cloth_step_stats {
     int strain_limited;    /* sequential links corrected by the limit  */
 } cloth_step_stats;
 
-/* Advance by h seconds. On failure the state is exactly as before the call,
- * the return is CLOTH_ESTEP and stats->failure says why. stats may be NULL. */
+/* Advance by h seconds. If the step fails the state is exactly as before the
+ * call, the return is CLOTH_ESTEP and stats->failure says why. An h that is
+ * not finite and > 0 is a bad argument: CLOTH_EINVAL, failure BAD_STEP, state
+ * unchanged. stats may be NULL. */
 cloth_status cloth_step(cloth *c, double h, cloth_step_stats *stats);
 const cloth_step_stats *cloth_last_stats(const cloth *c);
 

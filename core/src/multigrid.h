@@ -1,0 +1,52 @@
+/* Geometric multigrid V-cycle on the cloth grid, used as the preconditioner
+ * of the modified PCG (multigrid.c). */
+#ifndef ODECLOTH_MULTIGRID_H
+#define ODECLOTH_MULTIGRID_H
+
+#include "bsr.h"
+
+#define MG_MAX_LEVELS 16
+
+typedef struct mg_level {
+    int R, C, n;         /* grid of this level                                     */
+    /* levels >= 1: a 5x5-offset stencil matrix, 25 blocks of 9 per node */
+    double *A;
+    double *Dinv;        /* 9n inverse diagonal blocks (level 0: the cloth's)      */
+    double *x, *b, *r;   /* 3n                                                     */
+    int *nb;             /* levels >= 1: 25n stencil neighbours (-1 = off the grid) */
+    int *rc;             /* 2n: row and column of each node                        */
+    /* prolongation from the next coarser level: up to 4 parents per node */
+    int *par;            /* 4n coarse node indices (-1 = none)                     */
+    double *w;           /* 4n bilinear weights                                    */
+} mg_level;
+
+typedef struct multigrid {
+    int nlev;
+    mg_level lev[MG_MAX_LEVELS];
+    int nc;              /* unknowns of the coarsest level (3 n)                   */
+    double *dense;       /* nc x nc Cholesky factor of the coarsest level          */
+    /* level 0 (the cloth's own matrix), set before each use */
+    const bsr *A0;
+    const double *S0;    /* 9n filters                                             */
+    const unsigned char *constrained; /* n flags: filter needed                    */
+} multigrid;
+
+/* Levels for an R x C grid: coarsened by two (node 2I of a level is node I
+ * of the next) while the level has more than 64 nodes. 0, or -1 on no memory. */
+int mg_create(multigrid *mg, int R, int C);
+void mg_free(multigrid *mg);
+
+/* Per step: Galerkin coarse operators A_{l+1} = W^T A_l W from the filtered
+ * fine matrix S A S (Tamstorf, Jones, McCormick 2015: constrained directions
+ * removed before coarsening), the diagonal inverses, and the Cholesky factor
+ * of the coarsest level. Dinv0: the fine level's inverse diagonal blocks of
+ * S A S + (I - S). */
+void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char *constrained,
+              double *Dinv0);
+
+/* s = V(r): one V(1,1)-cycle, forward block Gauss-Seidel before and backward
+ * after the coarse correction, so the operator is symmetric and positive
+ * definite (a valid CG preconditioner). ctx is the multigrid. */
+void mg_apply(void *ctx, const double *r, double *s);
+
+#endif

@@ -1,0 +1,548 @@
+/* Unit: bad input gives an error status and a readable message and leaves the
+ * object as it was (cloth.h: "errors are values ... a call that fails leaves
+ * its object unchanged").
+ *
+ * Creation: cloth_desc_validate and cloth_create reject
+ *   - NaN, +inf and -inf in every double field of cloth_desc (looped over);
+ *   - rows or cols < 3; rows * cols overflowing int (100000 x 100000 must be an
+ *     error, quickly, not a giant allocation or a crash);
+ *   - width, height, density <= 0; negative stiffnesses or damping;
+ *     alpha outside [0, 1]; delta <= 0; axis_u or axis_v zero, or parallel
+ *     (or antiparallel); cg_tolerance outside (0, 1); cg_max_iterations < 1;
+ *     unknown method/precond; negative strain_limit_iterations;
+ *   - NULL desc, NULL out;
+ * with CLOTH_EINVAL (CLOTH_ENOMEM allowed for the overflows), err.code equal
+ * to the return, a non-empty err.message, and *out set to NULL. The same bad
+ * materials/solvers fail cloth_material_validate / cloth_solver_validate.
+ *
+ * An existing cloth (perturbed, with plastic links and constraints): each bad
+ * call below returns an error (EINVAL, and for a bad h also stats.failure
+ * BAD_STEP), cloth_last_error is non-empty (it is "" on a fresh cloth), and
+ * the state (cloth_save + cloth_state_diff == 0), material, solver, gravity
+ * (cloth_get_desc, memcmp) and constraints are unchanged:
+ *   set_material / set_solver / set_gravity with bad values or NULL,
+ *   set_positions / set_velocities with a NaN or inf anywhere, or NULL,
+ *   set_vertex out of range or non-finite, get_link out of range or bad type,
+ *   pin out of range / NaN / NULL target, set_constraint with ndof 4 or -1,
+ *   a zero or NaN axis, NaN target, out-of-range vertex, NULL,
+ *   release / get_constraint / constraint_force out of range,
+ *   internal_forces into NULL, save into NULL, restore from NULL or from a
+ *   state of another size, step with h = 0, < 0, NaN, inf.
+ */
+#include <limits.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "odecloth/cloth.h"
+#include "check.h"
+
+/* ------------------------------------------------------------- creation */
+
+static void expect_desc_rejected(const cloth_desc *d, const char *what, int allow_enomem)
+{
+    cloth_error err;
+    cloth_status s;
+    cloth *out = (cloth *)&err; /* a non-NULL sentinel */
+    int ok_status;
+
+    memset(&err, 0, sizeof err);
+    err.code = CLOTH_OK;
+    s = cloth_desc_validate(d, &err);
+    ok_status = s == CLOTH_EINVAL || (allow_enomem && s == CLOTH_ENOMEM);
+    CHECK(ok_status, "cloth_desc_validate(%s) returned %d (%s), want EINVAL", what, (int)s, cloth_status_string(s));
+    CHECK(s == CLOTH_OK || err.message[0] != '\0', "cloth_desc_validate(%s): empty message", what);
+
+    memset(&err, 0, sizeof err);
+    err.code = CLOTH_OK;
+    s = cloth_create(d, &out, &err);
+    ok_status = s == CLOTH_EINVAL || (allow_enomem && s == CLOTH_ENOMEM);
+    CHECK(ok_status, "cloth_create(%s) returned %d (%s), want EINVAL%s", what, (int)s, cloth_status_string(s),
+          allow_enomem ? " or ENOMEM" : "");
+    CHECK(s == CLOTH_OK || err.message[0] != '\0', "cloth_create(%s): empty message", what);
+    CHECK(s == CLOTH_OK || err.code == s, "cloth_create(%s): err.code %d but returned %d", what, (int)err.code, (int)s);
+    CHECK(s == CLOTH_OK || out == NULL, "cloth_create(%s) failed but *out is not NULL", what);
+    if (s == CLOTH_OK && out && out != (cloth *)&err) cloth_destroy(out);
+
+    /* err may be NULL */
+    out = NULL;
+    s = cloth_create(d, &out, NULL);
+    CHECK(s != CLOTH_OK && out == NULL, "cloth_create(%s, err = NULL) returned %d", what, (int)s);
+    if (s == CLOTH_OK) cloth_destroy(out);
+}
+
+typedef struct dfield { const char *name; size_t off; } dfield;
+#define DF(f) {#f, offsetof(cloth_desc, f)}
+static const dfield desc_doubles[] = {
+    DF(width), DF(height), DF(origin[0]), DF(origin[1]), DF(origin[2]), DF(axis_u[0]), DF(axis_u[1]),
+    DF(axis_u[2]), DF(axis_v[0]), DF(axis_v[1]), DF(axis_v[2]), DF(gravity[0]), DF(gravity[1]),
+    DF(gravity[2]), DF(material.k_t), DF(material.k_c), DF(material.k_b), DF(material.k_s),
+    DF(material.alpha), DF(material.delta), DF(material.c_t), DF(material.c_b), DF(material.density),
+    DF(solver.cg_tolerance), DF(solver.strain_fail),
+};
+#define NDESC_DOUBLES (sizeof desc_doubles / sizeof desc_doubles[0])
+#define NMATERIAL_DOUBLES 9 /* the material.* entries, in order, from index 14 */
+#define MATERIAL_FIRST 14
+
+/* material fields by offset within cloth_material */
+static double *mat_field(cloth_material *m, int k) { return (double *)((char *)m + (desc_doubles[MATERIAL_FIRST + k].off - offsetof(cloth_desc, material))); }
+
+static void check_create(void)
+{
+    const cloth_desc d0 = cloth_default_desc();
+    cloth_desc d;
+    cloth_error err;
+    cloth *c = NULL;
+    char what[128];
+    const double nonfinite[3] = {NAN, INFINITY, -INFINITY};
+    const char *nf_name[3] = {"NaN", "inf", "-inf"};
+
+    /* sanity: the table covers every double of the desc, and the default is valid */
+    CHECK(sizeof(cloth_material) == NMATERIAL_DOUBLES * sizeof(double), "cloth_material has fields this test misses");
+    CHECK(strcmp(desc_doubles[MATERIAL_FIRST].name, "material.k_t") == 0, "table order");
+    CHECK(cloth_desc_validate(&d0, NULL) == CLOTH_OK, "the default desc is invalid");
+    CHECK(cloth_create(&d0, &c, &err) == CLOTH_OK && c, "cloth_create(default) failed: %s", err.message);
+    cloth_destroy(c);
+    cloth_destroy(NULL); /* documented as fine */
+
+    /* every double field, NaN / inf / -inf */
+    for (size_t f = 0; f < NDESC_DOUBLES; f++)
+        for (int k = 0; k < 3; k++) {
+            d = d0;
+            *(double *)((char *)&d + desc_doubles[f].off) = nonfinite[k];
+            snprintf(what, sizeof what, "%s = %s", desc_doubles[f].name, nf_name[k]);
+            expect_desc_rejected(&d, what, 0);
+        }
+
+    /* sizes */
+    {
+        static const int bad[][2] = {{2, 5}, {5, 2}, {0, 0}, {-1, 5}, {5, -3}, {1, 1}, {2, 2}, {INT_MIN, 5}};
+        for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+            d = d0;
+            d.rows = bad[k][0];
+            d.cols = bad[k][1];
+            snprintf(what, sizeof what, "rows %d cols %d", d.rows, d.cols);
+            expect_desc_rejected(&d, what, 0);
+        }
+    }
+    {
+        static const int huge[][2] = {{100000, 100000}, {46341, 46341}, {INT_MAX, 3}, {3, INT_MAX}, {INT_MAX, INT_MAX}};
+        for (size_t k = 0; k < sizeof huge / sizeof huge[0]; k++) {
+            d = d0;
+            d.rows = huge[k][0];
+            d.cols = huge[k][1];
+            snprintf(what, sizeof what, "rows %d cols %d (overflow)", d.rows, d.cols);
+            expect_desc_rejected(&d, what, 1);
+        }
+    }
+
+    /* out-of-range values */
+#define BAD(stmt, label)                 \
+    do {                                 \
+        d = d0;                          \
+        stmt;                            \
+        expect_desc_rejected(&d, label, 0); \
+    } while (0)
+    BAD(d.width = 0, "width 0");
+    BAD(d.width = -1, "width -1");
+    BAD(d.height = 0, "height 0");
+    BAD(d.height = -0.5, "height -0.5");
+    BAD(d.material.density = 0, "density 0");
+    BAD(d.material.density = -0.2, "density -0.2");
+    BAD(d.material.k_t = -1, "k_t -1");
+    BAD(d.material.k_c = -1, "k_c -1");
+    BAD(d.material.k_b = -1, "k_b -1");
+    BAD(d.material.k_s = -1, "k_s -1");
+    BAD(d.material.c_t = -1, "c_t -1");
+    BAD(d.material.c_b = -1, "c_b -1");
+    BAD(d.material.alpha = -0.01, "alpha -0.01");
+    BAD(d.material.alpha = 1.01, "alpha 1.01");
+    BAD(d.material.delta = 0, "delta 0");
+    BAD(d.material.delta = -0.1, "delta -0.1");
+    BAD((d.axis_u[0] = d.axis_u[1] = d.axis_u[2] = 0), "axis_u zero");
+    BAD((d.axis_v[0] = d.axis_v[1] = d.axis_v[2] = 0), "axis_v zero");
+    BAD((d.axis_u[0] = 1, d.axis_u[1] = 0, d.axis_u[2] = 0, d.axis_v[0] = 2, d.axis_v[1] = 0, d.axis_v[2] = 0),
+        "axis_v parallel to axis_u");
+    BAD((d.axis_u[0] = 0, d.axis_u[1] = 1, d.axis_u[2] = 1, d.axis_v[0] = 0, d.axis_v[1] = -3, d.axis_v[2] = -3),
+        "axis_v antiparallel to axis_u");
+    BAD(d.solver.cg_tolerance = 0, "cg_tolerance 0");
+    BAD(d.solver.cg_tolerance = 1, "cg_tolerance 1");
+    BAD(d.solver.cg_tolerance = -1e-3, "cg_tolerance -1e-3");
+    BAD(d.solver.cg_tolerance = 2, "cg_tolerance 2");
+    BAD(d.solver.cg_max_iterations = 0, "cg_max_iterations 0");
+    BAD(d.solver.cg_max_iterations = -7, "cg_max_iterations -7");
+    BAD(d.solver.method = (cloth_method)99, "method 99");
+    BAD(d.solver.method = (cloth_method)-1, "method -1");
+    BAD(d.solver.precond = (cloth_precond)99, "precond 99");
+    BAD(d.solver.strain_limit_iterations = -1, "strain_limit_iterations -1");
+#undef BAD
+
+    /* NULL arguments */
+    {
+        cloth *out = (cloth *)&err;
+        cloth_status s;
+        memset(&err, 0, sizeof err);
+        s = cloth_create(NULL, &out, &err);
+        CHECK(s == CLOTH_EINVAL && err.message[0] && out == NULL,
+              "cloth_create(NULL desc): status %d, message \"%s\", out %p", (int)s, err.message, (void *)out);
+        memset(&err, 0, sizeof err);
+        s = cloth_create(&d0, NULL, &err);
+        CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_create(out = NULL): status %d, message \"%s\"", (int)s,
+              err.message);
+        memset(&err, 0, sizeof err);
+        s = cloth_desc_validate(NULL, &err);
+        CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_desc_validate(NULL): status %d", (int)s);
+        memset(&err, 0, sizeof err);
+        s = cloth_material_validate(NULL, &err);
+        CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_material_validate(NULL): status %d", (int)s);
+        memset(&err, 0, sizeof err);
+        s = cloth_solver_validate(NULL, &err);
+        CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_solver_validate(NULL): status %d", (int)s);
+    }
+
+    /* the stand-alone validators */
+    {
+        cloth_material m;
+        cloth_solver sv;
+        cloth_status s;
+        for (int p = 0; p < 3; p++) {
+            m = cloth_material_preset((cloth_preset)p);
+            CHECK(cloth_material_validate(&m, NULL) == CLOTH_OK, "preset %d is invalid", p);
+        }
+        for (int k = 0; k < NMATERIAL_DOUBLES; k++)
+            for (int v = 0; v < 4; v++) {
+                m = cloth_material_preset(CLOTH_COTTON);
+                *mat_field(&m, k) = v < 3 ? nonfinite[v] : -1.0;
+                memset(&err, 0, sizeof err);
+                s = cloth_material_validate(&m, &err);
+                CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_material_validate(%s = %s): status %d",
+                      desc_doubles[MATERIAL_FIRST + k].name, v < 3 ? nf_name[v] : "-1", (int)s);
+            }
+        sv = d0.solver;
+        CHECK(cloth_solver_validate(&sv, NULL) == CLOTH_OK, "the default solver is invalid");
+        sv.cg_tolerance = NAN;
+        s = cloth_solver_validate(&sv, &err);
+        CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_solver_validate(cg_tolerance NaN): status %d", (int)s);
+        sv = d0.solver;
+        sv.cg_max_iterations = 0;
+        s = cloth_solver_validate(&sv, &err);
+        CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_solver_validate(cg_max_iterations 0): status %d", (int)s);
+    }
+}
+
+/* ----------------------------------------------------- an existing cloth */
+
+enum { ROWS = 6, COLS = 5, NV = ROWS * COLS };
+
+/* A cloth in an interesting state: perturbed and squeezed (plastic links),
+ * moving, with a pin and a plane constraint. */
+static cloth *make_cloth(void)
+{
+    cloth_desc d = cloth_default_desc();
+    cloth *c = NULL;
+    cloth_error err;
+    rng r = rng_seed(0x5EED0401u);
+    double x[3 * NV], v[3 * NV];
+    d.rows = ROWS;
+    d.cols = COLS;
+    if (cloth_create(&d, &c, &err) != CLOTH_OK) {
+        CHECK(0, "cloth_create: %s", err.message);
+        return NULL;
+    }
+    memcpy(x, cloth_positions(c), sizeof x);
+    for (int i = 0; i < NV; i++) {
+        x[3 * i] *= 0.7; /* squeeze along x (the default cloth is centred on the z axis) */
+        for (int a = 0; a < 3; a++) {
+            x[3 * i + a] += rng_range(&r, -0.02, 0.02);
+            v[3 * i + a] = rng_range(&r, -1, 1);
+        }
+    }
+    if (cloth_set_positions(c, x) != CLOTH_OK || cloth_set_velocities(c, v) != CLOTH_OK) {
+        CHECK(0, "setting up the state failed: %s", cloth_last_error(c));
+    }
+    {
+        cloth_constraint k;
+        memset(&k, 0, sizeof k);
+        k.vertex = 7;
+        k.ndof = 1;
+        k.axis[2] = 1;
+        memcpy(k.target, x + 3 * 7, sizeof k.target);
+        if (cloth_pin(c, 0, x) != CLOTH_OK || cloth_set_constraint(c, &k) != CLOTH_OK)
+            CHECK(0, "setting up constraints failed: %s", cloth_last_error(c));
+    }
+    return c;
+}
+
+typedef struct snapshot {
+    cloth_state *st;
+    cloth_desc desc;
+    int ncon;
+    cloth_constraint con[NV];
+    cloth_status con_status[NV];
+} snapshot;
+
+static void take(const cloth *c, snapshot *s)
+{
+    s->st = cloth_state_create(c);
+    if (s->st) cloth_save(c, s->st);
+    s->desc = cloth_get_desc(c);
+    s->ncon = cloth_constraint_count(c);
+    for (int i = 0; i < NV; i++) {
+        memset(&s->con[i], 0, sizeof s->con[i]);
+        s->con_status[i] = cloth_get_constraint(c, i, &s->con[i]);
+    }
+}
+
+static void compare(const snapshot *a, const snapshot *b, const char *what)
+{
+    double diff = a->st && b->st ? cloth_state_diff(a->st, b->st) : -1;
+    int con_changed = a->ncon != b->ncon;
+    CHECK(diff == 0.0, "%s changed the state (cloth_state_diff %g)", what, diff);
+    CHECK(memcmp(&a->desc.material, &b->desc.material, sizeof a->desc.material) == 0, "%s changed the material",
+          what);
+    CHECK(memcmp(&a->desc.solver, &b->desc.solver, sizeof a->desc.solver) == 0, "%s changed the solver", what);
+    CHECK(memcmp(a->desc.gravity, b->desc.gravity, sizeof a->desc.gravity) == 0, "%s changed gravity", what);
+    for (int i = 0; i < NV; i++)
+        if (a->con_status[i] != b->con_status[i] || a->con[i].ndof != b->con[i].ndof ||
+            memcmp(a->con[i].axis, b->con[i].axis, sizeof a->con[i].axis) != 0 ||
+            memcmp(a->con[i].target, b->con[i].target, sizeof a->con[i].target) != 0)
+            con_changed = 1;
+    CHECK(!con_changed, "%s changed the constraints", what);
+}
+
+static void release(snapshot *s) { cloth_state_destroy(s->st); }
+
+/* One bad call by number; returns the status, sets *what, *want. Returns
+ * -1 past the last case. */
+static int bad_call(cloth *c, int k, char *what, size_t wn, cloth_status *want)
+{
+    cloth_desc d0 = cloth_default_desc();
+    double x[3 * NV], g[3] = {0, 0, -9.81}, p[3] = {0.1, 0.2, 0.3};
+    const double nf[3] = {NAN, INFINITY, -INFINITY};
+    *want = CLOTH_EINVAL;
+    memcpy(x, cloth_positions(c), sizeof x);
+
+    /* set_material: each field NaN, inf, negative; alpha > 1; delta 0; NULL */
+    if (k < NMATERIAL_DOUBLES * 4) {
+        cloth_material m = cloth_get_desc(c).material;
+        int f = k / 4, v = k % 4;
+        *mat_field(&m, f) = v < 3 ? nf[v] : -1.0;
+        snprintf(what, wn, "cloth_set_material(%s = %s)", desc_doubles[MATERIAL_FIRST + f].name,
+                 v < 3 ? (v == 0 ? "NaN" : v == 1 ? "inf" : "-inf") : "-1");
+        return cloth_set_material(c, &m);
+    }
+    k -= NMATERIAL_DOUBLES * 4;
+    switch (k) {
+    case 0: {
+        cloth_material m = cloth_get_desc(c).material;
+        m.alpha = 1.5;
+        snprintf(what, wn, "cloth_set_material(alpha 1.5)");
+        return cloth_set_material(c, &m);
+    }
+    case 1: {
+        cloth_material m = cloth_get_desc(c).material;
+        m.delta = 0;
+        snprintf(what, wn, "cloth_set_material(delta 0)");
+        return cloth_set_material(c, &m);
+    }
+    case 2:
+        snprintf(what, wn, "cloth_set_material(NULL)");
+        return cloth_set_material(c, NULL);
+    case 3: case 4: case 5: case 6: case 7: case 8: case 9: {
+        cloth_solver s = d0.solver;
+        const char *nm[] = {"cg_tolerance 0", "cg_tolerance 1", "cg_tolerance NaN", "cg_max_iterations 0",
+                            "method 99", "precond 99", "strain_fail NaN"};
+        if (k == 3) s.cg_tolerance = 0;
+        if (k == 4) s.cg_tolerance = 1;
+        if (k == 5) s.cg_tolerance = NAN;
+        if (k == 6) s.cg_max_iterations = 0;
+        if (k == 7) s.method = (cloth_method)99;
+        if (k == 8) s.precond = (cloth_precond)99;
+        if (k == 9) s.strain_fail = NAN;
+        snprintf(what, wn, "cloth_set_solver(%s)", nm[k - 3]);
+        return cloth_set_solver(c, &s);
+    }
+    case 10:
+        snprintf(what, wn, "cloth_set_solver(NULL)");
+        return cloth_set_solver(c, NULL);
+    case 11: case 12: case 13: case 14:
+        if (k < 14) g[k - 11] = nf[k - 11];
+        snprintf(what, wn, "cloth_set_gravity(%s)", k < 14 ? "non-finite component" : "NULL");
+        return cloth_set_gravity(c, k < 14 ? g : NULL);
+    case 15: case 16: case 17: case 18: {
+        int at[] = {0, 3 * NV / 2 + 1, 3 * NV - 1, 40};
+        x[at[k - 15]] = k == 18 ? INFINITY : NAN;
+        snprintf(what, wn, "cloth_set_positions(%s at %d)", k == 18 ? "inf" : "NaN", at[k - 15]);
+        return cloth_set_positions(c, x);
+    }
+    case 19:
+        snprintf(what, wn, "cloth_set_positions(NULL)");
+        return cloth_set_positions(c, NULL);
+    case 20: case 21: {
+        double v[3 * NV];
+        memcpy(v, cloth_velocities(c), sizeof v);
+        v[k == 20 ? 3 * NV - 1 : 17] = k == 20 ? NAN : -INFINITY;
+        snprintf(what, wn, "cloth_set_velocities(%s)", k == 20 ? "NaN last" : "-inf");
+        return cloth_set_velocities(c, v);
+    }
+    case 22:
+        snprintf(what, wn, "cloth_set_velocities(NULL)");
+        return cloth_set_velocities(c, NULL);
+    case 23: case 24: case 25: {
+        int vert = k == 23 ? -1 : k == 24 ? NV : INT_MAX;
+        double xv[3] = {0.1, 0.2, 0.3}, vv[3] = {0, 0, 0};
+        snprintf(what, wn, "cloth_set_vertex(%d)", vert);
+        return cloth_set_vertex(c, vert, xv, vv);
+    }
+    case 26: case 27: {
+        double xv[3] = {0.1, NAN, 0.3}, vv[3] = {0, 0, INFINITY};
+        double xo[3] = {0.1, 0.2, 0.3}, vo[3] = {0, 0, 0};
+        snprintf(what, wn, "cloth_set_vertex(5, %s)", k == 26 ? "x NaN" : "v inf");
+        return k == 26 ? cloth_set_vertex(c, 5, xv, vo) : cloth_set_vertex(c, 5, xo, vv);
+    }
+    case 28: case 29: case 30: case 31: {
+        cloth_link L;
+        cloth_link_type t = k == 30 ? CLOTH_INTERLACED : CLOTH_SEQUENTIAL;
+        int idx = k == 28 ? -1 : k == 31 ? 0 : cloth_link_count(c, t);
+        if (k == 31) t = (cloth_link_type)7;
+        snprintf(what, wn, "cloth_get_link(type %d, index %d)", (int)t, idx);
+        return cloth_get_link(c, t, idx, &L);
+    }
+    case 32: case 33:
+        snprintf(what, wn, "cloth_pin(%d)", k == 32 ? -1 : NV);
+        return cloth_pin(c, k == 32 ? -1 : NV, p);
+    case 34: {
+        double t[3] = {0, NAN, 0};
+        snprintf(what, wn, "cloth_pin(3, NaN target)");
+        return cloth_pin(c, 3, t);
+    }
+    case 35:
+        snprintf(what, wn, "cloth_pin(3, NULL)");
+        return cloth_pin(c, 3, NULL);
+    case 36: case 37: case 38: case 39: case 40: case 41: case 42: {
+        cloth_constraint q;
+        const char *nm[] = {"ndof 4", "ndof -1", "ndof 1 zero axis", "ndof 2 zero axis", "ndof 1 NaN axis",
+                            "ndof 3 NaN target", "vertex out of range"};
+        memset(&q, 0, sizeof q);
+        q.vertex = 3;
+        q.ndof = 1;
+        q.axis[2] = 1;
+        memcpy(q.target, x + 9, sizeof q.target);
+        if (k == 36) q.ndof = 4;
+        if (k == 37) q.ndof = -1;
+        if (k == 38) q.axis[2] = 0;
+        if (k == 39) q.ndof = 2, q.axis[2] = 0;
+        if (k == 40) q.axis[0] = NAN;
+        if (k == 41) q.ndof = 3, q.target[1] = NAN;
+        if (k == 42) q.vertex = NV;
+        snprintf(what, wn, "cloth_set_constraint(%s)", nm[k - 36]);
+        return cloth_set_constraint(c, &q);
+    }
+    case 43:
+        snprintf(what, wn, "cloth_set_constraint(NULL)");
+        return cloth_set_constraint(c, NULL);
+    case 44: case 45:
+        snprintf(what, wn, "cloth_release(%d)", k == 44 ? -1 : NV);
+        return cloth_release(c, k == 44 ? -1 : NV);
+    case 46: {
+        cloth_constraint q;
+        snprintf(what, wn, "cloth_get_constraint(%d)", NV);
+        return cloth_get_constraint(c, NV, &q);
+    }
+    case 47: {
+        double f[3];
+        snprintf(what, wn, "cloth_constraint_force(-1)");
+        return cloth_constraint_force(c, -1, f);
+    }
+    case 48:
+        snprintf(what, wn, "cloth_internal_forces(NULL)");
+        return cloth_internal_forces(c, NULL);
+    case 49:
+        snprintf(what, wn, "cloth_save(NULL)");
+        return cloth_save(c, NULL);
+    case 50:
+        snprintf(what, wn, "cloth_restore(NULL)");
+        return cloth_restore(c, NULL);
+    case 51: {
+        /* a state of a cloth of another size */
+        cloth_desc d = cloth_default_desc();
+        cloth *o = NULL;
+        cloth_state *s;
+        cloth_status st = CLOTH_OK;
+        d.rows = ROWS + 1;
+        d.cols = COLS;
+        snprintf(what, wn, "cloth_restore(state of a %dx%d cloth)", ROWS + 1, COLS);
+        if (cloth_create(&d, &o, NULL) != CLOTH_OK) return CLOTH_EINVAL;
+        s = cloth_state_create(o);
+        if (s) {
+            cloth_state *mine = cloth_state_create(c);
+            cloth_save(o, s);
+            if (mine) {
+                cloth_save(c, mine);
+                CHECK(cloth_state_diff(mine, s) < 0, "cloth_state_diff of states of different sizes is not negative");
+            }
+            cloth_state_destroy(mine);
+            st = cloth_restore(c, s);
+        }
+        cloth_state_destroy(s);
+        cloth_destroy(o);
+        return st;
+    }
+    case 52: case 53: case 54: case 55: {
+        const double hs[] = {0.0, -0.01, NAN, INFINITY};
+        cloth_step_stats stats;
+        cloth_status st;
+        memset(&stats, 0, sizeof stats);
+        snprintf(what, wn, "cloth_step(h = %g)", hs[k - 52]);
+        *want = CLOTH_EINVAL; /* a bad argument, not a failed step */
+        st = cloth_step(c, hs[k - 52], &stats);
+        CHECK(st == CLOTH_OK || stats.failure == CLOTH_FAIL_BAD_STEP, "%s: stats.failure %d (%s), want BAD_STEP",
+              what, (int)stats.failure, cloth_failure_string(stats.failure));
+        return st;
+    }
+    default:
+        return -1;
+    }
+}
+
+static void check_existing(void)
+{
+    char what[160];
+    int ncases = 0;
+    for (int k = 0;; k++) {
+        cloth *c = make_cloth();
+        snapshot before, after;
+        cloth_status want;
+        int s;
+        if (!c) return;
+        CHECK(cloth_last_error(c) && cloth_last_error(c)[0] == '\0',
+              "a fresh cloth's last error is \"%s\", want \"\"", cloth_last_error(c) ? cloth_last_error(c) : "(NULL)");
+        take(c, &before);
+        what[0] = '\0';
+        s = bad_call(c, k, what, sizeof what, &want);
+        if (s < 0) {
+            release(&before);
+            cloth_destroy(c);
+            break;
+        }
+        ncases++;
+        take(c, &after);
+        CHECK(s == (int)want, "%s returned %d (%s), want %d (%s)", what, s, s == CLOTH_OK ? "OK" : cloth_status_string((cloth_status)s),
+              (int)want, cloth_status_string(want));
+        CHECK(s == CLOTH_OK || (cloth_last_error(c) && cloth_last_error(c)[0] != '\0'),
+              "%s failed but cloth_last_error is empty", what);
+        compare(&before, &after, what);
+        release(&before);
+        release(&after);
+        cloth_destroy(c);
+    }
+    printf("%d bad calls on an existing cloth\n", ncases);
+}
+
+int main(void)
+{
+    check_create();
+    check_existing();
+    return check_summary();
+}

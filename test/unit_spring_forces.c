@@ -1,0 +1,343 @@
+/* Unit: every link force is minus the gradient of its energy (paper eq. 6-12).
+ *
+ * For each link type and region of the model:
+ *   sequential tension        d > l0            k_t  (seq_law)
+ *   sequential compression    d < l0            k_c  (seq_law)
+ *   interlaced elastic bend   d < l0 or d > l0  k_b  (int_law, plastic = 0)
+ *   interlaced plastic spread plastic, d > l1   k_s  (int_law, plastic = 1)
+ *   interlaced plastic compr. plastic, d < l1   k_b  (int_law, plastic = 1)
+ * random link geometries are drawn in the region and we check
+ *   - the spring_law built by seq_law/int_law has the material's stiffness in
+ *     the right slot and the right rest length (the material's k's are all
+ *     distinct, so a swapped k is caught);
+ *   - spring_energy = 1/2 k (d - rest)^2 with that k;
+ *   - spring_eval's f_i = +k (d - rest) u, u = (x_j - x_i)/d;
+ *   - f_i = -dE/dx_i and f_j = -f_i = -dE/dx_j by central differences
+ *     (step 1e-6 d), norm-wise relative error < 1e-6;
+ *   - the force does not depend on the definiteness flag.
+ * The damper: damper_eval's f_i = c ((v_j - v_i).u) u, D = df_i/dv_j by
+ * central differences, and df_i/dv_i = -D.
+ * The cloth: with random velocities, cloth_internal_forces minus its value at
+ * zero velocity equals the sum of damper_eval over every link with c_t on
+ * sequential links and c_b on interlaced links.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "odecloth/cloth.h"
+#include "internal.h"
+#include "check.h"
+
+enum { SEQ_TENSION, SEQ_COMPRESSION, INT_ELASTIC, INT_SPREAD, INT_PLASTIC_COMPRESSION, NREGION };
+static const char *region_name[NREGION] = {
+    "sequential tension", "sequential compression", "interlaced elastic",
+    "interlaced plastic spreading", "interlaced plastic compression"};
+
+static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static double norm3(const double a[3]) { return sqrt(dot3(a, a)); }
+
+/* A material with every stiffness distinct and far apart. */
+static cloth_material test_material(void)
+{
+    cloth_material m = cloth_material_preset(CLOTH_COTTON);
+    m.k_t = 3100.0;
+    m.k_c = 73.0;
+    m.k_b = 2.3;
+    m.k_s = 11.7;
+    m.alpha = 0.8;
+    m.c_t = 0.37;
+    m.c_b = 0.011;
+    return m;
+}
+
+/* A random link in a region: positions, the law from seq_law/int_law, and
+ * the stiffness and rest length the region must use. */
+typedef struct link_case {
+    double xi[3], xj[3], d;
+    spring_law law;
+    double k, rest; /* expected */
+} link_case;
+
+static void make_case(rng *r, const cloth_material *m, int region, link_case *lc)
+{
+    double l0 = rng_range(r, 0.05, 1.0), u[3], ratio = 1.0, l1 = 0.0;
+    switch (region) {
+    case SEQ_TENSION:
+        lc->law = seq_law(m, l0);
+        lc->k = m->k_t;
+        lc->rest = l0;
+        ratio = rng_range(r, 1.01, 1.5);
+        break;
+    case SEQ_COMPRESSION:
+        lc->law = seq_law(m, l0);
+        lc->k = m->k_c;
+        lc->rest = l0;
+        ratio = rng_range(r, 0.2, 0.99);
+        break;
+    case INT_ELASTIC:
+        lc->law = int_law(m, l0, 0, 0.5 * l0 /* ignored when elastic */);
+        lc->k = m->k_b;
+        lc->rest = l0;
+        /* both sides of l0: an elastic interlaced link resists both ways with k_b */
+        ratio = (rng_u64(r) & 1) ? rng_range(r, m->alpha + 0.01, 0.99) : rng_range(r, 1.01, 1.5);
+        break;
+    case INT_SPREAD:
+        l1 = l0 * rng_range(r, 0.2, 0.75); /* below alpha l0 = 0.8 l0 */
+        lc->law = int_law(m, l0, 1, l1);
+        lc->k = m->k_s;
+        lc->rest = l1;
+        ratio = rng_range(r, 1.01 * l1, 0.79 * l0) / l0; /* l1 < d < alpha l0 */
+        break;
+    default: /* INT_PLASTIC_COMPRESSION */
+        l1 = l0 * rng_range(r, 0.2, 0.75);
+        lc->law = int_law(m, l0, 1, l1);
+        lc->k = m->k_b;
+        lc->rest = l1;
+        ratio = rng_range(r, 0.3 * l1, 0.99 * l1) / l0; /* d < l1 */
+        break;
+    }
+    lc->d = ratio * l0;
+    rng_unit_vector(r, u);
+    for (int a = 0; a < 3; a++) {
+        lc->xi[a] = rng_range(r, -1, 1);
+        lc->xj[a] = lc->xi[a] + lc->d * u[a];
+    }
+    /* the actual length, as the kernels will see it */
+    {
+        double x[3] = {lc->xj[0] - lc->xi[0], lc->xj[1] - lc->xi[1], lc->xj[2] - lc->xi[2]};
+        lc->d = norm3(x);
+    }
+}
+
+static void check_laws(const cloth_material *m)
+{
+    spring_law s = seq_law(m, 0.25);
+    CHECK(s.k_hi == m->k_t && s.k_lo == m->k_c && s.rest == 0.25,
+          "seq_law = (%g, %g, %g), want (k_t %g, k_c %g, l0 0.25)", s.k_hi, s.k_lo, s.rest, m->k_t, m->k_c);
+    s = int_law(m, 0.5, 0, 0.3);
+    CHECK(s.k_hi == m->k_b && s.k_lo == m->k_b && s.rest == 0.5,
+          "int_law elastic = (%g, %g, %g), want (k_b %g, k_b, l0 0.5)", s.k_hi, s.k_lo, s.rest, m->k_b);
+    s = int_law(m, 0.5, 1, 0.3);
+    CHECK(s.k_hi == m->k_s && s.k_lo == m->k_b && s.rest == 0.3,
+          "int_law plastic = (%g, %g, %g), want (k_s %g, k_b %g, l1 0.3)", s.k_hi, s.k_lo, s.rest, m->k_s, m->k_b);
+}
+
+static void check_link_forces(const cloth_material *m)
+{
+    rng r = rng_seed(0x5EED0001u);
+    const int samples = 200;
+    for (int region = 0; region < NREGION; region++) {
+        double worst_fd = 0.0, worst_closed = 0.0;
+        int failed_before = (int)check_failures();
+        for (int t = 0; t < samples; t++) {
+            link_case lc;
+            double f[3], f_on[3], fexp[3], u[3], g_i[3], g_j[3], err_i[3], err_j[3], e_fd;
+            make_case(&r, m, region, &lc);
+            for (int a = 0; a < 3; a++) u[a] = (lc.xj[a] - lc.xi[a]) / lc.d;
+
+            /* the law carries the region's k and rest */
+            {
+                double k_used = lc.d >= lc.law.rest ? lc.law.k_hi : lc.law.k_lo;
+                CHECK(k_used == lc.k && lc.law.rest == lc.rest,
+                      "%s: law gives k %g rest %g, want k %g rest %g", region_name[region],
+                      k_used, lc.law.rest, lc.k, lc.rest);
+            }
+
+            /* energy, closed form */
+            {
+                double e = spring_energy(lc.xi, lc.xj, lc.law);
+                double eexp = 0.5 * lc.k * (lc.d - lc.rest) * (lc.d - lc.rest);
+                if (!CHECK(fabs(e - eexp) <= 1e-10 * eexp,
+                           "%s: energy %.17g, want 1/2 k (d-rest)^2 = %.17g (d %g rest %g k %g)",
+                           region_name[region], e, eexp, lc.d, lc.rest, lc.k))
+                    continue;
+            }
+
+            /* force, closed form: f_i = +k (d - rest) u */
+            spring_eval(lc.xi, lc.xj, lc.law, 0, f, NULL);
+            spring_eval(lc.xi, lc.xj, lc.law, 1, f_on, NULL);
+            for (int a = 0; a < 3; a++) fexp[a] = lc.k * (lc.d - lc.rest) * u[a];
+            {
+                double e[3] = {f[0] - fexp[0], f[1] - fexp[1], f[2] - fexp[2]};
+                double rel = norm3(e) / norm3(fexp);
+                if (rel > worst_closed) worst_closed = rel;
+                CHECK(rel <= 1e-10, "%s: f_i = (%g %g %g), want k(d-rest)u = (%g %g %g), rel err %.3g",
+                      region_name[region], f[0], f[1], f[2], fexp[0], fexp[1], fexp[2], rel);
+                CHECK(f_on[0] == f[0] && f_on[1] == f[1] && f_on[2] == f[2],
+                      "%s: force depends on the definiteness flag: (%g %g %g) vs (%g %g %g)",
+                      region_name[region], f_on[0], f_on[1], f_on[2], f[0], f[1], f[2]);
+            }
+
+            /* minus the central-difference gradient of the energy, both ends */
+            {
+                double h = 1e-6 * lc.d;
+                for (int a = 0; a < 3; a++) {
+                    double p[3], q[3];
+                    memcpy(p, lc.xi, sizeof p);
+                    memcpy(q, lc.xi, sizeof q);
+                    p[a] += h;
+                    q[a] -= h;
+                    g_i[a] = (spring_energy(p, lc.xj, lc.law) - spring_energy(q, lc.xj, lc.law)) / (2 * h);
+                    memcpy(p, lc.xj, sizeof p);
+                    memcpy(q, lc.xj, sizeof q);
+                    p[a] += h;
+                    q[a] -= h;
+                    g_j[a] = (spring_energy(lc.xi, p, lc.law) - spring_energy(lc.xi, q, lc.law)) / (2 * h);
+                }
+                for (int a = 0; a < 3; a++) {
+                    err_i[a] = f[a] + g_i[a];  /* f_i = -dE/dx_i */
+                    err_j[a] = -f[a] + g_j[a]; /* f_j = -f_i = -dE/dx_j */
+                }
+                e_fd = (norm3(err_i) > norm3(err_j) ? norm3(err_i) : norm3(err_j)) / norm3(f);
+                if (e_fd > worst_fd) worst_fd = e_fd;
+                CHECK(e_fd < 1e-6,
+                      "%s: f_i = (%.10g %.10g %.10g) but -dE/dx_i = (%.10g %.10g %.10g), "
+                      "-dE/dx_j = (%.10g %.10g %.10g): rel err %.3g (d %g rest %g)",
+                      region_name[region], f[0], f[1], f[2], -g_i[0], -g_i[1], -g_i[2], -g_j[0],
+                      -g_j[1], -g_j[2], e_fd, lc.d, lc.rest);
+            }
+        }
+        printf("%-32s %d samples: worst rel err vs FD gradient %.2e, vs closed form %.2e%s\n",
+               region_name[region], samples, worst_fd, worst_closed,
+               check_failures() > failed_before ? "  (FAILURES)" : "");
+    }
+}
+
+static void check_damper(void)
+{
+    rng r = rng_seed(0x5EED0002u);
+    double worst_f = 0, worst_d = 0;
+    for (int t = 0; t < 200; t++) {
+        double xi[3], xj[3], vi[3], vj[3], u[3], f[3], D[9], Dfd[9], Dfdi[9], fexp[3], w = 0, dd;
+        double c = rng_range(&r, 0.01, 5.0);
+        rng_unit_vector(&r, u);
+        dd = rng_range(&r, 0.05, 1.0);
+        for (int a = 0; a < 3; a++) {
+            xi[a] = rng_range(&r, -1, 1);
+            xj[a] = xi[a] + dd * u[a];
+            vi[a] = rng_range(&r, -2, 2);
+            vj[a] = rng_range(&r, -2, 2);
+        }
+        {
+            double x[3] = {xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]};
+            dd = norm3(x);
+            for (int a = 0; a < 3; a++) u[a] = x[a] / dd;
+        }
+        for (int a = 0; a < 3; a++) w += (vj[a] - vi[a]) * u[a];
+        for (int a = 0; a < 3; a++) fexp[a] = c * w * u[a];
+
+        damper_eval(xi, xj, vi, vj, c, f, D);
+        {
+            double e[3] = {f[0] - fexp[0], f[1] - fexp[1], f[2] - fexp[2]};
+            double rel = norm3(e) / (fabs(c) * norm3((double[3]){vj[0] - vi[0], vj[1] - vi[1], vj[2] - vi[2]}));
+            if (rel > worst_f) worst_f = rel;
+            CHECK(rel <= 1e-12, "damper: f_i = (%g %g %g), want c((vj-vi).u)u = (%g %g %g)", f[0], f[1],
+                  f[2], fexp[0], fexp[1], fexp[2]);
+        }
+        /* D against central differences of the damping force wrt v_j and v_i */
+        for (int b = 0; b < 3; b++) {
+            double h = 1e-6, p[3], q[3], fp[3], fq[3];
+            memcpy(p, vj, sizeof p);
+            memcpy(q, vj, sizeof q);
+            p[b] += h;
+            q[b] -= h;
+            damper_eval(xi, xj, vi, p, c, fp, NULL);
+            damper_eval(xi, xj, vi, q, c, fq, NULL);
+            for (int a = 0; a < 3; a++) Dfd[3 * a + b] = (fp[a] - fq[a]) / (2 * h);
+            memcpy(p, vi, sizeof p);
+            memcpy(q, vi, sizeof q);
+            p[b] += h;
+            q[b] -= h;
+            damper_eval(xi, xj, p, vj, c, fp, NULL);
+            damper_eval(xi, xj, q, vj, c, fq, NULL);
+            for (int a = 0; a < 3; a++) Dfdi[3 * a + b] = (fp[a] - fq[a]) / (2 * h);
+        }
+        {
+            double e = 0, ei = 0, ec = 0;
+            for (int k = 0; k < 9; k++) {
+                double cuu = c * u[k / 3] * u[k % 3];
+                e += (D[k] - Dfd[k]) * (D[k] - Dfd[k]);
+                ei += (D[k] + Dfdi[k]) * (D[k] + Dfdi[k]);
+                ec += (D[k] - cuu) * (D[k] - cuu);
+            }
+            e = sqrt(e) / c; /* |D|_F = c */
+            ei = sqrt(ei) / c;
+            ec = sqrt(ec) / c;
+            if (e > worst_d) worst_d = e;
+            CHECK(e < 1e-6, "damper: D differs from FD of f_i wrt v_j: rel err %.3g", e);
+            CHECK(ei < 1e-6, "damper: -D differs from FD of f_i wrt v_i: rel err %.3g", ei);
+            CHECK(ec < 1e-12, "damper: D differs from c uu^T: rel err %.3g", ec);
+        }
+    }
+    printf("%-32s 200 samples: worst rel err of f %.2e, of D vs FD %.2e\n", "damper", worst_f, worst_d);
+}
+
+/* Cloth level: the damping part of cloth_internal_forces is the sum of link
+ * dampers, with c_t on sequential and c_b on interlaced links. */
+static void check_cloth_damping(void)
+{
+    rng r = rng_seed(0x5EED0003u);
+    cloth_desc d = cloth_default_desc();
+    cloth *c = NULL;
+    cloth_error err;
+    d.rows = 5;
+    d.cols = 6;
+    d.material = test_material();
+    if (!CHECK(cloth_create(&d, &c, &err) == CLOTH_OK && c, "cloth_create: %s", err.message)) return;
+    {
+        int n = cloth_vertex_count(c);
+        double *x = malloc(sizeof(double) * 3 * n), *v = calloc(3 * (size_t)n, sizeof(double));
+        double *f0 = malloc(sizeof(double) * 3 * n), *f1 = malloc(sizeof(double) * 3 * n);
+        double *fexp = calloc(3 * (size_t)n, sizeof(double));
+        double fmax = 0, emax = 0;
+        memcpy(x, cloth_positions(c), sizeof(double) * 3 * n);
+        for (int k = 0; k < 3 * n; k++) x[k] += rng_range(&r, -0.02, 0.02);
+        CHECK(cloth_set_positions(c, x) == CLOTH_OK, "set_positions: %s", cloth_last_error(c));
+        CHECK(cloth_set_velocities(c, v) == CLOTH_OK, "set_velocities: %s", cloth_last_error(c));
+        CHECK(cloth_internal_forces(c, f0) == CLOTH_OK, "internal_forces: %s", cloth_last_error(c));
+        for (int k = 0; k < 3 * n; k++) v[k] = rng_range(&r, -1, 1);
+        CHECK(cloth_set_velocities(c, v) == CLOTH_OK, "set_velocities: %s", cloth_last_error(c));
+        CHECK(cloth_internal_forces(c, f1) == CLOTH_OK, "internal_forces: %s", cloth_last_error(c));
+        for (int t = 0; t < 2; t++) {
+            cloth_link_type ty = t == 0 ? CLOTH_SEQUENTIAL : CLOTH_INTERLACED;
+            double cc = t == 0 ? d.material.c_t : d.material.c_b;
+            for (int e = 0; e < cloth_link_count(c, ty); e++) {
+                cloth_link L;
+                double fi[3];
+                if (cloth_get_link(c, ty, e, &L) != CLOTH_OK) continue;
+                damper_eval(x + 3 * L.i, x + 3 * L.j, v + 3 * L.i, v + 3 * L.j, cc, fi, NULL);
+                for (int a = 0; a < 3; a++) {
+                    fexp[3 * L.i + a] += fi[a];
+                    fexp[3 * L.j + a] -= fi[a];
+                }
+            }
+        }
+        for (int k = 0; k < 3 * n; k++) {
+            double e = fabs((f1[k] - f0[k]) - fexp[k]);
+            if (fabs(fexp[k]) > fmax) fmax = fabs(fexp[k]);
+            if (e > emax) emax = e;
+        }
+        CHECK(fmax > 0, "cloth damping forces are all zero");
+        CHECK(emax <= 1e-9 * fmax,
+              "cloth damping: internal_forces(v) - internal_forces(0) differs from the sum of link "
+              "dampers (c_t sequential, c_b interlaced) by %.3g (max %.3g)", emax, fmax);
+        printf("%-32s max |f(v)-f(0) - sum dampers| = %.2e of %.2e\n", "cloth damping", emax, fmax);
+        free(x);
+        free(v);
+        free(f0);
+        free(f1);
+        free(fexp);
+    }
+    cloth_destroy(c);
+}
+
+int main(void)
+{
+    cloth_material m = test_material();
+    check_laws(&m);
+    check_link_forces(&m);
+    check_damper();
+    check_cloth_damping();
+    return check_summary();
+}
