@@ -136,6 +136,7 @@ void cloth_destroy(cloth *c)
     free(c->K_int);
     free(c->work);
     free(c->cflag);
+    free(c->clist);
     mg_free(&c->mg);
     free(c);
 }
@@ -203,7 +204,8 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
     if (links_to_blocks(&c->A, n, c->seq, c->n_seq, c->lint, c->n_int, c->seq_blk, c->int_blk) != 0) goto nomem;
     if (workspace_alloc(c) != 0) goto nomem;
     c->cflag = calloc((size_t)n, 1);
-    if (!c->cflag || mg_create(&c->mg, R, C) != 0) goto nomem;
+    c->clist = calloc((size_t)n, sizeof *c->clist);
+    if (!c->cflag || !c->clist || mg_create(&c->mg, R, C) != 0) goto nomem;
 
     *out = c;
     return CLOTH_OK;

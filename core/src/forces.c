@@ -16,21 +16,18 @@ void forces_eval(const cloth *c, const double *x, const double *v, int with_grav
     const cloth_material *m = &c->desc.material;
     size_t n3 = 3 * (size_t)c->n;
     memset(f, 0, n3 * sizeof *f);
-    double fe[3], fd[3];
+    double fe[3];
     for (int e = 0; e < c->n_seq; e++) {
         int i = c->seq[e].i, j = c->seq[e].j;
-        spring_eval(x + 3 * i, x + 3 * j, seq_law(m, c->seq[e].rest), 0, fe, NULL);
-        damper_eval(x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, m->c_t, fd, NULL);
-        add3(fe, fd, 1.0);
+        link_eval(x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, seq_law(m, c->seq[e].rest), m->c_t, 0, fe, NULL,
+                  NULL);
         add3(f + 3 * i, fe, 1.0);
         add3(f + 3 * j, fe, -1.0);
     }
     for (int e = 0; e < c->n_int; e++) {
         int i = c->lint[e].i, j = c->lint[e].j;
         spring_law s = int_law(m, c->lint[e].rest, c->st.plastic[e], c->st.l1[e]);
-        spring_eval(x + 3 * i, x + 3 * j, s, 0, fe, NULL);
-        damper_eval(x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, m->c_b, fd, NULL);
-        add3(fe, fd, 1.0);
+        link_eval(x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, s, m->c_b, 0, fe, NULL, NULL);
         add3(f + 3 * i, fe, 1.0);
         add3(f + 3 * j, fe, -1.0);
     }

@@ -32,6 +32,12 @@ void spring_eval(const double xi[3], const double xj[3], spring_law s,
 void damper_eval(const double xi[3], const double xj[3], const double vi[3],
                  const double vj[3], double c, double f_i[3], double D[9]);
 
+/* Spring and damper of one link at once (one square root): the total force
+ * on node i and, if K is not NULL, K = df_i/dx_j and D = df_i/dv_j as above.
+ * The step's hot loop; equal to spring_eval + damper_eval. */
+void link_eval(const double xi[3], const double xj[3], const double vi[3], const double vj[3], spring_law s,
+               double c, int definiteness, double f_i[3], double K[9], double D[9]);
+
 /* ------------------------------------------------------- link topology */
 
 typedef struct link_topo {
@@ -88,6 +94,7 @@ struct cloth {
     double *cg;                /* 6 * 3n: MPCG workspace */
     double *jac;               /* 3n: scalar Jacobi inverse diagonal */
     unsigned char *cflag;      /* n: vertex constrained (filter needed) */
+    int *clist;                /* n_con: the constrained vertices, ascending */
     multigrid mg;              /* levels sized at creation */
     double *con_new;           /* 3n: constraint forces of the step being taken */
     double *pre;               /* 9n: preconditioner blocks */

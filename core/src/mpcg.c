@@ -30,68 +30,88 @@ static double dot(const double *a, const double *b, size_t n)
     return s;
 }
 
-typedef struct blocks_ctx {
-    int n;
-    const double *P;
-} blocks_ctx;
-
-static void blocks_apply(void *ctx, const double *r, double *s)
-{
-    const blocks_ctx *b = ctx;
-    filter_apply(b->n, b->P, r, s);
-}
-
 mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const double *z,
                        const double *Pinv, double tol, int max_iter, double *x, double *w)
 {
-    blocks_ctx ctx = {A->n, Pinv};
-    return mpcg_solve_pc(A, b, S, z, Pinv, blocks_apply, &ctx, tol, max_iter, x, w);
+    mpcg_problem P = {A, b, S, z, Pinv, NULL, 0, NULL, NULL, tol, max_iter};
+    return mpcg_run(&P, x, w);
 }
 
 mpcg_result mpcg_solve_pc(const bsr *A, const double *b, const double *S, const double *z,
                           const double *Dinv, mpcg_precond_fn pc, void *ctx, double tol, int max_iter,
                           double *x, double *w)
 {
+    mpcg_problem P = {A, b, S, z, Dinv, NULL, 0, pc, ctx, tol, max_iter};
+    return mpcg_run(&P, x, w);
+}
+
+/* y = S y in place, on the constrained vertices only (all if con is NULL) */
+static void filter_inplace(const mpcg_problem *P, double *y)
+{
+    if (!P->con) {
+        filter_apply(P->A->n, P->S, y, y);
+        return;
+    }
+    for (int k = 0; k < P->ncon; k++) {
+        int i = P->con[k];
+        filter_apply(1, P->S + 9 * (size_t)i, y + 3 * (size_t)i, y + 3 * (size_t)i);
+    }
+}
+
+mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
+{
+    const bsr *A = P->A;
+    const double *b = P->b, *z = P->z, *Dinv = P->Dinv;
     int n = A->n;
     size_t N = 3 * (size_t)n;
     double *r = w, *p = w + N, *q = w + 2 * N, *s = w + 3 * N, *t = w + 4 * N, *u = w + 5 * N;
     mpcg_result res = {0, 0.0, CLOTH_FAIL_NONE};
-    /* s = S M r (the filtered preconditioned residual); u = Dinv r for the norm */
-#define PRECONDITION()                 \
-    do {                               \
-        pc(ctx, r, s);                 \
-        filter_apply(n, S, s, s);      \
+    double tol = P->tol;
+    int max_iter = P->max_iter;
+    /* s = S M r (the filtered preconditioned residual). With block Jacobi
+     * (pc NULL) M = Dinv, and the norm r^T Dinv r is r^T s: no second product. */
+#define PRECONDITION()                                          \
+    do {                                                        \
+        if (P->pc) P->pc(P->ctx, r, s);                         \
+        else filter_apply(n, Dinv, r, s);                       \
+        filter_inplace(P, s);                                   \
     } while (0)
 #define NORM2() (filter_apply(n, Dinv, r, u), dot(r, u, N))
 
     /* reference: the reduced right-hand side S (b - A z) */
     bsr_mul(A, z, t);
     for (size_t k = 0; k < N; k++) r[k] = b[k] - t[k];
-    filter_apply(n, S, r, r);
+    filter_inplace(P, r);
     double ref = NORM2();
     if (!isfinite(ref)) {
         res.failure = CLOTH_FAIL_NAN;
         return res;
     }
-    if (ref <= 0.0) { /* nothing to solve: x = z */
+    if (ref < 0.0) {
+        /* the norm's weights, the inverse diagonal blocks, are not positive
+         * definite: then neither is A */
+        res.failure = CLOTH_FAIL_CG_INDEFINITE;
+        return res;
+    }
+    if (ref == 0.0) { /* nothing to solve: x = z */
         memcpy(x, z, N * sizeof *x);
         return res;
     }
 
     /* x = S guess + z */
-    filter_apply(n, S, x, x);
+    filter_inplace(P, x);
     for (size_t k = 0; k < N; k++) x[k] += z[k];
     bsr_mul(A, x, t);
     for (size_t k = 0; k < N; k++) r[k] = b[k] - t[k];
-    filter_apply(n, S, r, r);
+    filter_inplace(P, r);
     PRECONDITION();
-    double delta = dot(r, s, N), rr = NORM2();
+    double delta = dot(r, s, N), rr = P->pc ? NORM2() : delta;
     memcpy(p, s, N * sizeof *p);
     double tol2 = tol * tol * ref;
 
     int it = 0;
-    while (rr > tol2) {
-        if (!(delta > 0.0)) { /* r^T M r <= 0: the preconditioner is not definite */
+    while (rr > tol2 || rr < 0.0) {
+        if (!(delta > 0.0) || rr < 0.0) { /* r^T M r <= 0, or a negative norm weight: not definite */
             res.failure = isfinite(delta) ? CLOTH_FAIL_CG_INDEFINITE : CLOTH_FAIL_NAN;
             break;
         }
@@ -100,7 +120,7 @@ mpcg_result mpcg_solve_pc(const bsr *A, const double *b, const double *S, const 
             break;
         }
         bsr_mul(A, p, q);
-        filter_apply(n, S, q, q);
+        filter_inplace(P, q);
         double pq = dot(p, q, N);
         if (!isfinite(pq)) {
             res.failure = CLOTH_FAIL_NAN;
@@ -117,7 +137,7 @@ mpcg_result mpcg_solve_pc(const bsr *A, const double *b, const double *S, const 
         }
         PRECONDITION();
         double dnew = dot(r, s, N);
-        rr = NORM2();
+        rr = P->pc ? NORM2() : dnew;
         double beta = dnew / delta;
         for (size_t k = 0; k < N; k++) p[k] = s[k] + beta * p[k];
         delta = dnew;

@@ -29,9 +29,28 @@ mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const dou
  * directions; the solver filters s afterwards). */
 typedef void (*mpcg_precond_fn)(void *ctx, const double *r, double *s);
 
-/* As mpcg_solve, with any preconditioner pc. The stopping norm stays
- * |y|_D^2 = y^T Dinv y with Dinv the per-vertex blocks given, so a tolerance
- * means the same whatever the preconditioner. w: 6 * 3n doubles. */
+/* The general form used by the step. */
+typedef struct mpcg_problem {
+    const bsr *A;
+    const double *b, *S, *z;
+    /* per-vertex blocks weighting the stopping norm |y|_D^2 = y^T Dinv y, so
+     * a tolerance means the same whatever the preconditioner */
+    const double *Dinv;
+    /* the vertices whose filter is not the identity (NULL: treat all as
+     * constrained); filtering costs only these */
+    const int *con;
+    int ncon;
+    mpcg_precond_fn pc; /* NULL: block Jacobi with Dinv itself */
+    void *ctx;
+    double tol;
+    int max_iter;
+} mpcg_problem;
+
+/* x: in, the warm-start guess; out, the solution. w: 6 * 3n doubles. */
+mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w);
+
+/* As mpcg_solve with any preconditioner pc; the norm is weighted by Dinv.
+ * w: 6 * 3n doubles. */
 mpcg_result mpcg_solve_pc(const bsr *A, const double *b, const double *S, const double *z,
                           const double *Dinv, mpcg_precond_fn pc, void *ctx, double tol, int max_iter,
                           double *x, double *w);

@@ -303,44 +303,55 @@ static inline void mat3vec(const double *M, const double *x, double *y)
     y[2] = M[6] * x[0] + M[7] * x[1] + M[8] * x[2];
 }
 
-/* b_i - sum_{j != i} A_ij x_j on level l, filtered on level 0 */
-static void offdiag_residual(const multigrid *mg, int l, int i, const double *x, const double *b, double acc[3])
+/* acc = b_i - sum A_ij x_j over the row's blocks of one triangle or both
+ * (part < 0: j < i only; part > 0: j > i only; 0: all j != i), filtered on
+ * level 0. */
+static void row_residual(const multigrid *mg, int l, int i, const double *x, const double *b, int part,
+                         double acc[3])
 {
     const mg_level *L = &mg->lev[l];
-    acc[0] = b[3 * i];
-    acc[1] = b[3 * i + 1];
-    acc[2] = b[3 * i + 2];
+    acc[0] = b ? b[3 * i] : 0.0;
+    acc[1] = b ? b[3 * i + 1] : 0.0;
+    acc[2] = b ? b[3 * i + 2] : 0.0;
     double t[3];
+    int lo, hi, mid;
+    const double *val;
+    const int *col = NULL;
     if (l == 0) {
         const bsr *A = mg->A0;
-        for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++) {
-            int j = A->col[k];
-            if (j == i) continue;
-            mat3vec(A->val + 9 * (size_t)k, x + 3 * j, t);
-            acc[0] -= t[0];
-            acc[1] -= t[1];
-            acc[2] -= t[2];
-        }
-        if (mg->constrained[i]) {
-            mat3vec(mg->S0 + 9 * (size_t)i, acc, t);
-            memcpy(acc, t, sizeof t);
-        }
+        lo = A->row_ptr[i];
+        hi = A->row_ptr[i + 1];
+        mid = A->diag[i];
+        val = A->val;
+        col = A->col;
     } else {
-        for (int k = 0; k < NSTEN; k++) {
-            int j;
-            if (k == CENTER || (j = stencil_nb(L, i, k)) < 0) continue;
-            mat3vec(L->A + 9 * ((size_t)i * NSTEN + k), x + 3 * j, t);
-            acc[0] -= t[0];
-            acc[1] -= t[1];
-            acc[2] -= t[2];
-        }
+        lo = (int)((size_t)i * NSTEN);
+        hi = lo + NSTEN;
+        mid = lo + CENTER;
+        val = L->A;
+    }
+    int a = part > 0 ? mid + 1 : lo, z = part < 0 ? mid : hi;
+    for (int k = a; k < z; k++) {
+        if (k == mid) continue;
+        int j = col ? col[k] : L->nb[k];
+        if (j < 0) continue;
+        mat3vec(val + 9 * (size_t)k, x + 3 * j, t);
+        acc[0] -= t[0];
+        acc[1] -= t[1];
+        acc[2] -= t[2];
+    }
+    if (l == 0 && mg->constrained[i]) {
+        mat3vec(mg->S0 + 9 * (size_t)i, acc, t);
+        memcpy(acc, t, sizeof t);
     }
 }
 
-static void gs_node(const multigrid *mg, int l, int i, double *x, const double *b)
+/* One block Gauss-Seidel update of node i; part as in row_residual (a
+ * forward sweep from x = 0 needs only j < i: the rest of x is still zero). */
+static void gs_node(const multigrid *mg, int l, int i, double *x, const double *b, int part)
 {
     double acc[3];
-    offdiag_residual(mg, l, i, x, b, acc);
+    row_residual(mg, l, i, x, b, part, acc);
     mat3vec(mg->lev[l].Dinv + 9 * (size_t)i, acc, x + 3 * i);
 }
 
@@ -352,33 +363,7 @@ static void gs_node(const multigrid *mg, int l, int i, double *x, const double *
  * so the same holds for the filtered rows.) */
 static void residual_after_forward_sweep(const multigrid *mg, int l, const double *x, double *r)
 {
-    const mg_level *L = &mg->lev[l];
-    for (int i = 0; i < L->n; i++) {
-        double acc[3] = {0.0, 0.0, 0.0}, t[3];
-        if (l == 0) {
-            const bsr *A = mg->A0;
-            for (int k = A->diag[i] + 1; k < A->row_ptr[i + 1]; k++) {
-                mat3vec(A->val + 9 * (size_t)k, x + 3 * A->col[k], t);
-                acc[0] -= t[0];
-                acc[1] -= t[1];
-                acc[2] -= t[2];
-            }
-            if (mg->constrained[i]) {
-                mat3vec(mg->S0 + 9 * (size_t)i, acc, t);
-                memcpy(acc, t, sizeof t);
-            }
-        } else {
-            for (int k = CENTER + 1; k < NSTEN; k++) {
-                int j = stencil_nb(L, i, k);
-                if (j < 0) continue;
-                mat3vec(L->A + 9 * ((size_t)i * NSTEN + k), x + 3 * j, t);
-                acc[0] -= t[0];
-                acc[1] -= t[1];
-                acc[2] -= t[2];
-            }
-        }
-        memcpy(r + 3 * i, acc, sizeof acc);
-    }
+    for (int i = 0; i < mg->lev[l].n; i++) row_residual(mg, l, i, x, NULL, 1, r + 3 * i);
 }
 
 static void vcycle(const multigrid *mg, int l, double *x, const double *b)
@@ -397,7 +382,7 @@ static void vcycle(const multigrid *mg, int l, double *x, const double *b)
         return;
     }
     memset(x, 0, n3 * sizeof *x);
-    for (int i = 0; i < L->n; i++) gs_node(mg, l, i, x, b);
+    for (int i = 0; i < L->n; i++) gs_node(mg, l, i, x, b, -1);
     residual_after_forward_sweep(mg, l, x, L->r);
     const mg_level *K = &mg->lev[l + 1];
     memset(K->b, 0, 3 * (size_t)K->n * sizeof *K->b);
@@ -428,7 +413,7 @@ static void vcycle(const multigrid *mg, int l, double *x, const double *b)
         x[3 * i + 1] += e[1];
         x[3 * i + 2] += e[2];
     }
-    for (int i = L->n - 1; i >= 0; i--) gs_node(mg, l, i, x, b);
+    for (int i = L->n - 1; i >= 0; i--) gs_node(mg, l, i, x, b, 0);
 }
 
 void mg_apply(void *ctx, const double *r, double *s)

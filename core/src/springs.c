@@ -78,3 +78,30 @@ void damper_eval(const double xi[3], const double xj[3], const double vi[3],
         for (int a = 0; a < 3; a++)
             for (int b = 0; b < 3; b++) D[3 * a + b] = c * u[a] * u[b];
 }
+
+void link_eval(const double xi[3], const double xj[3], const double vi[3], const double vj[3], spring_law s,
+               double c, int definiteness, double f_i[3], double K[9], double D[9])
+{
+    double u[3];
+    double d = link_vec(xi, xj, u);
+    if (d <= SPRING_MIN_LENGTH) {
+        f_i[0] = f_i[1] = f_i[2] = 0.0;
+        if (K)
+            for (int k = 0; k < 9; k++) K[k] = D[k] = 0.0;
+        return;
+    }
+    double k = d >= s.rest ? s.k_hi : s.k_lo;
+    double rate = (vj[0] - vi[0]) * u[0] + (vj[1] - vi[1]) * u[1] + (vj[2] - vi[2]) * u[2];
+    double fm = k * (d - s.rest) + c * rate;
+    f_i[0] = fm * u[0];
+    f_i[1] = fm * u[1];
+    f_i[2] = fm * u[2];
+    if (!K) return;
+    double kt = (definiteness && d < s.rest) ? 0.0 : k * (1.0 - s.rest / d);
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++) {
+            double uu = u[a] * u[b];
+            K[3 * a + b] = (k - kt) * uu + (a == b ? kt : 0.0);
+            D[3 * a + b] = c * uu;
+        }
+}

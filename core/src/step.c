@@ -37,6 +37,9 @@ static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
  * constrained components on the target, given x_new = a + cfac v_new. */
 static void build_constraints(cloth *c, const double *a, const double *v0, double cfac)
 {
+    int m = 0;
+    for (int i = 0; i < c->n; i++)
+        if (c->con[i].ndof) c->clist[m++] = i;
     for (int i = 0; i < c->n; i++) {
         double *S = c->S + 9 * (size_t)i, *z = c->z + 3 * (size_t)i;
         const cloth_constraint *k = &c->con[i];
@@ -65,8 +68,9 @@ static void add_blk(double *A, const double *B, double s)
 }
 
 /* A = M - beta h df/dv - gamma h^2 df/dx (eq. 21 for beta = gamma = 1),
- * keeping each link's K = df_i/dx_j for the right-hand side. */
-static void assemble(cloth *c, const double *x, double beta_h, double gamma_h2)
+ * keeping each link's K = df_i/dx_j for the right-hand side, and in the same
+ * pass f = the total force at (x, v) (springs, damping, gravity). */
+static void assemble(cloth *c, const double *x, const double *v, double beta_h, double gamma_h2, double *fout)
 {
     const cloth_material *m = &c->desc.material;
     int defin = c->desc.solver.definiteness_rule;
@@ -75,6 +79,7 @@ static void assemble(cloth *c, const double *x, double beta_h, double gamma_h2)
     for (int i = 0; i < c->n; i++) {
         double *B = A->val + 9 * (size_t)A->diag[i];
         B[0] = B[4] = B[8] = c->mass[i];
+        for (int r = 0; r < 3; r++) fout[3 * i + r] = c->mass[i] * c->desc.gravity[r];
     }
     double f[3], D[9], blk[9];
     for (int t = 0; t < 2; t++) {
@@ -87,8 +92,11 @@ static void assemble(cloth *c, const double *x, double beta_h, double gamma_h2)
             int i = L[e].i, j = L[e].j;
             spring_law s = t ? int_law(m, L[e].rest, c->st.plastic[e], c->st.l1[e]) : seq_law(m, L[e].rest);
             double *K = Ks + 9 * (size_t)e;
-            spring_eval(x + 3 * i, x + 3 * j, s, defin, f, K);
-            damper_eval(x + 3 * i, x + 3 * j, x, x, damp, f, D); /* D only: velocities unused */
+            link_eval(x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, s, damp, defin, f, K, D);
+            for (int r = 0; r < 3; r++) {
+                fout[3 * i + r] += f[r];
+                fout[3 * j + r] -= f[r];
+            }
             for (int k = 0; k < 9; k++) blk[k] = gamma_h2 * K[k] + beta_h * D[k];
             add_blk(A->val + 9 * (size_t)A->diag[i], blk, 1.0);
             add_blk(A->val + 9 * (size_t)A->diag[j], blk, 1.0);
@@ -192,8 +200,7 @@ static cloth_failure implicit_step(cloth *c, double h, int bdf2, cloth_step_stat
         a[k] = bdf2 ? x0[k] + (x0[k] - S0->x_prev[k]) / 3.0 : x0[k];
         w[k] = bdf2 ? (2.0 / 9.0) * h * (x0[k] - S0->x_prev[k]) + (4.0 / 9.0) * h * h * v0[k] : h * h * v0[k];
     }
-    forces_eval(c, x0, v0, 1, c->f);
-    assemble(c, x0, beta * h, beta * beta * h * h);
+    assemble(c, x0, v0, beta * h, beta * beta * h * h, c->f);
     for (size_t k = 0; k < n3; k++) b[k] = beta * h * c->f[k];
     if (bdf2)
         for (size_t k = 0; k < n3; k++) b[k] += c->mass[k / 3] * (v0[k] - S0->v_prev[k]) / 3.0;
@@ -204,18 +211,18 @@ static cloth_failure implicit_step(cloth *c, double h, int bdf2, cloth_step_stat
     const cloth_solver *sv = &c->desc.solver;
     if (sv->warm_start) memcpy(c->dv, S0->dv_prev, n3 * sizeof *c->dv);
     else memset(c->dv, 0, n3 * sizeof *c->dv);
-    mpcg_result r;
+    jacobi_ctx jctx = {c->n, c->jac};
+    mpcg_problem P = {&c->A, b, c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL,
+                      sv->cg_tolerance, sv->cg_max_iterations};
     if (sv->precond == CLOTH_PRECOND_MULTIGRID) {
         mg_setup(&c->mg, &c->A, c->S, c->cflag, c->pre);
-        r = mpcg_solve_pc(&c->A, b, c->S, c->z, c->pre, mg_apply, &c->mg, sv->cg_tolerance,
-                          sv->cg_max_iterations, c->dv, c->cg);
+        P.pc = mg_apply;
+        P.ctx = &c->mg;
     } else if (sv->precond == CLOTH_PRECOND_JACOBI) {
-        jacobi_ctx ctx = {c->n, c->jac};
-        r = mpcg_solve_pc(&c->A, b, c->S, c->z, c->pre, jacobi_apply, &ctx, sv->cg_tolerance,
-                          sv->cg_max_iterations, c->dv, c->cg);
-    } else {
-        r = mpcg_solve(&c->A, b, c->S, c->z, c->pre, sv->cg_tolerance, sv->cg_max_iterations, c->dv, c->cg);
+        P.pc = jacobi_apply;
+        P.ctx = &jctx;
     }
+    mpcg_result r = mpcg_run(&P, c->dv, c->cg);
     st->iterations = r.iterations;
     st->residual = r.residual;
     if (r.failure != CLOTH_FAIL_NONE) return r.failure;

@@ -1,0 +1,186 @@
+/* bench_step: speed of the implicit step (issue 3's benchmark).
+ *
+ * Cotton cloth, 1 m square, 0.2 kg, pinned at two adjacent corners, starting
+ * horizontal, 2 s simulated, CG relative tolerance 1e-3 (block-diagonal
+ * weighted norm), single thread. For each grid, step size and preconditioner:
+ * steps per second (wall clock, median of the per-step times reported too) and
+ * CG iterations per step. Writes DIR/bench_step.csv and, with gnuplot,
+ * DIR/bench_step.png.
+ *
+ *   bench_step [--out DIR] [--grids 21,41,81,161] [--cap SECONDS] [--seconds T]
+ *
+ * A run whose wall time passes the cap stops early and is marked partial
+ * (its figures are over the steps it took), so the whole table stays within
+ * minutes on a small machine. */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include "odecloth/cloth.h"
+
+static double now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+typedef struct result {
+    int steps, done, failed;
+    double steps_per_s, median_ms, iters;
+} result;
+
+static result run(int N, double hz, cloth_precond pc, double seconds, double cap)
+{
+    result r = {0};
+    cloth_desc d = cloth_default_desc();
+    d.rows = d.cols = N;
+    d.solver.precond = pc;
+    d.solver.cg_tolerance = 1e-3;
+    d.material.density = 0.2; /* 1 m^2: 0.2 kg */
+    cloth *c;
+    cloth_error err;
+    if (cloth_create(&d, &c, &err) != CLOTH_OK) {
+        fprintf(stderr, "bench_step: %s\n", err.message);
+        r.failed = 1;
+        return r;
+    }
+    const double *x = cloth_positions(c);
+    cloth_pin(c, 0, x);
+    cloth_pin(c, N - 1, x + 3 * (N - 1));
+    double h = 1.0 / hz;
+    r.steps = (int)(seconds * hz + 0.5);
+    double *dt = malloc((size_t)r.steps * sizeof *dt);
+    long iters = 0;
+    double t0 = now();
+    for (int s = 0; s < r.steps; s++) {
+        double a = now();
+        cloth_step_stats st;
+        if (cloth_step(c, h, &st) != CLOTH_OK) {
+            fprintf(stderr, "bench_step: %dx%d step %d: %s\n", N, N, s, cloth_last_error(c));
+            r.failed = 1;
+            break;
+        }
+        dt[s] = now() - a;
+        iters += st.iterations;
+        r.done = s + 1;
+        if (now() - t0 > cap) break;
+    }
+    double wall = now() - t0;
+    if (r.done > 0) {
+        r.steps_per_s = r.done / wall;
+        r.iters = (double)iters / r.done;
+        qsort(dt, (size_t)r.done, sizeof *dt, cmp_double);
+        r.median_ms = 1e3 * dt[r.done / 2];
+    }
+    free(dt);
+    cloth_destroy(c);
+    return r;
+}
+
+int main(int argc, char **argv)
+{
+    const char *out = "out/bench";
+    int grids[16] = {21, 41, 81, 161}, ng = 4;
+    double cap = 40.0, seconds = 2.0;
+    for (int a = 1; a < argc; a++) {
+        const char *v = a + 1 < argc ? argv[a + 1] : NULL;
+        if (!strcmp(argv[a], "--help") || !strcmp(argv[a], "-h")) {
+            puts("usage: bench_step [--out DIR] [--grids 21,41,81,161] [--cap SECONDS] [--seconds T]\n"
+                 "Steps per second and CG iterations of backward Euler + MPCG for a pinned\n"
+                 "cotton cloth, per grid, step size (1/60, 1/240 s) and preconditioner.\n"
+                 "Writes DIR/bench_step.csv and DIR/bench_step.png (default DIR out/bench).");
+            return 0;
+        } else if (v && !strcmp(argv[a], "--out")) {
+            out = v;
+        } else if (v && !strcmp(argv[a], "--cap")) {
+            cap = atof(v);
+        } else if (v && !strcmp(argv[a], "--seconds")) {
+            seconds = atof(v);
+        } else if (v && !strcmp(argv[a], "--grids")) {
+            ng = 0;
+            for (char *s = (char *)v; *s && ng < 16;) {
+                grids[ng] = (int)strtol(s, &s, 10);
+                if (grids[ng] < 3) {
+                    fprintf(stderr, "bench_step: grid sizes must be >= 3\n");
+                    return 2;
+                }
+                ng++;
+                if (*s == ',') s++;
+                else break;
+            }
+        } else {
+            fprintf(stderr, "bench_step: unknown or incomplete option '%s' (try --help)\n", argv[a]);
+            return 2;
+        }
+        a++;
+    }
+    if (!(cap > 0.0) || !(seconds > 0.0)) {
+        fprintf(stderr, "bench_step: --cap and --seconds must be > 0\n");
+        return 2;
+    }
+    char path[1024];
+    snprintf(path, sizeof path, "mkdir -p '%s'", out);
+    if (system(path) != 0) {
+        fprintf(stderr, "bench_step: cannot create %s\n", out);
+        return 1;
+    }
+    snprintf(path, sizeof path, "%s/bench_step.csv", out);
+    FILE *csv = fopen(path, "w");
+    if (!csv) {
+        fprintf(stderr, "bench_step: cannot write %s: %s\n", path, strerror(errno));
+        return 1;
+    }
+    fprintf(csv, "grid,nodes,hz,precond,steps,steps_done,steps_per_s,median_step_ms,cg_iterations,partial\n");
+    const double hzs[2] = {60.0, 240.0};
+    const cloth_precond pcs[3] = {CLOTH_PRECOND_JACOBI, CLOTH_PRECOND_BLOCK_JACOBI, CLOTH_PRECOND_MULTIGRID};
+    const char *pcn[3] = {"jacobi", "block", "multigrid"};
+    printf("%-8s %-6s %-10s %10s %12s %10s %s\n", "grid", "h", "precond", "steps/s", "median ms", "CG it", "");
+    for (int g = 0; g < ng; g++)
+        for (int k = 0; k < 2; k++)
+            for (int p = 0; p < 3; p++) {
+                result r = run(grids[g], hzs[k], pcs[p], seconds, cap);
+                int partial = r.done < r.steps;
+                printf("%3dx%-4d 1/%-4.0f %-10s %10.1f %12.3f %10.1f %s\n", grids[g], grids[g], hzs[k], pcn[p],
+                       r.steps_per_s, r.median_ms, r.iters,
+                       r.failed ? "FAILED" : partial ? "(partial: wall cap)" : "");
+                fflush(stdout);
+                fprintf(csv, "%d,%d,%.0f,%s,%d,%d,%.3f,%.4f,%.2f,%d\n", grids[g], grids[g] * grids[g], hzs[k],
+                        pcn[p], r.steps, r.done, r.steps_per_s, r.median_ms, r.iters, partial || r.failed);
+            }
+    fclose(csv);
+
+    /* chart: steps/s and CG iterations against node count, log-log */
+    snprintf(path, sizeof path, "%s/bench_step.gp", out);
+    FILE *gp = fopen(path, "w");
+    if (!gp) return 0;
+    fprintf(gp,
+            "set terminal pngcairo size 1200,480 font ',10'\n"
+            "set output '%s/bench_step.png'\n"
+            "set datafile separator ','\n"
+            "set multiplot layout 1,2 title 'odecloth: backward Euler + modified PCG, pinned cotton cloth, tol 1e-3, 1 thread'\n"
+            "set logscale xy\nset grid\nset key left bottom\nset xlabel 'nodes'\n"
+            "set ylabel 'steps per second'\n"
+            "plot for [pc in 'jacobi block multigrid'] for [hz in '60 240'] '%s/bench_step.csv' "
+            "using (strcol(4) eq pc && strcol(3) eq hz ? $2 : 1/0):7 with linespoints title pc.' h=1/'.hz, "
+            "30 with lines dt 2 lc 'black' title '30 steps/s'\n"
+            "set key left top\nset ylabel 'CG iterations per step'\n"
+            "plot for [pc in 'jacobi block multigrid'] for [hz in '60 240'] '%s/bench_step.csv' "
+            "using (strcol(4) eq pc && strcol(3) eq hz ? $2 : 1/0):9 with linespoints title pc.' h=1/'.hz\n"
+            "unset multiplot\n",
+            out, out, out);
+    fclose(gp);
+    snprintf(path, sizeof path, "gnuplot '%s/bench_step.gp'", out);
+    if (system(path) != 0) fprintf(stderr, "bench_step: gnuplot failed; the CSV is in %s\n", out);
+    else printf("wrote %s/bench_step.csv and %s/bench_step.png\n", out, out);
+    return 0;
+}
