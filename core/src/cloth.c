@@ -126,7 +126,6 @@ void cloth_destroy(cloth *c)
     free(c->seq);
     free(c->lint);
     state_free(&c->st);
-    state_free(&c->backup);
     free(c->con);
     free(c->con_force);
     bsr_free(&c->A);
@@ -188,7 +187,7 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
 
     /* the state has the interlaced links' plastic state: allocate it now */
     state_free(&c->st);
-    if (state_alloc(&c->st, n, c->n_int) != 0 || state_alloc(&c->backup, n, c->n_int) != 0) goto nomem;
+    if (state_alloc(&c->st, n, c->n_int) != 0) goto nomem;
     memcpy(c->st.x, x0, n3 * sizeof *x0);
     for (int e = 0; e < c->n_int; e++) c->st.l1[e] = c->lint[e].rest;
     free(x0);

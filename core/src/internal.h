@@ -99,7 +99,6 @@ struct cloth {
     double *con_new;           /* 3n: constraint forces of the step being taken */
     double *pre;               /* 9n: preconditioner blocks */
     double *S;                 /* 9n: per-vertex filter (I - constrained projector) */
-    struct cloth_state backup; /* rollback copy */
 
     cloth_step_stats stats;
     char err[256];

@@ -19,6 +19,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "mat3.h"
 #include "multigrid.h"
 
 #define NSTEN 25
@@ -127,19 +128,12 @@ fail:
 
 /* ---------------------------------------------------------- 3x3 helpers */
 
-static inline void mul33(const double *A, const double *B, double *C)
-{
-    for (int r = 0; r < 3; r++)
-        for (int s = 0; s < 3; s++)
-            C[3 * r + s] = A[3 * r] * B[s] + A[3 * r + 1] * B[3 + s] + A[3 * r + 2] * B[6 + s];
-}
-
 /* S_i B S_j */
 static void filter_block(const double *Si, const double *B, const double *Sj, double *out)
 {
     double t[9];
-    mul33(Si, B, t);
-    mul33(t, Sj, out);
+    mat3mul(Si, B, t);
+    mat3mul(t, Sj, out);
 }
 
 /* Inverse of a symmetric block, regularised by 1e-10 of its trace so that a
@@ -154,23 +148,11 @@ static void inv_reg(const double *B, double *o)
     m[0] += eps;
     m[4] += eps;
     m[8] += eps;
-    double c0 = m[4] * m[8] - m[5] * m[7], c1 = m[5] * m[6] - m[3] * m[8], c2 = m[3] * m[7] - m[4] * m[6];
-    double det = m[0] * c0 + m[1] * c1 + m[2] * c2;
+    double det = mat3inv(m, o);
     if (!(det > 0.0) || !isfinite(det)) {
         memset(o, 0, 9 * sizeof *o);
         for (int k = 0; k < 3; k++) o[4 * k] = m[4 * k] > 0.0 ? 1.0 / m[4 * k] : 0.0;
-        return;
     }
-    double id = 1.0 / det;
-    o[0] = c0 * id;
-    o[1] = (m[2] * m[7] - m[1] * m[8]) * id;
-    o[2] = (m[1] * m[5] - m[2] * m[4]) * id;
-    o[3] = c1 * id;
-    o[4] = (m[0] * m[8] - m[2] * m[6]) * id;
-    o[5] = (m[2] * m[3] - m[0] * m[5]) * id;
-    o[6] = c2 * id;
-    o[7] = (m[1] * m[6] - m[0] * m[7]) * id;
-    o[8] = (m[0] * m[4] - m[1] * m[3]) * id;
 }
 
 /* Add w_I w_J B to coarse block (I, J) for every parent I of fine node i and
@@ -295,13 +277,6 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
 }
 
 /* ------------------------------------------------------------- smoothing */
-
-static inline void mat3vec(const double *M, const double *x, double *y)
-{
-    y[0] = M[0] * x[0] + M[1] * x[1] + M[2] * x[2];
-    y[1] = M[3] * x[0] + M[4] * x[1] + M[5] * x[2];
-    y[2] = M[6] * x[0] + M[7] * x[1] + M[8] * x[2];
-}
 
 /* acc = b_i - sum A_ij x_j over the row's blocks of one triangle or both
  * (part < 0: j < i only; part > 0: j > i only; 0: all j != i), filtered on

@@ -15,6 +15,7 @@
 
 /* Below this length a link has no direction; it exerts no force. Only
  * reachable by collapsing two nodes onto each other. */
+
 #define SPRING_MIN_LENGTH 1e-12
 
 static double link_vec(const double xi[3], const double xj[3], double u[3])
@@ -41,25 +42,9 @@ double spring_energy(const double xi[3], const double xj[3], spring_law s)
 void spring_eval(const double xi[3], const double xj[3], spring_law s,
                  int definiteness, double f_i[3], double K[9])
 {
-    double u[3];
-    double d = link_vec(xi, xj, u);
-    if (d <= SPRING_MIN_LENGTH) {
-        f_i[0] = f_i[1] = f_i[2] = 0.0;
-        if (K)
-            for (int k = 0; k < 9; k++) K[k] = 0.0;
-        return;
-    }
-    double k = d >= s.rest ? s.k_hi : s.k_lo;
-    double fm = k * (d - s.rest);
-    f_i[0] = fm * u[0];
-    f_i[1] = fm * u[1];
-    f_i[2] = fm * u[2];
-    if (!K) return;
-    /* transverse coefficient k (1 - l/d), dropped for compressed links */
-    double kt = (definiteness && d < s.rest) ? 0.0 : k * (1.0 - s.rest / d);
-    for (int a = 0; a < 3; a++)
-        for (int b = 0; b < 3; b++)
-            K[3 * a + b] = (k - kt) * u[a] * u[b] + (a == b ? kt : 0.0);
+    static const double zero[3] = {0.0, 0.0, 0.0};
+    double D[9];
+    link_eval(xi, xj, zero, zero, s, 0.0, definiteness, f_i, K, D);
 }
 
 void damper_eval(const double xi[3], const double xj[3], const double vi[3],

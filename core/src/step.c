@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "internal.h"
+#include "mat3.h"
 #include "mpcg.h"
 
 int workspace_alloc(cloth *c)
@@ -127,24 +128,6 @@ static void add_Kw(const cloth *c, const double *w, double *out)
     }
 }
 
-static int inv3(const double *m, double *o)
-{
-    double c0 = m[4] * m[8] - m[5] * m[7], c1 = m[5] * m[6] - m[3] * m[8], c2 = m[3] * m[7] - m[4] * m[6];
-    double det = m[0] * c0 + m[1] * c1 + m[2] * c2;
-    if (!(fabs(det) > 0.0) || !isfinite(det)) return -1;
-    double id = 1.0 / det;
-    o[0] = c0 * id;
-    o[1] = (m[2] * m[7] - m[1] * m[8]) * id;
-    o[2] = (m[1] * m[5] - m[2] * m[4]) * id;
-    o[3] = c1 * id;
-    o[4] = (m[0] * m[8] - m[2] * m[6]) * id;
-    o[5] = (m[2] * m[3] - m[0] * m[5]) * id;
-    o[6] = c2 * id;
-    o[7] = (m[1] * m[6] - m[0] * m[7]) * id;
-    o[8] = (m[0] * m[4] - m[1] * m[3]) * id;
-    return 0;
-}
-
 /* Per-vertex inverse diagonal blocks of the filtered matrix, S A_ii S +
  * (I - S): the weight of the stopping norm, the block-Jacobi preconditioner
  * and the multigrid smoother (a vertex sliding on a plane gets its own 2x2
@@ -156,14 +139,11 @@ static void build_preconditioner(cloth *c)
         double *P = c->pre + 9 * (size_t)i;
         for (int r = 0; r < 3; r++) c->jac[3 * i + r] = Aii[4 * r] > 0.0 ? 1.0 / Aii[4 * r] : 1.0;
         double SA[9], SAS[9];
-        for (int r = 0; r < 3; r++)
-            for (int s = 0; s < 3; s++)
-                SA[3 * r + s] = S[3 * r] * Aii[s] + S[3 * r + 1] * Aii[3 + s] + S[3 * r + 2] * Aii[6 + s];
-        for (int r = 0; r < 3; r++)
-            for (int s = 0; s < 3; s++)
-                SAS[3 * r + s] = SA[3 * r] * S[s] + SA[3 * r + 1] * S[3 + s] + SA[3 * r + 2] * S[6 + s] +
-                                 (I3[3 * r + s] - S[3 * r + s]);
-        if (inv3(SAS, P) == 0) continue;
+        mat3mul(S, Aii, SA);
+        mat3mul(SA, S, SAS);
+        for (int k = 0; k < 9; k++) SAS[k] += I3[k] - S[k];
+        double det = mat3inv(SAS, P);
+        if (det != 0.0 && isfinite(det)) continue;
         /* singular block (only without the definiteness rule, or zero mass) */
         memset(P, 0, 9 * sizeof *P);
         for (int r = 0; r < 3; r++) P[4 * r] = Aii[4 * r] > 0.0 ? 1.0 / Aii[4 * r] : 1.0;
