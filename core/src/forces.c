@@ -69,11 +69,9 @@ cloth_status cloth_internal_forces(const cloth *c, double *f)
     return CLOTH_OK;
 }
 
-double cloth_max_strain(const cloth *c)
+double max_strain_of(const cloth *c, const double *x)
 {
-    if (!c) return 0.0;
     double m = -INFINITY;
-    const double *x = c->st.x;
     for (int e = 0; e < c->n_seq; e++) {
         const double *a = x + 3 * c->seq[e].i, *b = x + 3 * c->seq[e].j;
         double dx = b[0] - a[0], dy = b[1] - a[1], dz = b[2] - a[2];
@@ -82,3 +80,5 @@ double cloth_max_strain(const cloth *c)
     }
     return m;
 }
+
+double cloth_max_strain(const cloth *c) { return c ? max_strain_of(c, c->st.x) : 0.0; }

@@ -127,6 +127,8 @@ void state_copy(struct cloth_state *dst, const struct cloth_state *src);
  * step.c. */
 void forces_eval(const cloth *c, const double *x, const double *v, int with_gravity, double *f);
 double elastic_energy(const cloth *c, const double *x);
+/* Largest (d - l0) / l0 over sequential links at positions x (NaN if any is). */
+double max_strain_of(const cloth *c, const double *x);
 
 /* small vector helpers */
 static inline int finite3(const double a[3]) {

@@ -257,10 +257,11 @@ static cloth_failure explicit_step(cloth *c, double h, int symplectic)
     return CLOTH_FAIL_NONE;
 }
 
-static void fill_stats(cloth *c, cloth_step_stats *st)
+/* Stats of the current state; max_strain already measured, or NAN to measure. */
+static void fill_stats(cloth *c, cloth_step_stats *st, double max_strain)
 {
     st->energy = cloth_energies(c);
-    st->max_strain = cloth_max_strain(c);
+    st->max_strain = max_strain == max_strain ? max_strain : cloth_max_strain(c);
     st->constrained = c->n_con;
     int p = 0;
     for (int e = 0; e < c->n_int; e++) p += c->st.plastic[e];
@@ -283,7 +284,7 @@ cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
     st.method = sv->method;
     if (!(h > 0.0) || !isfinite(h)) {
         st.failure = CLOTH_FAIL_BAD_STEP;
-        fill_stats(c, &st);
+        fill_stats(c, &st, NAN);
         finish(c, &st, out, CLOTH_EINVAL);
         return cloth_fail(c, CLOTH_EINVAL, "cloth_step: h = %g must be finite and > 0", h);
     }
@@ -305,17 +306,14 @@ cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
         st.strain_limited = strain_limit(c, c->x_new, c->v_new, c->S, cfac, sv->strain_limit_iterations);
     if (fail == CLOTH_FAIL_NONE && !(all_finite(c->x_new, n3) && all_finite(c->v_new, n3))) fail = CLOTH_FAIL_NAN;
 
+    double ms = 0.0;
     if (fail == CLOTH_FAIL_NONE) {
-        /* strain of the candidate: swap it in, measure, swap back on failure */
-        double *x_old = c->st.x;
-        c->st.x = c->x_new;
-        double ms = cloth_max_strain(c);
-        c->st.x = x_old;
+        ms = max_strain_of(c, c->x_new);
         if (!(ms <= sv->strain_fail)) fail = ms != ms ? CLOTH_FAIL_NAN : CLOTH_FAIL_STRAIN;
     }
     if (fail != CLOTH_FAIL_NONE) {
         st.failure = fail;
-        fill_stats(c, &st); /* the unchanged state */
+        fill_stats(c, &st, NAN); /* the unchanged state */
         finish(c, &st, out, CLOTH_ESTEP);
         return cloth_fail(c, CLOTH_ESTEP, "cloth_step: %s (state unchanged)", cloth_failure_string(fail));
     }
@@ -331,7 +329,7 @@ cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
     if (sv->method == CLOTH_BACKWARD_EULER || sv->method == CLOTH_BDF2) memcpy(s->dv_prev, c->dv, n3 * sizeof *c->dv);
     memcpy(c->con_force, c->con_new, n3 * sizeof *c->con_force);
     cloth_update_plastic(c);
-    fill_stats(c, &st);
+    fill_stats(c, &st, ms); /* the committed positions are x_new */
     return finish(c, &st, out, CLOTH_OK);
 }
 
