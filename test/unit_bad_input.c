@@ -7,7 +7,8 @@
  *   - rows or cols < 3; rows * cols overflowing int (100000 x 100000 must be an
  *     error, quickly, not a giant allocation or a crash);
  *   - width, height, density <= 0; negative stiffnesses or damping;
- *     alpha outside [0, 1]; delta <= 0; axis_u or axis_v zero, or parallel
+ *     alpha outside [0, 1]; delta <= 0; k_delta < 0 (k_delta 0 is valid: no
+ *     stiffening); axis_u or axis_v zero, or parallel
  *     (or antiparallel); cg_tolerance outside (0, 1); cg_max_iterations < 1;
  *     unknown method/precond; negative strain_limit_iterations;
  *   - NULL desc, NULL out;
@@ -20,7 +21,9 @@
  * BAD_STEP), cloth_last_error is non-empty (it is "" on a fresh cloth), and
  * the state (cloth_save + cloth_state_diff == 0), material, solver, gravity
  * (cloth_get_desc, memcmp) and constraints are unchanged:
- *   set_material / set_solver / set_gravity with bad values or NULL,
+ *   set_material / set_solver / set_gravity with bad values or NULL (each
+ *   material field NaN, inf, -inf, -1, k_delta included; the message names
+ *   the field),
  *   set_positions / set_velocities with a NaN or inf anywhere, or NULL,
  *   set_vertex out of range or non-finite, get_link out of range or bad type,
  *   pin out of range / NaN / NULL target, set_constraint with ndof 4 or -1,
@@ -78,11 +81,12 @@ static const dfield desc_doubles[] = {
     DF(width), DF(height), DF(origin[0]), DF(origin[1]), DF(origin[2]), DF(axis_u[0]), DF(axis_u[1]),
     DF(axis_u[2]), DF(axis_v[0]), DF(axis_v[1]), DF(axis_v[2]), DF(gravity[0]), DF(gravity[1]),
     DF(gravity[2]), DF(material.k_t), DF(material.k_c), DF(material.k_b), DF(material.k_s),
-    DF(material.alpha), DF(material.delta), DF(material.c_t), DF(material.c_b), DF(material.density),
+    DF(material.alpha), DF(material.delta), DF(material.k_delta), DF(material.c_t), DF(material.c_b),
+    DF(material.density),
     DF(solver.cg_tolerance), DF(solver.strain_fail),
 };
 #define NDESC_DOUBLES (sizeof desc_doubles / sizeof desc_doubles[0])
-#define NMATERIAL_DOUBLES 9 /* the material.* entries, in order, from index 14 */
+#define NMATERIAL_DOUBLES 10 /* the material.* entries, in order, from index 14 */
 #define MATERIAL_FIRST 14
 
 /* material fields by offset within cloth_material */
@@ -100,7 +104,10 @@ static void check_create(void)
 
     /* sanity: the table covers every double of the desc, and the default is valid */
     CHECK(sizeof(cloth_material) == NMATERIAL_DOUBLES * sizeof(double), "cloth_material has fields this test misses");
-    CHECK(strcmp(desc_doubles[MATERIAL_FIRST].name, "material.k_t") == 0, "table order");
+    CHECK(strcmp(desc_doubles[MATERIAL_FIRST].name, "material.k_t") == 0 &&
+              strcmp(desc_doubles[MATERIAL_FIRST + NMATERIAL_DOUBLES - 1].name, "material.density") == 0 &&
+              strcmp(desc_doubles[MATERIAL_FIRST + NMATERIAL_DOUBLES].name, "solver.cg_tolerance") == 0,
+          "table order");
     CHECK(cloth_desc_validate(&d0, NULL) == CLOTH_OK, "the default desc is invalid");
     CHECK(cloth_create(&d0, &c, &err) == CLOTH_OK && c, "cloth_create(default) failed: %s", err.message);
     cloth_destroy(c);
@@ -160,6 +167,10 @@ static void check_create(void)
     BAD(d.material.alpha = 1.01, "alpha 1.01");
     BAD(d.material.delta = 0, "delta 0");
     BAD(d.material.delta = -0.1, "delta -0.1");
+    BAD(d.material.k_delta = -1, "k_delta -1");
+    BAD(d.material.k_delta = -1e-300, "k_delta -1e-300");
+    BAD(d.material.k_delta = NAN, "k_delta NaN");
+    BAD(d.material.k_delta = INFINITY, "k_delta inf");
     BAD((d.axis_u[0] = d.axis_u[1] = d.axis_u[2] = 0), "axis_u zero");
     BAD((d.axis_v[0] = d.axis_v[1] = d.axis_v[2] = 0), "axis_v zero");
     BAD((d.axis_u[0] = 1, d.axis_u[1] = 0, d.axis_u[2] = 0, d.axis_v[0] = 2, d.axis_v[1] = 0, d.axis_v[2] = 0),
@@ -219,6 +230,33 @@ static void check_create(void)
                 CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_material_validate(%s = %s): status %d",
                       desc_doubles[MATERIAL_FIRST + k].name, v < 3 ? nf_name[v] : "-1", (int)s);
             }
+        /* k_delta: the message names the field; 0 (no stiffening) is valid */
+        {
+            const double kd[] = {NAN, INFINITY, -INFINITY, -1.0, -1e-300};
+            for (size_t v = 0; v < sizeof kd / sizeof kd[0]; v++) {
+                m = cloth_material_preset(CLOTH_COTTON);
+                m.k_delta = kd[v];
+                memset(&err, 0, sizeof err);
+                s = cloth_material_validate(&m, &err);
+                CHECK(s == CLOTH_EINVAL && strstr(err.message, "k_delta") != NULL,
+                      "cloth_material_validate(k_delta = %g): status %d, message \"%s\" (want EINVAL naming "
+                      "k_delta)", kd[v], (int)s, err.message);
+            }
+            for (int p = 0; p < 3; p++) {
+                m = cloth_material_preset((cloth_preset)p);
+                CHECK(m.k_delta == 100.0, "preset %d: k_delta %g, want 100", p, m.k_delta);
+                m.k_delta = 0.0;
+                memset(&err, 0, sizeof err);
+                s = cloth_material_validate(&m, &err);
+                CHECK(s == CLOTH_OK, "preset %d with k_delta 0 rejected: %s", p, err.message);
+            }
+            d = d0;
+            d.material.k_delta = 0.0;
+            c = NULL;
+            s = cloth_create(&d, &c, &err);
+            CHECK(s == CLOTH_OK && c, "cloth_create(k_delta 0) failed: %s", err.message);
+            cloth_destroy(c);
+        }
         sv = d0.solver;
         CHECK(cloth_solver_validate(&sv, NULL) == CLOTH_OK, "the default solver is invalid");
         sv.cg_tolerance = NAN;
@@ -330,7 +368,11 @@ static int bad_call(cloth *c, int k, char *what, size_t wn, cloth_status *want)
         *mat_field(&m, f) = v < 3 ? nf[v] : -1.0;
         snprintf(what, wn, "cloth_set_material(%s = %s)", desc_doubles[MATERIAL_FIRST + f].name,
                  v < 3 ? (v == 0 ? "NaN" : v == 1 ? "inf" : "-inf") : "-1");
-        return cloth_set_material(c, &m);
+        cloth_status st = cloth_set_material(c, &m);
+        /* the message names the field ("material.k_delta is not finite") */
+        CHECK(st == CLOTH_OK || strstr(cloth_last_error(c), desc_doubles[MATERIAL_FIRST + f].name) != NULL,
+              "%s: message \"%s\" does not name the field", what, cloth_last_error(c));
+        return st;
     }
     k -= NMATERIAL_DOUBLES * 4;
     switch (k) {

@@ -1,7 +1,9 @@
 /* Unit: every link force is minus the gradient of its energy (paper eq. 6-12).
  *
  * For each link type and region of the model:
- *   sequential tension        d > l0            k_t  (seq_law)
+ *   sequential tension        l0 < d < lim      k_t  (seq_law)
+ *   sequential past the limit d > lim = (1 + delta) l0:
+ *                             k_t on d - l0 plus k_delta k_t on d - lim
  *   sequential compression    d < l0            k_c  (seq_law)
  *   interlaced elastic bend   d < l0 or d > l0  k_b  (int_law, plastic = 0)
  *   interlaced plastic spread plastic, d > l1   k_s  (int_law, plastic = 1)
@@ -9,12 +11,19 @@
  * random link geometries are drawn in the region and we check
  *   - the spring_law built by seq_law/int_law has the material's stiffness in
  *     the right slot and the right rest length (the material's k's are all
- *     distinct, so a swapped k is caught);
- *   - spring_energy = 1/2 k (d - rest)^2 with that k;
- *   - spring_eval's f_i = +k (d - rest) u, u = (x_j - x_i)/d;
+ *     distinct, so a swapped k is caught), and the limit term: seq_law has
+ *     k_lim = k_delta k_t and lim = (1 + delta) l0, int_law k_lim = 0 and
+ *     lim = HUGE_VAL (k_delta = 37 and delta = 0.07, not the presets');
+ *   - spring_energy = 1/2 k (d - rest)^2 with that k, plus
+ *     1/2 k_delta k_t (d - lim)^2 past the limit;
+ *   - spring_eval's f_i = +k (d - rest) u, u = (x_j - x_i)/d, plus
+ *     k_delta k_t (d - lim) u past the limit;
  *   - f_i = -dE/dx_i and f_j = -f_i = -dE/dx_j by central differences
  *     (step 1e-6 d), norm-wise relative error < 1e-6;
  *   - the force does not depend on the definiteness flag.
+ * The limit term is continuous: energy and force at lim (1 - 1e-9) and
+ * lim (1 + 1e-9) differ by no more than their slopes allow over that gap
+ * (a term that jumped, e.g. k_lim (d - rest), would differ by ~k_lim delta l0).
  * The damper: damper_eval's f_i = c ((v_j - v_i).u) u, D = df_i/dv_j by
  * central differences, and df_i/dv_i = -D.
  * The cloth: with random velocities, cloth_internal_forces minus its value at
@@ -29,9 +38,9 @@
 #include "internal.h"
 #include "check.h"
 
-enum { SEQ_TENSION, SEQ_COMPRESSION, INT_ELASTIC, INT_SPREAD, INT_PLASTIC_COMPRESSION, NREGION };
+enum { SEQ_TENSION, SEQ_PAST_LIMIT, SEQ_COMPRESSION, INT_ELASTIC, INT_SPREAD, INT_PLASTIC_COMPRESSION, NREGION };
 static const char *region_name[NREGION] = {
-    "sequential tension", "sequential compression", "interlaced elastic",
+    "sequential tension", "sequential past the limit", "sequential compression", "interlaced elastic",
     "interlaced plastic spreading", "interlaced plastic compression"};
 
 static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
@@ -46,28 +55,45 @@ static cloth_material test_material(void)
     m.k_b = 2.3;
     m.k_s = 11.7;
     m.alpha = 0.8;
+    m.delta = 0.07;   /* not a preset's */
+    m.k_delta = 37.0; /* not a preset's, and not 1 */
     m.c_t = 0.37;
     m.c_b = 0.011;
     return m;
 }
 
 /* A random link in a region: positions, the law from seq_law/int_law, and
- * the stiffness and rest length the region must use. */
+ * the stiffness and rest length the region must use; past the limit also
+ * the extra stiffness and where it starts. */
 typedef struct link_case {
     double xi[3], xj[3], d;
     spring_law law;
-    double k, rest; /* expected */
+    double k, rest;   /* expected */
+    int past;         /* expected: the limit term is active */
+    double klim, lim; /* expected: k_delta k_t and (1 + delta) l0 (past only) */
 } link_case;
 
 static void make_case(rng *r, const cloth_material *m, int region, link_case *lc)
 {
     double l0 = rng_range(r, 0.05, 1.0), u[3], ratio = 1.0, l1 = 0.0;
+    lc->past = 0;
+    lc->klim = 0.0;
+    lc->lim = HUGE_VAL;
     switch (region) {
-    case SEQ_TENSION:
+    case SEQ_TENSION: /* below the elongation limit */
         lc->law = seq_law(m, l0);
         lc->k = m->k_t;
         lc->rest = l0;
-        ratio = rng_range(r, 1.01, 1.5);
+        ratio = rng_range(r, 1.001, 1.0 + 0.99 * m->delta);
+        break;
+    case SEQ_PAST_LIMIT:
+        lc->law = seq_law(m, l0);
+        lc->k = m->k_t;
+        lc->rest = l0;
+        lc->past = 1;
+        lc->klim = m->k_delta * m->k_t;
+        lc->lim = (1.0 + m->delta) * l0;
+        ratio = rng_range(r, 1.0 + 1.01 * m->delta, 1.5);
         break;
     case SEQ_COMPRESSION:
         lc->law = seq_law(m, l0);
@@ -115,12 +141,75 @@ static void check_laws(const cloth_material *m)
     spring_law s = seq_law(m, 0.25);
     CHECK(s.k_hi == m->k_t && s.k_lo == m->k_c && s.rest == 0.25,
           "seq_law = (%g, %g, %g), want (k_t %g, k_c %g, l0 0.25)", s.k_hi, s.k_lo, s.rest, m->k_t, m->k_c);
+    /* the limit term: k_delta k_t = 37 * 3100 past (1 + 0.07) l0 */
+    CHECK(fabs(s.k_lim - m->k_delta * m->k_t) <= 1e-15 * m->k_delta * m->k_t &&
+              fabs(s.lim - (1.0 + m->delta) * 0.25) <= 1e-15 * 0.25,
+          "seq_law: k_lim %.17g lim %.17g, want k_delta k_t = %.17g and (1 + delta) l0 = %.17g", s.k_lim, s.lim,
+          m->k_delta * m->k_t, (1.0 + m->delta) * 0.25);
     s = int_law(m, 0.5, 0, 0.3);
     CHECK(s.k_hi == m->k_b && s.k_lo == m->k_b && s.rest == 0.5,
           "int_law elastic = (%g, %g, %g), want (k_b %g, k_b, l0 0.5)", s.k_hi, s.k_lo, s.rest, m->k_b);
+    CHECK(s.k_lim == 0.0 && s.lim == HUGE_VAL, "int_law elastic: k_lim %g lim %g, want 0 and HUGE_VAL", s.k_lim,
+          s.lim);
     s = int_law(m, 0.5, 1, 0.3);
     CHECK(s.k_hi == m->k_s && s.k_lo == m->k_b && s.rest == 0.3,
           "int_law plastic = (%g, %g, %g), want (k_s %g, k_b %g, l1 0.3)", s.k_hi, s.k_lo, s.rest, m->k_s, m->k_b);
+    CHECK(s.k_lim == 0.0 && s.lim == HUGE_VAL, "int_law plastic: k_lim %g lim %g, want 0 and HUGE_VAL", s.k_lim,
+          s.lim);
+}
+
+/* The limit term switches on continuously at lim: energy and force just
+ * below and just above it differ by no more than their slopes allow over
+ * the gap (2e-9 lim), for random links; and each matches the closed form. */
+static void check_limit_continuity(const cloth_material *m)
+{
+    rng r = rng_seed(0x5EED0004u);
+    double worst_e = 0.0, worst_f = 0.0;
+    for (int t = 0; t < 50; t++) {
+        double l0 = rng_range(&r, 0.05, 1.0), u[3], xi[3], xlo[3], xhi[3], flo[3], fhi[3];
+        spring_law s = seq_law(m, l0);
+        double lim = (1.0 + m->delta) * l0, klim = m->k_delta * m->k_t;
+        double dlo = lim * (1.0 - 1e-9), dhi = lim * (1.0 + 1e-9);
+        rng_unit_vector(&r, u);
+        for (int a = 0; a < 3; a++) {
+            xi[a] = rng_range(&r, -1, 1);
+            xlo[a] = xi[a] + dlo * u[a];
+            xhi[a] = xi[a] + dhi * u[a];
+        }
+        {
+            double wl[3] = {xlo[0] - xi[0], xlo[1] - xi[1], xlo[2] - xi[2]};
+            double wh[3] = {xhi[0] - xi[0], xhi[1] - xi[1], xhi[2] - xi[2]};
+            dlo = norm3(wl);
+            dhi = norm3(wh);
+        }
+        double elo = spring_energy(xi, xlo, s), ehi = spring_energy(xi, xhi, s);
+        spring_eval(xi, xlo, s, 0, flo, NULL);
+        spring_eval(xi, xhi, s, 0, fhi, NULL);
+        /* closed forms on both sides */
+        double elo_x = 0.5 * m->k_t * (dlo - l0) * (dlo - l0);
+        double ehi_x = 0.5 * m->k_t * (dhi - l0) * (dhi - l0) + 0.5 * klim * (dhi - lim) * (dhi - lim);
+        double fmlo_x = m->k_t * (dlo - l0), fmhi_x = m->k_t * (dhi - l0) + klim * (dhi - lim);
+        CHECK_REL(elo, elo_x, 1e-10, 0.0);
+        CHECK_REL(ehi, ehi_x, 1e-10, 0.0);
+        CHECK_REL(dot3(flo, u), fmlo_x, 1e-10, 0.0);
+        CHECK_REL(dot3(fhi, u), fmhi_x, 1e-10, 0.0);
+        /* continuity: |E(dhi) - E(dlo)| <= |f| gap, |f(dhi) - f(dlo)| <= (k_t + k_lim) gap (+ rounding) */
+        double gap = dhi - dlo, fmax = fmhi_x > fmlo_x ? fmhi_x : fmlo_x;
+        double de = fabs(ehi - elo), df;
+        {
+            double w[3] = {fhi[0] - flo[0], fhi[1] - flo[1], fhi[2] - flo[2]};
+            df = norm3(w);
+        }
+        double tol_e = 1.1 * fmax * gap + 1e-13 * ehi, tol_f = 1.1 * (m->k_t + klim) * gap + 1e-13 * fmax;
+        if (de / tol_e > worst_e) worst_e = de / tol_e;
+        if (df / tol_f > worst_f) worst_f = df / tol_f;
+        CHECK(de <= tol_e, "limit term: energy jumps at lim: E(lim(1-1e-9)) %.17g, E(lim(1+1e-9)) %.17g (tol %.3g)",
+              elo, ehi, tol_e);
+        CHECK(df <= tol_f, "limit term: force jumps at lim: |f(lim(1+1e-9)) - f(lim(1-1e-9))| %.3g > %.3g", df,
+              tol_f);
+    }
+    printf("%-32s 50 samples: energy change / allowed %.2f, force change / allowed %.2f\n", "continuity at lim",
+           worst_e, worst_f);
 }
 
 static void check_link_forces(const cloth_material *m)
@@ -136,34 +225,43 @@ static void check_link_forces(const cloth_material *m)
             make_case(&r, m, region, &lc);
             for (int a = 0; a < 3; a++) u[a] = (lc.xj[a] - lc.xi[a]) / lc.d;
 
-            /* the law carries the region's k and rest */
+            /* the law carries the region's k and rest, and its limit
+             * term is active exactly in the region past the limit */
             {
                 double k_used = lc.d >= lc.law.rest ? lc.law.k_hi : lc.law.k_lo;
                 CHECK(k_used == lc.k && lc.law.rest == lc.rest,
                       "%s: law gives k %g rest %g, want k %g rest %g", region_name[region],
                       k_used, lc.law.rest, lc.k, lc.rest);
+                CHECK((lc.d > lc.law.lim) == lc.past, "%s: d %g, law's lim %g: the limit term should %sbe active",
+                      region_name[region], lc.d, lc.law.lim, lc.past ? "" : "not ");
             }
 
-            /* energy, closed form */
+            /* energy, closed form: 1/2 k (d - rest)^2 [+ 1/2 k_delta k_t (d - lim)^2] */
             {
                 double e = spring_energy(lc.xi, lc.xj, lc.law);
                 double eexp = 0.5 * lc.k * (lc.d - lc.rest) * (lc.d - lc.rest);
+                if (lc.past) eexp += 0.5 * lc.klim * (lc.d - lc.lim) * (lc.d - lc.lim);
                 if (!CHECK(fabs(e - eexp) <= 1e-10 * eexp,
-                           "%s: energy %.17g, want 1/2 k (d-rest)^2 = %.17g (d %g rest %g k %g)",
-                           region_name[region], e, eexp, lc.d, lc.rest, lc.k))
+                           "%s: energy %.17g, want 1/2 k (d-rest)^2%s = %.17g (d %g rest %g k %g lim %g k_lim %g)",
+                           region_name[region], e, lc.past ? " + 1/2 k_lim (d-lim)^2" : "", eexp, lc.d, lc.rest,
+                           lc.k, lc.lim, lc.klim))
                     continue;
             }
 
-            /* force, closed form: f_i = +k (d - rest) u */
+            /* force, closed form: f_i = +(k (d - rest) [+ k_delta k_t (d - lim)]) u */
             spring_eval(lc.xi, lc.xj, lc.law, 0, f, NULL);
             spring_eval(lc.xi, lc.xj, lc.law, 1, f_on, NULL);
-            for (int a = 0; a < 3; a++) fexp[a] = lc.k * (lc.d - lc.rest) * u[a];
+            {
+                double fm = lc.k * (lc.d - lc.rest) + (lc.past ? lc.klim * (lc.d - lc.lim) : 0.0);
+                for (int a = 0; a < 3; a++) fexp[a] = fm * u[a];
+            }
             {
                 double e[3] = {f[0] - fexp[0], f[1] - fexp[1], f[2] - fexp[2]};
                 double rel = norm3(e) / norm3(fexp);
                 if (rel > worst_closed) worst_closed = rel;
-                CHECK(rel <= 1e-10, "%s: f_i = (%g %g %g), want k(d-rest)u = (%g %g %g), rel err %.3g",
-                      region_name[region], f[0], f[1], f[2], fexp[0], fexp[1], fexp[2], rel);
+                CHECK(rel <= 1e-10, "%s: f_i = (%g %g %g), want (k(d-rest)%s)u = (%g %g %g), rel err %.3g",
+                      region_name[region], f[0], f[1], f[2], lc.past ? " + k_lim(d-lim)" : "", fexp[0], fexp[1],
+                      fexp[2], rel);
                 CHECK(f_on[0] == f[0] && f_on[1] == f[1] && f_on[2] == f[2],
                       "%s: force depends on the definiteness flag: (%g %g %g) vs (%g %g %g)",
                       region_name[region], f_on[0], f_on[1], f_on[2], f[0], f[1], f[2]);
@@ -337,6 +435,7 @@ int main(void)
     cloth_material m = test_material();
     check_laws(&m);
     check_link_forces(&m);
+    check_limit_continuity(&m);
     check_damper();
     check_cloth_damping();
     return check_summary();

@@ -6,6 +6,11 @@
  *     spring_eval's f_i wrt x_j, and -K equals that wrt x_i (norm-wise
  *     relative error over the 3x3 block < 1e-6, floor 1e-3 k);
  *     K = k uu^T + k (1 - rest/d)(I - uu^T): eigenvalues k, k(1-rest/d) twice.
+ *     Sequential links past the elongation limit lim = (1 + delta) l0 (test
+ *     material: delta 0.07, k_delta 37): K = (k_t + k_delta k_t) uu^T +
+ *     (fe/d)(I - uu^T), fe = k_t (d - l0) + k_delta k_t (d - lim): eigenvalues
+ *     k_t + k_delta k_t along u and fe/d twice across. The tension region
+ *     stays below the limit (d/l0 in (1.001, 1 + 0.99 delta)).
  *   - definiteness = 1: K symmetric and positive semidefinite (eigenvalues
  *     >= -1e-12 |K|), so the link's 6x6 block [[-K, K], [K, -K]] is negative
  *     semidefinite; stretched links (d >= rest) are unchanged by the rule;
@@ -13,8 +18,9 @@
  *     d = 0.05 rest.
  *   - the rule matters: a compressed link with the rule off has the negative
  *     eigenvalue k (1 - rest/d).
- * Whole cloth: on a random state with zero velocities and plastic links of
- * both kinds (d > l1 and d < l1; alpha = 1, plastic state frozen),
+ * Whole cloth: on a random state with zero velocities, plastic links of
+ * both kinds (d > l1 and d < l1; alpha = 1, plastic state frozen) and
+ * sequential links past the elongation limit,
  * cloth_internal_forces = -grad cloth_energies().elastic by central
  * differences through cloth_set_positions; the elastic energy equals the sum
  * of spring_energy over the links with the laws of their current regions; and
@@ -28,10 +34,10 @@
 #include "internal.h"
 #include "check.h"
 
-enum { SEQ_TENSION, SEQ_COMPRESSION, INT_ELASTIC_STRETCH, INT_ELASTIC_COMPRESSION, INT_SPREAD,
+enum { SEQ_TENSION, SEQ_PAST_LIMIT, SEQ_COMPRESSION, INT_ELASTIC_STRETCH, INT_ELASTIC_COMPRESSION, INT_SPREAD,
        INT_PLASTIC_COMPRESSION, NREGION };
 static const char *region_name[NREGION] = {
-    "sequential tension", "sequential compression", "interlaced elastic stretched",
+    "sequential tension", "sequential past the limit", "sequential compression", "interlaced elastic stretched",
     "interlaced elastic compressed", "interlaced plastic spreading", "interlaced plastic compression"};
 
 static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
@@ -95,13 +101,16 @@ static cloth_material test_material(void)
     m.k_b = 2.3;
     m.k_s = 11.7;
     m.alpha = 0.8;
+    m.delta = 0.07;   /* not a preset's */
+    m.k_delta = 37.0; /* not a preset's */
     return m;
 }
 
 typedef struct link_case {
     double xi[3], xj[3], d, u[3];
     spring_law law;
-    double k, rest; /* expected stiffness and rest length in this region */
+    double k, rest;   /* expected stiffness and rest length in this region */
+    double klim, lim; /* expected limit term: k_delta k_t past (1 + delta) l0; 0 elsewhere */
 } link_case;
 
 /* lo/hi bound d/rest for the compressed regions so tests can ask for strong
@@ -109,10 +118,17 @@ typedef struct link_case {
 static void make_case(rng *r, const cloth_material *m, int region, double squeeze_lo, link_case *lc)
 {
     double l0 = rng_range(r, 0.05, 1.0), l1, d;
+    lc->klim = 0.0;
+    lc->lim = HUGE_VAL;
     switch (region) {
-    case SEQ_TENSION:
+    case SEQ_TENSION: /* below the elongation limit */
         lc->law = seq_law(m, l0), lc->k = m->k_t, lc->rest = l0;
-        d = l0 * rng_range(r, 1.01, 1.5);
+        d = l0 * rng_range(r, 1.001, 1.0 + 0.99 * m->delta);
+        break;
+    case SEQ_PAST_LIMIT:
+        lc->law = seq_law(m, l0), lc->k = m->k_t, lc->rest = l0;
+        lc->klim = m->k_delta * m->k_t, lc->lim = (1.0 + m->delta) * l0;
+        d = l0 * rng_range(r, 1.0 + 1.01 * m->delta, 1.5);
         break;
     case SEQ_COMPRESSION:
         lc->law = seq_law(m, l0), lc->k = m->k_c, lc->rest = l0;
@@ -207,18 +223,43 @@ static void check_link_jacobians(const cloth_material *m)
                   K[7], K[8], Jj[0], Jj[1], Jj[2], Jj[3], Jj[4], Jj[5], Jj[6], Jj[7], Jj[8]);
             CHECK(e_i < 1e-6, "%s: -K vs FD of f_i wrt x_i (rule off): rel err %.3g", region_name[region], e_i);
 
-            /* rule off: eigenvalues k(1 - rest/d) (twice) and k */
+            /* the law's limit term (seq_law: k_delta k_t past (1 + delta) l0) */
+            if (region == SEQ_PAST_LIMIT || region == SEQ_TENSION)
+                CHECK(fabs(lc.law.k_lim - m->k_delta * m->k_t) <= 1e-15 * m->k_delta * m->k_t &&
+                          fabs(lc.law.lim - (1.0 + m->delta) * lc.rest) <= 1e-15 * lc.rest,
+                      "%s: seq_law's k_lim %.17g lim %.17g, want k_delta k_t %.17g, (1 + delta) l0 %.17g",
+                      region_name[region], lc.law.k_lim, lc.law.lim, m->k_delta * m->k_t,
+                      (1.0 + m->delta) * lc.rest);
+
+            /* rule off: eigenvalues fe/d (twice, across u) and k + k_lim
+             * (along u), fe = k (d - rest) + k_lim (d - lim) past the limit;
+             * below it fe/d = k (1 - rest/d) */
             sym3_eigenvalues(K, ev);
             {
-                double lt = lc.k * (1 - lc.rest / lc.d), want[3];
-                want[0] = lt < lc.k ? lt : lc.k;
+                int past = lc.d > lc.lim;
+                double kl = past ? lc.klim : 0.0;
+                double fe = lc.k * (lc.d - lc.rest) + (past ? lc.klim * (lc.d - lc.lim) : 0.0);
+                double lt = fe / lc.d, ka = lc.k + kl, want[3];
+                CHECK(past == (region == SEQ_PAST_LIMIT), "%s: d/lim %g: sampled on the wrong side of the limit",
+                      region_name[region], lc.d / lc.lim);
+                want[0] = lt < ka ? lt : ka;
                 want[1] = lt;
-                want[2] = lt < lc.k ? lc.k : lt;
+                want[2] = lt < ka ? ka : lt;
                 for (int a = 0; a < 3; a++) {
                     double e = fabs(ev[a] - want[a]) / nK;
                     if (e > worst_ev) worst_ev = e;
-                    CHECK(e < 1e-9, "%s: rule off, eigenvalue %d = %.12g, want %.12g (k %g, rest/d %g)",
-                          region_name[region], a, ev[a], want[a], lc.k, lc.rest / lc.d);
+                    CHECK(e < 1e-9, "%s: rule off, eigenvalue %d = %.12g, want %.12g (k %g, k_lim %g, rest/d %g)",
+                          region_name[region], a, ev[a], want[a], lc.k, kl, lc.rest / lc.d);
+                }
+                /* and the along-u eigenvector is u: u^T K u = k + k_lim */
+                {
+                    double Ku[3];
+                    for (int a = 0; a < 3; a++)
+                        Ku[a] = K[3 * a] * lc.u[0] + K[3 * a + 1] * lc.u[1] + K[3 * a + 2] * lc.u[2];
+                    double w[3] = {Ku[0] - ka * lc.u[0], Ku[1] - ka * lc.u[1], Ku[2] - ka * lc.u[2]};
+                    double e = norm3(w) / nK;
+                    CHECK(e < 1e-12, "%s: K u != (k + k_lim) u: rel err %.3g (k + k_lim %g)", region_name[region], e,
+                          ka);
                 }
                 if (compressed_region)
                     CHECK(ev[0] < 0, "%s: compressed link (d/rest %g) with the rule off should have a "
@@ -280,7 +321,7 @@ static void check_cloth_gradient(void)
     cloth_desc d = cloth_default_desc();
     cloth *c = NULL;
     cloth_error err;
-    int n, n_int, nplastic, above = 0, below = 0;
+    int n, n_int, nplastic, above = 0, below = 0, past_limit = 0;
     double *x0, *x, *f, *g, *v, spacing;
     link_snapshot *s0, *s1;
 
@@ -328,6 +369,11 @@ static void check_cloth_gradient(void)
                 cloth_get_link(c, ty, k, &L);
                 law = t ? int_law(&cd.material, L.rest, L.plastic, L.l1) : seq_law(&cd.material, L.rest);
                 e_sum += spring_energy(x0 + 3 * L.i, x0 + 3 * L.j, law);
+                if (!t) {
+                    double dd[3] = {x0[3 * L.j] - x0[3 * L.i], x0[3 * L.j + 1] - x0[3 * L.i + 1],
+                                    x0[3 * L.j + 2] - x0[3 * L.i + 2]};
+                    if (norm3(dd) > (1.0 + cd.material.delta) * L.rest) past_limit++;
+                }
                 if (t && L.plastic) {
                     double dd[3] = {x0[3 * L.j] - x0[3 * L.i], x0[3 * L.j + 1] - x0[3 * L.i + 1],
                                     x0[3 * L.j + 2] - x0[3 * L.i + 2]};
@@ -337,6 +383,7 @@ static void check_cloth_gradient(void)
             }
         }
         CHECK(above > 0 && below > 0, "want plastic links with d > l1 and d < l1, got %d and %d", above, below);
+        CHECK(past_limit > 0, "want sequential links past the elongation limit (their k_delta term), got none");
         CHECK(fabs(e - e_sum) <= 1e-12 * e_sum,
               "cloth_energies().elastic = %.17g but the sum of link energies is %.17g", e, e_sum);
     }
@@ -370,8 +417,8 @@ static void check_cloth_gradient(void)
               sqrt(f2), sqrt(err2 / f2));
         CHECK(emax <= 1e-6 * fmax, "cloth_internal_forces vs -grad elastic energy: max component err %.3g of %.3g",
               emax, fmax);
-        printf("%-32s %d plastic (%d above l1, %d below): rel err of forces vs -grad E %.2e\n",
-               "whole cloth", nplastic, above, below, sqrt(err2 / f2));
+        printf("%-32s %d plastic (%d above l1, %d below), %d sequential past the limit: rel err of forces vs "
+               "-grad E %.2e\n", "whole cloth", nplastic, above, below, past_limit, sqrt(err2 / f2));
     }
     snapshot_links(c, s1);
     {

@@ -30,7 +30,7 @@ cloth_desc cloth_default_desc(void)
     d.solver.cg_max_iterations = 2000;
     d.solver.definiteness_rule = 1;
     d.solver.warm_start = 1;
-    d.solver.strain_limit_iterations = 10;
+    d.solver.strain_limit_iterations = 20;
     d.solver.strain_fail = 0.5;
     return d;
 }
@@ -128,6 +128,7 @@ void cloth_destroy(cloth *c)
     state_free(&c->st);
     free(c->con);
     free(c->con_force);
+    free(c->f_ext);
     bsr_free(&c->A);
     free(c->seq_blk);
     free(c->int_blk);
@@ -136,6 +137,10 @@ void cloth_destroy(cloth *c)
     free(c->work);
     free(c->cflag);
     free(c->clist);
+    free(c->sl);
+    free(c->sl_act);
+    free(c->sl_held);
+    free(c->sl_vtx);
     mg_free(&c->mg);
     free(c);
 }
@@ -195,6 +200,8 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
 
     c->con = calloc((size_t)n, sizeof *c->con);
     c->con_force = calloc(n3, sizeof *c->con_force);
+    c->f_ext = calloc(n3, sizeof *c->f_ext);
+    if (!c->f_ext) goto nomem;
     c->seq_blk = malloc(2 * (size_t)c->n_seq * sizeof *c->seq_blk);
     c->int_blk = malloc(2 * (size_t)c->n_int * sizeof *c->int_blk);
     c->K_seq = malloc(9 * (size_t)c->n_seq * sizeof *c->K_seq);
@@ -204,6 +211,11 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
     if (workspace_alloc(c) != 0) goto nomem;
     c->cflag = calloc((size_t)n, 1);
     c->clist = calloc((size_t)n, sizeof *c->clist);
+    c->sl = malloc(9 * (size_t)c->n_seq * sizeof *c->sl);
+    c->sl_act = malloc((size_t)c->n_seq * sizeof *c->sl_act);
+    c->sl_vtx = calloc(n3, sizeof *c->sl_vtx);
+    c->sl_held = calloc((size_t)c->n_seq + (size_t)n, 1);
+    if (!c->sl || !c->sl_act || !c->sl_vtx || !c->sl_held) goto nomem;
     if (!c->cflag || !c->clist || mg_create(&c->mg, R, C) != 0) goto nomem;
 
     *out = c;
@@ -296,6 +308,19 @@ cloth_status cloth_set_gravity(cloth *c, const double g[3])
     if (!c) return CLOTH_EINVAL;
     if (!g || !finite3(g)) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_gravity: gravity must be finite");
     memcpy(c->desc.gravity, g, sizeof c->desc.gravity);
+    return CLOTH_OK;
+}
+
+cloth_status cloth_set_external_forces(cloth *c, const double *f)
+{
+    if (!c) return CLOTH_EINVAL;
+    size_t n3 = 3 * (size_t)c->n;
+    if (!f) {
+        memset(c->f_ext, 0, n3 * sizeof *c->f_ext);
+        return CLOTH_OK;
+    }
+    if (!all_finite(f, n3)) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_external_forces: forces must be finite");
+    memcpy(c->f_ext, f, n3 * sizeof *c->f_ext);
     return CLOTH_OK;
 }
 

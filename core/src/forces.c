@@ -32,7 +32,10 @@ void forces_eval(const cloth *c, const double *x, const double *v, int with_grav
         add3(f + 3 * j, fe, -1.0);
     }
     if (with_gravity)
-        for (int i = 0; i < c->n; i++) add3(f + 3 * i, c->desc.gravity, c->mass[i]);
+        for (int i = 0; i < c->n; i++) {
+            add3(f + 3 * i, c->desc.gravity, c->mass[i]);
+            add3(f + 3 * i, c->f_ext + 3 * i, 1.0);
+        }
 }
 
 double elastic_energy(const cloth *c, const double *x)

@@ -10,11 +10,14 @@
 /* ---------------------------------------------------------------- springs */
 
 /* A piecewise-quadratic spring between x_i and x_j (springs.c):
- *   E = 1/2 k_hi (d - rest)^2  if d >= rest,  1/2 k_lo (d - rest)^2  if d < rest.
+ *   E = 1/2 k_hi (d - rest)^2  if d >= rest,  1/2 k_lo (d - rest)^2  if d < rest,
+ *   plus 1/2 k_lim (d - lim)^2 if d > lim (sequential links past the
+ *   elongation limit; lim = HUGE_VAL elsewhere).
  * Every link type and region of the paper reduces to one of these (see
  * cloth_link_law). */
 typedef struct spring_law {
     double k_hi, k_lo, rest;
+    double k_lim, lim; /* extra stiffness past length lim (lim > rest) */
 } spring_law;
 
 /* Energy (J). */
@@ -84,6 +87,7 @@ struct cloth {
     cloth_constraint *con;     /* n, ndof 0 = free */
     int n_con;
     double *con_force;         /* 3n, N, from the last step */
+    double *f_ext;             /* 3n, N, external forces (cloth_set_external_forces) */
 
     /* step workspace, sized at creation: the step allocates nothing */
     bsr A;                     /* pattern: diagonal + one block pair per link */
@@ -99,6 +103,10 @@ struct cloth {
     double *con_new;           /* 3n: constraint forces of the step being taken */
     double *pre;               /* 9n: preconditioner blocks */
     double *S;                 /* 9n: per-vertex filter (I - constrained projector) */
+    double *sl;                /* 9 n_seq: elongation-limit projection (u, C, lambda, CG) */
+    int *sl_act;               /* n_seq: its active links */
+    unsigned char *sl_held;    /* n_seq: links held at the limit this step; then n marks */
+    double *sl_vtx;            /* 3n: its per-vertex scratch, kept zeroed */
 
     cloth_step_stats stats;
     char err[256];
@@ -112,17 +120,19 @@ cloth_status error_set(cloth_error *e, cloth_status code, const char *fmt, ...);
 /* step.c: carve the step's vectors out of c->work (0 or -1 on no memory) */
 int workspace_alloc(cloth *c);
 
-/* strain_limit.c: Provot's elongation limit on sequential links. Moves
- * x (and v by dx / cfac, the method's dx/dv_new) for at most `iterations`
- * passes; returns the number of links over the limit in the first pass. */
-int strain_limit(const cloth *c, double *x, double *v, const double *S, double cfac, int iterations);
+/* strain_limit.c: the elongation limit on sequential links by fast
+ * projection. Moves x (and v by dx / cfac, the method's dx/dv_new) for at
+ * most `iterations` Newton steps; returns the number of links over the limit
+ * before the first. */
+int strain_limit(cloth *c, double *x, double *v, const double *S, double cfac, int iterations);
 
 /* state.c */
 int state_alloc(struct cloth_state *s, int n, int n_int);
 void state_free(struct cloth_state *s);
 void state_copy(struct cloth_state *dst, const struct cloth_state *src);
 
-/* forces.c: f = internal forces (+ gravity if with_gravity); optionally
+/* forces.c: f = internal forces (+ gravity and external forces if
+ * with_gravity); optionally
  * assemble per-link K and D into the matrix via the callback-free kernels in
  * step.c. */
 void forces_eval(const cloth *c, const double *x, const double *v, int with_gravity, double *f);

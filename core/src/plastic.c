@@ -5,20 +5,21 @@
 
 spring_law seq_law(const cloth_material *m, double rest)
 {
-    /* eq. 6-7: asymmetric, tension k_t, compression k_c << k_t */
-    spring_law s = {m->k_t, m->k_c, rest};
+    /* eq. 6-7: asymmetric, tension k_t, compression k_c << k_t; past the
+     * elongation limit (1 + delta) l0 stiffer by k_delta k_t (material.c) */
+    spring_law s = {m->k_t, m->k_c, rest, m->k_delta * m->k_t, (1.0 + m->delta) * rest};
     return s;
 }
 
 spring_law int_law(const cloth_material *m, double rest, int plastic, double l1)
 {
     if (!plastic) {
-        spring_law s = {m->k_b, m->k_b, rest}; /* eq. 9-10: elastic bend */
+        spring_law s = {m->k_b, m->k_b, rest, 0.0, HUGE_VAL}; /* eq. 9-10: elastic bend */
         return s;
     }
     /* eq. 11-12: around the plastic rest length l1, unbending (d > l1) is
      * resisted by the spreading stiffness k_s, further bending by k_b. */
-    spring_law s = {m->k_s, m->k_b, l1};
+    spring_law s = {m->k_s, m->k_b, l1, 0.0, HUGE_VAL};
     return s;
 }
 

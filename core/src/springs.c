@@ -9,7 +9,10 @@
  *   K   = df_i/dx_j = k uu^T + k (1 - l/d)(I - uu^T)          (eq. 14)
  * K's eigenvalues are k (along u) and k (1 - l/d) (twice, across u); the
  * latter is negative when d < l, and an indefinite matrix breaks CG. The
- * paper's rule (section 3.2 / paper.md sec. 4): when d < l keep only k uu^T. */
+ * paper's rule (section 3.2 / paper.md sec. 4): when d < l keep only k uu^T.
+ * A sequential link past its elongation limit lim adds 1/2 k_lim (d - lim)^2:
+ * the force gains k_lim (d - lim) u, K's along-u stiffness k_lim and its
+ * across-u term (force magnitude / d) stays positive. */
 #include <math.h>
 #include "internal.h"
 
@@ -35,8 +38,8 @@ static double link_vec(const double xi[3], const double xj[3], double u[3])
 double spring_energy(const double xi[3], const double xj[3], spring_law s)
 {
     double u[3];
-    double e = link_vec(xi, xj, u) - s.rest;
-    return 0.5 * (e >= 0.0 ? s.k_hi : s.k_lo) * e * e;
+    double d = link_vec(xi, xj, u), e = d - s.rest, el = d > s.lim ? d - s.lim : 0.0;
+    return 0.5 * (e >= 0.0 ? s.k_hi : s.k_lo) * e * e + 0.5 * s.k_lim * el * el;
 }
 
 void spring_eval(const double xi[3], const double xj[3], spring_law s,
@@ -77,12 +80,17 @@ void link_eval(const double xi[3], const double xj[3], const double vi[3], const
     }
     double k = d >= s.rest ? s.k_hi : s.k_lo;
     double rate = (vj[0] - vi[0]) * u[0] + (vj[1] - vi[1]) * u[1] + (vj[2] - vi[2]) * u[2];
-    double fm = k * (d - s.rest) + c * rate;
+    double fe = k * (d - s.rest);
+    if (d > s.lim) {
+        fe += s.k_lim * (d - s.lim);
+        k += s.k_lim;
+    }
+    double fm = fe + c * rate;
     f_i[0] = fm * u[0];
     f_i[1] = fm * u[1];
     f_i[2] = fm * u[2];
     if (!K) return;
-    double kt = (definiteness && d < s.rest) ? 0.0 : k * (1.0 - s.rest / d);
+    double kt = (definiteness && d < s.rest) ? 0.0 : fe / d;
     for (int a = 0; a < 3; a++)
         for (int b = 0; b < 3; b++) {
             double uu = u[a] * u[b];

@@ -80,7 +80,7 @@ static void assemble(cloth *c, const double *x, const double *v, double beta_h, 
     for (int i = 0; i < c->n; i++) {
         double *B = A->val + 9 * (size_t)A->diag[i];
         B[0] = B[4] = B[8] = c->mass[i];
-        for (int r = 0; r < 3; r++) fout[3 * i + r] = c->mass[i] * c->desc.gravity[r];
+        for (int r = 0; r < 3; r++) fout[3 * i + r] = c->mass[i] * c->desc.gravity[r] + c->f_ext[3 * i + r];
     }
     double f[3], D[9], blk[9];
     for (int t = 0; t < 2; t++) {

@@ -1,49 +1,306 @@
 /* The elongation limit delta (paper Table 1): after a step no sequential
- * link may be longer than (1 + delta) l0. Provot (1995): passes over the
- * over-stretched links, each moving its two ends toward each other in
- * proportion to their inverse masses, until none is over or the passes run
- * out. A pinned end does not move; an end constrained to a plane or line
- * moves only along its free directions (the filter S). Velocities follow the
- * positions through the method's x_new = a + cfac v_new, so the corrected
- * state stays consistent. */
+ * link may be longer than (1 + delta) l0.
+ *
+ * Method: fast projection (Goldenthal et al. 2007) instead of Provot's (1995)
+ * link-by-link passes. Provot is Gauss-Seidel over the links: a correction
+ * travels about one link per pass, so a 21-link hanging chain needs hundreds
+ * of passes (measured on a soft cloth hanging from two corners: 10 passes
+ * left strain 0.22, 200 passes 0.043, with delta 0.03). The projection treats
+ * every over-stretched link e at once as an equality C_e = d_e - lmax_e = 0
+ * and takes Newton steps on the mass-weighted least-change problem:
+ *   (G W G^T) lambda = C,   dx = -W G^T lambda,
+ * G the constraint gradients (-u_e at i, +u_e at j), W_i = S_i / m_i (a
+ * pinned vertex does not move, one on a plane or line moves only along its
+ * free directions). The link system is solved by Jacobi-preconditioned CG,
+ * matrix-free over the active links. The active set grows: a link over the
+ * limit joins it and stays, held at exactly lmax, while its multiplier is
+ * positive (it pulls); one whose multiplier turns negative (it would push)
+ * leaves it. Without the memory, links fixed in one Newton step are pulled
+ * over again by the next and the iteration stalls (measured: 30 steps left
+ * 100 links over on the soft cloth above).
+ *
+ * Each Newton step solves its linearised problem as an inequality problem:
+ * a link outside the set that the step would stretch over the limit joins
+ * the set, one whose multiplier turns negative leaves it, and the link system
+ * is solved again (a primal active-set loop, at most SL_INNER rounds).
+ * Without it the step fixes the set's links by pulling their neighbours over
+ * (measured: 48 Newton steps on the soft cloth, against a handful).
+ *
+ * Safeguards: a grid with shear diagonals has about 4 links per vertex, and
+ * a flat patch only 2 in-plane directions each, so the linearised system of
+ * many held links can be singular and inconsistent; a plain Newton step then
+ * throws vertices metres away (measured). The system is therefore damped,
+ * (G W G^T + mu diag) lambda = C, and a step is kept only if it lowers the
+ * summed squared violation, halving it up to SL_HALVINGS times (the
+ * constraints are not linear: a link that turns lengthens); mu falls after a
+ * kept step and rises after a refused one (Levenberg-Marquardt). Velocities follow
+ * the positions through the method's x_new = a + cfac v_new, so the corrected
+ * state stays consistent (the correction is an impulse). */
 #include <math.h>
+#include <string.h>
 #include "internal.h"
 
-int strain_limit(const cloth *c, double *x, double *v, const double *S, double cfac, int iterations)
+/* strain accepted as "at the limit": relative to lmax */
+#define SL_TOL 1e-9
+#define SL_CG_TOL 1e-8
+#define SL_CG_MAX 500
+/* Levenberg-Marquardt damping of the link system, relative to its diagonal */
+#define SL_MU_MIN 1e-8
+#define SL_MU_MAX 1e4
+#define SL_INNER 8
+#define SL_HALVINGS 6
+
+/* u^T W u for a vertex: W = S / m, or 0 if pinned */
+static double wnorm(const cloth *c, const double *S, int i, const double u[3])
 {
-    double limit = 1.0 + c->desc.material.delta;
-    int first = 0;
-    for (int it = 0; it < iterations; it++) {
-        int over = 0;
-        for (int e = 0; e < c->n_seq; e++) {
-            int i = c->seq[e].i, j = c->seq[e].j;
-            double *xi = x + 3 * i, *xj = x + 3 * j;
-            double u[3] = {xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]};
-            double d = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-            double lmax = limit * c->seq[e].rest;
-            if (!(d > lmax)) continue;
-            over++;
-            double wi = c->con[i].ndof == 3 ? 0.0 : 1.0 / c->mass[i];
-            double wj = c->con[j].ndof == 3 ? 0.0 : 1.0 / c->mass[j];
-            if (wi + wj <= 0.0) continue;
-            double s = (d - lmax) / (d * (wi + wj)); /* per unit inverse mass, along u*d */
-            double di[3], dj[3];
+    if (c->con[i].ndof == 3) return 0.0;
+    if (c->con[i].ndof == 0) return 1.0 / c->mass[i];
+    const double *Si = S + 9 * (size_t)i;
+    double q = 0.0;
+    for (int r = 0; r < 3; r++) q += u[r] * (Si[3 * r] * u[0] + Si[3 * r + 1] * u[1] + Si[3 * r + 2] * u[2]);
+    return q / c->mass[i];
+}
+
+/* q_i += s W_i u */
+static void add_wu(const cloth *c, const double *S, int i, const double u[3], double s, double *q)
+{
+    if (c->con[i].ndof == 3) return;
+    double *qi = q + 3 * (size_t)i, k = s / c->mass[i];
+    if (c->con[i].ndof == 0) {
+        for (int r = 0; r < 3; r++) qi[r] += k * u[r];
+        return;
+    }
+    const double *Si = S + 9 * (size_t)i;
+    for (int r = 0; r < 3; r++) qi[r] += k * (Si[3 * r] * u[0] + Si[3 * r + 1] * u[1] + Si[3 * r + 2] * u[2]);
+}
+
+/* y = G W G^T p over the m active links (q: 3n scratch, zeroed on return) */
+static void link_matvec(const cloth *c, const double *S, int m, const int *act, const double *u, const double *p,
+                        double *q, double *y)
+{
+    for (int a = 0; a < m; a++) {
+        const link_topo *L = &c->seq[act[a]];
+        add_wu(c, S, L->i, u + 3 * a, -p[a], q);
+        add_wu(c, S, L->j, u + 3 * a, p[a], q);
+    }
+    for (int a = 0; a < m; a++) {
+        const link_topo *L = &c->seq[act[a]];
+        const double *qi = q + 3 * L->i, *qj = q + 3 * L->j, *ua = u + 3 * a;
+        y[a] = ua[0] * (qj[0] - qi[0]) + ua[1] * (qj[1] - qi[1]) + ua[2] * (qj[2] - qi[2]);
+    }
+    for (int a = 0; a < m; a++) {
+        const link_topo *L = &c->seq[act[a]];
+        memset(q + 3 * L->i, 0, 3 * sizeof *q);
+        memset(q + 3 * L->j, 0, 3 * sizeof *q);
+    }
+}
+
+/* Sum of squared excess lengths over all sequential links, and their count. */
+static double violation(const cloth *c, const double *x, double limit, int *over)
+{
+    double sum = 0.0;
+    int n = 0;
+    for (int e = 0; e < c->n_seq; e++) {
+        const double *xi = x + 3 * c->seq[e].i, *xj = x + 3 * c->seq[e].j;
+        double w0 = xj[0] - xi[0], w1 = xj[1] - xi[1], w2 = xj[2] - xi[2];
+        double d = sqrt(w0 * w0 + w1 * w1 + w2 * w2), lmax = limit * c->seq[e].rest;
+        if (d > lmax * (1.0 + SL_TOL)) {
+            n++;
+            sum += (d - lmax) * (d - lmax);
+        }
+    }
+    *over = n;
+    return sum;
+}
+
+/* x (and v, if not NULL, by q / cfac) += s q over the vertices touched by the
+ * active links; each vertex once (touched[] marks them). */
+static void apply_step(const cloth *c, int m, const int *act, double *x, double *v, double cfac,
+                       const double *q, double s, unsigned char *touched)
+{
+    for (int a = 0; a < m; a++) {
+        int ends[2] = {c->seq[act[a]].i, c->seq[act[a]].j};
+        for (int t = 0; t < 2; t++) {
+            size_t i = (size_t)ends[t];
+            if (touched[i]) continue;
+            touched[i] = 1;
             for (int k = 0; k < 3; k++) {
-                di[k] = wi * s * u[k];
-                dj[k] = -wj * s * u[k];
-            }
-            const double *Si = S + 9 * (size_t)i, *Sj = S + 9 * (size_t)j;
-            for (int r = 0; r < 3; r++) {
-                double mi = Si[3 * r] * di[0] + Si[3 * r + 1] * di[1] + Si[3 * r + 2] * di[2];
-                double mj = Sj[3 * r] * dj[0] + Sj[3 * r + 1] * dj[1] + Sj[3 * r + 2] * dj[2];
-                xi[r] += mi;
-                xj[r] += mj;
-                v[3 * i + r] += mi / cfac;
-                v[3 * j + r] += mj / cfac;
+                x[3 * i + k] += s * q[3 * i + k];
+                if (v) v[3 * i + k] += s * q[3 * i + k] / cfac;
             }
         }
-        if (it == 0) first = over;
-        if (!over) break;
+    }
+    for (int a = 0; a < m; a++) touched[c->seq[act[a]].i] = touched[c->seq[act[a]].j] = 0;
+}
+
+/* Fill row a of the link system for link e at positions x: u, C = d - lmax,
+ * and the inverse of its (damped) diagonal. 0 if neither end can move. */
+static int link_row(const cloth *c, const double *S, const double *x, int e, double limit, double mu,
+                    double *ua, double *Ca, double *dinva)
+{
+    int i = c->seq[e].i, j = c->seq[e].j;
+    const double *xi = x + 3 * i, *xj = x + 3 * j;
+    double w[3] = {xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]};
+    double d = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    if (!(d > 0.0)) return 0;
+    for (int k = 0; k < 3; k++) ua[k] = w[k] / d;
+    double diag = wnorm(c, S, i, ua) + wnorm(c, S, j, ua);
+    if (!(diag > 0.0)) return 0;
+    *Ca = d - limit * c->seq[e].rest;
+    *dinva = 1.0 / (diag * (1.0 + mu));
+    return 1;
+}
+
+/* CG on (G W G^T + mu diag) lambda = C over the m rows, Jacobi
+ * preconditioned, from lambda = D^-1 C. */
+static void solve_links(const cloth *c, const double *S, int m, const int *act, const double *u, const double *C,
+                        const double *dinv, double mu, double *lam, double *r, double *p, double *y, double *q)
+{
+    double rz = 0.0, rz0;
+    for (int a = 0; a < m; a++) lam[a] = dinv[a] * C[a];
+    link_matvec(c, S, m, act, u, lam, q, y);
+    for (int a = 0; a < m; a++) {
+        y[a] += mu * lam[a] / (dinv[a] * (1.0 + mu));
+        r[a] = C[a] - y[a];
+        p[a] = dinv[a] * r[a];
+        rz += r[a] * p[a];
+    }
+    rz0 = rz;
+    for (int k = 0; k < SL_CG_MAX && rz > SL_CG_TOL * SL_CG_TOL * rz0 && rz > 0.0; k++) {
+        link_matvec(c, S, m, act, u, p, q, y);
+        double pAp = 0.0;
+        for (int a = 0; a < m; a++) {
+            y[a] += mu * p[a] / (dinv[a] * (1.0 + mu));
+            pAp += p[a] * y[a];
+        }
+        if (!(pAp > 0.0)) break;
+        double alpha = rz / pAp, rz1 = 0.0;
+        for (int a = 0; a < m; a++) {
+            lam[a] += alpha * p[a];
+            r[a] -= alpha * y[a];
+            rz1 += r[a] * r[a] * dinv[a];
+        }
+        double beta = rz1 / rz;
+        rz = rz1;
+        for (int a = 0; a < m; a++) p[a] = dinv[a] * r[a] + beta * p[a];
+    }
+}
+
+/* q = -W G^T lambda (q zero on entry over the rows' vertices) */
+static void step_of(const cloth *c, const double *S, int m, const int *act, const double *u, const double *lam,
+                    double *q)
+{
+    for (int a = 0; a < m; a++) {
+        const link_topo *L = &c->seq[act[a]];
+        add_wu(c, S, L->i, u + 3 * a, lam[a], q);
+        add_wu(c, S, L->j, u + 3 * a, -lam[a], q);
+    }
+}
+
+static void clear_step(const cloth *c, int m, const int *act, double *q)
+{
+    for (int a = 0; a < m; a++) {
+        memset(q + 3 * (size_t)c->seq[act[a]].i, 0, 3 * sizeof *q);
+        memset(q + 3 * (size_t)c->seq[act[a]].j, 0, 3 * sizeof *q);
+    }
+}
+
+int strain_limit(cloth *c, double *x, double *v, const double *S, double cfac, int iterations)
+{
+    double limit = 1.0 + c->desc.material.delta;
+    int *act = c->sl_act;
+    unsigned char *in = c->sl_held, *touched = c->sl_held + c->n_seq;
+    memset(in, 0, (size_t)c->n_seq);
+    double *u = c->sl, *C = u + 3 * (size_t)c->n_seq, *lam = C + c->n_seq, *r = lam + c->n_seq;
+    double *p = r + c->n_seq, *y = p + c->n_seq, *dinv = y + c->n_seq, *q = c->sl_vtx;
+    int first;
+    double merit = violation(c, x, limit, &first), mu = SL_MU_MIN;
+    int over = first;
+    for (int it = 0; it < iterations && over > 0 && mu <= SL_MU_MAX; it++) {
+        /* the set: links over the limit, or held at it by the last step */
+        int m = 0;
+        for (int e = 0; e < c->n_seq; e++) {
+            const double *xi = x + 3 * c->seq[e].i, *xj = x + 3 * c->seq[e].j;
+            double w0 = xj[0] - xi[0], w1 = xj[1] - xi[1], w2 = xj[2] - xi[2];
+            double d = sqrt(w0 * w0 + w1 * w1 + w2 * w2);
+            int want = in[e] || d > limit * c->seq[e].rest * (1.0 + SL_TOL);
+            in[e] = 0;
+            if (want && link_row(c, S, x, e, limit, mu, u + 3 * (size_t)m, C + m, dinv + m)) {
+                act[m++] = e;
+                in[e] = 1;
+            }
+        }
+        if (m == 0) break;
+        for (int round = 0;; round++) {
+            solve_links(c, S, m, act, u, C, dinv, mu, lam, r, p, y, q);
+            step_of(c, S, m, act, u, lam, q);
+            if (round == SL_INNER - 1) break;
+            int changed = 0;
+            /* links the step would stretch over join; the rows are rebuilt
+             * after the step is cleared (the step stays valid meanwhile) */
+            int m1 = m;
+            for (int e = 0; e < c->n_seq; e++) {
+                if (in[e]) continue;
+                const link_topo *L = &c->seq[e];
+                const double *xi = x + 3 * L->i, *xj = x + 3 * L->j, *qi = q + 3 * L->i, *qj = q + 3 * L->j;
+                double w0 = xj[0] - xi[0] + qj[0] - qi[0], w1 = xj[1] - xi[1] + qj[1] - qi[1];
+                double w2 = xj[2] - xi[2] + qj[2] - qi[2];
+                if (!(w0 * w0 + w1 * w1 + w2 * w2 > (limit * L->rest) * (limit * L->rest) * (1.0 + 2.0 * SL_TOL)))
+                    continue;
+                if (m1 < c->n_seq && link_row(c, S, x, e, limit, mu, u + 3 * (size_t)m1, C + m1, dinv + m1)) {
+                    act[m1++] = e;
+                    in[e] = 1;
+                    changed = 1;
+                }
+            }
+            clear_step(c, m, act, q);
+            /* links that would push leave (only those that are not over now) */
+            int k = 0;
+            for (int a = 0; a < m1; a++) {
+                if (a < m && lam[a] < 0.0 && C[a] <= 0.0) {
+                    in[act[a]] = 0;
+                    changed = 1;
+                    continue;
+                }
+                act[k] = act[a];
+                C[k] = C[a];
+                dinv[k] = dinv[a];
+                memcpy(u + 3 * (size_t)k, u + 3 * (size_t)a, 3 * sizeof *u);
+                k++;
+            }
+            m = k;
+            if (!changed) {
+                /* the same set: recompute its step */
+                solve_links(c, S, m, act, u, C, dinv, mu, lam, r, p, y, q);
+                step_of(c, S, m, act, u, lam, q);
+                break;
+            }
+        }
+        /* backtracking on the summed squared violation: the full step, then
+         * halves of it; if none lowers it, undo and damp harder */
+        double s = 1.0, merit1 = merit;
+        int over1 = over, kept = 0;
+        apply_step(c, m, act, x, NULL, cfac, q, 1.0, touched);
+        for (int half = 0; half < SL_HALVINGS; half++) {
+            merit1 = violation(c, x, limit, &over1);
+            if (merit1 < merit) {
+                kept = 1;
+                break;
+            }
+            apply_step(c, m, act, x, NULL, cfac, q, -0.5 * s, touched);
+            s *= 0.5;
+        }
+        if (kept) { /* velocities follow; pushing links leave */
+            apply_step(c, m, act, v, NULL, cfac, q, s / cfac, touched);
+            for (int a = 0; a < m; a++) in[act[a]] = lam[a] > 0.0;
+            merit = merit1;
+            over = over1;
+            mu = mu / 10.0 > SL_MU_MIN ? mu / 10.0 : SL_MU_MIN;
+        } else {
+            apply_step(c, m, act, x, NULL, cfac, q, -s, touched);
+            mu *= 10.0;
+        }
+        clear_step(c, m, act, q);
     }
     return first;
 }

@@ -62,6 +62,9 @@ typedef struct cloth_material {
     double k_s;      /* N/m     spreading stiffness: resists unbending a crease    */
     double alpha;    /* 1       plastic yield ratio d/l0, in [0, 1]; 0 = elastic   */
     double delta;    /* 1       elongation limit: sequential links stretch <= delta */
+    double k_delta;  /* 1       stiffening past the limit: a sequential link longer
+                                than (1 + delta) l0 adds k_delta k_t on the excess
+                                (0 = none; the projection alone holds delta)      */
     double c_t;      /* N s/m   damping along sequential links                     */
     double c_b;      /* N s/m   damping along interlaced links                     */
     double density;  /* kg/m^2  areal density                                      */
@@ -98,7 +101,8 @@ typedef struct cloth_solver {
     int cg_max_iterations;        /* >= 1; reaching it fails the step     */
     int definiteness_rule;        /* 1: compressed links keep only k uu^T (paper sec. 3.2) */
     int warm_start;               /* 1: start CG from last step's dv in free directions */
-    int strain_limit_iterations;  /* Provot passes after a step; 0 = off  */
+    int strain_limit_iterations;  /* elongation-limit projection (Newton)
+                                     steps after a step; 0 = off          */
     double strain_fail;           /* 1, a step whose max sequential strain
                                      exceeds this after limiting fails    */
 } cloth_solver;
@@ -151,6 +155,10 @@ cloth_status cloth_set_vertex(cloth *c, int vertex, const double x[3], const dou
 cloth_status cloth_set_material(cloth *c, const cloth_material *m); /* masses unchanged */
 cloth_status cloth_set_solver(cloth *c, const cloth_solver *s);
 cloth_status cloth_set_gravity(cloth *c, const double g[3]);
+/* Extra forces (N), 3 * vertex_count doubles, applied in every step from now
+ * on until set again (friction, wind, a user's pull). NULL clears them. The
+ * implicit step treats them as constant over the step. */
+cloth_status cloth_set_external_forces(cloth *c, const double *f);
 
 /* ------------------------------------------------------------------ links */
 
