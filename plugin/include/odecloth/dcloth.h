@@ -4,10 +4,33 @@
  * The plugin is the glue between the pure C cloth core (odecloth/cloth.h) and
  * the Open Dynamics Engine: ODE rigid bodies become colliders and attachment
  * points of a cloth, and contact reactions go back to the bodies. It follows
- * ODE's own style: dCloth prefix, dClothID handles, dReal at the boundary.
+ * ODE's own style: dCloth prefix, dClothID handles, dReal at the boundary
+ * (double: the plugin needs ODE built with dDOUBLE, as Debian's is).
  *
- * For now it holds only the version query; the plugin API (dClothCreate,
- * dClothStep, ...) arrives with the plugin issue.
+ * A step, in order (dClothStep):
+ *   1. broadphase: one box proxy around the cloth (not in any of your spaces,
+ *      so it never reaches your own dSpaceCollide callback) against the space
+ *      you gave, nested spaces included, through ODE's dSpaceCollide2 and its
+ *      category / collide bits;
+ *   2. each vertex inside a candidate geom's AABB is tested with a sphere
+ *      proxy of the cloth's thickness (dCollide): a vertex that is, or would
+ *      end the step, closer than the thickness gets a velocity constraint
+ *      (paper eq. 22): its normal velocity is the body's point velocity
+ *      (dBodyGetPointVel) plus what removes the penetration within the step;
+ *      Coulomb friction: sticking (the tangential velocity follows the body)
+ *      while the needed force is within mu N, sliding (a force of mu N
+ *      against the slip) beyond; a contact that pulled in the last step is
+ *      released;
+ *   3. pins, to the world or to a point of a body, become constraints too;
+ *   4. the core's implicit step (cloth_step) holds every constraint exactly;
+ *   5. each constraint's force (from the solve's residual) and each sliding
+ *      friction force is applied, opposite, to its body with
+ *      dBodyAddForceAtPos; ODE's next dWorldStep carries it.
+ * So step the cloth first, then the world, with the same h (dClothWorldStep
+ * does both).
+ *
+ * Errors are values: functions return CLOTH_OK or an error code, and
+ * dClothGetLastError says why; nothing prints, aborts or changes on error.
  */
 #ifndef ODECLOTH_DCLOTH_H
 #define ODECLOTH_DCLOTH_H
@@ -24,6 +47,104 @@ extern "C" {
 /* The odecloth version, "major.minor.patch" (the core's cloth_version()).
  * Never NULL; the string is static. */
 const char *dClothGetVersion(void);
+
+typedef struct dxCloth *dClothID;
+
+typedef struct dClothDesc {
+    cloth_desc cloth;            /* grid, placement, material, solver (cloth.h) */
+    dReal thickness;             /* m, > 0: vertices keep this far from surfaces */
+    dReal mu;                    /* Coulomb friction coefficient, >= 0 (0: none) */
+    unsigned long category_bits; /* ODE's collision bits: the cloth and a geom  */
+    unsigned long collide_bits;  /* meet if (collide & theirs.category) or
+                                    (theirs.collide & category); default all   */
+} dClothDesc;
+
+/* Defaults: the core's cloth_default_desc(), thickness 5 mm, mu 0.3, all
+ * bits set. */
+dClothDesc dClothDefaultDesc(void);
+
+/* Create a cloth in `world` that collides with the geoms of `space` (may be
+ * 0: no collisions). On error *out is NULL and err (may be NULL) says why. */
+cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *desc, dClothID *out,
+                          cloth_error *err);
+void dClothDestroy(dClothID c);
+
+/* The core cloth, for everything the plugin does not wrap: material, solver,
+ * state save / restore, energies, links. Its constraints are rewritten by
+ * every dClothStep (contacts and pins); set pins through the plugin. */
+cloth *dClothGetCore(dClothID c);
+
+/* Why the last call on c failed. Never NULL. */
+const char *dClothGetLastError(dClothID c);
+
+/* --------------------------------------------------------------- stepping */
+
+/* One cloth step of h seconds (contacts, pins, implicit solve, reactions to
+ * the bodies). Call before dWorldStep(world, h). On failure (CLOTH_EINVAL for
+ * a bad h, CLOTH_ESTEP when the solve fails) the cloth and the bodies are as
+ * they were. */
+cloth_status dClothStep(dClothID c, dReal h);
+
+/* Step n cloths, then the world (dWorldQuickStep if quick, else dWorldStep),
+ * by h. Stops at the first cloth that fails; the world is then not stepped. */
+cloth_status dClothWorldStep(dWorldID world, dClothID *cloths, int n, dReal h, int quick);
+
+typedef struct dClothStepStats {
+    cloth_step_stats core;   /* iterations, residual, energy, strain, failure */
+    int contacts;            /* vertices with a contact constraint            */
+    int sticking;            /* of which sticking (friction within mu N)      */
+    int released;            /* contacts released because they pulled         */
+    int pins;                /* pinned vertices                               */
+    int candidates;          /* geoms whose AABB met the cloth's              */
+    dReal max_penetration;   /* m, deepest vertex below thickness, before the
+                                step (0 if none)                              */
+} dClothStepStats;
+
+/* Stats of the last dClothStep. */
+const dClothStepStats *dClothGetStats(dClothID c);
+
+/* ---------------------------------------------------------- for drawing */
+
+int dClothGetVertexCount(dClothID c);
+/* 3 * vertex count, m; valid until the next step. */
+const dReal *dClothGetPositions(dClothID c);
+/* Unit vertex normals (area-weighted over the vertex's triangles), 3 * count. */
+cloth_status dClothGetNormals(dClothID c, dReal *normals);
+/* Two triangles per grid cell, counter-clockwise seen from +axis_u x axis_v. */
+int dClothGetTriangleCount(dClothID c);
+/* 3 vertex indices per triangle; static for the cloth's lifetime. */
+const int *dClothGetTriangles(dClothID c);
+
+/* ------------------------------------------------------------------ pins */
+
+/* Pin a vertex to a fixed world point. */
+cloth_status dClothPinToWorld(dClothID c, int vertex, const dReal point[3]);
+/* Pin a vertex to a point given in the body's frame: the vertex follows the
+ * point, and the body feels the pull. b must be a body of the cloth's world. */
+cloth_status dClothPinToBody(dClothID c, int vertex, dBodyID b, const dReal local_point[3]);
+cloth_status dClothReleasePin(dClothID c, int vertex);
+/* Release every pin to b (call before destroying a pinned body). */
+cloth_status dClothReleaseBody(dClothID c, dBodyID b);
+/* Force (N) the pin applied to the vertex over the last step (the body got
+ * the opposite). Zero if not pinned. */
+cloth_status dClothGetPinForce(dClothID c, int vertex, dReal force[3]);
+
+/* Force (N) a contact applied to the vertex over the last step, constraint
+ * and sliding friction together (zero if none). */
+cloth_status dClothGetContactForce(dClothID c, int vertex, dReal force[3]);
+
+/* ------------------------------------------------------------ parameters */
+
+cloth_status dClothSetFriction(dClothID c, dReal mu);
+dReal dClothGetFriction(dClothID c);
+cloth_status dClothSetThickness(dClothID c, dReal thickness);
+dReal dClothGetThickness(dClothID c);
+void dClothSetCategoryBits(dClothID c, unsigned long bits);
+void dClothSetCollideBits(dClothID c, unsigned long bits);
+unsigned long dClothGetCategoryBits(dClothID c);
+unsigned long dClothGetCollideBits(dClothID c);
+/* Change the space the cloth collides with (0: none). */
+void dClothSetSpace(dClothID c, dSpaceID space);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,170 @@
+/* The coupled step (dcloth.h, steps 2-5): contacts and pins become the core's
+ * velocity constraints, friction becomes a force, the core steps, and what
+ * each constraint did to the cloth goes back, opposite, to its body. */
+#include <math.h>
+#include <string.h>
+#include "dcloth_internal.h"
+
+/* A vertex within this fraction of the thickness of touching at the end of
+ * the step (predicted) is held on the surface, so a resting vertex stays in
+ * contact instead of falling free every other step. */
+#define CONTACT_SLOP 0.1
+
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* Decide the vertex's contact for this step: none (returns 0), sticking or
+ * sliding; fills its constraint and, sliding, its friction force. */
+static int contact_rule(dClothID c, int i, double h, double mass, vcontact *nw, const vcontact *old,
+                        cloth_constraint *k, dClothStepStats *st)
+{
+    const double *x = cloth_positions(c->core) + 3 * i, *v = cloth_velocities(c->core) + 3 * i;
+    const double *n = nw->normal;
+    double rel[3] = {v[0] - nw->vbody[0], v[1] - nw->vbody[1], v[2] - nw->vbody[2]};
+    double vn = dot3(rel, n);
+    if (nw->gap > 0.0 && nw->gap + h * vn > CONTACT_SLOP * c->thickness) return 0; /* stays apart */
+    int had = old->geom == nw->geom;
+    double fn_prev = had ? dot3(old->force, old->normal) : 0.0;
+    /* unilateral: a contact that pulled the vertex onto the body last step
+     * lets go, unless the vertex is inside */
+    if (had && fn_prev < 0.0 && nw->gap >= 0.0) {
+        st->released++;
+        return 0;
+    }
+    if (fn_prev < 0.0) fn_prev = 0.0;
+    double vt[3] = {rel[0] - vn * n[0], rel[1] - vn * n[1], rel[2] - vn * n[2]};
+    double vts = sqrt(dot3(vt, vt));
+    int stick;
+    if (c->mu <= 0.0) stick = 0;
+    else if (!had) stick = 1; /* a new contact starts sticking; the force decides next step */
+    else if (old->sticking) {
+        const double *f = old->force;
+        double fnn = dot3(f, old->normal);
+        double ft[3] = {f[0] - fnn * old->normal[0], f[1] - fnn * old->normal[1], f[2] - fnn * old->normal[2]};
+        stick = sqrt(dot3(ft, ft)) <= c->mu * fn_prev;
+    } else {
+        stick = mass * vts / h <= c->mu * fn_prev; /* friction can stop the slip within the step */
+    }
+    /* end-of-step position: moved with the body's point, the penetration
+     * (negative gap) removed along the normal (paper eq. 22) */
+    k->vertex = i;
+    for (int r = 0; r < 3; r++) {
+        k->target[r] = x[r] + h * nw->vbody[r] - nw->gap * n[r];
+        k->axis[r] = n[r];
+        nw->friction[r] = 0.0;
+    }
+    k->ndof = stick ? 3 : 1;
+    nw->sticking = stick;
+    if (!stick && c->mu > 0.0 && vts > 0.0) {
+        double F = c->mu * fn_prev, cap = mass * vts / h;
+        if (F > cap) F = cap;
+        for (int r = 0; r < 3; r++) nw->friction[r] = -F * vt[r] / vts;
+    }
+    return 1;
+}
+
+cloth_status dClothStep(dClothID c, dReal h)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!(h > 0.0) || !isfinite(h)) return dcloth_fail(c, CLOTH_EINVAL, "dClothStep: h = %g must be finite and > 0", h);
+    dClothStepStats st;
+    memset(&st, 0, sizeof st);
+    int cand = dcloth_find_contacts(c, h);
+    if (cand < 0) return dcloth_fail(c, CLOTH_ENOMEM, "dClothStep: out of memory for the candidate geoms");
+    st.candidates = cand;
+    cloth *core = c->core;
+    const double *mass = cloth_masses(core);
+    cloth_release_all(core);
+    memset(c->fext, 0, 3 * (size_t)c->n * sizeof *c->fext);
+
+    for (int i = 0; i < c->n; i++) {
+        vpin *p = &c->pin[i];
+        if (!p->active) continue;
+        double target[3];
+        if (p->body) {
+            dVector3 w, pv;
+            dBodyGetRelPointPos(p->body, p->local[0], p->local[1], p->local[2], w);
+            dBodyGetPointVel(p->body, w[0], w[1], w[2], pv);
+            for (int r = 0; r < 3; r++) {
+                p->world[r] = w[r];
+                target[r] = w[r] + h * pv[r];
+            }
+        } else {
+            memcpy(target, p->local, sizeof target);
+        }
+        cloth_pin(core, i, target);
+        st.pins++;
+    }
+    for (int i = 0; i < c->n; i++) {
+        vcontact *nw = &c->vc_new[i];
+        if (!nw->geom) continue;
+        cloth_constraint k;
+        if (c->pin[i].active || !contact_rule(c, i, h, mass[i], nw, &c->vc[i], &k, &st)) {
+            memset(nw, 0, sizeof *nw);
+            continue;
+        }
+        cloth_set_constraint(core, &k);
+        memcpy(c->fext + 3 * i, nw->friction, sizeof nw->friction);
+        st.contacts++;
+        st.sticking += nw->sticking;
+        if (-nw->gap > st.max_penetration) st.max_penetration = -nw->gap;
+    }
+    cloth_set_external_forces(core, c->fext);
+    cloth_status s = cloth_step(core, h, &st.core);
+    if (s != CLOTH_OK) {
+        st.contacts = st.sticking = 0;
+        c->stats = st;
+        return dcloth_fail(c, s, "dClothStep: %s", cloth_last_error(core));
+    }
+
+    /* the penetration was removed by moving the vertex within the step; its
+     * velocity keeps only the body's (no pop: a vertex shot out at -gap/h
+     * bounced off its neighbours back into the body, step after step) */
+    for (int i = 0; i < c->n; i++) {
+        vcontact *nw = &c->vc_new[i];
+        if (!nw->geom || c->pin[i].active || !(nw->gap < 0.0)) continue;
+        double vi[3];
+        memcpy(vi, cloth_velocities(core) + 3 * i, sizeof vi);
+        for (int r = 0; r < 3; r++) vi[r] += nw->gap / h * nw->normal[r];
+        cloth_set_vertex(core, i, cloth_positions(core) + 3 * i, vi);
+    }
+
+    /* reactions: the constraint force (and friction) on each vertex, back
+     * onto its body at the pin or contact point */
+    for (int i = 0; i < c->n; i++) {
+        vpin *p = &c->pin[i];
+        vcontact *nw = &c->vc_new[i];
+        double f[3];
+        dBodyID b = 0;
+        const double *at = NULL;
+        if (p->active) {
+            cloth_constraint_force(core, i, p->force);
+            memcpy(f, p->force, sizeof f);
+            b = p->body;
+            at = p->world;
+        } else if (nw->geom) {
+            cloth_constraint_force(core, i, f);
+            for (int r = 0; r < 3; r++) f[r] += nw->friction[r];
+            memcpy(nw->force, f, sizeof f);
+            b = nw->body;
+            at = nw->point;
+        }
+        if (b && !dBodyIsKinematic(b)) dBodyAddForceAtPos(b, -f[0], -f[1], -f[2], at[0], at[1], at[2]);
+    }
+    vcontact *t = c->vc;
+    c->vc = c->vc_new;
+    c->vc_new = t;
+    c->stats = st;
+    return CLOTH_OK;
+}
+
+cloth_status dClothWorldStep(dWorldID world, dClothID *cloths, int n, dReal h, int quick)
+{
+    if (!world || n < 0 || (n > 0 && !cloths)) return CLOTH_EINVAL;
+    for (int k = 0; k < n; k++) {
+        cloth_status s = dClothStep(cloths[k], h);
+        if (s != CLOTH_OK) return s;
+    }
+    if (quick) dWorldQuickStep(world, h);
+    else dWorldStep(world, h);
+    return CLOTH_OK;
+}

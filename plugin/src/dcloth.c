@@ -1,0 +1,251 @@
+/* The plugin's cloth object: creation, parameters, pins, what to draw. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "dcloth_internal.h"
+
+cloth_status dcloth_fail(dClothID c, cloth_status code, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(c->err, sizeof c->err, fmt, ap);
+    va_end(ap);
+    return code;
+}
+
+static cloth_status create_fail(cloth_error *err, cloth_status code, const char *msg)
+{
+    if (err) {
+        err->code = code;
+        snprintf(err->message, sizeof err->message, "dClothCreate: %s", msg);
+    }
+    return code;
+}
+
+dClothDesc dClothDefaultDesc(void)
+{
+    dClothDesc d;
+    memset(&d, 0, sizeof d);
+    d.cloth = cloth_default_desc();
+    d.thickness = 0.005;
+    d.mu = 0.3;
+    d.category_bits = ~0ul;
+    d.collide_bits = ~0ul;
+    return d;
+}
+
+static int valid_thickness(double t) { return t > 0.0 && isfinite(t); }
+static int valid_mu(double mu) { return mu >= 0.0 && isfinite(mu); }
+
+cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *d, dClothID *out, cloth_error *err)
+{
+    if (err) {
+        err->code = CLOTH_OK;
+        err->message[0] = '\0';
+    }
+    if (!out) return create_fail(err, CLOTH_EINVAL, "out is NULL");
+    *out = NULL;
+    if (!world) return create_fail(err, CLOTH_EINVAL, "world is 0");
+    if (!d) return create_fail(err, CLOTH_EINVAL, "desc is NULL");
+    if (!valid_thickness(d->thickness)) return create_fail(err, CLOTH_EINVAL, "thickness must be finite and > 0");
+    if (!valid_mu(d->mu)) return create_fail(err, CLOTH_EINVAL, "mu must be finite and >= 0");
+    dClothID c = calloc(1, sizeof *c);
+    if (!c) return create_fail(err, CLOTH_ENOMEM, "out of memory");
+    cloth_status s = cloth_create(&d->cloth, &c->core, err);
+    if (s != CLOTH_OK) {
+        free(c);
+        return s;
+    }
+    c->world = world;
+    c->space = space;
+    c->thickness = d->thickness;
+    c->mu = d->mu;
+    c->category = d->category_bits;
+    c->collide = d->collide_bits;
+    c->n = cloth_vertex_count(c->core);
+    int R = d->cloth.rows, C = d->cloth.cols;
+    c->ntri = 2 * (R - 1) * (C - 1);
+    c->tri = malloc(3 * (size_t)c->ntri * sizeof *c->tri);
+    c->vc = calloc((size_t)c->n, sizeof *c->vc);
+    c->vc_new = calloc((size_t)c->n, sizeof *c->vc_new);
+    c->pin = calloc((size_t)c->n, sizeof *c->pin);
+    c->fext = calloc(3 * (size_t)c->n, sizeof *c->fext);
+    c->box = dCreateBox(0, 1, 1, 1);
+    c->sphere = dCreateSphere(0, c->thickness);
+    if (!c->tri || !c->vc || !c->vc_new || !c->pin || !c->fext || !c->box || !c->sphere) {
+        dClothDestroy(c);
+        return create_fail(err, CLOTH_ENOMEM, "out of memory");
+    }
+    /* split each cell along the same diagonal, counter-clockwise seen from
+     * axis_u x axis_v (u along columns, v along rows) */
+    int t = 0;
+    for (int r = 0; r + 1 < R; r++)
+        for (int k = 0; k + 1 < C; k++) {
+            int a = r * C + k, b = a + 1, cc = a + C, dd = cc + 1;
+            int *p = c->tri + 3 * t;
+            p[0] = a, p[1] = b, p[2] = dd;
+            p[3] = a, p[4] = dd, p[5] = cc;
+            t += 2;
+        }
+    *out = c;
+    return CLOTH_OK;
+}
+
+void dClothDestroy(dClothID c)
+{
+    if (!c) return;
+    if (c->box) dGeomDestroy(c->box);
+    if (c->sphere) dGeomDestroy(c->sphere);
+    cloth_destroy(c->core);
+    free(c->tri);
+    free(c->vc);
+    free(c->vc_new);
+    free(c->pin);
+    free(c->fext);
+    free(c->cand);
+    free(c);
+}
+
+cloth *dClothGetCore(dClothID c) { return c ? c->core : NULL; }
+const char *dClothGetLastError(dClothID c) { return c ? c->err : "dClothID is NULL"; }
+const dClothStepStats *dClothGetStats(dClothID c) { return c ? &c->stats : NULL; }
+
+/* ---------------------------------------------------------------- drawing */
+
+int dClothGetVertexCount(dClothID c) { return c ? c->n : 0; }
+const dReal *dClothGetPositions(dClothID c) { return c ? cloth_positions(c->core) : NULL; }
+int dClothGetTriangleCount(dClothID c) { return c ? c->ntri : 0; }
+const int *dClothGetTriangles(dClothID c) { return c ? c->tri : NULL; }
+
+cloth_status dClothGetNormals(dClothID c, dReal *nrm)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!nrm) return dcloth_fail(c, CLOTH_EINVAL, "dClothGetNormals: normals is NULL");
+    const double *x = cloth_positions(c->core);
+    memset(nrm, 0, 3 * (size_t)c->n * sizeof *nrm);
+    for (int t = 0; t < c->ntri; t++) {
+        const int *p = c->tri + 3 * t;
+        const double *a = x + 3 * p[0], *b = x + 3 * p[1], *d = x + 3 * p[2];
+        double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+        /* the cross product's length is twice the area: area weighting */
+        double w[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+        for (int k = 0; k < 3; k++)
+            for (int q = 0; q < 3; q++) nrm[3 * p[k] + q] += w[q];
+    }
+    for (int i = 0; i < c->n; i++) {
+        double *m = nrm + 3 * i, l = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+        if (l > 0.0)
+            for (int q = 0; q < 3; q++) m[q] /= l;
+    }
+    return CLOTH_OK;
+}
+
+/* ------------------------------------------------------------------- pins */
+
+static cloth_status check_vertex(dClothID c, const char *fn, int vertex)
+{
+    if (vertex < 0 || vertex >= c->n)
+        return dcloth_fail(c, CLOTH_EINVAL, "%s: vertex %d out of range [0, %d)", fn, vertex, c->n);
+    return CLOTH_OK;
+}
+
+static int finite3(const dReal *p) { return p && isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]); }
+
+cloth_status dClothPinToWorld(dClothID c, int vertex, const dReal point[3])
+{
+    if (!c) return CLOTH_EINVAL;
+    if (check_vertex(c, "dClothPinToWorld", vertex) != CLOTH_OK) return CLOTH_EINVAL;
+    if (!finite3(point)) return dcloth_fail(c, CLOTH_EINVAL, "dClothPinToWorld: point must be 3 finite numbers");
+    vpin *p = &c->pin[vertex];
+    memset(p, 0, sizeof *p);
+    p->active = 1;
+    memcpy(p->local, point, sizeof p->local);
+    memcpy(p->world, point, sizeof p->world);
+    return CLOTH_OK;
+}
+
+cloth_status dClothPinToBody(dClothID c, int vertex, dBodyID b, const dReal local[3])
+{
+    if (!c) return CLOTH_EINVAL;
+    if (check_vertex(c, "dClothPinToBody", vertex) != CLOTH_OK) return CLOTH_EINVAL;
+    if (!b) return dcloth_fail(c, CLOTH_EINVAL, "dClothPinToBody: body is 0");
+    if (dBodyGetWorld(b) != c->world)
+        return dcloth_fail(c, CLOTH_EINVAL, "dClothPinToBody: the body is not in the cloth's world");
+    if (!finite3(local)) return dcloth_fail(c, CLOTH_EINVAL, "dClothPinToBody: point must be 3 finite numbers");
+    vpin *p = &c->pin[vertex];
+    memset(p, 0, sizeof *p);
+    p->active = 1;
+    p->body = b;
+    memcpy(p->local, local, sizeof p->local);
+    dVector3 w;
+    dBodyGetRelPointPos(b, local[0], local[1], local[2], w);
+    memcpy(p->world, w, sizeof p->world);
+    return CLOTH_OK;
+}
+
+cloth_status dClothReleasePin(dClothID c, int vertex)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (check_vertex(c, "dClothReleasePin", vertex) != CLOTH_OK) return CLOTH_EINVAL;
+    memset(&c->pin[vertex], 0, sizeof c->pin[vertex]);
+    return CLOTH_OK;
+}
+
+cloth_status dClothReleaseBody(dClothID c, dBodyID b)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!b) return dcloth_fail(c, CLOTH_EINVAL, "dClothReleaseBody: body is 0");
+    for (int i = 0; i < c->n; i++)
+        if (c->pin[i].active && c->pin[i].body == b) memset(&c->pin[i], 0, sizeof c->pin[i]);
+    for (int i = 0; i < c->n; i++)
+        if (c->vc[i].body == b) memset(&c->vc[i], 0, sizeof c->vc[i]);
+    return CLOTH_OK;
+}
+
+cloth_status dClothGetPinForce(dClothID c, int vertex, dReal f[3])
+{
+    if (!c) return CLOTH_EINVAL;
+    if (check_vertex(c, "dClothGetPinForce", vertex) != CLOTH_OK) return CLOTH_EINVAL;
+    if (!f) return dcloth_fail(c, CLOTH_EINVAL, "dClothGetPinForce: force is NULL");
+    for (int k = 0; k < 3; k++) f[k] = c->pin[vertex].active ? c->pin[vertex].force[k] : 0.0;
+    return CLOTH_OK;
+}
+
+cloth_status dClothGetContactForce(dClothID c, int vertex, dReal f[3])
+{
+    if (!c) return CLOTH_EINVAL;
+    if (check_vertex(c, "dClothGetContactForce", vertex) != CLOTH_OK) return CLOTH_EINVAL;
+    if (!f) return dcloth_fail(c, CLOTH_EINVAL, "dClothGetContactForce: force is NULL");
+    for (int k = 0; k < 3; k++) f[k] = c->vc[vertex].geom ? c->vc[vertex].force[k] : 0.0;
+    return CLOTH_OK;
+}
+
+/* ------------------------------------------------------------- parameters */
+
+cloth_status dClothSetFriction(dClothID c, dReal mu)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!valid_mu(mu)) return dcloth_fail(c, CLOTH_EINVAL, "dClothSetFriction: mu = %g must be finite and >= 0", mu);
+    c->mu = mu;
+    return CLOTH_OK;
+}
+
+dReal dClothGetFriction(dClothID c) { return c ? c->mu : 0.0; }
+
+cloth_status dClothSetThickness(dClothID c, dReal t)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!valid_thickness(t))
+        return dcloth_fail(c, CLOTH_EINVAL, "dClothSetThickness: thickness = %g must be finite and > 0", t);
+    c->thickness = t;
+    return CLOTH_OK;
+}
+
+dReal dClothGetThickness(dClothID c) { return c ? c->thickness : 0.0; }
+void dClothSetCategoryBits(dClothID c, unsigned long bits) { if (c) c->category = bits; }
+void dClothSetCollideBits(dClothID c, unsigned long bits) { if (c) c->collide = bits; }
+unsigned long dClothGetCategoryBits(dClothID c) { return c ? c->category : 0; }
+unsigned long dClothGetCollideBits(dClothID c) { return c ? c->collide : 0; }
+void dClothSetSpace(dClothID c, dSpaceID space) { if (c) c->space = space; }

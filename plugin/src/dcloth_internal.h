@@ -1,0 +1,60 @@
+/* The plugin's cloth object (dcloth.c), contact detection (contacts.c) and
+ * the coupled step (coupling.c). */
+#ifndef ODECLOTH_DCLOTH_INTERNAL_H
+#define ODECLOTH_DCLOTH_INTERNAL_H
+
+#include "odecloth/dcloth.h"
+
+/* dReal is double at the boundary: positions are handed out without copies. */
+typedef char dcloth_dreal_must_be_double[sizeof(dReal) == sizeof(double) ? 1 : -1];
+
+/* A vertex's contact in one step. */
+typedef struct vcontact {
+    dGeomID geom;        /* 0: no contact                                   */
+    dBodyID body;        /* 0 for a static geom                             */
+    double normal[3];    /* unit, out of the geom toward the vertex         */
+    double point[3];     /* m, the surface point under the vertex           */
+    double gap;          /* m, distance to the surface minus the thickness  */
+    double vbody[3];     /* m/s, the body's velocity at the point           */
+    int sticking;        /* 1: pinned to the body's motion (static friction) */
+    double friction[3];  /* N, sliding friction force applied on the vertex */
+    double force[3];     /* N, total contact force on the vertex (after the step) */
+} vcontact;
+
+typedef struct vpin {
+    int active;
+    dBodyID body;        /* 0: pinned to the world                          */
+    double local[3];     /* body frame (or world point if no body)          */
+    double world[3];     /* m, where the pin point was at the step's start  */
+    double force[3];     /* N, on the vertex, last step                     */
+} vpin;
+
+struct dxCloth {
+    cloth *core;
+    dWorldID world;
+    dSpaceID space;
+    dGeomID box;         /* broadphase proxy: the cloth's swept AABB        */
+    dGeomID sphere;      /* narrowphase proxy: one vertex                    */
+    double thickness, mu;
+    unsigned long category, collide;
+    int n, ntri;
+    int *tri;            /* 3 ntri                                          */
+    vcontact *vc, *vc_new; /* n: committed and candidate contact states      */
+    vpin *pin;           /* n                                               */
+    double *fext;        /* 3n: sliding friction, handed to the core        */
+    dGeomID *cand;       /* candidate geoms of the step                     */
+    int ncand, cand_cap;
+    dClothStepStats stats;
+    char err[256];
+};
+
+/* Set c->err and return code (printf-style). */
+cloth_status dcloth_fail(dClothID c, cloth_status code, const char *fmt, ...);
+
+/* contacts.c: for the step of h seconds, every vertex's nearest surface
+ * among the candidate geoms of c->space, into c->vc_new (geom 0 where there
+ * is none within reach). Returns the number of candidate geoms, or -1 when
+ * memory for the candidate list ran out. */
+int dcloth_find_contacts(dClothID c, double h);
+
+#endif
