@@ -233,5 +233,7 @@ int dcloth_find_contacts(dClothID c, double h)
             }
         }
     }
+    c->tri_hits = 0;
+    for (int a = 0; a < c->ncand; a++) c->tri_hits += dcloth_triangle_contacts(c, c->cand[a]);
     return c->ncand;
 }

@@ -71,6 +71,7 @@ cloth_status dClothStep(dClothID c, dReal h)
     int cand = dcloth_find_contacts(c, h);
     if (cand < 0) return dcloth_fail(c, CLOTH_ENOMEM, "dClothStep: out of memory for the candidate geoms");
     st.candidates = cand;
+    st.triangle_contacts = c->tri_hits;
     cloth *core = c->core;
     const double *mass = cloth_masses(core);
     cloth_release_all(core);

@@ -17,6 +17,7 @@ typedef struct vcontact {
     double gap;          /* m, distance to the surface minus the thickness  */
     double vbody[3];     /* m/s, the body's velocity at the point           */
     int sticking;        /* 1: pinned to the body's motion (static friction) */
+    int from_triangle;   /* 1: set by a triangle test (triangles.c)         */
     double friction[3];  /* N, sliding friction force applied on the vertex */
     double force[3];     /* N, total contact force on the vertex (after the step) */
 } vcontact;
@@ -44,6 +45,7 @@ struct dxCloth {
     double *fext;        /* 3n: sliding friction, handed to the core        */
     dGeomID *cand;       /* candidate geoms of the step                     */
     int ncand, cand_cap;
+    int tri_hits;        /* vertex contacts set by triangle tests this step  */
     dClothStepStats stats;
     char err[256];
 };
@@ -56,5 +58,10 @@ cloth_status dcloth_fail(dClothID c, cloth_status code, const char *fmt, ...);
  * is none within reach). Returns the number of candidate geoms, or -1 when
  * memory for the candidate list ran out. */
 int dcloth_find_contacts(dClothID c, double h);
+
+/* triangles.c: cloth triangles against a box, capsule or cylinder (libccd);
+ * sets deeper contacts of the triangles' vertices in c->vc_new. Returns the
+ * number of vertex contacts it set (0 for other classes). */
+int dcloth_triangle_contacts(dClothID c, dGeomID g);
 
 #endif

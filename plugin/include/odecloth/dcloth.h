@@ -96,6 +96,8 @@ typedef struct dClothStepStats {
     int released;            /* contacts released because they pulled         */
     int pins;                /* pinned vertices                               */
     int candidates;          /* geoms whose AABB met the cloth's              */
+    int triangle_contacts;   /* vertex contacts set by cloth-triangle tests
+                                (box, capsule, cylinder, via libccd)          */
     dReal max_penetration;   /* m, deepest vertex below thickness, before the
                                 step (0 if none)                              */
 } dClothStepStats;

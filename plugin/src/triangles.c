@@ -1,0 +1,197 @@
+/* Cloth triangles against convex geoms, with libccd (dcloth.h, step 2).
+ *
+ * Why: vertex contacts alone let a box's edge or corner pass between the
+ * vertices of a coarse cloth (the paper's own flaw at the table corners:
+ * the corner pokes through a triangle whose three vertices all rest beside
+ * it). So each cloth triangle near a box, capsule or cylinder, grown by the
+ * thickness (the Minkowski sum with a sphere), is tested against the geom
+ * with libccd's MPR penetration query. The triangle is grown by the
+ * thickness plus a margin, as vertices are (contacts.c), so a triangle held
+ * exactly at the thickness is still seen and stays held instead of falling
+ * free every other step. A triangle the geom enters gives its three vertices
+ * a contact along the separating direction. The lift the contact point needs
+ * is shared by barycentric weight w_k (Bridson, Fedkiw, Anderson 2002): vertex
+ * k moves by lift w_k / sum w^2, which moves the contact point by exactly the
+ * lift, and leaves a far vertex (w = 0) alone (applying the whole lift to all
+ * three held up vertices far from the contact, measured: a cloth hovering
+ * over a box top, never settling). Kept only where deeper than the vertex's
+ * own contact; the step's contact rule then treats it like any vertex
+ * contact.
+ *
+ * Left out: ODE's convex class, whose points and planes ODE 0.16 does not
+ * hand back through its public API (there is no getter), so its support
+ * function cannot be written here; trimesh and heightfield are not convex.
+ * Those keep vertex contacts. */
+#include <ccd/ccd.h>
+#include <math.h>
+#include <string.h>
+#include "dcloth_internal.h"
+
+/* the margin beyond the thickness, as a fraction of it (as CONTACT_MARGIN) */
+#define TRI_MARGIN 0.25
+
+typedef struct tri_shape {
+    const double *v[3];
+    double radius;
+} tri_shape;
+
+typedef struct geom_shape {
+    dGeomID g;
+    int cls;
+    double half[3];   /* box half lengths; capsule / cylinder: r, half length */
+} geom_shape;
+
+static void tri_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out)
+{
+    const tri_shape *t = obj;
+    const double *d = dir->v;
+    int best = 0;
+    double bd = -INFINITY;
+    for (int k = 0; k < 3; k++) {
+        double s = t->v[k][0] * d[0] + t->v[k][1] * d[1] + t->v[k][2] * d[2];
+        if (s > bd) bd = s, best = k;
+    }
+    double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]), s = l > 0.0 ? t->radius / l : 0.0;
+    for (int k = 0; k < 3; k++) out->v[k] = t->v[best][k] + s * d[k];
+}
+
+static void tri_center(const void *obj, ccd_vec3_t *out)
+{
+    const tri_shape *t = obj;
+    for (int k = 0; k < 3; k++) out->v[k] = (t->v[0][k] + t->v[1][k] + t->v[2][k]) / 3.0;
+}
+
+static void geom_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out)
+{
+    const geom_shape *s = obj;
+    const dReal *o = dGeomGetPosition(s->g), *R = dGeomGetRotation(s->g);
+    const double *d = dir->v;
+    double p[3], q[3];
+    for (int k = 0; k < 3; k++) p[k] = R[k] * d[0] + R[4 + k] * d[1] + R[8 + k] * d[2]; /* R^T d */
+    if (s->cls == dBoxClass) {
+        for (int k = 0; k < 3; k++) q[k] = p[k] >= 0.0 ? s->half[k] : -s->half[k];
+    } else if (s->cls == dCapsuleClass) { /* an end point, grown by r */
+        double r = s->half[0], l = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]), f = l > 0.0 ? r / l : 0.0;
+        q[0] = f * p[0];
+        q[1] = f * p[1];
+        q[2] = (p[2] >= 0.0 ? s->half[1] : -s->half[1]) + f * p[2];
+    } else { /* cylinder: the rim point of the cap toward d */
+        double r = s->half[0], rho = sqrt(p[0] * p[0] + p[1] * p[1]), f = rho > 0.0 ? r / rho : 0.0;
+        q[0] = f * p[0];
+        q[1] = f * p[1];
+        q[2] = p[2] >= 0.0 ? s->half[1] : -s->half[1];
+    }
+    for (int k = 0; k < 3; k++) out->v[k] = o[k] + R[4 * k] * q[0] + R[4 * k + 1] * q[1] + R[4 * k + 2] * q[2];
+}
+
+static void geom_center(const void *obj, ccd_vec3_t *out)
+{
+    const geom_shape *s = obj;
+    const dReal *o = dGeomGetPosition(s->g);
+    for (int k = 0; k < 3; k++) out->v[k] = o[k];
+}
+
+/* Barycentric coordinates of p's projection on triangle v, clamped to the
+ * triangle (negative ones zeroed, the rest renormalised). */
+static void barycentric(const double *const v[3], const double *p, double w[3])
+{
+    double e1[3], e2[3], d[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = v[1][k] - v[0][k];
+        e2[k] = v[2][k] - v[0][k];
+        d[k] = p[k] - v[0][k];
+    }
+    double a = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2], b = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
+    double cc = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
+    double d1 = e1[0] * d[0] + e1[1] * d[1] + e1[2] * d[2], d2 = e2[0] * d[0] + e2[1] * d[1] + e2[2] * d[2];
+    double det = a * cc - b * b;
+    double s = det > 0.0 ? (cc * d1 - b * d2) / det : 1.0 / 3.0, t = det > 0.0 ? (a * d2 - b * d1) / det : 1.0 / 3.0;
+    w[0] = 1.0 - s - t;
+    w[1] = s;
+    w[2] = t;
+    double sum = 0.0;
+    for (int k = 0; k < 3; k++) {
+        if (!(w[k] > 0.0)) w[k] = 0.0;
+        sum += w[k];
+    }
+    for (int k = 0; k < 3; k++) w[k] = sum > 0.0 ? w[k] / sum : 1.0 / 3.0;
+}
+
+int dcloth_triangle_contacts(dClothID c, dGeomID g)
+{
+    geom_shape gs;
+    gs.g = g;
+    gs.cls = dGeomGetClass(g);
+    if (gs.cls == dBoxClass) {
+        dVector3 L;
+        dGeomBoxGetLengths(g, L);
+        for (int k = 0; k < 3; k++) gs.half[k] = 0.5 * L[k];
+    } else if (gs.cls == dCapsuleClass || gs.cls == dCylinderClass) {
+        dReal r, len;
+        if (gs.cls == dCapsuleClass) dGeomCapsuleGetParams(g, &r, &len);
+        else dGeomCylinderGetParams(g, &r, &len);
+        gs.half[0] = r;
+        gs.half[1] = 0.5 * len;
+        gs.half[2] = 0.0;
+    } else {
+        return 0;
+    }
+    dReal aabb[6];
+    dGeomGetAABB(g, aabb);
+    const double *x = cloth_positions(c->core);
+    double t = c->thickness;
+    ccd_t ccd;
+    CCD_INIT(&ccd);
+    ccd.support1 = geom_support;
+    ccd.support2 = tri_support;
+    ccd.center1 = geom_center;
+    ccd.center2 = tri_center;
+    ccd.max_iterations = 100;
+    ccd.mpr_tolerance = 1e-6 * t;
+    dBodyID body = dGeomGetBody(g);
+    int hits = 0;
+    for (int k = 0; k < c->ntri; k++) {
+        const int *p = c->tri + 3 * k;
+        tri_shape ts = {{x + 3 * p[0], x + 3 * p[1], x + 3 * p[2]}, t * (1.0 + TRI_MARGIN)};
+        int out = 0;
+        for (int a = 0; a < 3 && !out; a++) {
+            double lo = fmin(ts.v[0][a], fmin(ts.v[1][a], ts.v[2][a])) - ts.radius;
+            double hi = fmax(ts.v[0][a], fmax(ts.v[1][a], ts.v[2][a])) + ts.radius;
+            out = hi < aabb[2 * a] || lo > aabb[2 * a + 1];
+        }
+        if (out) continue;
+        ccd_real_t depth;
+        ccd_vec3_t dir, pos;
+        if (ccdMPRPenetration(&gs, &ts, &ccd, &depth, &dir, &pos) != 0) continue;
+        if (!(depth > 0.0) || !isfinite(depth)) continue;
+        double nl = sqrt(dir.v[0] * dir.v[0] + dir.v[1] * dir.v[1] + dir.v[2] * dir.v[2]);
+        if (!(nl > 0.0)) continue;
+        /* barycentric weights of the contact point, projected on the
+         * triangle and clamped into it */
+        double w[3], lift = depth - TRI_MARGIN * t;
+        barycentric(ts.v, pos.v, w);
+        double w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+        for (int a = 0; a < 3; a++) {
+            vcontact *vc = &c->vc_new[p[a]];
+            if (!(w[a] > 0.0)) continue;
+            double gap = -lift * w[a] / w2;
+            if (vc->geom && vc->gap <= gap) continue;
+            vc->geom = g;
+            vc->body = body;
+            for (int q = 0; q < 3; q++) {
+                vc->normal[q] = dir.v[q] / nl;
+                vc->point[q] = pos.v[q];
+                vc->vbody[q] = 0.0;
+            }
+            vc->gap = gap;
+            if (body) {
+                dVector3 pv;
+                dBodyGetPointVel(body, pos.v[0], pos.v[1], pos.v[2], pv);
+                for (int q = 0; q < 3; q++) vc->vbody[q] = pv[q];
+            }
+            vc->from_triangle = 1;
+            hits++;
+        }
+    }
+    return hits;
+}
