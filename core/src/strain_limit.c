@@ -42,12 +42,12 @@
 
 /* strain accepted as "at the limit": relative to lmax */
 #define SL_TOL 1e-9
-#define SL_CG_TOL 1e-8
-#define SL_CG_MAX 500
+#define SL_CG_TOL 1e-3
+#define SL_CG_MAX 100
 /* Levenberg-Marquardt damping of the link system, relative to its diagonal */
 #define SL_MU_MIN 1e-8
 #define SL_MU_MAX 1e4
-#define SL_INNER 8
+#define SL_INNER 4
 #define SL_HALVINGS 6
 
 /* u^T W u for a vertex: W = S / m, or 0 if pinned */

@@ -234,6 +234,6 @@ int dcloth_find_contacts(dClothID c, double h)
         }
     }
     c->tri_hits = 0;
-    for (int a = 0; a < c->ncand; a++) c->tri_hits += dcloth_triangle_contacts(c, c->cand[a]);
+    for (int a = 0; a < c->ncand; a++) c->tri_hits += dcloth_triangle_contacts(c, c->cand[a], h);
     return c->ncand;
 }

@@ -3,7 +3,15 @@
  * each constraint did to the cloth goes back, opposite, to its body. */
 #include <math.h>
 #include <string.h>
+#include <time.h>
 #include "dcloth_internal.h"
+
+static double wall(void)
+{
+    struct timespec t;
+    timespec_get(&t, TIME_UTC);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
 
 /* A vertex within this fraction of the thickness of touching at the end of
  * the step (predicted) is held on the surface, so a resting vertex stays in
@@ -14,8 +22,8 @@ static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1]
 
 /* Decide the vertex's contact for this step: none (returns 0), sticking or
  * sliding; fills its constraint and, sliding, its friction force. */
-static int contact_rule(dClothID c, int i, double h, double mass, vcontact *nw, const vcontact *old,
-                        cloth_constraint *k, dClothStepStats *st)
+static int contact_rule(dClothID c, int i, double h, double mass, const double g[3], vcontact *nw,
+                        const vcontact *old, cloth_constraint *k, dClothStepStats *st)
 {
     const double *x = cloth_positions(c->core) + 3 * i, *v = cloth_velocities(c->core) + 3 * i;
     const double *n = nw->normal;
@@ -23,27 +31,42 @@ static int contact_rule(dClothID c, int i, double h, double mass, vcontact *nw, 
     double vn = dot3(rel, n);
     if (nw->gap > 0.0 && nw->gap + h * vn > CONTACT_SLOP * c->thickness) return 0; /* stays apart */
     int had = old->geom == nw->geom;
-    double fn_prev = had ? dot3(old->force, old->normal) : 0.0;
+    double fn = had ? dot3(old->force, old->normal) : 0.0;
     /* unilateral: a contact that pulled the vertex onto the body last step
      * lets go, unless the vertex is inside */
-    if (had && fn_prev < 0.0 && nw->gap >= 0.0) {
+    if (had && fn < 0.0 && nw->gap >= 0.0) {
         st->released++;
         return 0;
     }
-    if (fn_prev < 0.0) fn_prev = 0.0;
+    if (!had) {
+        /* no force measured yet: what stops the approach within the step,
+         * plus the weight pressing along the normal */
+        double gn = dot3(g, n);
+        fn = mass * (vn < 0.0 ? -vn : 0.0) / h + (gn < 0.0 ? -mass * gn : 0.0);
+    }
+    if (fn < 0.0) fn = 0.0;
     double vt[3] = {rel[0] - vn * n[0], rel[1] - vn * n[1], rel[2] - vn * n[2]};
     double vts = sqrt(dot3(vt, vt));
-    int stick;
-    if (c->mu <= 0.0) stick = 0;
-    else if (!had) stick = 1; /* a new contact starts sticking; the force decides next step */
-    else if (old->sticking) {
-        const double *f = old->force;
-        double fnn = dot3(f, old->normal);
-        double ft[3] = {f[0] - fnn * old->normal[0], f[1] - fnn * old->normal[1], f[2] - fnn * old->normal[2]};
-        stick = sqrt(dot3(ft, ft)) <= c->mu * fn_prev;
-    } else {
-        stick = mass * vts / h <= c->mu * fn_prev; /* friction can stop the slip within the step */
+    memcpy(nw->slip, vt, sizeof vt);
+    /* The tangential force on the vertex other than this contact's, f_o:
+     * from the slip's change over the last step minus what the contact
+     * applied then (constraint force and friction), or for a new contact
+     * the weight's tangential part. Sticking holds when the force that stops
+     * the slip within the step against f_o, F = -m vt / h - f_o, is within
+     * mu fn (Coulomb's cone); otherwise the contact slides with mu fn. */
+    double fo[3], F[3];
+    double gn = dot3(g, n);
+    for (int r = 0; r < 3; r++) fo[r] = mass * (g[r] - gn * n[r]);
+    if (had) {
+        double fnn = dot3(old->force, old->normal);
+        for (int r = 0; r < 3; r++) {
+            double fc_t = old->force[r] - fnn * old->normal[r];
+            fo[r] = mass * (vt[r] - old->slip[r]) / h - fc_t;
+        }
     }
+    for (int r = 0; r < 3; r++) F[r] = -mass * vt[r] / h - fo[r];
+    double Fs = sqrt(dot3(F, F)), limit = c->mu * fn;
+    int stick = c->mu > 0.0 && Fs <= limit;
     /* end-of-step position: moved with the body's point, the penetration
      * (negative gap) removed along the normal (paper eq. 22) */
     k->vertex = i;
@@ -54,10 +77,15 @@ static int contact_rule(dClothID c, int i, double h, double mass, vcontact *nw, 
     }
     k->ndof = stick ? 3 : 1;
     nw->sticking = stick;
-    if (!stick && c->mu > 0.0 && vts > 0.0) {
-        double F = c->mu * fn_prev, cap = mass * vts / h;
-        if (F > cap) F = cap;
-        for (int r = 0; r < 3; r++) nw->friction[r] = -F * vt[r] / vts;
+    if (!stick && c->mu > 0.0 && limit > 0.0) {
+        /* kinetic: mu fn against the slip (never more than stops it), or,
+         * breaking away with no slip yet, along the force that would hold */
+        if (vts > 0.0) {
+            double stop = mass * vts / h, Fk = limit < stop ? limit : stop;
+            for (int r = 0; r < 3; r++) nw->friction[r] = -Fk * vt[r] / vts;
+        } else if (Fs > 0.0) {
+            for (int r = 0; r < 3; r++) nw->friction[r] = limit * F[r] / Fs;
+        }
     }
     return 1;
 }
@@ -68,12 +96,15 @@ cloth_status dClothStep(dClothID c, dReal h)
     if (!(h > 0.0) || !isfinite(h)) return dcloth_fail(c, CLOTH_EINVAL, "dClothStep: h = %g must be finite and > 0", h);
     dClothStepStats st;
     memset(&st, 0, sizeof st);
+    double t0 = wall();
     int cand = dcloth_find_contacts(c, h);
+    st.seconds_contacts = wall() - t0;
     if (cand < 0) return dcloth_fail(c, CLOTH_ENOMEM, "dClothStep: out of memory for the candidate geoms");
     st.candidates = cand;
     st.triangle_contacts = c->tri_hits;
     cloth *core = c->core;
     const double *mass = cloth_masses(core);
+    cloth_desc cd = cloth_get_desc(core);
     cloth_release_all(core);
     memset(c->fext, 0, 3 * (size_t)c->n * sizeof *c->fext);
 
@@ -99,7 +130,7 @@ cloth_status dClothStep(dClothID c, dReal h)
         vcontact *nw = &c->vc_new[i];
         if (!nw->geom) continue;
         cloth_constraint k;
-        if (c->pin[i].active || !contact_rule(c, i, h, mass[i], nw, &c->vc[i], &k, &st)) {
+        if (c->pin[i].active || !contact_rule(c, i, h, mass[i], cd.gravity, nw, &c->vc[i], &k, &st)) {
             memset(nw, 0, sizeof *nw);
             continue;
         }
@@ -154,6 +185,7 @@ cloth_status dClothStep(dClothID c, dReal h)
     vcontact *t = c->vc;
     c->vc = c->vc_new;
     c->vc_new = t;
+    st.seconds_total = wall() - t0;
     c->stats = st;
     return CLOTH_OK;
 }

@@ -19,6 +19,8 @@ typedef struct vcontact {
     int sticking;        /* 1: pinned to the body's motion (static friction) */
     int from_triangle;   /* 1: set by a triangle test (triangles.c)         */
     double friction[3];  /* N, sliding friction force applied on the vertex */
+    double slip[3];      /* m/s, tangential velocity relative to the body at
+                            the step's start                               */
     double force[3];     /* N, total contact force on the vertex (after the step) */
 } vcontact;
 
@@ -59,9 +61,10 @@ cloth_status dcloth_fail(dClothID c, cloth_status code, const char *fmt, ...);
  * memory for the candidate list ran out. */
 int dcloth_find_contacts(dClothID c, double h);
 
-/* triangles.c: cloth triangles against a box, capsule or cylinder (libccd);
+/* triangles.c: cloth triangles against a box, capsule or cylinder (libccd)
+ * over a step of h seconds;
  * sets deeper contacts of the triangles' vertices in c->vc_new. Returns the
  * number of vertex contacts it set (0 for other classes). */
-int dcloth_triangle_contacts(dClothID c, dGeomID g);
+int dcloth_triangle_contacts(dClothID c, dGeomID g, double h);
 
 #endif

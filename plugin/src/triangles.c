@@ -117,7 +117,7 @@ static void barycentric(const double *const v[3], const double *p, double w[3])
     for (int k = 0; k < 3; k++) w[k] = sum > 0.0 ? w[k] / sum : 1.0 / 3.0;
 }
 
-int dcloth_triangle_contacts(dClothID c, dGeomID g)
+int dcloth_triangle_contacts(dClothID c, dGeomID g, double h)
 {
     geom_shape gs;
     gs.g = g;
@@ -138,7 +138,7 @@ int dcloth_triangle_contacts(dClothID c, dGeomID g)
     }
     dReal aabb[6];
     dGeomGetAABB(g, aabb);
-    const double *x = cloth_positions(c->core);
+    const double *x = cloth_positions(c->core), *v = cloth_velocities(c->core);
     double t = c->thickness;
     ccd_t ccd;
     CCD_INIT(&ccd);
@@ -146,13 +146,23 @@ int dcloth_triangle_contacts(dClothID c, dGeomID g)
     ccd.support2 = tri_support;
     ccd.center1 = geom_center;
     ccd.center2 = tri_center;
-    ccd.max_iterations = 100;
-    ccd.mpr_tolerance = 1e-6 * t;
+    ccd.max_iterations = 40;
+    ccd.epa_tolerance = 1e-3 * t;
     dBodyID body = dGeomGetBody(g);
     int hits = 0;
     for (int k = 0; k < c->ntri; k++) {
         const int *p = c->tri + 3 * k;
-        tri_shape ts = {{x + 3 * p[0], x + 3 * p[1], x + 3 * p[2]}, t * (1.0 + TRI_MARGIN)};
+        /* grown by the thickness, the margin and the step's approach: the
+         * contact starts before the geom is inside the triangle (at 81x81 a
+         * box corner otherwise entered a triangle ~1 cm in one step, and
+         * pushing it out in one step stretched links 70%) */
+        double sweep = 0.0;
+        for (int a = 0; a < 3; a++) {
+            const double *va = v + 3 * p[a];
+            double s2 = sqrt(va[0] * va[0] + va[1] * va[1] + va[2] * va[2]);
+            if (s2 > sweep) sweep = s2;
+        }
+        tri_shape ts = {{x + 3 * p[0], x + 3 * p[1], x + 3 * p[2]}, t * (1.0 + TRI_MARGIN) + h * sweep};
         int out = 0;
         for (int a = 0; a < 3 && !out; a++) {
             double lo = fmin(ts.v[0][a], fmin(ts.v[1][a], ts.v[2][a])) - ts.radius;
@@ -162,13 +172,14 @@ int dcloth_triangle_contacts(dClothID c, dGeomID g)
         if (out) continue;
         ccd_real_t depth;
         ccd_vec3_t dir, pos;
-        if (ccdMPRPenetration(&gs, &ts, &ccd, &depth, &dir, &pos) != 0) continue;
+        if (ccdGJKPenetration(&gs, &ts, &ccd, &depth, &dir, &pos) != 0) continue;
         if (!(depth > 0.0) || !isfinite(depth)) continue;
         double nl = sqrt(dir.v[0] * dir.v[0] + dir.v[1] * dir.v[1] + dir.v[2] * dir.v[2]);
         if (!(nl > 0.0)) continue;
         /* barycentric weights of the contact point, projected on the
          * triangle and clamped into it */
-        double w[3], lift = depth - TRI_MARGIN * t;
+        /* the triangle's distance beyond the thickness, as a vertex gap */
+        double w[3], lift = depth - (ts.radius - t);
         barycentric(ts.v, pos.v, w);
         double w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
         for (int a = 0; a < 3; a++) {

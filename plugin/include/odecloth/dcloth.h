@@ -100,6 +100,8 @@ typedef struct dClothStepStats {
                                 (box, capsule, cylinder, via libccd)          */
     dReal max_penetration;   /* m, deepest vertex below thickness, before the
                                 step (0 if none)                              */
+    double seconds_contacts; /* s, wall time finding contacts (broad + narrow) */
+    double seconds_total;    /* s, wall time of the whole dClothStep           */
 } dClothStepStats;
 
 /* Stats of the last dClothStep. */
