@@ -9,11 +9,13 @@
  * Narrowphase: for each candidate, the vertices inside its AABB (grown by
  * each vertex's reach, reach = thickness (1 + CONTACT_MARGIN) + |v| h) get
  * their signed distance and normal to the geom. Sphere, box, capsule,
- * cylinder and plane in closed form (exact, and cheaper than a collider:
- * ODE's sphere-cylinder test, through libccd's MPR, reported depths 6 mm off
- * and left a cloth hovering over a cylinder); convex, trimesh and heightfield
- * (and any user class) with a sphere proxy of radius reach through dCollide,
- * which every geom class supports against a sphere. The deepest contact over
+ * cylinder and plane in closed form (exact, and cheaper than a collider);
+ * heightfields with a ray along the field's up axis through the vertex (the
+ * hit triangle's plane gives distance and normal: ODE's sphere-heightfield
+ * collider reports nothing for a small sphere over a peak or a grid edge,
+ * measured: vertices fell 2 cm into a bump); convex and trimesh (and any user
+ * class) with a sphere proxy of radius reach through dCollide, which every
+ * geom class supports against a sphere. The deepest contact over
  * all candidates is kept. */
 #include <math.h>
 #include <stdlib.h>
@@ -155,6 +157,29 @@ static int closed_form(dGeomID g, const double *x, double *dist, double n[3])
     }
 }
 
+/* Heightfield: a ray down the field's up axis (its local y) from above the
+ * vertex; the distance is to the plane of the triangle hit. 0 if it misses
+ * (off the field, or the vertex is more than `reach` above it). */
+static int heightfield_query(dClothID c, dGeomID g, const double *x, double reach, double *dist, double n[3])
+{
+    const dReal *R = dGeomGetRotation(g);
+    double up[3] = {R[1], R[5], R[9]}; /* world image of local y */
+    double L = 2.0 * reach + 1.0;       /* start well above any bump the vertex sits in */
+    dGeomRaySet(c->ray, x[0] + L * up[0], x[1] + L * up[1], x[2] + L * up[2], -up[0], -up[1], -up[2]);
+    dGeomRaySetLength(c->ray, L + reach);
+    dContactGeom cg;
+    if (dCollide(c->ray, g, 1, &cg, sizeof cg) < 1) return 0;
+    double nn = dot3(cg.normal, cg.normal);
+    if (!(nn > 0.0)) return 0;
+    nn = 1.0 / sqrt(nn);
+    for (int k = 0; k < 3; k++) n[k] = cg.normal[k] * nn;
+    if (dot3(n, up) < 0.0)
+        for (int k = 0; k < 3; k++) n[k] = -n[k];
+    double d[3] = {x[0] - cg.pos[0], x[1] - cg.pos[1], x[2] - cg.pos[2]};
+    *dist = dot3(d, n);
+    return 1;
+}
+
 int dcloth_find_contacts(dClothID c, double h)
 {
     const double *x = cloth_positions(c->core), *v = cloth_velocities(c->core);
@@ -201,7 +226,9 @@ int dcloth_find_contacts(dClothID c, double h)
                 xi[1] - reach > aabb[3] || xi[2] + reach < aabb[4] || xi[2] - reach > aabb[5])
                 continue;
             double dist, nrm[3];
-            if (!closed_form(g, xi, &dist, nrm)) {
+            if (dGeomGetClass(g) == dHeightfieldClass) {
+                if (!heightfield_query(c, g, xi, reach, &dist, nrm)) continue;
+            } else if (!closed_form(g, xi, &dist, nrm)) {
                 dGeomSphereSetRadius(c->sphere, reach);
                 dGeomSetPosition(c->sphere, xi[0], xi[1], xi[2]);
                 int m = dCollide(c->sphere, g, 8, cg, sizeof cg[0]);

@@ -18,23 +18,32 @@ static double wall(void)
  * contact instead of falling free every other step. */
 #define CONTACT_SLOP 0.1
 
+/* A free vertex that ends a step deeper than this fraction of the thickness
+ * inside its shell makes the step be solved again with it held, up to
+ * RESOLVE_PASSES solves in all. */
+#define RESOLVE_DEPTH 0.1
+#define RESOLVE_PASSES 4
+
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 /* Decide the vertex's contact for this step: none (returns 0), sticking or
  * sliding; fills its constraint and, sliding, its friction force. */
 static int contact_rule(dClothID c, int i, double h, double mass, const double g[3], vcontact *nw,
-                        const vcontact *old, cloth_constraint *k, dClothStepStats *st)
+                        const vcontact *old, cloth_constraint *k, dClothStepStats *st, int forced)
 {
     const double *x = cloth_positions(c->core) + 3 * i, *v = cloth_velocities(c->core) + 3 * i;
     const double *n = nw->normal;
     double rel[3] = {v[0] - nw->vbody[0], v[1] - nw->vbody[1], v[2] - nw->vbody[2]};
     double vn = dot3(rel, n);
-    if (nw->gap > 0.0 && nw->gap + h * vn > CONTACT_SLOP * c->thickness) return 0; /* stays apart */
+    if (!forced && nw->gap > 0.0 && nw->gap + h * vn > CONTACT_SLOP * c->thickness) return 0; /* stays apart */
     int had = old->geom == nw->geom;
     double fn = had ? dot3(old->force, old->normal) : 0.0;
     /* unilateral: a contact that pulled the vertex onto the body last step
-     * lets go, unless the vertex is inside */
-    if (had && fn < 0.0 && nw->gap >= 0.0) {
+     * lets go, unless the vertex is inside; a triangle's contact is judged
+     * by its geometry alone (its vertices' forces along the triangle's
+     * normal are often negative while the triangle as a whole presses:
+     * releasing them made contacts on curved and edged geoms chatter) */
+    if (!forced && had && fn < 0.0 && nw->gap >= 0.0 && !nw->from_triangle) {
         st->released++;
         return 0;
     }
@@ -105,55 +114,85 @@ cloth_status dClothStep(dClothID c, dReal h)
     cloth *core = c->core;
     const double *mass = cloth_masses(core);
     cloth_desc cd = cloth_get_desc(core);
-    cloth_release_all(core);
-    memset(c->fext, 0, 3 * (size_t)c->n * sizeof *c->fext);
-
-    for (int i = 0; i < c->n; i++) {
-        vpin *p = &c->pin[i];
-        if (!p->active) continue;
-        double target[3];
-        if (p->body) {
-            dVector3 w, pv;
-            dBodyGetRelPointPos(p->body, p->local[0], p->local[1], p->local[2], w);
-            dBodyGetPointVel(p->body, w[0], w[1], w[2], pv);
-            for (int r = 0; r < 3; r++) {
-                p->world[r] = w[r];
-                target[r] = w[r] + h * pv[r];
+    memcpy(c->x0, cloth_positions(core), 3 * (size_t)c->n * sizeof *c->x0);
+    cloth_save(core, c->save);
+    cloth_status s = CLOTH_OK;
+    int passes = 0;
+    for (;;) {
+        /* constraints of this pass: pins, then contacts */
+        cloth_release_all(core);
+        memset(c->fext, 0, 3 * (size_t)c->n * sizeof *c->fext);
+        st.pins = st.contacts = st.sticking = st.released = 0;
+        st.max_penetration = 0.0;
+        for (int i = 0; i < c->n; i++) {
+            vpin *p = &c->pin[i];
+            if (!p->active) continue;
+            double target[3];
+            if (p->body) {
+                dVector3 w, pv;
+                dBodyGetRelPointPos(p->body, p->local[0], p->local[1], p->local[2], w);
+                dBodyGetPointVel(p->body, w[0], w[1], w[2], pv);
+                for (int r = 0; r < 3; r++) {
+                    p->world[r] = w[r];
+                    target[r] = w[r] + h * pv[r];
+                }
+            } else {
+                memcpy(target, p->local, sizeof target);
             }
-        } else {
-            memcpy(target, p->local, sizeof target);
+            cloth_pin(core, i, target);
+            st.pins++;
         }
-        cloth_pin(core, i, target);
-        st.pins++;
-    }
-    for (int i = 0; i < c->n; i++) {
-        vcontact *nw = &c->vc_new[i];
-        if (!nw->geom) continue;
-        cloth_constraint k;
-        if (c->pin[i].active || !contact_rule(c, i, h, mass[i], cd.gravity, nw, &c->vc[i], &k, &st)) {
-            memset(nw, 0, sizeof *nw);
-            continue;
+        for (int i = 0; i < c->n; i++) {
+            vcontact *nw = &c->vc_new[i];
+            nw->active = 0;
+            if (!nw->geom || c->pin[i].active) continue;
+            cloth_constraint k;
+            if (!contact_rule(c, i, h, mass[i], cd.gravity, nw, &c->vc[i], &k, &st, nw->forced)) continue;
+            nw->active = 1;
+            cloth_set_constraint(core, &k);
+            memcpy(c->fext + 3 * i, nw->friction, sizeof nw->friction);
+            st.contacts++;
+            st.sticking += nw->sticking;
+            if (!nw->from_triangle && -nw->gap > st.max_penetration) st.max_penetration = -nw->gap;
         }
-        cloth_set_constraint(core, &k);
-        memcpy(c->fext + 3 * i, nw->friction, sizeof nw->friction);
-        st.contacts++;
-        st.sticking += nw->sticking;
-        if (-nw->gap > st.max_penetration) st.max_penetration = -nw->gap;
+        cloth_set_external_forces(core, c->fext);
+        s = cloth_step(core, h, &st.core);
+        passes++;
+        if (s != CLOTH_OK) break;
+        /* a vertex left free (released, or predicted to stay apart) that
+         * ended the step inside its shell: hold it and solve the step again
+         * from its start (an active set, at most RESOLVE_PASSES solves) */
+        int more = 0;
+        const double *x1 = cloth_positions(core);
+        for (int i = 0; i < c->n; i++) {
+            vcontact *nw = &c->vc_new[i];
+            if (!nw->geom || nw->active || c->pin[i].active) continue;
+            double d[3] = {x1[3 * i] - c->x0[3 * i] - h * nw->vbody[0], x1[3 * i + 1] - c->x0[3 * i + 1] - h * nw->vbody[1],
+                           x1[3 * i + 2] - c->x0[3 * i + 2] - h * nw->vbody[2]};
+            if (nw->gap + dot3(d, nw->normal) < -RESOLVE_DEPTH * c->thickness) {
+                nw->forced = 1;
+                more++;
+            }
+        }
+        if (!more || passes >= RESOLVE_PASSES) break;
+        cloth_restore(core, c->save);
     }
-    cloth_set_external_forces(core, c->fext);
-    cloth_status s = cloth_step(core, h, &st.core);
+    st.resolves = passes - 1;
     if (s != CLOTH_OK) {
+        cloth_restore(core, c->save);
         st.contacts = st.sticking = 0;
         c->stats = st;
         return dcloth_fail(c, s, "dClothStep: %s", cloth_last_error(core));
     }
 
-    /* the penetration was removed by moving the vertex within the step; its
-     * velocity keeps only the body's (no pop: a vertex shot out at -gap/h
-     * bounced off its neighbours back into the body, step after step) */
+    /* the gap was closed (or the penetration removed) by moving the vertex
+     * within the step; its normal velocity keeps only the body's: an
+     * inelastic impact, and no pop (a vertex shot out at -gap/h bounced off
+     * its neighbours back into the body, step after step; one that closed a
+     * gap kept moving inward at gap/h and sank into its shell next step) */
     for (int i = 0; i < c->n; i++) {
         vcontact *nw = &c->vc_new[i];
-        if (!nw->geom || c->pin[i].active || !(nw->gap < 0.0)) continue;
+        if (!nw->active || nw->gap == 0.0) continue;
         double vi[3];
         memcpy(vi, cloth_velocities(core) + 3 * i, sizeof vi);
         for (int r = 0; r < 3; r++) vi[r] += nw->gap / h * nw->normal[r];
@@ -173,7 +212,7 @@ cloth_status dClothStep(dClothID c, dReal h)
             memcpy(f, p->force, sizeof f);
             b = p->body;
             at = p->world;
-        } else if (nw->geom) {
+        } else if (nw->active) {
             cloth_constraint_force(core, i, f);
             for (int r = 0; r < 3; r++) f[r] += nw->friction[r];
             memcpy(nw->force, f, sizeof f);
@@ -181,6 +220,7 @@ cloth_status dClothStep(dClothID c, dReal h)
             at = nw->point;
         }
         if (b && !dBodyIsKinematic(b)) dBodyAddForceAtPos(b, -f[0], -f[1], -f[2], at[0], at[1], at[2]);
+        if (!p->active && !nw->active) memset(nw, 0, sizeof *nw); /* only held contacts carry over */
     }
     vcontact *t = c->vc;
     c->vc = c->vc_new;

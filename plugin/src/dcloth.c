@@ -72,9 +72,12 @@ cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *d, d
     c->vc_new = calloc((size_t)c->n, sizeof *c->vc_new);
     c->pin = calloc((size_t)c->n, sizeof *c->pin);
     c->fext = calloc(3 * (size_t)c->n, sizeof *c->fext);
+    c->x0 = calloc(3 * (size_t)c->n, sizeof *c->x0);
+    c->save = cloth_state_create(c->core);
     c->box = dCreateBox(0, 1, 1, 1);
     c->sphere = dCreateSphere(0, c->thickness);
-    if (!c->tri || !c->vc || !c->vc_new || !c->pin || !c->fext || !c->box || !c->sphere) {
+    c->ray = dCreateRay(0, 1.0);
+    if (!c->tri || !c->vc || !c->vc_new || !c->pin || !c->fext || !c->x0 || !c->save || !c->box || !c->sphere || !c->ray) {
         dClothDestroy(c);
         return create_fail(err, CLOTH_ENOMEM, "out of memory");
     }
@@ -98,12 +101,15 @@ void dClothDestroy(dClothID c)
     if (!c) return;
     if (c->box) dGeomDestroy(c->box);
     if (c->sphere) dGeomDestroy(c->sphere);
+    if (c->ray) dGeomDestroy(c->ray);
     cloth_destroy(c->core);
     free(c->tri);
     free(c->vc);
     free(c->vc_new);
     free(c->pin);
     free(c->fext);
+    free(c->x0);
+    cloth_state_destroy(c->save);
     free(c->cand);
     free(c);
 }

@@ -18,6 +18,8 @@ typedef struct vcontact {
     double vbody[3];     /* m/s, the body's velocity at the point           */
     int sticking;        /* 1: pinned to the body's motion (static friction) */
     int from_triangle;   /* 1: set by a triangle test (triangles.c)         */
+    int active;          /* 1: a constraint in this step's solve            */
+    int forced;          /* 1: a re-solve found the vertex inside its shell  */
     double friction[3];  /* N, sliding friction force applied on the vertex */
     double slip[3];      /* m/s, tangential velocity relative to the body at
                             the step's start                               */
@@ -38,6 +40,7 @@ struct dxCloth {
     dSpaceID space;
     dGeomID box;         /* broadphase proxy: the cloth's swept AABB        */
     dGeomID sphere;      /* narrowphase proxy: one vertex                    */
+    dGeomID ray;         /* narrowphase proxy over heightfields              */
     double thickness, mu;
     unsigned long category, collide;
     int n, ntri;
@@ -45,6 +48,8 @@ struct dxCloth {
     vcontact *vc, *vc_new; /* n: committed and candidate contact states      */
     vpin *pin;           /* n                                               */
     double *fext;        /* 3n: sliding friction, handed to the core        */
+    double *x0;          /* 3n: positions at the step's start               */
+    cloth_state *save;   /* the core's state at the step's start (re-solves) */
     dGeomID *cand;       /* candidate geoms of the step                     */
     int ncand, cand_cap;
     int tri_hits;        /* vertex contacts set by triangle tests this step  */

@@ -95,11 +95,14 @@ typedef struct dClothStepStats {
     int sticking;            /* of which sticking (friction within mu N)      */
     int released;            /* contacts released because they pulled         */
     int pins;                /* pinned vertices                               */
+    int resolves;            /* extra solves: free vertices that ended inside
+                                their shell were held and the step redone     */
     int candidates;          /* geoms whose AABB met the cloth's              */
     int triangle_contacts;   /* vertex contacts set by cloth-triangle tests
                                 (box, capsule, cylinder, via libccd)          */
-    dReal max_penetration;   /* m, deepest vertex below thickness, before the
-                                step (0 if none)                              */
+    dReal max_penetration;   /* m, deepest vertex inside its thickness shell,
+                                by its own distance, before the step (0 if
+                                none)                                         */
     double seconds_contacts; /* s, wall time finding contacts (broad + narrow) */
     double seconds_total;    /* s, wall time of the whole dClothStep           */
 } dClothStepStats;
