@@ -18,6 +18,9 @@ static double wall(void)
  * contact instead of falling free every other step. */
 #define CONTACT_SLOP 0.1
 
+/* |gap| below this fraction of the thickness is touching, not inside */
+#define TOUCH 1e-6
+
 /* A free vertex that ends a step deeper than this fraction of the thickness
  * inside its shell makes the step be solved again with it held, up to
  * RESOLVE_PASSES solves in all. */
@@ -39,11 +42,13 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
     int had = old->geom == nw->geom;
     double fn = had ? dot3(old->force, old->normal) : 0.0;
     /* unilateral: a contact that pulled the vertex onto the body last step
-     * lets go, unless the vertex is inside; a triangle's contact is judged
+     * lets go, unless the vertex is inside (by more than rounding: a vertex
+     * the last step put exactly on its shell reads a gap of -1e-17, and was
+     * held, pulling, for ever); a triangle's contact is judged
      * by its geometry alone (its vertices' forces along the triangle's
      * normal are often negative while the triangle as a whole presses:
      * releasing them made contacts on curved and edged geoms chatter) */
-    if (!forced && had && fn < 0.0 && nw->gap >= 0.0 && !nw->from_triangle) {
+    if (!forced && had && fn < 0.0 && nw->gap >= -TOUCH * c->thickness && !nw->from_triangle) {
         st->released++;
         return 0;
     }
