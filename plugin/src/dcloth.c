@@ -73,11 +73,12 @@ cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *d, d
     c->pin = calloc((size_t)c->n, sizeof *c->pin);
     c->fext = calloc(3 * (size_t)c->n, sizeof *c->fext);
     c->x0 = calloc(3 * (size_t)c->n, sizeof *c->x0);
+    c->v0 = calloc(3 * (size_t)c->n, sizeof *c->v0);
     c->save = cloth_state_create(c->core);
     c->box = dCreateBox(0, 1, 1, 1);
     c->sphere = dCreateSphere(0, c->thickness);
     c->ray = dCreateRay(0, 1.0);
-    if (!c->tri || !c->vc || !c->vc_new || !c->pin || !c->fext || !c->x0 || !c->save || !c->box || !c->sphere || !c->ray) {
+    if (!c->tri || !c->vc || !c->vc_new || !c->pin || !c->fext || !c->x0 || !c->v0 || !c->save || !c->box || !c->sphere || !c->ray) {
         dClothDestroy(c);
         return create_fail(err, CLOTH_ENOMEM, "out of memory");
     }
@@ -109,6 +110,7 @@ void dClothDestroy(dClothID c)
     free(c->pin);
     free(c->fext);
     free(c->x0);
+    free(c->v0);
     cloth_state_destroy(c->save);
     free(c->cand);
     free(c);

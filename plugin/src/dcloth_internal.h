@@ -49,6 +49,7 @@ struct dxCloth {
     vpin *pin;           /* n                                               */
     double *fext;        /* 3n: sliding friction, handed to the core        */
     double *x0;          /* 3n: positions at the step's start               */
+    double *v0;          /* 3n: velocities at the step's start              */
     cloth_state *save;   /* the core's state at the step's start (re-solves) */
     dGeomID *cand;       /* candidate geoms of the step                     */
     int ncand, cand_cap;
