@@ -142,12 +142,13 @@ int main(int argc, char **argv)
     }
     fprintf(csv, "grid,nodes,hz,precond,steps,steps_done,steps_per_s,median_step_ms,cg_iterations,partial\n");
     const double hzs[2] = {60.0, 240.0};
-    const cloth_precond pcs[3] = {CLOTH_PRECOND_JACOBI, CLOTH_PRECOND_BLOCK_JACOBI, CLOTH_PRECOND_MULTIGRID};
-    const char *pcn[3] = {"jacobi", "block", "multigrid"};
+    const cloth_precond pcs[4] = {CLOTH_PRECOND_JACOBI, CLOTH_PRECOND_BLOCK_JACOBI, CLOTH_PRECOND_SSOR,
+                                  CLOTH_PRECOND_MULTIGRID};
+    const char *pcn[4] = {"jacobi", "block", "ssor", "multigrid"};
     printf("%-8s %-6s %-10s %10s %12s %10s %s\n", "grid", "h", "precond", "steps/s", "median ms", "CG it", "");
     for (int g = 0; g < ng; g++)
         for (int k = 0; k < 2; k++)
-            for (int p = 0; p < 3; p++) {
+            for (int p = 0; p < 4; p++) {
                 result r = run(grids[g], hzs[k], pcs[p], seconds, cap);
                 int partial = r.done < r.steps;
                 printf("%3dx%-4d 1/%-4.0f %-10s %10.1f %12.3f %10.1f %s\n", grids[g], grids[g], hzs[k], pcn[p],
@@ -170,11 +171,11 @@ int main(int argc, char **argv)
             "set multiplot layout 1,2 title 'odecloth: backward Euler + modified PCG, pinned cotton cloth, tol 1e-3, 1 thread'\n"
             "set logscale xy\nset grid\nset key left bottom\nset xlabel 'nodes'\n"
             "set ylabel 'steps per second'\n"
-            "plot for [pc in 'jacobi block multigrid'] for [hz in '60 240'] '%s/bench_step.csv' "
+            "plot for [pc in 'jacobi block ssor multigrid'] for [hz in '60 240'] '%s/bench_step.csv' "
             "using (strcol(4) eq pc && strcol(3) eq hz ? $2 : 1/0):7 with linespoints title pc.' h=1/'.hz, "
             "30 with lines dt 2 lc 'black' title '30 steps/s'\n"
             "set key left top\nset ylabel 'CG iterations per step'\n"
-            "plot for [pc in 'jacobi block multigrid'] for [hz in '60 240'] '%s/bench_step.csv' "
+            "plot for [pc in 'jacobi block ssor multigrid'] for [hz in '60 240'] '%s/bench_step.csv' "
             "using (strcol(4) eq pc && strcol(3) eq hz ? $2 : 1/0):9 with linespoints title pc.' h=1/'.hz\n"
             "unset multiplot\n",
             out, out, out);

@@ -14,7 +14,7 @@
 static void usage(void)
 {
     puts("usage: drape_pinned [--grid N] [--hz F] [--seconds T] [--alpha A]\n"
-         "                    [--method be|bdf2|symplectic|explicit] [--precond block|jacobi|mg]\n"
+         "                    [--method be|bdf2|symplectic|explicit] [--precond block|jacobi|mg|ssor]\n"
          "A cotton cloth of N x N nodes (default 21), 1 m square, pinned at two\n"
          "adjacent corners, falls from horizontal for T seconds (default 3) at F\n"
          "steps per second (default 60). Prints energies, CG iterations, strain\n"
@@ -50,6 +50,7 @@ int main(int argc, char **argv)
             if (!strcmp(v, "block")) d.solver.precond = CLOTH_PRECOND_BLOCK_JACOBI;
             else if (!strcmp(v, "jacobi")) d.solver.precond = CLOTH_PRECOND_JACOBI;
             else if (!strcmp(v, "mg")) d.solver.precond = CLOTH_PRECOND_MULTIGRID;
+            else if (!strcmp(v, "ssor")) d.solver.precond = CLOTH_PRECOND_SSOR;
             else {
                 fprintf(stderr, "drape_pinned: unknown preconditioner '%s'\n", v);
                 return 2;

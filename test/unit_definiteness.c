@@ -190,7 +190,7 @@ static double step_residual(const cloth *c)
 
 int main(void)
 {
-    const char *mname[] = {"BE", "", "", "BDF2"}, *pname[] = {"block", "jacobi", "multigrid"};
+    const char *mname[] = {"BE", "", "", "BDF2"}, *pname[] = {"block", "jacobi", "multigrid", "ssor"};
     const cloth_method methods[] = {CLOTH_BACKWARD_EULER, CLOTH_BDF2};
     /* scene 0: the rest grid at half size, h = 1/60: every diagonal block of
      *   A is itself indefinite (m - h^2 sum k < 0 out of plane);
@@ -200,7 +200,7 @@ int main(void)
     const double scales[2] = {0.5, 0.8}, hs[2] = {1.0 / 60, 1.0 / 240};
     for (int sc = 0; sc < 2; sc++)
         for (int mi = 0; mi < 2; mi++)
-            for (int p = CLOTH_PRECOND_BLOCK_JACOBI; p <= CLOTH_PRECOND_MULTIGRID; p++) {
+            for (int p = CLOTH_PRECOND_BLOCK_JACOBI; p <= CLOTH_PRECOND_SSOR; p++) {
                 cloth_method m = methods[mi];
                 double h = hs[sc];
                 char name[64];

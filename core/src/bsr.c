@@ -106,6 +106,26 @@ void bsr_mul(const bsr *A, const double *x, double *y)
     }
 }
 
+void bsr_mul_cols(const bsr *A, const double *x, const int *cols, int m, double *y)
+{
+    if (!cols) {
+        bsr_mul(A, x, y);
+        return;
+    }
+    memset(y, 0, 3 * (size_t)A->n * sizeof *y);
+    for (int a = 0; a < m; a++) {
+        int j = cols[a];
+        const double *xj = x + 3 * (size_t)j;
+        for (int k = A->row_ptr[j]; k < A->row_ptr[j + 1]; k++) {
+            const double *B = A->val + 9 * (size_t)k; /* A_ji = A_ij */
+            double *yi = y + 3 * (size_t)A->col[k];
+            yi[0] += B[0] * xj[0] + B[1] * xj[1] + B[2] * xj[2];
+            yi[1] += B[3] * xj[0] + B[4] * xj[1] + B[5] * xj[2];
+            yi[2] += B[6] * xj[0] + B[7] * xj[1] + B[8] * xj[2];
+        }
+    }
+}
+
 void bsr_to_dense(const bsr *A, double *dense)
 {
     size_t N = 3 * (size_t)A->n;

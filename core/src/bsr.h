@@ -22,6 +22,11 @@ void bsr_free(bsr *A);
 void bsr_zero(bsr *A);
 /* y = A x (x and y of length 3n, distinct). */
 void bsr_mul(const bsr *A, const double *x, double *y);
+/* y = A x for an x that is zero outside the block columns cols[0..m), for
+ * a matrix whose blocks are symmetric and A_ij = A_ji (the cloth's: each
+ * link's blocks are -(beta h D + gamma h^2 K), both symmetric); walks only
+ * the rows of those columns. cols NULL: all (bsr_mul). */
+void bsr_mul_cols(const bsr *A, const double *x, const int *cols, int m, double *y);
 /* Dense copy (3n x 3n, row-major) for tests and small problems. */
 void bsr_to_dense(const bsr *A, double *dense);
 

@@ -138,6 +138,7 @@ void cloth_destroy(cloth *c)
     free(c->cflag);
     free(c->clist);
     free(c->sl);
+    free(c->Ah);
     free(c->sl_act);
     free(c->sl_held);
     free(c->sl_vtx);
@@ -209,6 +210,8 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
     if (!c->con || !c->con_force || !c->seq_blk || !c->int_blk || !c->K_seq || !c->K_int) goto nomem;
     if (links_to_blocks(&c->A, n, c->seq, c->n_seq, c->lint, c->n_int, c->seq_blk, c->int_blk) != 0) goto nomem;
     if (workspace_alloc(c) != 0) goto nomem;
+    c->Ah = malloc(9 * (size_t)c->A.nnzb * sizeof *c->Ah);
+    if (!c->Ah) goto nomem;
     c->cflag = calloc((size_t)n, 1);
     c->clist = calloc((size_t)n, sizeof *c->clist);
     c->sl = malloc(9 * (size_t)c->n_seq * sizeof *c->sl);

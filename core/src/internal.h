@@ -103,6 +103,7 @@ struct cloth {
     double *con_new;           /* 3n: constraint forces of the step being taken */
     double *pre;               /* 9n: preconditioner blocks */
     double *S;                 /* 9n: per-vertex filter (I - constrained projector) */
+    double *Ah;                /* 9 nnzb: the filtered matrix, for the SSOR solver */
     double *sl;                /* 9 n_seq: elongation-limit projection (u, C, lambda, CG) */
     int *sl_act;               /* n_seq: its active links */
     unsigned char *sl_held;    /* n_seq: links held at the limit this step; then n marks */

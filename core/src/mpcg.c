@@ -78,8 +78,9 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
     } while (0)
 #define NORM2() (filter_apply(n, Dinv, r, u), dot(r, u, N))
 
-    /* reference: the reduced right-hand side S (b - A z) */
-    bsr_mul(A, z, t);
+    /* reference: the reduced right-hand side S (b - A z); z is zero but at
+     * the constrained vertices */
+    bsr_mul_cols(A, z, P->con, P->ncon, t);
     for (size_t k = 0; k < N; k++) r[k] = b[k] - t[k];
     filter_inplace(P, r);
     double ref = NORM2();

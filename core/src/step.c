@@ -8,6 +8,7 @@
 #include "internal.h"
 #include "mat3.h"
 #include "mpcg.h"
+#include "ssor.h"
 
 int workspace_alloc(cloth *c)
 {
@@ -202,7 +203,8 @@ static cloth_failure implicit_step(cloth *c, double h, int bdf2, cloth_step_stat
         P.pc = jacobi_apply;
         P.ctx = &jctx;
     }
-    mpcg_result r = mpcg_run(&P, c->dv, c->cg);
+    mpcg_result r = sv->precond == CLOTH_PRECOND_SSOR ? ssor_run(&P, c->cflag, c->Ah, c->dv, c->cg)
+                                                      : mpcg_run(&P, c->dv, c->cg);
     st->iterations = r.iterations;
     st->residual = r.residual;
     if (r.failure != CLOTH_FAIL_NONE) return r.failure;

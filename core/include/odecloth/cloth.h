@@ -87,7 +87,9 @@ typedef enum cloth_method {
 typedef enum cloth_precond {
     CLOTH_PRECOND_BLOCK_JACOBI = 0, /* inverse 3x3 diagonal blocks                */
     CLOTH_PRECOND_JACOBI,           /* inverse scalar diagonal (Baraff-Witkin)    */
-    CLOTH_PRECOND_MULTIGRID         /* geometric multigrid V-cycle on the grid    */
+    CLOTH_PRECOND_MULTIGRID,        /* geometric multigrid V-cycle on the grid    */
+    CLOTH_PRECOND_SSOR              /* symmetric block Gauss-Seidel, Eisenstat's
+                                       trick (about one matrix pass per iteration) */
 } cloth_precond;
 
 typedef struct cloth_solver {
