@@ -186,7 +186,11 @@ int dcloth_triangle_contacts(dClothID c, dGeomID g, double h)
             vcontact *vc = &c->vc_new[p[a]];
             if (!(w[a] > 0.0)) continue;
             double gap = -lift * w[a] / w2;
-            if (vc->geom && vc->gap <= gap) continue;
+            /* deeper than the vertex's own contact, beyond rounding: a
+             * triangle lying on a face ties with its vertices' contacts to
+             * 1e-17, and taking over on such a tie made a resting vertex's
+             * contact a triangle's, exempt from release, pulling for ever */
+            if (vc->geom && !(gap < vc->gap - 1e-6 * t)) continue;
             vc->geom = g;
             vc->body = body;
             for (int q = 0; q < 3; q++) {
