@@ -51,6 +51,7 @@
 #include "odecloth/cloth.h"
 #include "internal.h"
 #include "mpcg.h"
+#include "mat3.h"
 #include "bsr.h"
 #include "check.h"
 
@@ -192,24 +193,6 @@ static void filter_block(int kind, const double axis[3], double S[9])
         }
 }
 
-static int inv3(const double *m, double *o)
-{
-    double c0 = m[4] * m[8] - m[5] * m[7], c1 = m[5] * m[6] - m[3] * m[8], c2 = m[3] * m[7] - m[4] * m[6];
-    double det = m[0] * c0 + m[1] * c1 + m[2] * c2;
-    if (!(fabs(det) > 0.0)) return -1;
-    double id = 1.0 / det;
-    o[0] = c0 * id;
-    o[1] = (m[2] * m[7] - m[1] * m[8]) * id;
-    o[2] = (m[1] * m[5] - m[2] * m[4]) * id;
-    o[3] = c1 * id;
-    o[4] = (m[0] * m[8] - m[2] * m[6]) * id;
-    o[5] = (m[2] * m[3] - m[0] * m[5]) * id;
-    o[6] = c2 * id;
-    o[7] = (m[1] * m[6] - m[0] * m[7]) * id;
-    o[8] = (m[0] * m[4] - m[1] * m[3]) * id;
-    return 0;
-}
-
 /* Preconditioner blocks: block = inverse of S A_ii S + (I - S); else scalar
  * Jacobi 1 / A_ii[a][a]. */
 static void make_precond(const bsr *A, const double *S, int block, double *P)
@@ -232,7 +215,8 @@ static void make_precond(const bsr *A, const double *S, int block, double *P)
                     for (int k = 0; k < 3; k++) t += SA[3 * r + k] * Si[3 * k + s];
                     M[3 * r + s] = t + ((r == s) - Si[3 * r + s]);
                 }
-            if (inv3(M, Pi) == 0) continue;
+            double det = mat3inv(M, Pi);
+            if (det != 0.0 && isfinite(det)) continue;
             memset(Pi, 0, 9 * sizeof *Pi);
         }
         for (int a = 0; a < 3; a++) Pi[4 * a] = 1.0 / Aii[4 * a];

@@ -19,11 +19,12 @@
  *  - k_delta 100: past (1 + delta) l0 a sequential link stiffens 100-fold,
  *    so the implicit solve itself keeps links near the limit and the
  *    projection after the step (strain_limit.c) only removes a small excess.
- *    Measured, 20 projection steps, h = 1/60, pinned at two corners, 120
- *    steps: 0 -> a soft 41x41 cloth (k_t 100) ends at strain 0.054 > delta
- *    and takes 15.7 s; 10 -> 0.046, 5.9 s; 100 -> 0.030 (held), 6.4 s;
- *    1000 -> CG conditioning suffers and an 81x81 cotton cloth fails to
- *    hold delta (0.21) in 55 s against 6.6 s at 100.
+ *    Measured (pinned at two corners, h = 1/60, 120 steps, 20 projection
+ *    steps; worst strain, wall time): a very soft 41x41 cloth (k_t 100):
+ *    k_delta 0 -> 0.067, 2.5 s; 10 -> 0.061, 2.2 s; 100 -> 0.053, 2.6 s;
+ *    1000 -> 0.045, 3.1 s (delta 0.03 is not reached there by either part);
+ *    cotton 81x81: 0.030 with 100 (6.6 s) and with 1000 (7.3 s). 100 is the
+ *    cheaper; higher values stiffen the CG's matrix where the limit acts.
  *  - density 0.2 kg/m^2 (light cotton, and the 1 m, 0.2 kg benchmark cloth),
  *    wool 0.3 kg/m^2. */
 #include <math.h>

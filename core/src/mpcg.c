@@ -58,6 +58,32 @@ static void filter_inplace(const mpcg_problem *P, double *y)
     }
 }
 
+int mpcg_reference(const mpcg_problem *P, double *x, double *r, double *u, double *ref, mpcg_result *res)
+{
+    size_t N = 3 * (size_t)P->A->n;
+    /* z is zero but at the constrained vertices */
+    bsr_mul_cols(P->A, P->z, P->con, P->ncon, u);
+    for (size_t k = 0; k < N; k++) r[k] = P->b[k] - u[k];
+    filter_inplace(P, r);
+    filter_apply(P->A->n, P->Dinv, r, u);
+    *ref = dot(r, u, N);
+    if (!isfinite(*ref)) {
+        res->failure = CLOTH_FAIL_NAN;
+        return 1;
+    }
+    if (*ref < 0.0) {
+        /* the norm's weights, the inverse diagonal blocks, are not positive
+         * definite: then neither is A */
+        res->failure = CLOTH_FAIL_CG_INDEFINITE;
+        return 1;
+    }
+    if (*ref == 0.0) { /* nothing to solve: x = z */
+        memcpy(x, P->z, N * sizeof *x);
+        return 1;
+    }
+    return 0;
+}
+
 mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
 {
     const bsr *A = P->A;
@@ -78,26 +104,9 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
     } while (0)
 #define NORM2() (filter_apply(n, Dinv, r, u), dot(r, u, N))
 
-    /* reference: the reduced right-hand side S (b - A z); z is zero but at
-     * the constrained vertices */
-    bsr_mul_cols(A, z, P->con, P->ncon, t);
-    for (size_t k = 0; k < N; k++) r[k] = b[k] - t[k];
-    filter_inplace(P, r);
-    double ref = NORM2();
-    if (!isfinite(ref)) {
-        res.failure = CLOTH_FAIL_NAN;
-        return res;
-    }
-    if (ref < 0.0) {
-        /* the norm's weights, the inverse diagonal blocks, are not positive
-         * definite: then neither is A */
-        res.failure = CLOTH_FAIL_CG_INDEFINITE;
-        return res;
-    }
-    if (ref == 0.0) { /* nothing to solve: x = z */
-        memcpy(x, z, N * sizeof *x);
-        return res;
-    }
+    /* reference: the reduced right-hand side S (b - A z) */
+    double ref;
+    if (mpcg_reference(P, x, r, t, &ref, &res)) return res;
 
     /* x = S guess + z */
     filter_inplace(P, x);

@@ -46,6 +46,12 @@ typedef struct mpcg_problem {
     int max_iter;
 } mpcg_problem;
 
+/* The start of a solve, shared by the solvers: r = S (b - A z), the
+ * reduced right-hand side, and *ref its squared norm weighted by Dinv (u:
+ * 3n scratch). Returns 1 when the solve ends here: NaN, a negative norm
+ * weight (A not definite), or nothing to solve (then x = z); res says which. */
+int mpcg_reference(const mpcg_problem *P, double *x, double *r, double *u, double *ref, mpcg_result *res);
+
 /* x: in, the warm-start guess; out, the solution. w: 6 * 3n doubles. */
 mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w);
 

@@ -118,26 +118,9 @@ mpcg_result ssor_run(const mpcg_problem *P, const unsigned char *cflag, double *
     double *r = w, *p = w + N, *q = w + 2 * N, *s = w + 3 * N, *t = w + 4 * N, *u = w + 5 * N;
     mpcg_result res = {0, 0.0, CLOTH_FAIL_NONE};
     build_filtered(A, P->S, cflag, Ah);
-    /* D blocks (not inverted) for the transformed preconditioner, in Ah */
-
-    /* rh0 = S (b - A z); the reference of the stopping norm (z is zero but
-     * at the constrained vertices) */
-    bsr_mul_cols(A, P->z, P->con, P->ncon, t);
-    for (size_t k = 0; k < N; k++) u[k] = P->b[k] - t[k];
-    filter_apply(n, P->S, u, u);
-    double ref = wnorm2(n, Dinv, u);
-    if (!isfinite(ref)) {
-        res.failure = CLOTH_FAIL_NAN;
-        return res;
-    }
-    if (ref < 0.0) {
-        res.failure = CLOTH_FAIL_CG_INDEFINITE;
-        return res;
-    }
-    if (ref == 0.0) {
-        memcpy(x, P->z, N * sizeof *x);
-        return res;
-    }
+    /* u = rh0 = S (b - A z); ref, the stopping norm's reference */
+    double ref;
+    if (mpcg_reference(P, x, u, t, &ref, &res)) return res;
     /* warm start xh0 = S x: y0 = Q xh0, r~0 = P^-1 (rh0 - Ah xh0) */
     filter_apply(n, P->S, x, x);
     tri_mul(A, Ah, 1, x, p);                   /* p = Q xh0 = y0 */

@@ -7,7 +7,7 @@
  * user's dSpaceCollide never meets it. A geom whose AABB misses the box costs
  * nothing per vertex.
  * Narrowphase: for each candidate, the vertices inside its AABB (grown by
- * each vertex's reach, reach = thickness (1 + CONTACT_MARGIN) + |v| h) get
+ * each vertex's reach, reach = thickness (1 + DCLOTH_CONTACT_MARGIN) + |v| h) get
  * their signed distance and normal to the geom. Sphere, box, capsule,
  * cylinder and plane in closed form (exact, and cheaper than a collider);
  * heightfields with a ray along the field's up axis through the vertex (the
@@ -21,11 +21,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include "dcloth_internal.h"
-
-/* The sphere reaches this fraction of the thickness beyond it: a vertex
- * resting exactly at the thickness is then still seen (a sphere that only
- * touches reports no contact, so such a vertex fell free every other step). */
-#define CONTACT_MARGIN 0.25
 
 static int bits_meet(dClothID c, dGeomID g)
 {
@@ -55,8 +50,6 @@ static void near_cb(void *data, dGeomID o1, dGeomID o2)
     if (c->cand_cap > 0) c->cand[c->ncand++] = g;
 }
 
-static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
 /* x in the geom's frame: p = R^T (x - centre) */
 static void to_local(dGeomID g, const double *x, double p[3])
 {
@@ -79,7 +72,7 @@ static int closed_form(dGeomID g, const double *x, double *dist, double n[3])
     switch (dGeomGetClass(g)) {
     case dSphereClass: {
         const dReal *o = dGeomGetPosition(g);
-        double d[3] = {x[0] - o[0], x[1] - o[1], x[2] - o[2]}, l = sqrt(dot3(d, d));
+        double d[3] = {x[0] - o[0], x[1] - o[1], x[2] - o[2]}, l = sqrt(dcloth_dot3(d, d));
         if (l > 0.0) {
             for (int k = 0; k < 3; k++) n[k] = d[k] / l;
         } else {
@@ -93,7 +86,7 @@ static int closed_form(dGeomID g, const double *x, double *dist, double n[3])
         dGeomPlaneGetParams(g, pl);
         double l = sqrt(pl[0] * pl[0] + pl[1] * pl[1] + pl[2] * pl[2]);
         for (int k = 0; k < 3; k++) n[k] = pl[k] / l;
-        *dist = dot3(n, x) - pl[3] / l;
+        *dist = dcloth_dot3(n, x) - pl[3] / l;
         return 1;
     }
     case dBoxClass: {
@@ -169,14 +162,14 @@ static int heightfield_query(dClothID c, dGeomID g, const double *x, double reac
     dGeomRaySetLength(c->ray, L + reach);
     dContactGeom cg;
     if (dCollide(c->ray, g, 1, &cg, sizeof cg) < 1) return 0;
-    double nn = dot3(cg.normal, cg.normal);
+    double nn = dcloth_dot3(cg.normal, cg.normal);
     if (!(nn > 0.0)) return 0;
     nn = 1.0 / sqrt(nn);
     for (int k = 0; k < 3; k++) n[k] = cg.normal[k] * nn;
-    if (dot3(n, up) < 0.0)
+    if (dcloth_dot3(n, up) < 0.0)
         for (int k = 0; k < 3; k++) n[k] = -n[k];
     double d[3] = {x[0] - cg.pos[0], x[1] - cg.pos[1], x[2] - cg.pos[2]};
-    *dist = dot3(d, n);
+    *dist = dcloth_dot3(d, n);
     return 1;
 }
 
@@ -197,8 +190,8 @@ int dcloth_find_contacts(dClothID c, double h)
             hi[k] = fmax(hi[k], fmax(a, b));
         }
     for (int k = 0; k < 3; k++) {
-        lo[k] -= c->thickness * (1.0 + CONTACT_MARGIN);
-        hi[k] += c->thickness * (1.0 + CONTACT_MARGIN);
+        lo[k] -= c->thickness * (1.0 + DCLOTH_CONTACT_MARGIN);
+        hi[k] += c->thickness * (1.0 + DCLOTH_CONTACT_MARGIN);
     }
     dGeomBoxSetLengths(c->box, hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
     dGeomSetPosition(c->box, 0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]));
@@ -221,7 +214,7 @@ int dcloth_find_contacts(dClothID c, double h)
         dBodyID body = dGeomGetBody(g);
         for (int i = 0; i < n; i++) {
             const double *xi = x + 3 * i, *vi = v + 3 * i;
-            double reach = c->thickness * (1.0 + CONTACT_MARGIN) + h * sqrt(vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2]);
+            double reach = c->thickness * (1.0 + DCLOTH_CONTACT_MARGIN) + h * sqrt(vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2]);
             if (xi[0] + reach < aabb[0] || xi[0] - reach > aabb[1] || xi[1] + reach < aabb[2] ||
                 xi[1] - reach > aabb[3] || xi[2] + reach < aabb[4] || xi[2] - reach > aabb[5])
                 continue;
@@ -236,7 +229,7 @@ int dcloth_find_contacts(dClothID c, double h)
                 for (int k = 0; k < m; k++)
                     if (best < 0 || cg[k].depth > cg[best].depth) best = k;
                 if (best < 0) continue;
-                double nn = dot3(cg[best].normal, cg[best].normal);
+                double nn = dcloth_dot3(cg[best].normal, cg[best].normal);
                 if (!(nn > 0.0)) continue;
                 nn = 1.0 / sqrt(nn);
                 for (int k = 0; k < 3; k++) nrm[k] = cg[best].normal[k] * nn;

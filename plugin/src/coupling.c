@@ -18,16 +18,11 @@ static double wall(void)
  * contact instead of falling free every other step. */
 #define CONTACT_SLOP 0.1
 
-/* |gap| below this fraction of the thickness is touching, not inside */
-#define TOUCH 1e-6
-
 /* A free vertex that ends a step deeper than this fraction of the thickness
  * inside its shell makes the step be solved again with it held, up to
  * RESOLVE_PASSES solves in all. */
 #define RESOLVE_DEPTH 0.1
 #define RESOLVE_PASSES 4
-
-static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 /* Decide the vertex's contact for this step: none (returns 0), sticking or
  * sliding; fills its constraint and, sliding, its friction force. */
@@ -37,10 +32,10 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
     const double *x = cloth_positions(c->core) + 3 * i, *v = cloth_velocities(c->core) + 3 * i;
     const double *n = nw->normal;
     double rel[3] = {v[0] - nw->vbody[0], v[1] - nw->vbody[1], v[2] - nw->vbody[2]};
-    double vn = dot3(rel, n);
+    double vn = dcloth_dot3(rel, n);
     if (!forced && nw->gap > 0.0 && nw->gap + h * vn > CONTACT_SLOP * c->thickness) return 0; /* stays apart */
     int had = old->geom == nw->geom;
-    double fn = had ? dot3(old->force, old->normal) : 0.0;
+    double fn = had ? dcloth_dot3(old->force, old->normal) : 0.0;
     /* unilateral: a contact that pulled the vertex onto the body last step
      * lets go, unless the vertex is inside (by more than rounding: a vertex
      * the last step put exactly on its shell reads a gap of -1e-17, and was
@@ -48,19 +43,19 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
      * by its geometry alone (its vertices' forces along the triangle's
      * normal are often negative while the triangle as a whole presses:
      * releasing them made contacts on curved and edged geoms chatter) */
-    if (!forced && had && fn < 0.0 && nw->gap >= -TOUCH * c->thickness && !nw->from_triangle) {
+    if (!forced && had && fn < 0.0 && nw->gap >= -DCLOTH_TOUCH * c->thickness && !nw->from_triangle) {
         st->released++;
         return 0;
     }
     if (!had) {
         /* no force measured yet: what stops the approach within the step,
          * plus the weight pressing along the normal */
-        double gn = dot3(g, n);
+        double gn = dcloth_dot3(g, n);
         fn = mass * (vn < 0.0 ? -vn : 0.0) / h + (gn < 0.0 ? -mass * gn : 0.0);
     }
     if (fn < 0.0) fn = 0.0;
     double vt[3] = {rel[0] - vn * n[0], rel[1] - vn * n[1], rel[2] - vn * n[2]};
-    double vts = sqrt(dot3(vt, vt));
+    double vts = sqrt(dcloth_dot3(vt, vt));
     memcpy(nw->slip, vt, sizeof vt);
     /* The tangential force on the vertex other than this contact's, f_o:
      * from the slip's change over the last step minus what the contact
@@ -69,17 +64,17 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
      * the slip within the step against f_o, F = -m vt / h - f_o, is within
      * mu fn (Coulomb's cone); otherwise the contact slides with mu fn. */
     double fo[3], F[3];
-    double gn = dot3(g, n);
+    double gn = dcloth_dot3(g, n);
     for (int r = 0; r < 3; r++) fo[r] = mass * (g[r] - gn * n[r]);
     if (had) {
-        double fnn = dot3(old->force, old->normal);
+        double fnn = dcloth_dot3(old->force, old->normal);
         for (int r = 0; r < 3; r++) {
             double fc_t = old->force[r] - fnn * old->normal[r];
             fo[r] = mass * (vt[r] - old->slip[r]) / h - fc_t;
         }
     }
     for (int r = 0; r < 3; r++) F[r] = -mass * vt[r] / h - fo[r];
-    double Fs = sqrt(dot3(F, F)), limit = c->mu * fn;
+    double Fs = sqrt(dcloth_dot3(F, F)), limit = c->mu * fn;
     int stick = c->mu > 0.0 && Fs <= limit;
     /* end-of-step position: moved with the body's point, the penetration
      * (negative gap) removed along the normal (paper eq. 22) */
@@ -175,7 +170,7 @@ cloth_status dClothStep(dClothID c, dReal h)
             if (!nw->geom || nw->active || c->pin[i].active) continue;
             double d[3] = {x1[3 * i] - c->x0[3 * i] - h * nw->vbody[0], x1[3 * i + 1] - c->x0[3 * i + 1] - h * nw->vbody[1],
                            x1[3 * i + 2] - c->x0[3 * i + 2] - h * nw->vbody[2]};
-            if (nw->gap + dot3(d, nw->normal) < -RESOLVE_DEPTH * c->thickness) {
+            if (nw->gap + dcloth_dot3(d, nw->normal) < -RESOLVE_DEPTH * c->thickness) {
                 nw->forced = 1;
                 more++;
             }
@@ -226,7 +221,7 @@ cloth_status dClothStep(dClothID c, dReal h)
             double f[3];
             cloth_constraint_force(core, i, f);
             for (int r = 0; r < 3; r++) F[r] -= f[r];
-            wsum += sqrt(dot3(f, f));
+            wsum += sqrt(dcloth_dot3(f, f));
         }
     }
     for (int i = 0; i < c->n; i++) {
@@ -240,7 +235,7 @@ cloth_status dClothStep(dClothID c, dReal h)
             /* the share goes to constraints on moving bodies only: a static
              * geom or the world takes any impulse without moving */
             dBodyID hb = p->active ? p->body : nw->body;
-            double w = wsum > 0.0 ? sqrt(dot3(f, f)) / wsum : 0.0;
+            double w = wsum > 0.0 ? sqrt(dcloth_dot3(f, f)) / wsum : 0.0;
             if (hb && !dBodyIsKinematic(hb))
                 for (int r = 0; r < 3; r++) f[r] += w * F[r];
         }

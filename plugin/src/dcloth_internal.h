@@ -58,6 +58,20 @@ struct dxCloth {
     char err[256];
 };
 
+/* Vertices and triangles are seen this fraction of the thickness beyond it:
+ * one held exactly at the thickness is then still seen (a shape that only
+ * touches reports no contact, so such a vertex fell free every other step). */
+#define DCLOTH_CONTACT_MARGIN 0.25
+
+/* Distances below this fraction of the thickness are rounding: a vertex the
+ * last step put on its shell reads a gap of about -1e-17 m. */
+#define DCLOTH_TOUCH 1e-6
+
+static inline double dcloth_dot3(const double *a, const double *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
 /* Set c->err and return code (printf-style). */
 cloth_status dcloth_fail(dClothID c, cloth_status code, const char *fmt, ...);
 

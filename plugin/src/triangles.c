@@ -5,7 +5,8 @@
  * the corner pokes through a triangle whose three vertices all rest beside
  * it). So each cloth triangle near a box, capsule or cylinder, grown by the
  * thickness (the Minkowski sum with a sphere), is tested against the geom
- * with libccd's MPR penetration query. The triangle is grown by the
+ * with libccd's GJK + EPA penetration query (MPR's direction, taken along
+ * the line of centres, was wrong at box corners). The triangle is grown by the
  * thickness plus a margin, as vertices are (contacts.c), so a triangle held
  * exactly at the thickness is still seen and stays held instead of falling
  * free every other step. A triangle the geom enters gives its three vertices
@@ -27,8 +28,6 @@
 #include <string.h>
 #include "dcloth_internal.h"
 
-/* the margin beyond the thickness, as a fraction of it (as CONTACT_MARGIN) */
-#define TRI_MARGIN 0.25
 
 typedef struct tri_shape {
     const double *v[3];
@@ -162,7 +161,7 @@ int dcloth_triangle_contacts(dClothID c, dGeomID g, double h)
             double s2 = sqrt(va[0] * va[0] + va[1] * va[1] + va[2] * va[2]);
             if (s2 > sweep) sweep = s2;
         }
-        tri_shape ts = {{x + 3 * p[0], x + 3 * p[1], x + 3 * p[2]}, t * (1.0 + TRI_MARGIN) + h * sweep};
+        tri_shape ts = {{x + 3 * p[0], x + 3 * p[1], x + 3 * p[2]}, t * (1.0 + DCLOTH_CONTACT_MARGIN) + h * sweep};
         int out = 0;
         for (int a = 0; a < 3 && !out; a++) {
             double lo = fmin(ts.v[0][a], fmin(ts.v[1][a], ts.v[2][a])) - ts.radius;
@@ -190,7 +189,7 @@ int dcloth_triangle_contacts(dClothID c, dGeomID g, double h)
              * triangle lying on a face ties with its vertices' contacts to
              * 1e-17, and taking over on such a tie made a resting vertex's
              * contact a triangle's, exempt from release, pulling for ever */
-            if (vc->geom && !(gap < vc->gap - 1e-6 * t)) continue;
+            if (vc->geom && !(gap < vc->gap - DCLOTH_TOUCH * t)) continue;
             vc->geom = g;
             vc->body = body;
             for (int q = 0; q < 3; q++) {

@@ -12,20 +12,26 @@
  *      so it never reaches your own dSpaceCollide callback) against the space
  *      you gave, nested spaces included, through ODE's dSpaceCollide2 and its
  *      category / collide bits;
- *   2. each vertex inside a candidate geom's AABB is tested with a sphere
- *      proxy of the cloth's thickness (dCollide): a vertex that is, or would
- *      end the step, closer than the thickness gets a velocity constraint
- *      (paper eq. 22): its normal velocity is the body's point velocity
- *      (dBodyGetPointVel) plus what removes the penetration within the step;
+ *   2. each vertex inside a candidate geom's AABB gets its distance and
+ *      normal to the geom (closed forms for sphere, box, capsule, cylinder
+ *      and plane, a ray for heightfields, a sphere proxy through dCollide
+ *      for the other classes), and cloth triangles near a box, capsule or
+ *      cylinder are tested against it with libccd; a vertex that is, or
+ *      would end the step, closer than the thickness gets a velocity
+ *      constraint (paper eq. 22): its normal velocity is the body's point
+ *      velocity (dBodyGetPointVel) plus what closes the gap within the step;
  *      Coulomb friction: sticking (the tangential velocity follows the body)
- *      while the needed force is within mu N, sliding (a force of mu N
- *      against the slip) beyond; a contact that pulled in the last step is
- *      released;
+ *      while the force that would hold it is within mu N, sliding (a force
+ *      of mu N against the slip) beyond; a contact that pulled in the last
+ *      step is released, and a free vertex that ends the step inside its
+ *      shell makes the step be solved again with it held;
  *   3. pins, to the world or to a point of a body, become constraints too;
  *   4. the core's implicit step (cloth_step) holds every constraint exactly;
  *   5. each constraint's force (from the solve's residual) and each sliding
  *      friction force is applied, opposite, to its body with
- *      dBodyAddForceAtPos; ODE's next dWorldStep carries it.
+ *      dBodyAddForceAtPos, together with a share of whatever else changed
+ *      the cloth's momentum, so cloth and bodies exchange momentum exactly;
+ *      ODE's next dWorldStep carries it.
  * So step the cloth first, then the world, with the same h (dClothWorldStep
  * does both).
  *
