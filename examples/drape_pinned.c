@@ -4,6 +4,9 @@
  * the step statistics as it goes and a summary at the end.
  *
  *   drape_pinned [--grid N] [--hz F] [--seconds T] [--alpha A] [--method be|bdf2|symplectic|explicit]
+ *
+ * A short run is a smoke test (every step must succeed):
+ * ctest: demo drape_pinned --seconds 0.5
  */
 #include <stdio.h>
 #include <stdlib.h>
