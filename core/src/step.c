@@ -36,8 +36,11 @@ static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
 
 /* The filter S_i (projector onto the free directions) of each vertex, and
  * z_i = (I - S_i)(v_target - v0): the velocity change that lands the vertex's
- * constrained components on the target, given x_new = a + cfac v_new. */
-static void build_constraints(cloth *c, const double *a, const double *v0, double cfac)
+ * constrained components on the target, given x_new = a + cfac v_new. A
+ * substep aims at the fraction frac of the way from xs (the positions when
+ * the whole step began) to the target; frac 1 (or xs NULL) is the target. */
+static void build_constraints(cloth *c, const double *a, const double *v0, double cfac, const double *xs,
+                              double frac)
 {
     int m = 0;
     for (int i = 0; i < c->n; i++)
@@ -57,8 +60,10 @@ static void build_constraints(cloth *c, const double *a, const double *v0, doubl
                 else if (k->ndof == 1) S[3 * r + s] -= nn; /* plane: normal constrained */
                 else S[3 * r + s] = nn;                   /* line: only the axis free  */
             }
-        double dvt[3];
-        for (int r = 0; r < 3; r++) dvt[r] = (k->target[r] - a[3 * i + r]) / cfac - v0[3 * i + r];
+        double dvt[3], tg[3];
+        for (int r = 0; r < 3; r++)
+            tg[r] = xs && frac != 1.0 ? xs[3 * i + r] + frac * (k->target[r] - xs[3 * i + r]) : k->target[r];
+        for (int r = 0; r < 3; r++) dvt[r] = (tg[r] - a[3 * i + r]) / cfac - v0[3 * i + r];
         for (int r = 0; r < 3; r++)
             z[r] = dvt[r] - (S[3 * r] * dvt[0] + S[3 * r + 1] * dvt[1] + S[3 * r + 2] * dvt[2]);
     }
@@ -169,7 +174,8 @@ static void jacobi_apply(void *ctx, const double *r, double *s)
  *   BDF2: (M - 2/3 h D - 4/9 h^2 K) dv = 2/3 h f0 + 1/3 M (v0 - v_-1)
  *            + K (2/9 h (x0 - x_-1) + 4/9 h^2 v0),      a = x0 + (x0 - x_-1)/3
  * (linearising f about (x0, v0); K = df/dx, D = df/dv). */
-static cloth_failure implicit_step(cloth *c, double h, int bdf2, cloth_step_stats *st)
+static cloth_failure implicit_step(cloth *c, double h, int bdf2, const double *xs, double frac,
+                                   cloth_step_stats *st)
 {
     const struct cloth_state *S0 = &c->st;
     const double *x0 = S0->x, *v0 = S0->v;
@@ -187,7 +193,7 @@ static cloth_failure implicit_step(cloth *c, double h, int bdf2, cloth_step_stat
         for (size_t k = 0; k < n3; k++) b[k] += c->mass[k / 3] * (v0[k] - S0->v_prev[k]) / 3.0;
     add_Kw(c, w, b);
 
-    build_constraints(c, a, v0, cfac);
+    build_constraints(c, a, v0, cfac, xs, frac);
     build_preconditioner(c);
     const cloth_solver *sv = &c->desc.solver;
     if (sv->warm_start) memcpy(c->dv, S0->dv_prev, n3 * sizeof *c->dv);
@@ -205,8 +211,8 @@ static cloth_failure implicit_step(cloth *c, double h, int bdf2, cloth_step_stat
     }
     mpcg_result r = sv->precond == CLOTH_PRECOND_SSOR ? ssor_run(&P, c->cflag, c->Ah, c->dv, c->cg)
                                                       : mpcg_run(&P, c->dv, c->cg);
-    st->iterations = r.iterations;
-    st->residual = r.residual;
+    st->iterations += r.iterations;
+    if (!(st->residual >= r.residual)) st->residual = r.residual;
     if (r.failure != CLOTH_FAIL_NONE) return r.failure;
 
     for (size_t k = 0; k < n3; k++) {
@@ -233,11 +239,11 @@ static cloth_failure implicit_step(cloth *c, double h, int bdf2, cloth_step_stat
 /* Explicit (forward) Euler: x1 = x0 + h v0, v1 = v0 + h a0. Symplectic
  * (semi-implicit) Euler: v1 = v0 + h a0, x1 = x0 + h v1. Constrained
  * components go to their targets in both, v1 = (target - x0) / h. */
-static cloth_failure explicit_step(cloth *c, double h, int symplectic)
+static cloth_failure explicit_step(cloth *c, double h, int symplectic, const double *xs, double frac)
 {
     const double *x0 = c->st.x, *v0 = c->st.v;
     forces_eval(c, x0, v0, 1, c->f);
-    build_constraints(c, x0, v0, h);
+    build_constraints(c, x0, v0, h, xs, frac);
     memset(c->con_new, 0, 3 * (size_t)c->n * sizeof *c->con_new);
     for (int i = 0; i < c->n; i++) {
         const double *Si = c->S + 9 * (size_t)i, *z = c->z + 3 * (size_t)i;
@@ -277,50 +283,41 @@ static cloth_status finish(cloth *c, cloth_step_stats *st, cloth_step_stats *out
     return s;
 }
 
-cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
+/* One step of size h from the current state into x_new, v_new, dv and
+ * con_new, the state untouched; constraints aimed at frac of the way from xs
+ * (see build_constraints). Adds iterations and corrected links to st; *ms is
+ * the new max strain. */
+static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, cloth_step_stats *st, double *ms)
 {
-    if (!c) return CLOTH_EINVAL;
-    cloth_step_stats st;
-    memset(&st, 0, sizeof st);
-    const cloth_solver *sv = &c->desc.solver;
-    st.method = sv->method;
-    if (!(h > 0.0) || !isfinite(h)) {
-        st.failure = CLOTH_FAIL_BAD_STEP;
-        fill_stats(c, &st, NAN);
-        finish(c, &st, out, CLOTH_EINVAL);
-        return cloth_fail(c, CLOTH_EINVAL, "cloth_step: h = %g must be finite and > 0", h);
-    }
     size_t n3 = 3 * (size_t)c->n;
+    const cloth_solver *sv = &c->desc.solver;
     int bdf2 = sv->method == CLOTH_BDF2 && c->st.has_prev && fabs(c->st.h_prev - h) <= 1e-12 * h;
     double cfac = h;
     cloth_failure fail;
     switch (sv->method) {
-    case CLOTH_EXPLICIT_EULER: fail = explicit_step(c, h, 0); break;
-    case CLOTH_SYMPLECTIC_EULER: fail = explicit_step(c, h, 1); break;
+    case CLOTH_EXPLICIT_EULER: fail = explicit_step(c, h, 0, xs, frac); break;
+    case CLOTH_SYMPLECTIC_EULER: fail = explicit_step(c, h, 1, xs, frac); break;
     default:
         /* BDF2's first step, or a step after h changed, is backward Euler */
-        fail = implicit_step(c, h, bdf2, &st);
+        fail = implicit_step(c, h, bdf2, xs, frac, st);
         if (bdf2) cfac = 2.0 * h / 3.0;
         break;
     }
     if (fail == CLOTH_FAIL_NONE && !(all_finite(c->x_new, n3) && all_finite(c->v_new, n3))) fail = CLOTH_FAIL_NAN;
     if (fail == CLOTH_FAIL_NONE && sv->strain_limit_iterations > 0)
-        st.strain_limited = strain_limit(c, c->x_new, c->v_new, c->S, cfac, sv->strain_limit_iterations);
+        st->strain_limited += strain_limit(c, c->x_new, c->v_new, c->S, cfac, sv->strain_limit_iterations);
     if (fail == CLOTH_FAIL_NONE && !(all_finite(c->x_new, n3) && all_finite(c->v_new, n3))) fail = CLOTH_FAIL_NAN;
-
-    double ms = 0.0;
     if (fail == CLOTH_FAIL_NONE) {
-        ms = max_strain_of(c, c->x_new);
-        if (!(ms <= sv->strain_fail)) fail = ms != ms ? CLOTH_FAIL_NAN : CLOTH_FAIL_STRAIN;
+        *ms = max_strain_of(c, c->x_new);
+        if (!(*ms <= sv->strain_fail)) fail = *ms != *ms ? CLOTH_FAIL_NAN : CLOTH_FAIL_STRAIN;
     }
-    if (fail != CLOTH_FAIL_NONE) {
-        st.failure = fail;
-        fill_stats(c, &st, NAN); /* the unchanged state */
-        finish(c, &st, out, CLOTH_ESTEP);
-        return cloth_fail(c, CLOTH_ESTEP, "cloth_step: %s (state unchanged)", cloth_failure_string(fail));
-    }
+    return fail;
+}
 
-    /* commit */
+/* Make the attempt of size h the state (constraint forces apart). */
+static void commit(cloth *c, double h)
+{
+    size_t n3 = 3 * (size_t)c->n;
     struct cloth_state *s = &c->st;
     memcpy(s->x_prev, s->x, n3 * sizeof *s->x);
     memcpy(s->v_prev, s->v, n3 * sizeof *s->v);
@@ -328,9 +325,96 @@ cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
     memcpy(s->v, c->v_new, n3 * sizeof *s->v);
     s->h_prev = h;
     s->has_prev = 1;
-    if (sv->method == CLOTH_BACKWARD_EULER || sv->method == CLOTH_BDF2) memcpy(s->dv_prev, c->dv, n3 * sizeof *c->dv);
-    memcpy(c->con_force, c->con_new, n3 * sizeof *c->con_force);
+    cloth_method m = c->desc.solver.method;
+    if (m == CLOTH_BACKWARD_EULER || m == CLOTH_BDF2) memcpy(s->dv_prev, c->dv, n3 * sizeof *c->dv);
     cloth_update_plastic(c);
+}
+
+/* The retry after the whole step failed: substeps of h / 2^d, d from 1 up
+ * to `halvings`, the substeps taken kept and a failed one split in two. On
+ * success the state is the end of the step and the constraint forces their
+ * length-weighted mean; past the bound (or without memory for the copy of
+ * the state) the state is restored and the last failure returned. */
+static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failure fail, cloth_step_stats *st,
+                                   double *ms)
+{
+    size_t n3 = 3 * (size_t)c->n;
+    struct cloth_state bk;
+    double *xs = malloc(n3 * sizeof *xs), *fsum = calloc(n3, sizeof *fsum);
+    if (!xs || !fsum || state_alloc(&bk, c->n, c->n_int) != 0) {
+        free(xs);
+        free(fsum);
+        return fail;
+    }
+    state_copy(&bk, &c->st);
+    memcpy(xs, c->st.x, n3 * sizeof *xs);
+    int d = 1, done = 0;
+    long k = 0; /* substeps of h / 2^d taken */
+    st->halvings = 1;
+    st->residual = 0.0;       /* from now on, of the substeps */
+    st->strain_limited = 0;
+    while (k < (1L << d)) {
+        double parts = (double)(1L << d), hs = h / parts; /* exact: a power of two */
+        fail = attempt(c, hs, xs, (double)(k + 1) / parts, st, ms);
+        if (fail == CLOTH_FAIL_NONE) {
+            commit(c, hs);
+            for (size_t q = 0; q < n3; q++) fsum[q] += c->con_new[q] / parts;
+            k++;
+            done++;
+            continue;
+        }
+        st->substeps_failed++;
+        if (d >= halvings) break;
+        d++;
+        k *= 2;
+        st->halvings++;
+    }
+    if (fail == CLOTH_FAIL_NONE) {
+        memcpy(c->con_force, fsum, n3 * sizeof *fsum);
+        st->substeps = done;
+    } else {
+        state_copy(&c->st, &bk);
+        st->substeps = done + 1;
+    }
+    state_free(&bk);
+    free(xs);
+    free(fsum);
+    return fail;
+}
+
+cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
+{
+    if (!c) return CLOTH_EINVAL;
+    cloth_step_stats st;
+    memset(&st, 0, sizeof st);
+    const cloth_solver *sv = &c->desc.solver;
+    st.method = sv->method;
+    st.substeps = 1;
+    if (!(h > 0.0) || !isfinite(h)) {
+        st.failure = CLOTH_FAIL_BAD_STEP;
+        fill_stats(c, &st, NAN);
+        finish(c, &st, out, CLOTH_EINVAL);
+        return cloth_fail(c, CLOTH_EINVAL, "cloth_step: h = %g must be finite and > 0", h);
+    }
+    double ms = 0.0;
+    cloth_failure fail = attempt(c, h, NULL, 1.0, &st, &ms);
+    if (fail == CLOTH_FAIL_NONE) {
+        commit(c, h);
+        memcpy(c->con_force, c->con_new, 3 * (size_t)c->n * sizeof *c->con_force);
+    } else {
+        st.first_failure = fail;
+        st.substeps_failed = 1;
+        if (sv->max_substep_halvings > 0) fail = substep_retry(c, h, sv->max_substep_halvings, fail, &st, &ms);
+    }
+    if (fail != CLOTH_FAIL_NONE) {
+        st.failure = fail;
+        fill_stats(c, &st, NAN); /* the unchanged state */
+        finish(c, &st, out, CLOTH_ESTEP);
+        if (st.halvings > 0)
+            return cloth_fail(c, CLOTH_ESTEP, "cloth_step: %s, also in substeps of h/%ld (state unchanged)",
+                              cloth_failure_string(fail), 1L << st.halvings);
+        return cloth_fail(c, CLOTH_ESTEP, "cloth_step: %s (state unchanged)", cloth_failure_string(fail));
+    }
     fill_stats(c, &st, ms); /* the committed positions are x_new */
     return finish(c, &st, out, CLOTH_OK);
 }

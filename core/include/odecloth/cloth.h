@@ -107,6 +107,10 @@ typedef struct cloth_solver {
                                      steps after a step; 0 = off          */
     double strain_fail;           /* 1, a step whose max sequential strain
                                      exceeds this after limiting fails    */
+    int max_substep_halvings;     /* a failed step is retried in substeps
+                                     h/2, h/4, ... h/2^this (0 = no retry;
+                                     in [0, 16], default 0 for now); see
+                                     cloth_step */
 } cloth_solver;
 
 cloth_status cloth_solver_validate(const cloth_solver *s, cloth_error *err);
@@ -243,20 +247,44 @@ const char *cloth_failure_string(cloth_failure f);
 
 typedef struct cloth_step_stats {
     cloth_method method;
-    cloth_failure failure;
-    int iterations;        /* CG iterations (0 for explicit methods)  */
-    double residual;       /* final relative residual (solver norm)   */
+    cloth_failure failure; /* why the step failed (its last attempt); NONE on success */
+    int iterations;        /* CG iterations, summed over every attempt and
+                              substep (0 for explicit methods)        */
+    double residual;       /* final relative residual (solver norm); the
+                              largest over the substeps               */
     cloth_energy energy;   /* after the step (before it, if it failed) */
     double max_strain;     /* after strain limiting                    */
     int plastic_links;
     int constrained;       /* constrained vertices                    */
-    int strain_limited;    /* sequential links corrected by the limit  */
+    int strain_limited;    /* sequential links corrected by the limit,
+                              summed over the substeps                */
+    int substeps;          /* substeps of the committed step (1: taken
+                              whole); on failure, those of the last attempt */
+    int halvings;          /* retries: times the substep was halved (0 if
+                              the whole step succeeded)               */
+    int substeps_failed;   /* substeps that failed and were retried
+                              shorter (or, past the bound, gave up)    */
+    cloth_failure first_failure; /* why the whole step failed before the
+                              retries (NONE if it did not)             */
 } cloth_step_stats;
 
-/* Advance by h seconds. If the step fails the state is exactly as before the
- * call, the return is CLOTH_ESTEP and stats->failure says why. An h that is
- * not finite and > 0 is a bad argument: CLOTH_EINVAL, failure BAD_STEP, state
- * unchanged. stats may be NULL. */
+/* Advance by h seconds. An h that is not finite and > 0 is a bad argument:
+ * CLOTH_EINVAL, failure BAD_STEP, state unchanged.
+ *
+ * A step fails on NaN/inf, CG not converging (or meeting non-positive
+ * curvature) or strain past solver.strain_fail. A failed step is retried from
+ * where it failed with half the substep, down to h / 2^max_substep_halvings:
+ * substeps already taken are kept, the failed one is taken again as two
+ * halves (and the rest of the step at that size). Constraint targets are the
+ * positions at the end of the whole step: a substep ending at time t of the
+ * step aims at x0 + (t / h) (target - x0) along the constrained directions,
+ * x0 the positions when the step began, so a moving pin moves at the same
+ * velocity in every substep. Constraint forces are averaged over the
+ * substeps (weighted by their length). If a substep of the smallest size
+ * fails too, the state is restored to exactly what it was before the call,
+ * the return is CLOTH_ESTEP and stats->failure says why. stats may be NULL.
+ * The retry path (and only it) allocates a copy of the state; without memory
+ * for it the step fails as if max_substep_halvings were 0. */
 cloth_status cloth_step(cloth *c, double h, cloth_step_stats *stats);
 const cloth_step_stats *cloth_last_stats(const cloth *c);
 
