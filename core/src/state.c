@@ -1,6 +1,8 @@
 /* The evolving state (positions, velocities, plastic state, step history)
  * apart from the model: save, restore, compare. */
 #include <math.h>
+#include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "internal.h"
@@ -109,4 +111,220 @@ double cloth_state_diff(const cloth_state *a, const cloth_state *b)
     for (int e = 0; e < a->n_int; e++)
         if (a->plastic[e] != b->plastic[e]) return m + 1.0;
     return m;
+}
+
+/* ------------------------------------------------------------ state files
+ *
+ * Format version 1, every number little-endian, doubles as IEEE 754 bits:
+ *   offset  size
+ *   0       8     magic "ODCLSTAT"
+ *   8       4     u32 format version (1)
+ *   12      4     u32 vertex count n
+ *   16      4     u32 interlaced link count m
+ *   20      4     u32 has_prev (0 or 1)
+ *   24      8     f64 h_prev (s; finite, >= 0, > 0 when has_prev)
+ *   32      8*3n  f64 x      positions (m)
+ *           8*3n  f64 v      velocities (m/s)
+ *           8*3n  f64 x_prev previous positions (BDF2)
+ *           8*3n  f64 v_prev previous velocities (BDF2)
+ *           8*3n  f64 dv_prev last velocity change (warm start)
+ *           8*m   f64 l1     plastic rest lengths (m, finite, > 0)
+ *           m     u8  plastic flags (0 or 1)
+ *   end-8   8     u64 FNV-1a 64 of every byte before it
+ * Every value is checked on reading; nothing is changed unless all pass. */
+
+#define STATE_MAGIC "ODCLSTAT"
+#define STATE_VERSION 1u
+#define STATE_HEADER 32u
+
+static size_t state_bytes(size_t n, size_t m) { return STATE_HEADER + 8 * (15 * n + m) + m + 8; }
+
+size_t cloth_state_size_bytes(const cloth_state *s)
+{
+    return s ? state_bytes((size_t)s->n, (size_t)s->n_int) : 0;
+}
+
+static void put_u32(unsigned char *p, uint32_t v)
+{
+    for (int k = 0; k < 4; k++) p[k] = (unsigned char)(v >> (8 * k));
+}
+
+static void put_u64(unsigned char *p, uint64_t v)
+{
+    for (int k = 0; k < 8; k++) p[k] = (unsigned char)(v >> (8 * k));
+}
+
+static uint32_t get_u32(const unsigned char *p)
+{
+    uint32_t v = 0;
+    for (int k = 0; k < 4; k++) v |= (uint32_t)p[k] << (8 * k);
+    return v;
+}
+
+static uint64_t get_u64(const unsigned char *p)
+{
+    uint64_t v = 0;
+    for (int k = 0; k < 8; k++) v |= (uint64_t)p[k] << (8 * k);
+    return v;
+}
+
+static void put_f64(unsigned char *p, double d)
+{
+    uint64_t v;
+    memcpy(&v, &d, sizeof v);
+    put_u64(p, v);
+}
+
+static double get_f64(const unsigned char *p)
+{
+    uint64_t v = get_u64(p);
+    double d;
+    memcpy(&d, &v, sizeof d);
+    return d;
+}
+
+static uint64_t fnv1a(const unsigned char *p, size_t n)
+{
+    uint64_t h = 14695981039346656037ull;
+    for (size_t k = 0; k < n; k++) h = (h ^ p[k]) * 1099511628211ull;
+    return h;
+}
+
+/* The five 3n arrays of a state, in file order. */
+static void state_arrays(const struct cloth_state *s, double *a[5])
+{
+    a[0] = s->x;
+    a[1] = s->v;
+    a[2] = s->x_prev;
+    a[3] = s->v_prev;
+    a[4] = s->dv_prev;
+}
+
+cloth_status cloth_state_write(const cloth_state *s, void *buf, size_t cap, size_t *written, cloth_error *err)
+{
+    if (written) *written = 0;
+    if (!s) return error_set(err, CLOTH_EINVAL, "cloth_state_write: state is NULL");
+    if (!buf) return error_set(err, CLOTH_EINVAL, "cloth_state_write: buffer is NULL");
+    size_t n = (size_t)s->n, m = (size_t)s->n_int, need = state_bytes(n, m);
+    if (cap < need)
+        return error_set(err, CLOTH_EINVAL, "cloth_state_write: buffer of %zu bytes, the state needs %zu", cap,
+                         need);
+    unsigned char *p = buf, *q = p;
+    memcpy(q, STATE_MAGIC, 8);
+    put_u32(q + 8, STATE_VERSION);
+    put_u32(q + 12, (uint32_t)n);
+    put_u32(q + 16, (uint32_t)m);
+    put_u32(q + 20, (uint32_t)(s->has_prev != 0));
+    put_f64(q + 24, s->h_prev);
+    q += STATE_HEADER;
+    double *a[5];
+    state_arrays(s, a);
+    for (int k = 0; k < 5; k++)
+        for (size_t i = 0; i < 3 * n; i++, q += 8) put_f64(q, a[k][i]);
+    for (size_t e = 0; e < m; e++, q += 8) put_f64(q, s->l1[e]);
+    for (size_t e = 0; e < m; e++) *q++ = s->plastic[e];
+    put_u64(q, fnv1a(p, (size_t)(q - p)));
+    if (written) *written = need;
+    return CLOTH_OK;
+}
+
+static const char *array_name[5] = {"x", "v", "x_prev", "v_prev", "dv_prev"};
+
+/* Check every field of a record for state s; CLOTH_OK or a message. */
+static cloth_status check_record(const cloth_state *s, const unsigned char *p, size_t len, cloth_error *err)
+{
+    if (len < STATE_HEADER)
+        return error_set(err, CLOTH_EINVAL, "cloth_state_read: %zu bytes, shorter than the %u-byte header", len,
+                         STATE_HEADER);
+    if (memcmp(p, STATE_MAGIC, 8) != 0)
+        return error_set(err, CLOTH_EINVAL, "cloth_state_read: not an odecloth state (bad magic)");
+    uint32_t ver = get_u32(p + 8), n = get_u32(p + 12), m = get_u32(p + 16), hp = get_u32(p + 20);
+    if (ver != STATE_VERSION)
+        return error_set(err, CLOTH_EINVAL, "cloth_state_read: format version %u, this library reads %u",
+                         (unsigned)ver, STATE_VERSION);
+    if (n != (uint32_t)s->n || m != (uint32_t)s->n_int)
+        return error_set(err, CLOTH_EINVAL,
+                         "cloth_state_read: the record is for %u vertices and %u interlaced links, the state "
+                         "for %d and %d",
+                         (unsigned)n, (unsigned)m, s->n, s->n_int);
+    size_t need = state_bytes(n, m);
+    if (len != need)
+        return error_set(err, CLOTH_EINVAL, "cloth_state_read: %zu bytes, a record of this size has %zu", len,
+                         need);
+    uint64_t sum = get_u64(p + need - 8);
+    if (sum != fnv1a(p, need - 8))
+        return error_set(err, CLOTH_EINVAL, "cloth_state_read: checksum mismatch (the record is damaged)");
+    if (hp > 1) return error_set(err, CLOTH_EINVAL, "cloth_state_read: has_prev = %u must be 0 or 1", (unsigned)hp);
+    double hprev = get_f64(p + 24);
+    if (!isfinite(hprev) || hprev < 0.0 || (hp && !(hprev > 0.0)))
+        return error_set(err, CLOTH_EINVAL, "cloth_state_read: h_prev = %g must be finite and >= 0 (> 0 with "
+                         "history)", hprev);
+    const unsigned char *q = p + STATE_HEADER;
+    for (int k = 0; k < 5; k++)
+        for (size_t i = 0; i < 3 * (size_t)n; i++, q += 8)
+            if (!isfinite(get_f64(q)))
+                return error_set(err, CLOTH_EINVAL, "cloth_state_read: %s[%zu] is not finite", array_name[k], i);
+    for (size_t e = 0; e < m; e++, q += 8) {
+        double l1 = get_f64(q);
+        if (!isfinite(l1) || !(l1 > 0.0))
+            return error_set(err, CLOTH_EINVAL, "cloth_state_read: l1[%zu] = %g must be finite and > 0", e, l1);
+    }
+    for (size_t e = 0; e < m; e++, q++)
+        if (*q > 1) return error_set(err, CLOTH_EINVAL, "cloth_state_read: plastic[%zu] = %u must be 0 or 1", e, *q);
+    return CLOTH_OK;
+}
+
+cloth_status cloth_state_read(cloth_state *s, const void *buf, size_t len, cloth_error *err)
+{
+    if (!s) return error_set(err, CLOTH_EINVAL, "cloth_state_read: state is NULL");
+    if (!buf) return error_set(err, CLOTH_EINVAL, "cloth_state_read: buffer is NULL");
+    const unsigned char *p = buf;
+    cloth_status r = check_record(s, p, len, err);
+    if (r != CLOTH_OK) return r;
+    size_t n = (size_t)s->n, m = (size_t)s->n_int;
+    s->has_prev = (int)get_u32(p + 20);
+    s->h_prev = get_f64(p + 24);
+    const unsigned char *q = p + STATE_HEADER;
+    double *a[5];
+    state_arrays(s, a);
+    for (int k = 0; k < 5; k++)
+        for (size_t i = 0; i < 3 * n; i++, q += 8) a[k][i] = get_f64(q);
+    for (size_t e = 0; e < m; e++, q += 8) s->l1[e] = get_f64(q);
+    for (size_t e = 0; e < m; e++) s->plastic[e] = *q++;
+    return CLOTH_OK;
+}
+
+cloth_status cloth_state_write_file(const cloth_state *s, FILE *f, cloth_error *err)
+{
+    if (!s) return error_set(err, CLOTH_EINVAL, "cloth_state_write_file: state is NULL");
+    if (!f) return error_set(err, CLOTH_EINVAL, "cloth_state_write_file: file is NULL");
+    size_t need = cloth_state_size_bytes(s);
+    unsigned char *buf = malloc(need);
+    if (!buf) return error_set(err, CLOTH_ENOMEM, "cloth_state_write_file: no memory for %zu bytes", need);
+    cloth_status r = cloth_state_write(s, buf, need, NULL, err);
+    if (r == CLOTH_OK && fwrite(buf, 1, need, f) != need)
+        r = error_set(err, CLOTH_EINVAL, "cloth_state_write_file: writing %zu bytes failed", need);
+    free(buf);
+    return r;
+}
+
+cloth_status cloth_state_read_file(cloth_state *s, FILE *f, cloth_error *err)
+{
+    if (!s) return error_set(err, CLOTH_EINVAL, "cloth_state_read_file: state is NULL");
+    if (!f) return error_set(err, CLOTH_EINVAL, "cloth_state_read_file: file is NULL");
+    /* exactly one record: the size of s's, read to its end and no further */
+    size_t need = cloth_state_size_bytes(s);
+    unsigned char *buf = malloc(need);
+    if (!buf) return error_set(err, CLOTH_ENOMEM, "cloth_state_read_file: no memory for %zu bytes", need);
+    size_t got = fread(buf, 1, STATE_HEADER, f);
+    cloth_status r;
+    if (got == STATE_HEADER && memcmp(buf, STATE_MAGIC, 8) == 0 &&
+        state_bytes(get_u32(buf + 12), get_u32(buf + 16)) == need)
+        got += fread(buf + got, 1, need - got, f);
+    /* a short or foreign record: check_record names what is wrong */
+    r = cloth_state_read(s, buf, got, err);
+    if (r != CLOTH_OK && got < need && ferror(f))
+        r = error_set(err, CLOTH_EINVAL, "cloth_state_read_file: reading failed after %zu bytes", got);
+    free(buf);
+    return r;
 }

@@ -17,6 +17,7 @@
 #define ODECLOTH_CLOTH_H
 
 #include <stddef.h>
+#include <stdio.h> /* FILE, for the state files */
 
 #ifdef __cplusplus
 extern "C" {
@@ -301,6 +302,23 @@ cloth_status cloth_restore(cloth *c, const cloth_state *s); /* sizes must match 
 /* Largest absolute difference of positions, velocities and l1, plus 1 for
  * any plastic flag that differs; 0 means identical. Negative if sizes differ. */
 double cloth_state_diff(const cloth_state *a, const cloth_state *b);
+
+/* State files: a versioned binary record of everything cloth_save keeps
+ * (little-endian, IEEE 754 doubles, a checksum; the layout is in state.c),
+ * so a run can be stopped and continued exactly, on this or another
+ * machine. Reading checks every field (magic, version, sizes against s,
+ * finite numbers, l1 > 0, flags 0 or 1, checksum, exact length) and changes
+ * s only if all pass; err (may be NULL) says what is wrong. */
+size_t cloth_state_size_bytes(const cloth_state *s); /* a record's size; 0 for NULL */
+/* Write the record into buf (cap bytes, at least cloth_state_size_bytes);
+ * *written (may be NULL) gets its size. */
+cloth_status cloth_state_write(const cloth_state *s, void *buf, size_t cap, size_t *written, cloth_error *err);
+/* Read a record of exactly len bytes into s (made for the same cloth size). */
+cloth_status cloth_state_read(cloth_state *s, const void *buf, size_t len, cloth_error *err);
+/* The same on an open stream (binary mode): one record, read or written
+ * from the current position; reading stops at the record's end. */
+cloth_status cloth_state_write_file(const cloth_state *s, FILE *f, cloth_error *err);
+cloth_status cloth_state_read_file(cloth_state *s, FILE *f, cloth_error *err);
 
 #ifdef __cplusplus
 }

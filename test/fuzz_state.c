@@ -1,0 +1,297 @@
+/* Fuzz: the state file reader (cloth_state_read), the one file input of the
+ * core.
+ *
+ * One entry point, fuzz_one() (= LLVMFuzzerTestOneInput), for a 3 x 4 cloth:
+ * input byte 0 is a mode (bit 0: make the record's checksum right first, so
+ * mutations reach the field checks; bit 1: step the restored cloth once with
+ * substep retries on), the rest is a record. Asserted for every input:
+ *   - refused: CLOTH_EINVAL with a message, the destination state unchanged;
+ *   - accepted: written back, the bytes are the input's; restored, every
+ *     position and velocity is finite; stepped, the step returns OK (state
+ *     finite) or ESTEP (state exactly the restored one).
+ * A violation prints what and aborts (a crash for libFuzzer, a failure for
+ * CTest).
+ *
+ * Built two ways:
+ *   - CTest (label fuzz, gcc or clang, no libFuzzer): main() replays every
+ *     file of test/corpus/state/ and then FUZZ_MUTATIONS deterministic random
+ *     mutations of them (bit flips, interesting bytes and doubles, inserted,
+ *     deleted and truncated bytes, splices) through fuzz_one().
+ *     `fuzz_state --write-corpus DIR` writes the seed records.
+ *   - `make fuzz` (clang -fsanitize=fuzzer,address,undefined,
+ *     -DODECLOTH_LIBFUZZER): libFuzzer's own main drives fuzz_one() from the
+ *     same corpus for a bounded time.
+ */
+#include <dirent.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "odecloth/cloth.h"
+#include "check.h"
+
+#ifndef ODECLOTH_TEST_CORPUS
+#define ODECLOTH_TEST_CORPUS "test/corpus"
+#endif
+
+#define FUZZ_MUTATIONS 30000
+
+static void die(const char *what, const uint8_t *data, size_t size)
+{
+    fprintf(stderr, "fuzz_state: %s (input of %zu bytes, mode %d)\n", what, size, size ? data[0] : -1);
+    abort();
+}
+
+static cloth *small_cloth(void)
+{
+    cloth_desc d = cloth_default_desc();
+    d.rows = 3;
+    d.cols = 4;
+    d.solver.max_substep_halvings = 2;
+    d.solver.cg_max_iterations = 200;
+    cloth *c = NULL;
+    if (cloth_create(&d, &c, NULL) != CLOTH_OK) return NULL;
+    cloth_pin(c, 0, cloth_positions(c));
+    return c;
+}
+
+/* FNV-1a 64 of all but the last 8 bytes, written into them (the format's
+ * checksum, computed here on its own) */
+static void reseal(uint8_t *p, size_t len)
+{
+    if (len < 8) return;
+    uint64_t h = 0xcbf29ce484222325ull;
+    for (size_t k = 0; k + 8 < len; k++) h = (h ^ p[k]) * 0x100000001b3ull;
+    for (int k = 0; k < 8; k++) p[len - 8 + k] = (uint8_t)(h >> (8 * k));
+}
+
+static int finite_all(const double *a, size_t n)
+{
+    for (size_t k = 0; k < n; k++)
+        if (!(a[k] - a[k] == 0.0)) return 0;
+    return 1;
+}
+
+/* what the inputs did: refused, accepted, stepped OK, step failed */
+static long n_refused, n_accepted, n_stepped, n_step_failed;
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    if (size == 0) return 0;
+    int mode = data[0];
+    size_t len = size - 1;
+    uint8_t *rec = malloc(len + 1);
+    if (!rec) return 0;
+    memcpy(rec, data + 1, len);
+    if (mode & 1) reseal(rec, len);
+    cloth *c = small_cloth();
+    cloth_state *st = cloth_state_create(c), *ref = cloth_state_create(c);
+    if (!c || !st || !ref) die("setup failed", data, size);
+    size_t n3 = 3 * (size_t)cloth_vertex_count(c);
+    cloth_save(c, st);
+    cloth_save(c, ref);
+    cloth_error err;
+    memset(&err, 0, sizeof err);
+    cloth_status r = cloth_state_read(st, rec, len, &err);
+    if (r != CLOTH_OK) {
+        n_refused++;
+        if (r != CLOTH_EINVAL) die("refused with a status other than EINVAL", data, size);
+        if (!err.message[0]) die("refused without a message", data, size);
+        if (cloth_state_diff(st, ref) != 0.0) die("a refused record changed the state", data, size);
+    } else {
+        n_accepted++;
+        uint8_t *back = malloc(len + 1);
+        size_t wr = 0;
+        if (!back || cloth_state_write(st, back, len, &wr, &err) != CLOTH_OK || wr != len ||
+            memcmp(back, rec, len) != 0)
+            die("an accepted record does not write back to the same bytes", data, size);
+        free(back);
+        if (cloth_restore(c, st) != CLOTH_OK) die("restore of an accepted record failed", data, size);
+        if (!finite_all(cloth_positions(c), n3) || !finite_all(cloth_velocities(c), n3))
+            die("an accepted record put NaN or inf in the cloth", data, size);
+        if (mode & 2) {
+            cloth_step_stats sts;
+            cloth_status s = cloth_step(c, 1.0 / 60, &sts);
+            if (s == CLOTH_OK) {
+                n_stepped++;
+                if (!finite_all(cloth_positions(c), n3) || !finite_all(cloth_velocities(c), n3))
+                    die("a step from an accepted record left NaN or inf", data, size);
+            } else {
+                n_step_failed++;
+                if (s != CLOTH_ESTEP) die("the step returned neither OK nor ESTEP", data, size);
+                cloth_save(c, ref);
+                if (cloth_state_diff(st, ref) != 0.0) die("a failed step changed the state", data, size);
+            }
+        }
+    }
+    free(rec);
+    cloth_state_destroy(st);
+    cloth_state_destroy(ref);
+    cloth_destroy(c);
+    return 0;
+}
+
+#ifndef ODECLOTH_LIBFUZZER
+
+typedef struct blob {
+    uint8_t *p;
+    size_t n;
+} blob;
+
+static blob read_all(const char *path)
+{
+    blob b = {NULL, 0};
+    FILE *f = fopen(path, "rb");
+    if (!f) return b;
+    size_t cap = 1 << 16;
+    b.p = malloc(cap);
+    size_t got;
+    while (b.p && (got = fread(b.p + b.n, 1, cap - b.n, f)) > 0) {
+        b.n += got;
+        if (b.n == cap) b.p = realloc(b.p, cap *= 2);
+    }
+    fclose(f);
+    return b;
+}
+
+static int write_file(const char *dir, const char *name, int mode, const cloth_state *s)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "wb");
+    if (!f) return -1;
+    fputc(mode, f);
+    cloth_error err;
+    int rc = cloth_state_write_file(s, f, &err) == CLOTH_OK ? 0 : -1;
+    fclose(f);
+    return rc;
+}
+
+/* Seeds: the rest state; hung 30 steps (history, warm start); creased
+ * (plastic links) and moving fast. */
+static int write_corpus(const char *dir)
+{
+    cloth *c = small_cloth();
+    cloth_state *s = cloth_state_create(c);
+    int rc = write_file(dir, "rest", 0, (cloth_save(c, s), s));
+    for (int k = 0; k < 30; k++) cloth_step(c, 1.0 / 60, NULL);
+    cloth_save(c, s);
+    rc |= write_file(dir, "hung", 2, s);
+    cloth_material m = cloth_get_desc(c).material;
+    m.alpha = 1.0;
+    cloth_set_material(c, &m);
+    double v[36];
+    for (int k = 0; k < 36; k++) v[k] = (k % 3 == 2) ? 5.0 : -1.0;
+    cloth_set_velocities(c, v);
+    for (int k = 0; k < 5; k++) cloth_step(c, 1.0 / 60, NULL);
+    cloth_save(c, s);
+    rc |= write_file(dir, "creased_fast", 3, s);
+    cloth_state_destroy(s);
+    cloth_destroy(c);
+    return rc;
+}
+
+static const double special[] = {0.0, -0.0, 1.0, -1.0, 1e-310, 1e308, -1e308, 1e300, 5e-324, 1.0 / 60, 0.05};
+
+static void mutate(rng *g, const blob *seeds, int ns, blob *out)
+{
+    const blob *s = &seeds[rng_u64(g) % (uint64_t)ns];
+    size_t cap = s->n + 64;
+    out->p = malloc(cap);
+    memcpy(out->p, s->p, s->n);
+    out->n = s->n;
+    int edits = 1 + (int)(rng_u64(g) % 4);
+    for (int e = 0; e < edits && out->n > 0; e++) {
+        size_t at = (size_t)(rng_u64(g) % out->n);
+        switch (rng_u64(g) % 9) {
+        case 0: out->p[at] ^= (uint8_t)(1u << (rng_u64(g) % 8)); break; /* bit flip */
+        case 1: out->p[at] = (uint8_t)rng_u64(g); break;                  /* random byte */
+        case 2: { /* an interesting double at an 8-aligned offset of the record */
+            double d = rng_u64(g) % 2 ? special[rng_u64(g) % (sizeof special / sizeof special[0])]
+                                      : (rng_u64(g) % 2 ? NAN : (rng_u64(g) % 2 ? INFINITY : -INFINITY));
+            size_t off = 1 + ((at / 8) * 8);
+            if (off + 8 <= out->n) memcpy(out->p + off, &d, 8);
+            break;
+        }
+        case 3: { /* an interesting u32 in the header */
+            static const uint32_t u[] = {0, 1, 2, 11, 12, 13, 0x7fffffff, 0xffffffff, 0x80000000};
+            size_t off = 1 + 4 * (size_t)(2 + rng_u64(g) % 4);
+            uint32_t val = u[rng_u64(g) % (sizeof u / sizeof u[0])];
+            if (off + 4 <= out->n) memcpy(out->p + off, &val, 4);
+            break;
+        }
+        case 4: out->n = at; break; /* truncate */
+        case 5:                     /* insert bytes */
+            if (out->n + 8 <= cap) {
+                size_t k = 1 + (size_t)(rng_u64(g) % 8);
+                memmove(out->p + at + k, out->p + at, out->n - at);
+                for (size_t q = 0; q < k; q++) out->p[at + q] = (uint8_t)rng_u64(g);
+                out->n += k;
+            }
+            break;
+        case 6: { /* delete bytes */
+            size_t k = 1 + (size_t)(rng_u64(g) % 8);
+            if (at + k > out->n) k = out->n - at;
+            memmove(out->p + at, out->p + at + k, out->n - at - k);
+            out->n -= k;
+            break;
+        }
+        case 7: { /* splice: the tail of another seed */
+            const blob *o = &seeds[rng_u64(g) % (uint64_t)ns];
+            size_t k = o->n > at ? o->n - at : 0;
+            if (at + k > cap) k = cap - at;
+            memcpy(out->p + at, o->p + at, k);
+            out->n = at + k;
+            break;
+        }
+        default: out->p[0] = (uint8_t)(rng_u64(g) % 4); break; /* mode */
+        }
+    }
+}
+
+int main(int argc, char **argv)
+{
+    if (argc == 3 && !strcmp(argv[1], "--write-corpus")) return write_corpus(argv[2]) ? 1 : 0;
+    const char *dir = argc > 1 ? argv[1] : ODECLOTH_TEST_CORPUS "/state";
+    long mutations = argc > 2 ? atol(argv[2]) : FUZZ_MUTATIONS;
+    DIR *dp = opendir(dir);
+    if (!CHECK(dp != NULL, "no corpus directory %s", dir)) return check_summary();
+    blob seeds[64];
+    int ns = 0;
+    struct dirent *de;
+    while ((de = readdir(dp)) && ns < 64) {
+        if (de->d_name[0] == '.') continue;
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s", dir, de->d_name);
+        blob b = read_all(path);
+        if (b.p) seeds[ns++] = b;
+    }
+    closedir(dp);
+    CHECK(ns >= 3, "%d corpus files in %s, expected the 3 seeds at least", ns, dir);
+    for (int k = 0; k < ns; k++) LLVMFuzzerTestOneInput(seeds[k].p, seeds[k].n);
+    /* the seeds themselves must be valid records */
+    cloth *c = small_cloth();
+    cloth_state *s = cloth_state_create(c);
+    int valid = 0;
+    for (int k = 0; k < ns; k++) valid += seeds[k].n > 0 && cloth_state_read(s, seeds[k].p + 1, seeds[k].n - 1, NULL) == 0;
+    CHECK(valid >= 3, "only %d valid records among the seeds", valid);
+    cloth_state_destroy(s);
+    cloth_destroy(c);
+    rng g = rng_seed(0x5eedf00du);
+    for (long k = 0; k < mutations && ns > 0; k++) {
+        blob m;
+        mutate(&g, seeds, ns, &m);
+        LLVMFuzzerTestOneInput(m.p, m.n);
+        free(m.p);
+    }
+    printf("%d corpus files and %ld mutations through cloth_state_read: no violation; %ld refused, %ld "
+           "accepted (%ld stepped, %ld steps failed and rolled back)\n",
+           ns, mutations, n_refused, n_accepted, n_stepped, n_step_failed);
+    CHECK(n_refused > 0 && n_accepted > mutations / 100 && n_stepped > 0 && n_step_failed > 0,
+          "the mutations do not reach every outcome");
+    for (int k = 0; k < ns; k++) free(seeds[k].p);
+    return check_summary();
+}
+#endif
