@@ -145,6 +145,9 @@ void cloth_destroy(cloth *c)
     free(c->con);
     free(c->con_force);
     free(c->f_ext);
+    free(c->body);
+    free(c->body_ws);
+    free(c->vbody);
     bsr_free(&c->A);
     free(c->seq_blk);
     free(c->int_blk);

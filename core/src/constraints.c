@@ -29,6 +29,7 @@ cloth_status cloth_set_constraint(cloth *c, const cloth_constraint *k)
     int was = c->con[k->vertex].ndof != 0, now = kk.ndof != 0;
     c->con[k->vertex] = kk;
     c->n_con += now - was;
+    if (c->vbody) c->vbody[k->vertex] = -1;
     if (!now) memset(c->con_force + 3 * k->vertex, 0, 3 * sizeof(double));
     return CLOTH_OK;
 }
@@ -55,6 +56,8 @@ void cloth_release_all(cloth *c)
     memset(c->con, 0, (size_t)c->n * sizeof *c->con);
     memset(c->con_force, 0, 3 * (size_t)c->n * sizeof *c->con_force);
     c->n_con = 0;
+    if (c->vbody)
+        for (int i = 0; i < c->n; i++) c->vbody[i] = -1;
 }
 
 cloth_status cloth_get_constraint(const cloth *c, int vertex, cloth_constraint *out)

@@ -88,6 +88,12 @@ struct cloth {
     int n_con;
     double *con_force;         /* 3n, N, from the last step */
     double *f_ext;             /* 3n, N, external forces (cloth_set_external_forces) */
+    /* rigid bodies solved with the cloth (bodies.c) */
+    int nbody;
+    cloth_body *body;          /* nbody, as set */
+    double *body_ws;           /* per body: M (36), rhs (6), du (6), Ginv (36),
+                                  CG vectors (5 x 6); vbody (n ints) after */
+    int *vbody;                /* n: body of each constrained vertex, -1 none */
 
     /* step workspace, sized at creation: the step allocates nothing */
     bsr A;                     /* pattern: diagonal + one block pair per link */
@@ -126,6 +132,11 @@ int workspace_alloc(cloth *c);
  * most `iterations` Newton steps; returns the number of links over the limit
  * before the first. */
 int strain_limit(cloth *c, double *x, double *v, const double *S, double cfac, int iterations);
+
+/* bodies.c: fill B for this step's solve (h the step, cfac the method's
+ * dx/dv_new); NULL when no constrained vertex is held by a body. */
+struct mpcg_bodies;
+const struct mpcg_bodies *bodies_prepare(cloth *c, double h, double cfac, struct mpcg_bodies *B);
 
 /* state.c */
 int state_alloc(struct cloth_state *s, int n, int n_int);

@@ -33,7 +33,7 @@ static double dot(const double *a, const double *b, size_t n)
 mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const double *z,
                        const double *Pinv, double tol, int max_iter, double *x, double *w)
 {
-    mpcg_problem P = {A, b, S, z, Pinv, NULL, 0, NULL, NULL, tol, max_iter};
+    mpcg_problem P = {A, b, S, z, Pinv, NULL, 0, NULL, NULL, tol, max_iter, NULL};
     return mpcg_run(&P, x, w);
 }
 
@@ -41,7 +41,7 @@ mpcg_result mpcg_solve_pc(const bsr *A, const double *b, const double *S, const 
                           const double *Dinv, mpcg_precond_fn pc, void *ctx, double tol, int max_iter,
                           double *x, double *w)
 {
-    mpcg_problem P = {A, b, S, z, Dinv, NULL, 0, pc, ctx, tol, max_iter};
+    mpcg_problem P = {A, b, S, z, Dinv, NULL, 0, pc, ctx, tol, max_iter, NULL};
     return mpcg_run(&P, x, w);
 }
 
@@ -61,12 +61,25 @@ static void filter_inplace(const mpcg_problem *P, double *y)
 int mpcg_reference(const mpcg_problem *P, double *x, double *r, double *u, double *ref, mpcg_result *res)
 {
     size_t N = 3 * (size_t)P->A->n;
+    const mpcg_bodies *B = P->bodies;
     /* z is zero but at the constrained vertices */
     bsr_mul_cols(P->A, P->z, P->con, P->ncon, u);
     for (size_t k = 0; k < N; k++) r[k] = P->b[k] - u[k];
+    double bref = 0.0;
+    if (B) {
+        /* the bodies' rows at u = 0: rhs + J^T P (b - A z), weighted by ginv */
+        if (bodies_precond(P)) {
+            res->failure = CLOTH_FAIL_CG_INDEFINITE;
+            return 1;
+        }
+        bodies_reduce(P, r, NULL, 0.0, B->r);
+        for (int k = 0; k < 6 * B->nb; k++) B->r[k] += B->rhs[k];
+        bodies_apply_ginv(B, B->r, B->s);
+        bref = dot(B->r, B->s, 6 * (size_t)B->nb);
+    }
     filter_inplace(P, r);
     filter_apply(P->A->n, P->Dinv, r, u);
-    *ref = dot(r, u, N);
+    *ref = dot(r, u, N) + bref;
     if (!isfinite(*ref)) {
         res->failure = CLOTH_FAIL_NAN;
         return 1;
@@ -94,6 +107,10 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
     mpcg_result res = {0, 0.0, CLOTH_FAIL_NONE};
     double tol = P->tol;
     int max_iter = P->max_iter;
+    /* Bodies (P->bodies): six more unknowns each, the vectors' tails B->u,
+     * r, p, q, s of length NB; their preconditioner and norm weight is ginv. */
+    const mpcg_bodies *B = P->bodies;
+    size_t NB = B ? 6 * (size_t)B->nb : 0;
     /* s = S M r (the filtered preconditioned residual). With block Jacobi
      * (pc NULL) M = Dinv, and the norm r^T Dinv r is r^T s: no second product. */
 #define PRECONDITION()                                          \
@@ -101,22 +118,30 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
         if (P->pc) P->pc(P->ctx, r, s);                         \
         else filter_apply(n, Dinv, r, s);                       \
         filter_inplace(P, s);                                   \
+        if (B) bodies_apply_ginv(B, B->r, B->s);                \
     } while (0)
-#define NORM2() (filter_apply(n, Dinv, r, u), dot(r, u, N))
+#define NORM2() (filter_apply(n, Dinv, r, u), dot(r, u, N) + (B ? dot(B->r, B->s, NB) : 0.0))
+#define DOT(a, b) (dot(a, b, N) + (B ? dot(B->a, B->b, NB) : 0.0))
 
     /* reference: the reduced right-hand side S (b - A z) */
     double ref;
     if (mpcg_reference(P, x, r, t, &ref, &res)) return res;
 
-    /* x = S guess + z */
+    /* x = S guess + z (and the bodies' u = 0) */
     filter_inplace(P, x);
     for (size_t k = 0; k < N; k++) x[k] += z[k];
     bsr_mul(A, x, t);
     for (size_t k = 0; k < N; k++) r[k] = b[k] - t[k];
+    if (B) { /* the bodies' residual rhs - M u + J^T P (b - A dv) at u = 0 */
+        memset(B->u, 0, NB * sizeof *B->u);
+        bodies_reduce(P, r, NULL, 0.0, B->r);
+        for (size_t k = 0; k < NB; k++) B->r[k] += B->rhs[k];
+    }
     filter_inplace(P, r);
     PRECONDITION();
-    double delta = dot(r, s, N), rr = P->pc ? NORM2() : delta;
+    double delta = DOT(r, s), rr = P->pc ? NORM2() : delta;
     memcpy(p, s, N * sizeof *p);
+    if (B) memcpy(B->p, B->s, NB * sizeof *B->p);
     double tol2 = tol * tol * ref;
 
     int it = 0;
@@ -129,9 +154,16 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
             res.failure = CLOTH_FAIL_CG_MAX_ITER;
             break;
         }
-        bsr_mul(A, p, q);
+        if (B) { /* q = [S; J^T P] A (p + P J p_u) + (0, M p_u) */
+            memcpy(t, p, N * sizeof *t);
+            bodies_expand(P, B->p, t);
+            bsr_mul(A, t, q);
+            bodies_reduce(P, q, B->p, 1.0, B->q);
+        } else {
+            bsr_mul(A, p, q);
+        }
         filter_inplace(P, q);
-        double pq = dot(p, q, N);
+        double pq = DOT(p, q);
         if (!isfinite(pq)) {
             res.failure = CLOTH_FAIL_NAN;
             break;
@@ -145,18 +177,25 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
             x[k] += alpha * p[k];
             r[k] -= alpha * q[k];
         }
+        for (size_t k = 0; k < NB; k++) {
+            B->u[k] += alpha * B->p[k];
+            B->r[k] -= alpha * B->q[k];
+        }
         PRECONDITION();
-        double dnew = dot(r, s, N);
+        double dnew = DOT(r, s);
         rr = P->pc ? NORM2() : dnew;
         double beta = dnew / delta;
         for (size_t k = 0; k < N; k++) p[k] = s[k] + beta * p[k];
+        for (size_t k = 0; k < NB; k++) B->p[k] = B->s[k] + beta * B->p[k];
         delta = dnew;
         it++;
     }
+    if (B) bodies_expand(P, B->u, x); /* the held vertices follow their bodies */
     res.iterations = it;
     res.residual = sqrt(fmax(rr, 0.0) / ref);
     if (res.failure == CLOTH_FAIL_NONE && !isfinite(rr)) res.failure = CLOTH_FAIL_NAN;
     return res;
 #undef PRECONDITION
 #undef NORM2
+#undef DOT
 }

@@ -29,6 +29,25 @@ mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const dou
  * directions; the solver filters s afterwards). */
 typedef void (*mpcg_precond_fn)(void *ctx, const double *r, double *s);
 
+/* Rigid bodies solved with the cloth (bodies.c; cloth_body in cloth.h).
+ * Constrained vertex i held by body g has
+ *   dv_i = S_i w_i + z_i + (I - S_i) J_i u_g,  J_i u = u_lin + u_ang x r_i,
+ * r_i = x_i - com_g, and u_g (6) solves, with the cloth,
+ *   M_g u_g = rhs_g - sum_i J_i^T (I - S_i) (A dv - b)_i.
+ * The CG then runs on (w, u): the operator [S; J^T P] A [S, P J] +
+ * diag(0, M) is symmetric and definite when A is. */
+typedef struct mpcg_bodies {
+    int nb;
+    const int *vbody;  /* n: body of each vertex, -1 none (constrained only) */
+    const double *x;   /* 3n: positions at the step's start (lever arms) */
+    const double *com; /* 3 nb */
+    const double *M;   /* 36 nb: 6x6 mass matrices, scaled as the cloth's rows */
+    const double *rhs; /* 6 nb: impulse from everything but the cloth, likewise */
+    double *ginv;      /* 36 nb: out of bodies_precond */
+    double *u;         /* 6 nb: out, the velocity changes */
+    double *r, *p, *q, *s; /* 6 nb each: CG scratch */
+} mpcg_bodies;
+
 /* The general form used by the step. */
 typedef struct mpcg_problem {
     const bsr *A;
@@ -44,7 +63,19 @@ typedef struct mpcg_problem {
     void *ctx;
     double tol;
     int max_iter;
+    const mpcg_bodies *bodies; /* NULL: none */
 } mpcg_problem;
+
+/* bodies.c, the solver's body operations (P->bodies not NULL):
+ * out += sum over held vertices of (I - S_i) J_i u */
+void bodies_expand(const mpcg_problem *P, const double *u, double *out);
+/* out (6 nb) = s_m M u + sum_i J_i^T (I - S_i) t_i (u may be NULL: 0) */
+void bodies_reduce(const mpcg_problem *P, const double *t, const double *u, double s_m, double *out);
+/* ginv = (M + sum J^T (I - S) A_ii (I - S) J)^-1 per body; -1 when a block
+ * is not positive definite (then neither is the system), else 0. */
+int bodies_precond(const mpcg_problem *P);
+/* out = ginv r (6 nb) */
+void bodies_apply_ginv(const mpcg_bodies *B, const double *r, double *out);
 
 /* The start of a solve, shared by the solvers: r = S (b - A z), the
  * reduced right-hand side, and *ref its squared norm weighted by Dinv (u:

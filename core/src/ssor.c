@@ -117,6 +117,9 @@ mpcg_result ssor_run(const mpcg_problem *P, const unsigned char *cflag, double *
     const double *Dinv = P->Dinv;
     double *r = w, *p = w + N, *q = w + 2 * N, *s = w + 3 * N, *t = w + 4 * N, *u = w + 5 * N;
     mpcg_result res = {0, 0.0, CLOTH_FAIL_NONE};
+    /* bodies solved with the cloth: the plain modified CG (block Jacobi)
+     * carries their unknowns; this one does not */
+    if (P->bodies) return mpcg_run(P, x, w);
     build_filtered(A, P->S, cflag, Ah);
     /* u = rh0 = S (b - A z); ref, the stopping norm's reference */
     double ref;

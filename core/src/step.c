@@ -200,7 +200,9 @@ static cloth_failure implicit_step(cloth *c, double h, int bdf2, const double *x
     else memset(c->dv, 0, n3 * sizeof *c->dv);
     jacobi_ctx jctx = {c->n, c->jac};
     mpcg_problem P = {&c->A, b, c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL,
-                      sv->cg_tolerance, sv->cg_max_iterations};
+                      sv->cg_tolerance, sv->cg_max_iterations, NULL};
+    mpcg_bodies bodies;
+    P.bodies = bodies_prepare(c, h, cfac, &bodies);
     if (sv->precond == CLOTH_PRECOND_MULTIGRID) {
         mg_setup(&c->mg, &c->A, c->S, c->cflag, c->pre);
         P.pc = mg_apply;

@@ -233,6 +233,42 @@ int cloth_constraint_count(const cloth *c);
  * step (Baraff-Witkin: from the solve's residual). Zero if unconstrained. */
 cloth_status cloth_constraint_force(const cloth *c, int vertex, double f[3]);
 
+/* Rigid bodies solved together with the cloth (two-way coupling, implicit).
+ * A body that holds vertices (a pin, or a contact: see cloth_hold_by_body)
+ * and is not much heavier than the cloth cannot be coupled explicitly (the
+ * cloth's reaction applied to it only after the step): the two overshoot
+ * together. Described here, its velocity change over the step (linear, and
+ * angular about its centre of mass) joins the modified CG as six more
+ * unknowns: the body's equation M du = h (force + the cloth's reaction) is
+ * solved with the cloth's, and the held vertices' constrained components
+ * move with du. The cloth's constraint forces (cloth_constraint_force) are
+ * then exactly the reactions that make du; apply them, opposite, to the
+ * body. Backward Euler and BDF2 only (the explicit steppers treat the
+ * targets as final); gyroscopic terms are left out. */
+typedef struct cloth_body {
+    double mass;       /* kg, > 0 */
+    double inertia[9]; /* kg m^2, about the centre of mass in world axes,
+                          symmetric positive definite (row-major) */
+    double com[3];     /* m, centre of mass at the start of the step */
+    double force[3];   /* N, everything but the cloth acting on the body
+                          during the step (gravity, the user's forces) */
+    double torque[3];  /* N m, about com, likewise */
+} cloth_body;
+
+/* Replace the bodies (count 0: none). Rejected, with nothing changed, when
+ * a body is invalid or a vertex is held by a body past count. */
+cloth_status cloth_set_bodies(cloth *c, const cloth_body *bodies, int count);
+int cloth_body_count(const cloth *c);
+/* Let body `index` (0-based, of cloth_set_bodies; -1: none) hold the
+ * vertex's constraint: its target is then where the body's point would be
+ * if the body kept its velocity, and its constrained components also follow
+ * the body's velocity change, solved for with the cloth. Setting or
+ * releasing the vertex's constraint ends the hold. */
+cloth_status cloth_hold_by_body(cloth *c, int vertex, int index);
+/* The velocity change (linear m/s, then angular rad/s) body `index`
+ * (0-based) received in the last step's solve; zeros before any. */
+cloth_status cloth_body_velocity_change(const cloth *c, int index, double dv[6]);
+
 /* ------------------------------------------------------------------- step */
 
 typedef enum cloth_failure {

@@ -1,0 +1,295 @@
+/* Rigid bodies solved together with the cloth: the implicit two-way coupling
+ * of cloth_body (cloth.h). A body's six velocity unknowns join the modified
+ * CG (mpcg.c); this file holds the API, the per-step set-up and the solver's
+ * body operations. The held vertex i of body g moves, in its constrained
+ * directions P_i = I - S_i, with the body's point velocity change
+ *   J_i u = u_lin + u_ang x r_i,   r_i = x_i - com_g,
+ * and the body's row is M_g u_g = rhs_g - sum_i J_i^T P_i (A dv - b)_i. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "internal.h"
+#include "mpcg.h"
+
+/* workspace per body, in doubles: M ginv (36 each), rhs u r p q s (6 each), com (3) */
+enum { WS_PER_BODY = 2 * 36 + 6 * 6 + 3 };
+
+static int spd6_inverse(const double *A, double *out);
+
+static int body_valid(const cloth_body *b, char *why, size_t len, int k)
+{
+    if (!(b->mass > 0.0) || !isfinite(b->mass)) {
+        snprintf(why, len, "body %d: mass %g must be finite and > 0", k, b->mass);
+        return 0;
+    }
+    for (int a = 0; a < 9; a++)
+        if (!isfinite(b->inertia[a])) {
+            snprintf(why, len, "body %d: inertia must be finite", k);
+            return 0;
+        }
+    for (int r = 0; r < 3; r++)
+        for (int s = r + 1; s < 3; s++)
+            if (fabs(b->inertia[3 * r + s] - b->inertia[3 * s + r]) >
+                1e-9 * (fabs(b->inertia[3 * r + s]) + fabs(b->inertia[3 * s + r])) + 1e-300) {
+                snprintf(why, len, "body %d: inertia must be symmetric", k);
+                return 0;
+            }
+    double M[36] = {0}, Mi[36];
+    for (int r = 0; r < 3; r++) {
+        M[7 * r] = b->mass;
+        for (int s = 0; s < 3; s++) M[6 * (r + 3) + s + 3] = b->inertia[3 * r + s];
+    }
+    if (spd6_inverse(M, Mi)) {
+        snprintf(why, len, "body %d: inertia must be positive definite", k);
+        return 0;
+    }
+    if (!finite3(b->com) || !finite3(b->force) || !finite3(b->torque)) {
+        snprintf(why, len, "body %d: com, force and torque must be finite", k);
+        return 0;
+    }
+    return 1;
+}
+
+cloth_status cloth_set_bodies(cloth *c, const cloth_body *bodies, int count)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (count < 0) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_bodies: count %d must be >= 0", count);
+    if (count > 0 && !bodies) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_bodies: bodies is NULL");
+    if (count > (1 << 20)) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_bodies: count %d is too large", count);
+    char why[160];
+    for (int k = 0; k < count; k++)
+        if (!body_valid(&bodies[k], why, sizeof why, k))
+            return cloth_fail(c, CLOTH_EINVAL, "cloth_set_bodies: %s", why);
+    if (c->vbody)
+        for (int i = 0; i < c->n; i++)
+            if (c->vbody[i] >= count)
+                return cloth_fail(c, CLOTH_EINVAL,
+                                  "cloth_set_bodies: vertex %d is held by body %d of %d; release it first", i,
+                                  c->vbody[i], count);
+    if (count > c->nbody || !c->vbody) {
+        cloth_body *nb = malloc((size_t)(count > 0 ? count : 1) * sizeof *nb);
+        double *ws = calloc((size_t)(count > 0 ? count : 1) * WS_PER_BODY, sizeof *ws);
+        int *vb = c->vbody ? c->vbody : malloc((size_t)c->n * sizeof *vb);
+        if (!nb || !ws || !vb) {
+            free(nb);
+            free(ws);
+            if (vb != c->vbody) free(vb);
+            return cloth_fail(c, CLOTH_ENOMEM, "cloth_set_bodies: out of memory for %d bodies", count);
+        }
+        if (vb != c->vbody)
+            for (int i = 0; i < c->n; i++) vb[i] = -1;
+        free(c->body);
+        free(c->body_ws);
+        c->body = nb;
+        c->body_ws = ws;
+        c->vbody = vb;
+    } else {
+        memset(c->body_ws, 0, (size_t)(count > 0 ? count : 1) * WS_PER_BODY * sizeof *c->body_ws);
+    }
+    if (count > 0) memcpy(c->body, bodies, (size_t)count * sizeof *bodies);
+    c->nbody = count;
+    return CLOTH_OK;
+}
+
+int cloth_body_count(const cloth *c) { return c ? c->nbody : 0; }
+
+cloth_status cloth_hold_by_body(cloth *c, int vertex, int index)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (vertex < 0 || vertex >= c->n)
+        return cloth_fail(c, CLOTH_EINVAL, "cloth_hold_by_body: vertex %d out of range [0, %d)", vertex, c->n);
+    if (index < -1 || index >= c->nbody)
+        return cloth_fail(c, CLOTH_EINVAL, "cloth_hold_by_body: body %d must be -1 (none) or in [0, %d)", index,
+                          c->nbody);
+    if (index >= 0 && !c->con[vertex].ndof)
+        return cloth_fail(c, CLOTH_EINVAL, "cloth_hold_by_body: vertex %d has no constraint to hold", vertex);
+    if (c->vbody) c->vbody[vertex] = index;
+    return CLOTH_OK;
+}
+
+cloth_status cloth_body_velocity_change(const cloth *c, int index, double dv[6])
+{
+    if (!c || !dv) return CLOTH_EINVAL;
+    if (index < 0 || index >= c->nbody)
+        return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_body_velocity_change: body %d out of range [0, %d)",
+                          index, c->nbody);
+    memcpy(dv, c->body_ws + 2 * 36 * (size_t)c->nbody + 6 * ((size_t)c->nbody + index), 6 * sizeof *dv);
+    return CLOTH_OK;
+}
+
+const mpcg_bodies *bodies_prepare(cloth *c, double h, double cfac, mpcg_bodies *B)
+{
+    if (c->nbody == 0) return NULL;
+    int held = 0;
+    for (int i = 0; i < c->n; i++) held += c->vbody[i] >= 0 && c->con[i].ndof;
+    size_t nb = (size_t)c->nbody;
+    double *w = c->body_ws, *M = w, *ginv = w + 36 * nb, *rhs = w + 72 * nb;
+    B->nb = c->nbody;
+    B->vbody = c->vbody;
+    B->x = c->st.x;
+    B->M = M;
+    B->ginv = ginv;
+    B->rhs = rhs;
+    B->u = rhs + 6 * nb;
+    B->r = rhs + 12 * nb;
+    B->p = rhs + 18 * nb;
+    B->q = rhs + 24 * nb;
+    B->s = rhs + 30 * nb;
+    double *com = rhs + 36 * nb;
+    B->com = com;
+    memset(B->u, 0, 6 * nb * sizeof *B->u);
+    if (!held) return NULL;
+    /* the cloth's rows are scaled by cfac (A dv - b = cfac f_c); the body's
+     * row M du = h (F - f_c) likewise */
+    double s = cfac / h;
+    for (size_t g = 0; g < nb; g++) {
+        const cloth_body *b = &c->body[g];
+        double *Mg = M + 36 * g;
+        memset(Mg, 0, 36 * sizeof *Mg);
+        for (int r = 0; r < 3; r++) {
+            Mg[7 * r] = s * b->mass;
+            for (int q = 0; q < 3; q++) Mg[6 * (r + 3) + q + 3] = s * b->inertia[3 * r + q];
+            rhs[6 * g + r] = cfac * b->force[r];
+            rhs[6 * g + 3 + r] = cfac * b->torque[r];
+            com[3 * g + r] = b->com[r];
+        }
+    }
+    return B;
+}
+
+/* P_i = I - S_i applied to a 3-vector */
+static void con_project(const double *S, const double *a, double *o)
+{
+    for (int r = 0; r < 3; r++) o[r] = a[r] - (S[3 * r] * a[0] + S[3 * r + 1] * a[1] + S[3 * r + 2] * a[2]);
+}
+
+/* Loop over the held vertices (the constrained ones with a body). */
+#define FOR_HELD(P, i, g)                                                         \
+    for (int k_ = 0, n_ = (P)->con ? (P)->ncon : (P)->A->n; k_ < n_; k_++)       \
+        for (int i = (P)->con ? (P)->con[k_] : k_, g = (P)->bodies->vbody[i]; g >= 0; g = -1)
+
+static void lever(const mpcg_bodies *B, int i, int g, double r[3])
+{
+    for (int a = 0; a < 3; a++) r[a] = B->x[3 * i + a] - B->com[3 * g + a];
+}
+
+void bodies_expand(const mpcg_problem *P, const double *u, double *out)
+{
+    const mpcg_bodies *B = P->bodies;
+    FOR_HELD(P, i, g) {
+        const double *ug = u + 6 * g;
+        double r[3], v[3], pv[3];
+        lever(B, i, g, r);
+        v[0] = ug[0] + ug[4] * r[2] - ug[5] * r[1];
+        v[1] = ug[1] + ug[5] * r[0] - ug[3] * r[2];
+        v[2] = ug[2] + ug[3] * r[1] - ug[4] * r[0];
+        con_project(P->S + 9 * (size_t)i, v, pv);
+        for (int a = 0; a < 3; a++) out[3 * i + a] += pv[a];
+    }
+}
+
+void bodies_reduce(const mpcg_problem *P, const double *t, const double *u, double s_m, double *out)
+{
+    const mpcg_bodies *B = P->bodies;
+    for (int g = 0; g < B->nb; g++) {
+        double *o = out + 6 * g;
+        for (int a = 0; a < 6; a++) {
+            double m = 0.0;
+            if (u)
+                for (int b = 0; b < 6; b++) m += B->M[36 * g + 6 * a + b] * u[6 * g + b];
+            o[a] = s_m * m;
+        }
+    }
+    FOR_HELD(P, i, g) {
+        double r[3], f[3];
+        lever(B, i, g, r);
+        con_project(P->S + 9 * (size_t)i, t + 3 * i, f);
+        double *o = out + 6 * g;
+        o[0] += f[0];
+        o[1] += f[1];
+        o[2] += f[2];
+        o[3] += r[1] * f[2] - r[2] * f[1];
+        o[4] += r[2] * f[0] - r[0] * f[2];
+        o[5] += r[0] * f[1] - r[1] * f[0];
+    }
+}
+
+/* Inverse of a symmetric positive definite 6x6 matrix by Cholesky; -1 (out
+ * untouched) when it is not positive definite. */
+static int spd6_inverse(const double *A, double *out)
+{
+    double L[36] = {0};
+    for (int j = 0; j < 6; j++) {
+        double d = A[7 * j];
+        for (int k = 0; k < j; k++) d -= L[6 * j + k] * L[6 * j + k];
+        if (!(d > 0.0) || !isfinite(d)) return -1;
+        L[7 * j] = sqrt(d);
+        for (int i = j + 1; i < 6; i++) {
+            double s = A[6 * i + j];
+            for (int k = 0; k < j; k++) s -= L[6 * i + k] * L[6 * j + k];
+            L[6 * i + j] = s / L[7 * j];
+        }
+    }
+    /* columns of A^-1: solve L L^T x = e_c */
+    for (int c = 0; c < 6; c++) {
+        double y[6];
+        for (int i = 0; i < 6; i++) {
+            double s = i == c;
+            for (int k = 0; k < i; k++) s -= L[6 * i + k] * y[k];
+            y[i] = s / L[7 * i];
+        }
+        for (int i = 5; i >= 0; i--) {
+            double s = y[i];
+            for (int k = i + 1; k < 6; k++) s -= L[6 * k + i] * y[k];
+            y[i] = s / L[7 * i];
+        }
+        for (int i = 0; i < 6; i++) out[6 * i + c] = y[i];
+    }
+    return 0;
+}
+
+int bodies_precond(const mpcg_problem *P)
+{
+    const mpcg_bodies *B = P->bodies;
+    int nb = B->nb;
+    /* accumulate into ginv, then invert each block in place */
+    memcpy(B->ginv, B->M, 36 * (size_t)nb * sizeof *B->ginv);
+    FOR_HELD(P, i, g) {
+        const double *S = P->S + 9 * (size_t)i, *Aii = P->A->val + 9 * (size_t)P->A->diag[i];
+        double r[3], J[18], PJ[18], APJ[18];
+        lever(B, i, g, r);
+        /* J = [I, -[r]x] (3 x 6, row-major) */
+        double Jv[18] = {1, 0, 0, 0, r[2], -r[1], 0, 1, 0, -r[2], 0, r[0], 0, 0, 1, r[1], -r[0], 0};
+        memcpy(J, Jv, sizeof J);
+        for (int col = 0; col < 6; col++) {
+            double a[3] = {J[col], J[6 + col], J[12 + col]}, pa[3];
+            con_project(S, a, pa);
+            for (int row = 0; row < 3; row++) PJ[6 * row + col] = pa[row];
+        }
+        for (int row = 0; row < 3; row++)
+            for (int col = 0; col < 6; col++)
+                APJ[6 * row + col] = Aii[3 * row] * PJ[col] + Aii[3 * row + 1] * PJ[6 + col] +
+                                     Aii[3 * row + 2] * PJ[12 + col];
+        double *G = B->ginv + 36 * g;
+        for (int a = 0; a < 6; a++)
+            for (int b = 0; b < 6; b++)
+                G[6 * a + b] += PJ[a] * APJ[b] + PJ[6 + a] * APJ[6 + b] + PJ[12 + a] * APJ[12 + b];
+    }
+    for (int g = 0; g < nb; g++) {
+        double inv[36];
+        if (spd6_inverse(B->ginv + 36 * g, inv)) return -1;
+        memcpy(B->ginv + 36 * g, inv, sizeof inv);
+    }
+    return 0;
+}
+
+void bodies_apply_ginv(const mpcg_bodies *B, const double *r, double *out)
+{
+    for (int g = 0; g < B->nb; g++)
+        for (int a = 0; a < 6; a++) {
+            double s = 0.0;
+            for (int b = 0; b < 6; b++) s += B->ginv[36 * g + 6 * a + b] * r[6 * g + b];
+            out[6 * g + a] = s;
+        }
+}
