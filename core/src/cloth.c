@@ -1,6 +1,7 @@
 /* The cloth model: descriptor, creation (topology, rest lengths, masses,
  * workspaces), accessors and setters. Everything allocated here; the step
  * allocates nothing. */
+#include <float.h>
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -53,6 +54,22 @@ static cloth_status solver_check(const cloth_solver *s, cloth_error *err)
 
 static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
+/* a divided by its largest component's magnitude (zero stays zero): a
+ * direction whose squares neither overflow nor underflow. */
+static void unit_scaled(const double a[3], double out[3])
+{
+    double m = fmax(fabs(a[0]), fmax(fabs(a[1]), fabs(a[2])));
+    for (int k = 0; k < 3; k++) out[k] = m > 0.0 ? a[k] / m : 0.0;
+}
+
+/* Scales the grid must keep so that positions, rest lengths, their squares
+ * and masses are normal doubles resolved to better than 1e-7 relative: the
+ * cloth within 1e100 m of the origin, node spacing >= 1e-100 m and >= 1e-9
+ * of that extent. */
+#define CLOTH_MAX_EXTENT 1e100
+#define CLOTH_MIN_SPACING 1e-100
+#define CLOTH_MIN_SPACING_REL 1e-9
+
 cloth_status cloth_desc_validate(const cloth_desc *d, cloth_error *err)
 {
     if (!d) return error_set(err, CLOTH_EINVAL, "descriptor is NULL");
@@ -68,22 +85,44 @@ cloth_status cloth_desc_validate(const cloth_desc *d, cloth_error *err)
         {"origin", d->origin}, {"axis_u", d->axis_u}, {"axis_v", d->axis_v}, {"gravity", d->gravity}};
     for (size_t k = 0; k < 4; k++)
         if (!finite3(vec[k].v)) return error_set(err, CLOTH_EINVAL, "%s is not finite", vec[k].name);
-    double uu = dot3(d->axis_u, d->axis_u), vv = dot3(d->axis_v, d->axis_v), uv = dot3(d->axis_u, d->axis_v);
-    if (!(uu > 1e-24) || !(vv > 1e-24)) return error_set(err, CLOTH_EINVAL, "axis_u and axis_v must be non-zero");
+    double au[3], av[3];
+    unit_scaled(d->axis_u, au);
+    unit_scaled(d->axis_v, av);
+    double uu = dot3(au, au), vv = dot3(av, av), uv = dot3(au, av);
+    if (!(uu > 0.0) || !(vv > 0.0)) return error_set(err, CLOTH_EINVAL, "axis_u and axis_v must be non-zero");
     if (uu * vv - uv * uv <= 1e-12 * uu * vv)
         return error_set(err, CLOTH_EINVAL, "axis_u and axis_v must not be parallel");
+    double extent = fmax(fabs(d->origin[0]), fmax(fabs(d->origin[1]), fabs(d->origin[2]))) + d->width + d->height;
+    double dx = d->width / (d->cols - 1), dy = d->height / (d->rows - 1), sp = fmin(dx, dy);
+    if (!(extent <= CLOTH_MAX_EXTENT))
+        return error_set(err, CLOTH_EINVAL, "origin %g, %g, %g with size %g x %g m: the cloth must lie within %g m",
+                         d->origin[0], d->origin[1], d->origin[2], d->width, d->height, CLOTH_MAX_EXTENT);
+    if (!(sp >= CLOTH_MIN_SPACING) || !(sp >= CLOTH_MIN_SPACING_REL * extent))
+        return error_set(err, CLOTH_EINVAL,
+                         "node spacing %g m (size %g x %g m, grid %d x %d) must be >= %g m and >= %g times the "
+                         "cloth's distance from 0 (%g m) to be resolved",
+                         sp, d->width, d->height, d->rows, d->cols, CLOTH_MIN_SPACING, CLOTH_MIN_SPACING_REL,
+                         extent);
     cloth_status s = cloth_material_validate(&d->material, err);
     if (s != CLOTH_OK) return s;
+    /* a corner node carries a quarter cell, an inner one a whole cell */
+    double cell = d->material.density * dx * dy;
+    if (!(0.25 * cell >= DBL_MIN) || !isfinite(cell))
+        return error_set(err, CLOTH_EINVAL, "node masses from density %g kg/m^2 and cells of %g x %g m are %g kg: "
+                         "not a normal positive double", d->material.density, dx, dy, 0.25 * cell);
     return solver_check(&d->solver, err);
 }
 
 /* Orthonormal frame: u normalised, v made orthogonal to u (Gram-Schmidt). */
 static void frame(const cloth_desc *d, double u[3], double v[3])
 {
-    double nu = sqrt(dot3(d->axis_u, d->axis_u));
-    for (int k = 0; k < 3; k++) u[k] = d->axis_u[k] / nu;
-    double p = dot3(d->axis_v, u);
-    for (int k = 0; k < 3; k++) v[k] = d->axis_v[k] - p * u[k];
+    double au[3], av[3];
+    unit_scaled(d->axis_u, au);
+    unit_scaled(d->axis_v, av);
+    double nu = sqrt(dot3(au, au));
+    for (int k = 0; k < 3; k++) u[k] = au[k] / nu;
+    double p = dot3(av, u);
+    for (int k = 0; k < 3; k++) v[k] = av[k] - p * u[k];
     double nv = sqrt(dot3(v, v));
     for (int k = 0; k < 3; k++) v[k] /= nv;
 }

@@ -1,0 +1,459 @@
+/* Unit: random and extreme input to every public core function (seeded, so
+ * every run feeds the same inputs). The rule checked (cloth.h): a call
+ * returns an error or a valid result, never crashes, never leaves NaN or inf
+ * in the state, and leaves its object unchanged when it fails.
+ *
+ * 1. Descriptors: 4000 descriptors, each the default with 1-4 fields (any
+ *    of the 34 of cloth_desc, material and solver included) set to an
+ *    extreme: NaN, +-inf, +-0, +-1, 1e-310, +-1e-300, +-1e300, DBL_MAX,
+ *    small and huge ints, INT_MIN / INT_MAX, out-of-range enums. Asserted:
+ *    cloth_desc_validate and cloth_create agree (a descriptor validate
+ *    accepts must create, a refused one gives EINVAL with a message and
+ *    *out NULL); every created cloth has finite positive masses, finite
+ *    positions and positive finite rest lengths (the grid is representable),
+ *    and survives 3 steps (OK or ESTEP) with a finite state, unchanged by a
+ *    failed step. The same fields through cloth_material_validate /
+ *    cloth_solver_validate and cloth_set_material / cloth_set_solver (a
+ *    refused one changes nothing).
+ * 2. A random walk of 6000 calls over three small cloths (3x3, 4x6, 7x5):
+ *    every setter, getter, constraint, force, state and step function with
+ *    random arguments drawn half from sane values and half from extremes
+ *    (NULL pointers, out-of-range indices, NaN/inf/huge vectors, bad enums,
+ *    bad h, states of another size). After each call: the status is one of
+ *    the enum's; the state and constraint count are finite and, if the call
+ *    failed, unchanged (cloth_state_diff == 0, same constraint count and
+ *    forces); cloth_last_error is non-empty after a failure.
+ * 3. Every function with a NULL cloth returns an error or a neutral value.
+ */
+#include <float.h>
+#include <limits.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "odecloth/cloth.h"
+#include "check.h"
+
+static const double XD[] = {NAN, -NAN, INFINITY, -INFINITY, 0.0, -0.0, 1.0, -1.0, 1e-310, 1e-300, -1e-300,
+                            1e300, -1e300, DBL_MAX, -DBL_MAX, 1e-12, 1e12, 0.5, 2.0, 1e6};
+static const int XI[] = {INT_MIN, -1000, -2, -1, 0, 1, 2, 3, 4, 5, 7, 16, 17, 64, 1000, 100000, INT_MAX};
+#define NXD (sizeof XD / sizeof XD[0])
+#define NXI (sizeof XI / sizeof XI[0])
+
+static double xd(rng *g) { return XD[rng_u64(g) % NXD]; }
+static int xi(rng *g) { return XI[rng_u64(g) % NXI]; }
+/* half sane (within [lo, hi]), half extreme */
+static double dval(rng *g, double lo, double hi) { return rng_u64(g) % 2 ? rng_range(g, lo, hi) : xd(g); }
+
+static int finite_all(const double *a, size_t n)
+{
+    for (size_t k = 0; k < n; k++)
+        if (!isfinite(a[k])) return 0;
+    return 1;
+}
+
+static int status_ok(cloth_status s) { return s == CLOTH_OK || s == CLOTH_EINVAL || s == CLOTH_ENOMEM || s == CLOTH_ESTEP; }
+
+/* Set field f (0..33) of d to an extreme value. Small grids only where the
+ * value is accepted, so nothing allocates gigabytes. */
+static void perturb(rng *g, cloth_desc *d, int f)
+{
+    double *dbl[] = {&d->width, &d->height, &d->origin[0], &d->origin[1], &d->origin[2], &d->axis_u[0],
+                     &d->axis_u[1], &d->axis_u[2], &d->axis_v[0], &d->axis_v[1], &d->axis_v[2], &d->gravity[0],
+                     &d->gravity[1], &d->gravity[2], &d->material.k_t, &d->material.k_c, &d->material.k_b,
+                     &d->material.k_s, &d->material.alpha, &d->material.delta, &d->material.k_delta,
+                     &d->material.c_t, &d->material.c_b, &d->material.density, &d->solver.cg_tolerance,
+                     &d->solver.strain_fail};
+    int nd = (int)(sizeof dbl / sizeof dbl[0]);
+    if (f < nd) {
+        *dbl[f] = xd(g);
+        return;
+    }
+    int v = xi(g);
+    switch (f - nd) {
+    case 0: d->rows = v; if (v > 64 && v < 100000) d->rows = 64; break;
+    case 1: d->cols = v; if (v > 64 && v < 100000) d->cols = 64; break;
+    case 2: d->solver.method = (cloth_method)v; break;
+    case 3: d->solver.precond = (cloth_precond)v; break;
+    case 4: d->solver.cg_max_iterations = v > 2000 ? 2000 : v; break;
+    case 5: d->solver.strain_limit_iterations = v > 50 ? 50 : v; break;
+    case 6: d->solver.max_substep_halvings = v > 4 && v <= 16 ? 3 : v; break;
+    default: d->solver.definiteness_rule = v; break;
+    }
+}
+#define NFIELDS 34
+
+/* The created cloth is sound: masses, positions, rest lengths. */
+static void check_model(const cloth *c, const char *what)
+{
+    int n = cloth_vertex_count(c);
+    const double *m = cloth_masses(c);
+    int bad_m = 0;
+    for (int i = 0; i < n; i++) bad_m += !(m[i] > 0.0 && isfinite(m[i]));
+    CHECK(bad_m == 0, "%s: %d masses not finite and > 0", what, bad_m);
+    CHECK(finite_all(cloth_positions(c), 3 * (size_t)n), "%s: positions not finite", what);
+    for (int t = 0; t < 2; t++) {
+        int bad_l = 0;
+        for (int e = 0; e < cloth_link_count(c, (cloth_link_type)t); e++) {
+            cloth_link l;
+            cloth_get_link(c, (cloth_link_type)t, e, &l);
+            bad_l += !(l.rest > 0.0 && isfinite(l.rest));
+        }
+        CHECK(bad_l == 0, "%s: %d rest lengths of type %d not finite and > 0", what, bad_l, t);
+    }
+}
+
+/* Step and check: OK with a finite state, or a failure with it unchanged. */
+static void step_checked(cloth *c, cloth_state *before, cloth_state *after, double h, const char *what)
+{
+    cloth_save(c, before);
+    cloth_step_stats st;
+    cloth_status s = cloth_step(c, h, &st);
+    size_t n3 = 3 * (size_t)cloth_vertex_count(c);
+    CHECK(status_ok(s), "%s: step returned %d", what, (int)s);
+    CHECK(finite_all(cloth_positions(c), n3) && finite_all(cloth_velocities(c), n3), "%s: step (%s) left NaN/inf",
+          what, cloth_status_string(s));
+    if (s != CLOTH_OK) {
+        cloth_save(c, after);
+        CHECK(cloth_state_diff(before, after) == 0.0, "%s: failed step (%s, halvings %d, first %s) changed the state by %g", what, cloth_failure_string(st.failure), st.halvings, cloth_failure_string(st.first_failure), cloth_state_diff(before, after));
+        CHECK(st.failure != CLOTH_FAIL_NONE, "%s: failed step with failure NONE", what);
+    }
+}
+
+static long n_valid, n_refused, n_step_ok, n_step_fail;
+
+static void descriptors(void)
+{
+    rng g = rng_seed(0xde5c0001u);
+    for (int k = 0; k < 4000; k++) {
+        cloth_desc d = cloth_default_desc();
+        d.rows = 3 + (int)(rng_u64(&g) % 4);
+        d.cols = 3 + (int)(rng_u64(&g) % 4);
+        int nf = 1 + (int)(rng_u64(&g) % 4);
+        for (int q = 0; q < nf; q++) perturb(&g, &d, (int)(rng_u64(&g) % NFIELDS));
+        char what[64];
+        snprintf(what, sizeof what, "descriptor %d", k);
+        cloth_error e1, e2;
+        memset(&e1, 0, sizeof e1);
+        memset(&e2, 0, sizeof e2);
+        cloth_status v = cloth_desc_validate(&d, &e1);
+        cloth *c = (cloth *)&e2;
+        cloth_status s = cloth_create(&d, &c, &e2);
+        CHECK(s == v || (v == CLOTH_OK && s == CLOTH_ENOMEM), "%s: validate says %s, create %s (%s)", what,
+              cloth_status_string(v), cloth_status_string(s), e2.message);
+        /* the material and solver parts alone */
+        cloth_status mv = cloth_material_validate(&d.material, NULL), sv = cloth_solver_validate(&d.solver, NULL);
+        CHECK(v != CLOTH_OK || (mv == CLOTH_OK && sv == CLOTH_OK), "%s: desc valid, material %d solver %d", what,
+              (int)mv, (int)sv);
+        if (s != CLOTH_OK) {
+            n_refused++;
+            CHECK(c == NULL, "%s: refused, *out not NULL", what);
+            CHECK(e2.message[0] != '\0' && e2.code == s, "%s: refused without a message", what);
+            continue;
+        }
+        n_valid++;
+        check_model(c, what);
+        cloth_state *b = cloth_state_create(c), *a = cloth_state_create(c);
+        cloth_pin(c, 0, cloth_positions(c));
+        for (int q = 0; q < 3; q++) step_checked(c, b, a, 1.0 / 60, what);
+        n_step_ok += cloth_last_stats(c)->failure == CLOTH_FAIL_NONE;
+        n_step_fail += cloth_last_stats(c)->failure != CLOTH_FAIL_NONE;
+        /* set_material / set_solver of a perturbed default: refused changes nothing */
+        cloth_desc e = cloth_get_desc(c);
+        perturb(&g, &e, (int)(rng_u64(&g) % NFIELDS));
+        cloth_desc before = cloth_get_desc(c);
+        cloth_status r1 = cloth_set_material(c, &e.material);
+        cloth_status r2 = cloth_set_solver(c, &e.solver);
+        cloth_desc after = cloth_get_desc(c);
+        CHECK(r1 == cloth_material_validate(&e.material, NULL), "%s: set_material disagrees with validate", what);
+        if (r1 != CLOTH_OK)
+            CHECK(memcmp(&before.material, &after.material, sizeof before.material) == 0,
+                  "%s: refused material kept", what);
+        if (r2 != CLOTH_OK)
+            CHECK(memcmp(&before.solver, &after.solver, sizeof before.solver) == 0, "%s: refused solver kept", what);
+        if (r1 == CLOTH_OK || r2 == CLOTH_OK) step_checked(c, b, a, 1.0 / 60, what);
+        cloth_state_destroy(a);
+        cloth_state_destroy(b);
+        cloth_destroy(c);
+    }
+    printf("descriptors: %ld created (last step ok %ld, failed %ld), %ld refused\n", n_valid, n_step_ok, n_step_fail,
+           n_refused);
+}
+
+/* ------------------------------------------------------------ random walk */
+
+typedef struct world {
+    cloth *c[3];
+    cloth_state *s[3];      /* a state of each cloth, for restore / diff */
+    cloth_state *before, *after;
+    double *buf;            /* 3 * largest n doubles */
+} world;
+
+/* base + noise of size amp (base NULL: 0), sometimes with extremes, or NULL */
+static double *vec(rng *g, world *w, int n, const double *base, double amp, int *is_null)
+{
+    int kind = (int)(rng_u64(g) % 8);
+    *is_null = kind == 0;
+    if (kind == 0) return NULL;
+    for (int k = 0; k < 3 * n; k++) w->buf[k] = (base ? base[k] : 0.0) + rng_range(g, -amp, amp);
+    if (kind >= 5) { /* a few extremes */
+        int m = 1 + (int)(rng_u64(g) % 3);
+        for (int q = 0; q < m; q++) w->buf[rng_u64(g) % (uint64_t)(3 * n)] = xd(g);
+    }
+    return w->buf;
+}
+
+static int index_of(rng *g, int n) { return rng_u64(g) % 2 ? (int)(rng_u64(g) % (uint64_t)n) : xi(g); }
+
+static long calls[32], fails[32], fail_why[8];
+
+static void walk(void)
+{
+    world w;
+    const int dims[3][2] = {{3, 3}, {4, 6}, {7, 5}};
+    int nmax = 35;
+    w.buf = malloc(3 * (size_t)nmax * sizeof *w.buf);
+    for (int k = 0; k < 3; k++) {
+        cloth_desc d = cloth_default_desc();
+        d.rows = dims[k][0];
+        d.cols = dims[k][1];
+        d.solver.cg_max_iterations = 300;
+        d.solver.max_substep_halvings = 2;
+        cloth_create(&d, &w.c[k], NULL);
+        w.s[k] = cloth_state_create(w.c[k]);
+    }
+    rng g = rng_seed(0x0a11ca11u);
+    for (int it = 0; it < 6000; it++) {
+        int ci = (int)(rng_u64(&g) % 3);
+        cloth *c = w.c[ci];
+        if (it % 40 == 39) { /* back to sane settings now and then, so that steps also succeed */
+            cloth_desc d = cloth_get_desc(c), e = cloth_default_desc();
+            e.solver.cg_max_iterations = 300;
+            e.solver.max_substep_halvings = 2;
+            cloth_set_material(c, &e.material);
+            cloth_set_solver(c, &e.solver);
+            cloth_set_gravity(c, e.gravity);
+            cloth_set_external_forces(c, NULL);
+            if (!(cloth_max_strain(c) < 0.1)) { /* a new cloth's rest state */
+                cloth *fresh = NULL;
+                d = cloth_get_desc(c);
+                d.material = e.material;
+                d.solver = e.solver;
+                cloth_create(&d, &fresh, NULL);
+                cloth_set_positions(c, cloth_positions(fresh));
+                cloth_set_velocities(c, cloth_velocities(fresh));
+                cloth_destroy(fresh);
+            }
+        }
+        int n = cloth_vertex_count(c);
+        size_t n3 = 3 * (size_t)n;
+        w.before = cloth_state_create(c);
+        w.after = cloth_state_create(c);
+        cloth_save(c, w.before);
+        int ncon0 = cloth_constraint_count(c);
+        double f0[3 * 35], f1[3 * 35];
+        for (int i = 0; i < n; i++) cloth_constraint_force(c, i, f0 + 3 * i);
+        cloth_desc d0 = cloth_get_desc(c);
+        int op = (int)(rng_u64(&g) % 24), isnull = 0, mutates = 1;
+        cloth_status s = CLOTH_OK;
+        double v3[3], *p;
+        switch (op) {
+        case 0: p = vec(&g, &w, n, cloth_positions(c), 0.005, &isnull); s = cloth_set_positions(c, p); break;
+        case 1: p = vec(&g, &w, n, NULL, 2.0, &isnull); s = cloth_set_velocities(c, p); break;
+        case 2: {
+            const double *x = cloth_positions(c);
+            int vi = index_of(&g, n), vv = vi >= 0 && vi < n ? vi : 0;
+            for (int r = 0; r < 3; r++) v3[r] = x[3 * vv + r] + dval(&g, -0.005, 0.005);
+            double u3[3] = {dval(&g, -1, 1), dval(&g, -1, 1), dval(&g, -1, 1)};
+            int mode = (int)(rng_u64(&g) % 4);
+            s = cloth_set_vertex(c, vi, mode & 1 ? v3 : NULL, mode & 2 ? u3 : NULL);
+            break;
+        }
+        case 3: {
+            cloth_material m = d0.material;
+            perturb(&g, &(cloth_desc){.material = m}, 0); /* exercise perturb on a copy */
+            cloth_desc e = d0;
+            perturb(&g, &e, 14 + (int)(rng_u64(&g) % 10));
+            s = cloth_set_material(c, rng_u64(&g) % 10 ? &e.material : NULL);
+            break;
+        }
+        case 4: {
+            cloth_desc e = d0;
+            perturb(&g, &e, rng_u64(&g) % 2 ? 24 + (int)(rng_u64(&g) % 2) : 28 + (int)(rng_u64(&g) % 6));
+            if (e.solver.cg_max_iterations > 300) e.solver.cg_max_iterations = 300;
+            s = cloth_set_solver(c, rng_u64(&g) % 10 ? &e.solver : NULL);
+            break;
+        }
+        case 5:
+            for (int r = 0; r < 3; r++) v3[r] = dval(&g, -20, 20);
+            s = cloth_set_gravity(c, rng_u64(&g) % 10 ? v3 : NULL);
+            break;
+        case 6: {
+            p = vec(&g, &w, n, NULL, 2e-3, &isnull);
+            s = cloth_set_external_forces(c, p);
+            break;
+        }
+        case 7: {
+            cloth_constraint k = {.vertex = index_of(&g, n), .ndof = rng_u64(&g) % 4 ? (int)(rng_u64(&g) % 4) : xi(&g)};
+            const double *x = cloth_positions(c);
+            int vv = k.vertex >= 0 && k.vertex < n ? k.vertex : 0;
+            for (int r = 0; r < 3; r++) {
+                k.axis[r] = dval(&g, -1, 1);
+                k.target[r] = rng_u64(&g) % 4 ? x[3 * vv + r] + rng_range(&g, -0.01, 0.01) : xd(&g);
+            }
+            s = cloth_set_constraint(c, rng_u64(&g) % 12 ? &k : NULL);
+            break;
+        }
+        case 8: {
+            const double *x = cloth_positions(c);
+            int vi = index_of(&g, n);
+            int vv = vi >= 0 && vi < n ? vi : 0;
+            for (int r = 0; r < 3; r++) v3[r] = rng_u64(&g) % 4 ? x[3 * vv + r] : xd(&g);
+            s = cloth_pin(c, vi, rng_u64(&g) % 12 ? v3 : NULL);
+            break;
+        }
+        case 9: s = cloth_release(c, index_of(&g, n)); break;
+        case 10: cloth_release_all(c); break;
+        case 11: {
+            cloth_constraint k;
+            s = cloth_get_constraint(c, index_of(&g, n), rng_u64(&g) % 8 ? &k : NULL);
+            mutates = 0;
+            break;
+        }
+        case 12: s = cloth_constraint_force(c, index_of(&g, n), rng_u64(&g) % 8 ? v3 : NULL); mutates = 0; break;
+        case 13: {
+            cloth_link l;
+            int t = rng_u64(&g) % 4 ? (int)(rng_u64(&g) % 2) : xi(&g);
+            s = cloth_get_link(c, (cloth_link_type)t, index_of(&g, cloth_link_count(c, (cloth_link_type)t) + 1),
+                               rng_u64(&g) % 8 ? &l : NULL);
+            mutates = 0;
+            break;
+        }
+        case 14: cloth_update_plastic(c); break;
+        case 15: {
+            cloth_energy e = cloth_energies(c);
+            (void)e;
+            double ms = cloth_max_strain(c);
+            CHECK(ms == ms, "max_strain NaN");
+            mutates = 0;
+            break;
+        }
+        case 16: s = cloth_internal_forces(c, rng_u64(&g) % 8 ? w.buf : NULL); mutates = 0; break;
+        case 17: { /* save / restore, maybe across sizes */
+            int cj = rng_u64(&g) % 4 ? ci : (int)(rng_u64(&g) % 3);
+            s = cloth_save(c, rng_u64(&g) % 10 ? w.s[cj] : NULL);
+            mutates = 0;
+            break;
+        }
+        case 18: {
+            int cj = rng_u64(&g) % 4 ? ci : (int)(rng_u64(&g) % 3);
+            s = cloth_restore(c, rng_u64(&g) % 10 ? w.s[cj] : NULL);
+            break;
+        }
+        case 19: {
+            int cj = (int)(rng_u64(&g) % 3);
+            double dd = cloth_state_diff(w.s[ci], rng_u64(&g) % 10 ? w.s[cj] : NULL);
+            CHECK(dd == dd, "state_diff NaN");
+            mutates = 0;
+            break;
+        }
+        default: { /* steps, more often */
+            double h = rng_u64(&g) % 6 ? rng_range(&g, 1e-4, 0.05) : xd(&g);
+            if (h > 1.0 && isfinite(h)) h = 1.0; /* a huge finite h is fine but slow to fail */
+            cloth_step_stats st;
+            s = cloth_step(c, h, rng_u64(&g) % 8 ? &st : NULL);
+            fail_why[cloth_last_stats(c)->failure]++;
+            break;
+        }
+        }
+        calls[op]++;
+        CHECK(status_ok(s), "call %d (op %d): status %d", it, op, (int)s);
+        CHECK(finite_all(cloth_positions(c), n3) && finite_all(cloth_velocities(c), n3),
+              "call %d (op %d, %s): NaN/inf in the state", it, op, cloth_status_string(s));
+        cloth_save(c, w.after);
+        for (int i = 0; i < n; i++) cloth_constraint_force(c, i, f1 + 3 * i);
+        CHECK(finite_all(f1, n3), "call %d (op %d): constraint forces not finite", it, op);
+        if (s != CLOTH_OK || !mutates) {
+            if (s != CLOTH_OK) fails[op]++;
+            CHECK(cloth_state_diff(w.before, w.after) == 0.0, "call %d (op %d, %s): state changed", it, op,
+                  cloth_status_string(s));
+            CHECK(cloth_constraint_count(c) == ncon0 && memcmp(f0, f1, n3 * sizeof *f0) == 0,
+                  "call %d (op %d): constraints changed by a failed or read-only call", it, op);
+            cloth_desc d1 = cloth_get_desc(c);
+            CHECK(memcmp(&d0, &d1, sizeof d0) == 0, "call %d (op %d): descriptor changed", it, op);
+        }
+        if (s != CLOTH_OK) CHECK(cloth_last_error(c)[0] != '\0', "call %d (op %d): failure without a message", it, op);
+        cloth_state_destroy(w.before);
+        cloth_state_destroy(w.after);
+    }
+    long tot = 0, tf = 0;
+    for (int k = 0; k < 24; k++) {
+        tot += calls[k];
+        tf += fails[k];
+    }
+    printf("random walk: %ld calls, %ld refused or failed (steps: %ld of %ld)\n", tot, tf, fails[20] + fails[21] +
+           fails[22] + fails[23], calls[20] + calls[21] + calls[22] + calls[23]);
+    printf("step outcomes:");
+    for (int k = 0; k <= CLOTH_FAIL_BAD_STEP; k++) printf(" %s %ld;", cloth_failure_string((cloth_failure)k), fail_why[k]);
+    printf("\n");
+    CHECK(fail_why[CLOTH_FAIL_NONE] > 100, "only %ld steps succeeded: the walk tests failures only",
+          fail_why[CLOTH_FAIL_NONE]);
+    for (int k = 0; k < 3; k++) {
+        cloth_state_destroy(w.s[k]);
+        cloth_destroy(w.c[k]);
+    }
+    free(w.buf);
+}
+
+static void null_cloth(void)
+{
+    double v[3] = {0, 0, 0};
+    cloth_constraint k = {0};
+    cloth_link l;
+    CHECK(cloth_last_error(NULL)[0] != '\0', "last_error(NULL)");
+    CHECK(cloth_rows(NULL) == 0 && cloth_cols(NULL) == 0 && cloth_vertex_count(NULL) == 0, "sizes of NULL");
+    CHECK(!cloth_positions(NULL) && !cloth_velocities(NULL) && !cloth_masses(NULL), "arrays of NULL");
+    CHECK(cloth_set_positions(NULL, v) == CLOTH_EINVAL && cloth_set_velocities(NULL, v) == CLOTH_EINVAL, "set x/v");
+    CHECK(cloth_set_vertex(NULL, 0, v, v) == CLOTH_EINVAL, "set_vertex");
+    cloth_desc d = cloth_default_desc();
+    CHECK(cloth_set_material(NULL, &d.material) == CLOTH_EINVAL && cloth_set_solver(NULL, &d.solver) == CLOTH_EINVAL,
+          "set material/solver");
+    CHECK(cloth_set_gravity(NULL, v) == CLOTH_EINVAL && cloth_set_external_forces(NULL, NULL) == CLOTH_EINVAL,
+          "gravity/forces");
+    CHECK(cloth_link_count(NULL, CLOTH_SEQUENTIAL) == 0 && cloth_get_link(NULL, CLOTH_SEQUENTIAL, 0, &l) != CLOTH_OK,
+          "links");
+    CHECK(cloth_update_plastic(NULL) == 0, "update_plastic");
+    cloth_energy e = cloth_energies(NULL);
+    CHECK(e.kinetic == 0 && e.elastic == 0 && e.gravitational == 0, "energies of NULL");
+    CHECK(cloth_internal_forces(NULL, v) == CLOTH_EINVAL, "internal_forces");
+    CHECK(cloth_max_strain(NULL) == 0.0, "max_strain of NULL: %g", cloth_max_strain(NULL));
+    CHECK(cloth_set_constraint(NULL, &k) == CLOTH_EINVAL && cloth_pin(NULL, 0, v) == CLOTH_EINVAL &&
+              cloth_release(NULL, 0) == CLOTH_EINVAL && cloth_get_constraint(NULL, 0, &k) == CLOTH_EINVAL &&
+              cloth_constraint_force(NULL, 0, v) == CLOTH_EINVAL && cloth_constraint_count(NULL) == 0,
+          "constraints");
+    cloth_release_all(NULL);
+    CHECK(cloth_step(NULL, 0.01, NULL) == CLOTH_EINVAL && cloth_last_stats(NULL) == NULL, "step");
+    CHECK(cloth_state_create(NULL) == NULL, "state_create");
+    cloth_state_destroy(NULL);
+    CHECK(cloth_save(NULL, NULL) == CLOTH_EINVAL && cloth_restore(NULL, NULL) == CLOTH_EINVAL, "save/restore");
+    CHECK(cloth_state_diff(NULL, NULL) < 0, "state_diff");
+    CHECK(cloth_create(NULL, NULL, NULL) == CLOTH_EINVAL, "create(NULL, NULL, NULL)");
+    cloth *c = (cloth *)&k;
+    CHECK(cloth_create(NULL, &c, NULL) == CLOTH_EINVAL && c == NULL, "create(NULL desc)");
+    CHECK(cloth_desc_validate(NULL, NULL) == CLOTH_EINVAL && cloth_material_validate(NULL, NULL) == CLOTH_EINVAL &&
+              cloth_solver_validate(NULL, NULL) == CLOTH_EINVAL,
+          "validate NULL");
+    cloth_destroy(NULL);
+    CHECK(cloth_status_string((cloth_status)99)[0] && cloth_failure_string((cloth_failure)-5)[0], "strings");
+    cloth_material m = cloth_material_preset((cloth_preset)1234);
+    CHECK(cloth_material_validate(&m, NULL) == CLOTH_OK, "an unknown preset gives a valid material");
+    CHECK(cloth_version()[0] != '\0', "version");
+}
+
+int main(void)
+{
+    null_cloth();
+    descriptors();
+    walk();
+    return check_summary();
+}
