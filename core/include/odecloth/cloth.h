@@ -356,6 +356,73 @@ cloth_status cloth_state_read(cloth_state *s, const void *buf, size_t len, cloth
 cloth_status cloth_state_write_file(const cloth_state *s, FILE *f, cloth_error *err);
 cloth_status cloth_state_read_file(cloth_state *s, FILE *f, cloth_error *err);
 
+/* ---------------------------------------- accuracy-driven stepping (issue 6) */
+
+/* Steps a cloth frame by frame, choosing the substeps per frame and the CG
+ * tolerance from an error estimate instead of the user guessing them.
+ *
+ * Error measure: the RMS over vertices of the position error. The tolerance
+ * is the error the run may gain per simulated second (m/s): each frame's
+ * estimate must stay within tolerance * frame time, so a run of T seconds
+ * should end within about tolerance * T of the exact motion (measured on the
+ * work-precision chart, examples/bench_workprecision.c).
+ *
+ * A frame is n backward Euler substeps of frame/n. What a substep adds is
+ * estimated by its local truncation error, from the velocity changes the
+ * steps make anyway (no extra solves): h/2 |dv_k| for the positions
+ * (h^2/2 x''), plus velocity_weight * |dv_k - dv_k-1| / 2 for the velocities
+ * (h^2/2 x'''), RMS over vertices. A frame whose estimate passes twice its
+ * budget is rolled back (cloth_restore) and solved again with more substeps,
+ * as is one whose step fails (NaN, strain, CG); the next frame's n aims at
+ * 0.7 of the budget. The CG tolerance is chosen so that the CG error stays a
+ * tenth of the budget. The cloth's own solver settings are restored after
+ * each frame. */
+typedef struct cloth_adaptive_desc {
+    double tolerance;        /* m/s, RMS position error per simulated second, > 0 */
+    int min_substeps;        /* per frame, >= 1                                    */
+    int max_substeps;        /* per frame, >= min_substeps; past it a frame fails  */
+    double cg_tolerance_min; /* range of the chosen CG tolerance, 0 < min <= max < 1 */
+    double cg_tolerance_max;
+    double velocity_weight;  /* s, weight of the velocity error estimate, >= 0     */
+    /* Called before every substep with its h (contacts, moving pins): set the
+     * constraints there. Nonzero fails the frame (state as before it). May be NULL. */
+    int (*before_substep)(cloth *c, double h, void *user);
+    void *user;
+} cloth_adaptive_desc;
+
+/* tolerance 1e-2 m/s, substeps 1..256, CG tolerance 1e-6..1e-1 (see adaptive.c
+ * for velocity_weight's default) */
+cloth_adaptive_desc cloth_adaptive_default_desc(void);
+
+typedef struct cloth_adaptive_stats {
+    cloth_failure failure;  /* NONE, or why the frame failed                     */
+    int substeps;           /* of the accepted frame (the last attempt's if failed) */
+    double h;               /* s, their size                                     */
+    double cg_tolerance;    /* the CG tolerance they used                        */
+    double error_estimate;  /* m, estimated RMS position error the frame added   */
+    double error_budget;    /* m, tolerance * frame time                         */
+    int attempts;           /* solves of the frame; > 1 after a rollback         */
+    int steps;              /* cloth_step calls, every attempt                   */
+    int cg_iterations;      /* every attempt                                     */
+    int over_budget;        /* 1: kept at max_substeps with the estimate still
+                               above twice the budget                          */
+} cloth_adaptive_stats;
+
+typedef struct cloth_adaptive cloth_adaptive;
+
+/* A controller for cloth c (work arrays of c's size and a state snapshot).
+ * On failure *out is NULL and err (may be NULL) says why. */
+cloth_status cloth_adaptive_create(const cloth *c, const cloth_adaptive_desc *d, cloth_adaptive **out,
+                                   cloth_error *err);
+void cloth_adaptive_destroy(cloth_adaptive *a); /* NULL is fine */
+
+/* Advance c by one frame of frame_dt seconds (finite, > 0); c must be the
+ * cloth the controller was made for. On CLOTH_ESTEP (no substep count up to
+ * max_substeps worked, or the callback failed) and CLOTH_EINVAL the cloth is
+ * exactly as before the call (cloth_last_error(c) says why for ESTEP);
+ * stats (may be NULL) says what was chosen or last tried. */
+cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, cloth_adaptive_stats *stats);
+
 #ifdef __cplusplus
 }
 #endif
