@@ -228,7 +228,7 @@ cloth_status cloth_state_write(const cloth_state *s, void *buf, size_t cap, size
     return CLOTH_OK;
 }
 
-static const char *array_name[5] = {"x", "v", "x_prev", "v_prev", "dv_prev"};
+static const char *const array_name[5] = {"x", "v", "x_prev", "v_prev", "dv_prev"};
 
 /* Check every field of a record for state s; CLOTH_OK or a message. */
 static cloth_status check_record(const cloth_state *s, const unsigned char *p, size_t len, cloth_error *err)
