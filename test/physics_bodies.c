@@ -12,7 +12,8 @@
  *    thrown at 2 m/s and spinning at 3 rad/s. Explicit coupling fails here within a few steps
  *    (the 0.5 kg body of plugin_coupling_light did); solved together, every
  *    step succeeds and the total linear momentum, body + cloth, is conserved
- *    to the CG tolerance (1e-10 relative: we allow 1e-7 of |P0|).
+ *    to the CG tolerance (1e-10 relative: we allow 1e-7 of |P0|), with the
+ *    elongation limit off and on (its projection moves the body too).
  * 3. Bad input: invalid bodies and constraints naming missing bodies are
  *    rejected and change nothing.
  */
@@ -140,13 +141,13 @@ static void rotate(double R[9], const double a[3])
     memcpy(R, out, sizeof out);
 }
 
-static void light_body_thrown(void)
+static void light_body_thrown(int limit_iterations)
 {
     const double h = 1.0 / 60.0, zero[3] = {0, 0, 0};
     cloth *c = make(21, 1e-10, zero);
     if (!CHECK(c != NULL, "cloth created")) return;
     cloth_desc d = cloth_get_desc(c);
-    d.solver.strain_limit_iterations = 0; /* the projection does not carry momentum to the body */
+    d.solver.strain_limit_iterations = limit_iterations; /* the projection moves the body too */
     cloth_set_solver(c, &d.solver);
     int n = cloth_vertex_count(c), cols = cloth_cols(c), held[2] = {0, cols - 1};
     const double *x = cloth_positions(c), *v = cloth_velocities(c), *m = cloth_masses(c);
@@ -164,6 +165,7 @@ static void light_body_thrown(void)
         cross3(wb, r, wr);
         for (int a = 0; a < 3; a++) v0[3 * i + a] = vb[a] + wr[a];
     }
+    if (limit_iterations) memset(v0, 0, sizeof v0); /* with the limit: jerked from rest */
     cloth_set_velocities(c, v0);
     for (int a = 0; a < 3; a++) P0[a] = mb * vb[a];
     for (int i = 0; i < n; i++) {
@@ -208,8 +210,9 @@ static void light_body_thrown(void)
     }
     double p0 = sqrt(P0[0] * P0[0] + P0[1] * P0[1] + P0[2] * P0[2]);
     CHECK(worst <= 1e-7 * p0, "momentum body + cloth: worst drift %.3g N s of %.3g", worst, p0);
-    printf("light body (%.2f kg, cloth %.2f kg) thrown: %d steps, momentum drift %.2e of |P0| %.3f N s, "
-           "max strain %.4f\n", mb, mc, steps, worst / p0, p0, cloth_max_strain(c));
+    printf("light body (%.2f kg, cloth %.2f kg) thrown, elongation limit %s: %d steps, momentum drift %.2e of "
+           "|P0| %.3f N s, max strain %.4f\n", mb, mc, limit_iterations ? "on" : "off", steps, worst / p0, p0,
+           cloth_max_strain(c));
     cloth_destroy(c);
 }
 
@@ -253,7 +256,8 @@ static void bad_input(void)
 int main(void)
 {
     closed_forms();
-    light_body_thrown();
+    light_body_thrown(0);
+    light_body_thrown(20);
     bad_input();
     return check_summary();
 }

@@ -274,23 +274,25 @@ static void slider(void)
     dWorldDestroy(w);
 }
 
-/* The cases a light body makes unstable (a box resting on the cloth, a
- * 0.5 kg body thrown with it) run as plugin_coupling_light (this file with
- * COUPLING_LIGHT set), listed as Disabled while the coupling is explicit:
- * the cloth moves held vertices with the body's velocity from before the
- * step, the body feels the reaction only in the following dWorldStep, and
- * for a body not much heavier than the cloth the two overshoot each other
- * until a step fails (issue 4). */
+/* A light body thrown with the cloth (0.5 kg, the cloth 0.2 kg) runs here:
+ * the body is solved with the cloth (cloth_body), which explicit coupling
+ * could not do (it failed at step 5). A box resting on the cloth runs as
+ * plugin_coupling_light (this file with COUPLING_LIGHT set), listed as
+ * Disabled: the box settles, its pin forces balance to 0.7%, but now and
+ * then the contact set under it changes (stick/slip flips, releases,
+ * triangle contacts) and kicks it to 1-15 mm/s, over the 1 mm/s bound
+ * (issue 4). */
 int main(void)
 {
     dInitODE2(0);
 #ifdef COUPLING_LIGHT
     box_on_cloth();
-    thrown(0.5);
+    (void)thrown;
     (void)slider;
 #else
     (void)box_on_cloth;
     thrown(5.0);
+    thrown(0.5);
     slider();
 #endif
     dCloseODE();

@@ -12,8 +12,26 @@
 #include "internal.h"
 #include "mpcg.h"
 
-/* workspace per body, in doubles: M ginv (36 each), rhs u r p q s (6 each), com (3) */
-enum { WS_PER_BODY = 2 * 36 + 6 * 6 + 3 };
+/* workspace per body, in doubles: M ginv (36 each), rhs u r p q s (6 each),
+ * com (3), then for the elongation limit minv (36), F and D (6 each) */
+enum { WS_PER_BODY = 2 * 36 + 6 * 6 + 3 + 36 + 12 };
+
+/* P_i = I - S_i applied to a 3-vector */
+static void con_project(const double *S, const double *a, double *o)
+{
+    for (int r = 0; r < 3; r++) o[r] = a[r] - (S[3 * r] * a[0] + S[3 * r + 1] * a[1] + S[3 * r + 2] * a[2]);
+}
+
+/* P J as a 3 x 6 matrix (row-major), J = [I, -[r]x]: J u = u_lin + u_ang x r */
+static void pj_matrix(const double *S, const double r[3], double PJ[18])
+{
+    const double J[18] = {1, 0, 0, 0, r[2], -r[1], 0, 1, 0, -r[2], 0, r[0], 0, 0, 1, r[1], -r[0], 0};
+    for (int col = 0; col < 6; col++) {
+        double a[3] = {J[col], J[6 + col], J[12 + col]}, pa[3];
+        con_project(S, a, pa);
+        for (int row = 0; row < 3; row++) PJ[6 * row + col] = pa[row];
+    }
+}
 
 static int spd6_inverse(const double *A, double *out);
 
@@ -120,6 +138,7 @@ cloth_status cloth_body_velocity_change(const cloth *c, int index, double dv[6])
 
 const mpcg_bodies *bodies_prepare(cloth *c, double h, double cfac, mpcg_bodies *B)
 {
+    c->body_held = 0;
     if (c->nbody == 0) return NULL;
     int held = 0;
     for (int i = 0; i < c->n; i++) held += c->vbody[i] >= 0 && c->con[i].ndof;
@@ -139,6 +158,7 @@ const mpcg_bodies *bodies_prepare(cloth *c, double h, double cfac, mpcg_bodies *
     double *com = rhs + 36 * nb;
     B->com = com;
     memset(B->u, 0, 6 * nb * sizeof *B->u);
+    c->body_held = held;
     if (!held) return NULL;
     /* the cloth's rows are scaled by cfac (A dv - b = cfac f_c); the body's
      * row M du = h (F - f_c) likewise */
@@ -155,14 +175,121 @@ const mpcg_bodies *bodies_prepare(cloth *c, double h, double cfac, mpcg_bodies *
             com[3 * g + r] = b->com[r];
         }
     }
+    /* For the elongation limit: the inverse of the body's mass with its held
+     * vertices' (which move with it): M + sum m_i J_i^T P_i J_i. */
+    double *minv = com + 3 * nb;
+    for (size_t g = 0; g < nb; g++) {
+        const cloth_body *b = &c->body[g];
+        double *Mg = minv + 36 * g;
+        memset(Mg, 0, 36 * sizeof *Mg);
+        for (int r = 0; r < 3; r++) {
+            Mg[7 * r] = b->mass;
+            for (int q = 0; q < 3; q++) Mg[6 * (r + 3) + q + 3] = b->inertia[3 * r + q];
+        }
+    }
+    for (int i = 0; i < c->n; i++) {
+        if (c->vbody[i] < 0 || !c->con[i].ndof) continue;
+        double *Mg = minv + 36 * (size_t)c->vbody[i], r[3];
+        for (int a = 0; a < 3; a++) r[a] = c->st.x[3 * i + a] - com[3 * c->vbody[i] + a];
+        double PJ[18];
+        pj_matrix(c->S + 9 * (size_t)i, r, PJ);
+        for (int a = 0; a < 6; a++)
+            for (int e = 0; e < 6; e++)
+                Mg[6 * a + e] += c->mass[i] * (PJ[a] * PJ[e] + PJ[6 + a] * PJ[6 + e] + PJ[12 + a] * PJ[12 + e]);
+    }
+    for (size_t g = 0; g < nb; g++) {
+        double inv[36];
+        if (spd6_inverse(minv + 36 * g, inv) == 0) memcpy(minv + 36 * g, inv, sizeof inv);
+    }
+    memset(com + 3 * nb + 36 * nb, 0, 12 * nb * sizeof *com);
     return B;
 }
 
-/* P_i = I - S_i applied to a 3-vector */
-static void con_project(const double *S, const double *a, double *o)
+/* ----------------------------------------- the elongation limit's share */
+
+/* The limit's projection (strain_limit.c) moves a held vertex's constrained
+ * components with its body: the body, of inverse mass Minv, takes the
+ * correction's impulse J^T P f and moves by D = Minv sum J^T P f. */
+static double *bw(const cloth *c, int part) /* 0 com, 1 minv, 2 F, 3 D */
 {
-    for (int r = 0; r < 3; r++) o[r] = a[r] - (S[3 * r] * a[0] + S[3 * r + 1] * a[1] + S[3 * r + 2] * a[2]);
+    size_t nb = (size_t)c->nbody;
+    double *com = c->body_ws + 108 * nb;
+    return part == 0 ? com : part == 1 ? com + 3 * nb : part == 2 ? com + 39 * nb : com + 45 * nb;
 }
+
+static void lever_of(const cloth *c, int i, double r[3])
+{
+    const double *com = bw(c, 0) + 3 * c->vbody[i];
+    for (int a = 0; a < 3; a++) r[a] = c->st.x[3 * i + a] - com[a];
+}
+
+int body_holds(const cloth *c, int i) { return c->body_held && c->vbody[i] >= 0 && c->con[i].ndof; }
+
+/* J^T P f for held vertex i */
+static void jtp(const cloth *c, const double *S, int i, const double f[3], double o[6])
+{
+    double r[3], pf[3];
+    lever_of(c, i, r);
+    con_project(S + 9 * (size_t)i, f, pf);
+    o[0] = pf[0];
+    o[1] = pf[1];
+    o[2] = pf[2];
+    o[3] = r[1] * pf[2] - r[2] * pf[1];
+    o[4] = r[2] * pf[0] - r[0] * pf[2];
+    o[5] = r[0] * pf[1] - r[1] * pf[0];
+}
+
+double body_wnorm(const cloth *c, const double *S, int i, const double u[3])
+{
+    double j[6], w = 0.0;
+    jtp(c, S, i, u, j);
+    const double *Mi = bw(c, 1) + 36 * c->vbody[i];
+    for (int a = 0; a < 6; a++)
+        for (int b = 0; b < 6; b++) w += j[a] * Mi[6 * a + b] * j[b];
+    return w;
+}
+
+void body_push(cloth *c, const double *S, int i, const double u[3], double s)
+{
+    double j[6], *F = bw(c, 2) + 6 * c->vbody[i];
+    jtp(c, S, i, u, j);
+    for (int a = 0; a < 6; a++) F[a] += s * j[a];
+}
+
+void body_solve(cloth *c)
+{
+    double *F = bw(c, 2), *D = bw(c, 3);
+    const double *Mi = bw(c, 1);
+    for (int g = 0; g < c->nbody; g++) {
+        for (int a = 0; a < 6; a++) {
+            double s = 0.0;
+            for (int b = 0; b < 6; b++) s += Mi[36 * g + 6 * a + b] * F[6 * g + b];
+            D[6 * g + a] = s;
+        }
+        memset(F + 6 * g, 0, 6 * sizeof *F);
+    }
+}
+
+void body_move(const cloth *c, const double *S, int i, double s, double *q)
+{
+    const double *D = bw(c, 3) + 6 * c->vbody[i];
+    double r[3], v[3], pv[3];
+    lever_of(c, i, r);
+    v[0] = D[0] + D[4] * r[2] - D[5] * r[1];
+    v[1] = D[1] + D[5] * r[0] - D[3] * r[2];
+    v[2] = D[2] + D[3] * r[1] - D[4] * r[0];
+    con_project(S + 9 * (size_t)i, v, pv);
+    for (int a = 0; a < 3; a++) q[3 * i + a] += s * pv[a];
+}
+
+void body_kept(cloth *c, double s)
+{
+    size_t nb = (size_t)c->nbody;
+    double *u = c->body_ws + 72 * nb + 6 * nb;
+    const double *D = bw(c, 3);
+    for (size_t k = 0; k < 6 * nb; k++) u[k] += s * D[k];
+}
+
 
 /* Loop over the held vertices (the constrained ones with a body). */
 #define FOR_HELD(P, i, g)                                                         \
@@ -257,16 +384,9 @@ int bodies_precond(const mpcg_problem *P)
     memcpy(B->ginv, B->M, 36 * (size_t)nb * sizeof *B->ginv);
     FOR_HELD(P, i, g) {
         const double *S = P->S + 9 * (size_t)i, *Aii = P->A->val + 9 * (size_t)P->A->diag[i];
-        double r[3], J[18], PJ[18], APJ[18];
+        double r[3], PJ[18], APJ[18];
         lever(B, i, g, r);
-        /* J = [I, -[r]x] (3 x 6, row-major) */
-        double Jv[18] = {1, 0, 0, 0, r[2], -r[1], 0, 1, 0, -r[2], 0, r[0], 0, 0, 1, r[1], -r[0], 0};
-        memcpy(J, Jv, sizeof J);
-        for (int col = 0; col < 6; col++) {
-            double a[3] = {J[col], J[6 + col], J[12 + col]}, pa[3];
-            con_project(S, a, pa);
-            for (int row = 0; row < 3; row++) PJ[6 * row + col] = pa[row];
-        }
+        pj_matrix(S, r, PJ);
         for (int row = 0; row < 3; row++)
             for (int col = 0; col < 6; col++)
                 APJ[6 * row + col] = Aii[3 * row] * PJ[col] + Aii[3 * row + 1] * PJ[6 + col] +

@@ -94,6 +94,7 @@ struct cloth {
     double *body_ws;           /* per body: M (36), rhs (6), du (6), Ginv (36),
                                   CG vectors (5 x 6); vbody (n ints) after */
     int *vbody;                /* n: body of each constrained vertex, -1 none */
+    int body_held;             /* vertices held by bodies in this step's solve */
 
     /* step workspace, sized at creation: the step allocates nothing */
     bsr A;                     /* pattern: diagonal + one block pair per link */
@@ -137,6 +138,17 @@ int strain_limit(cloth *c, double *x, double *v, const double *S, double cfac, i
  * dx/dv_new); NULL when no constrained vertex is held by a body. */
 struct mpcg_bodies;
 const struct mpcg_bodies *bodies_prepare(cloth *c, double h, double cfac, struct mpcg_bodies *B);
+
+/* bodies.c, for the elongation limit: does a body hold vertex i's
+ * constrained components; u^T W u's share of the body; F_g += s J^T P u;
+ * D = Minv F (F zeroed); q_i += s P J D; the bodies' velocity changes +=
+ * s D. */
+int body_holds(const cloth *c, int i);
+double body_wnorm(const cloth *c, const double *S, int i, const double u[3]);
+void body_push(cloth *c, const double *S, int i, const double u[3], double s);
+void body_solve(cloth *c);
+void body_move(const cloth *c, const double *S, int i, double s, double *q);
+void body_kept(cloth *c, double s);
 
 /* state.c */
 int state_alloc(struct cloth_state *s, int n, int n_int);

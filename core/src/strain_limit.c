@@ -50,20 +50,33 @@
 #define SL_INNER 4
 #define SL_HALVINGS 6
 
-/* u^T W u for a vertex: W = S / m, or 0 if pinned */
+/* Vertices held by a rigid body solved with the cloth (cloth_body) move, in
+ * their constrained directions, with the body: W_i then also has the body's
+ * part P J Minv J^T P, applied through the body's summed impulse (bodies.c),
+ * and the body's velocity change takes the correction too. */
+static int bodies_on(const cloth *c)
+{
+    cloth_method m = c->desc.solver.method;
+    return c->body_held && (m == CLOTH_BACKWARD_EULER || m == CLOTH_BDF2);
+}
+
+/* u^T W u for a vertex: W = S / m (0 if pinned), plus its body's part */
 static double wnorm(const cloth *c, const double *S, int i, const double u[3])
 {
-    if (c->con[i].ndof == 3) return 0.0;
-    if (c->con[i].ndof == 0) return 1.0 / c->mass[i];
+    double b = bodies_on(c) && body_holds(c, i) ? body_wnorm(c, S, i, u) : 0.0;
+    if (c->con[i].ndof == 3) return b;
+    if (c->con[i].ndof == 0) return b + 1.0 / c->mass[i];
     const double *Si = S + 9 * (size_t)i;
     double q = 0.0;
     for (int r = 0; r < 3; r++) q += u[r] * (Si[3 * r] * u[0] + Si[3 * r + 1] * u[1] + Si[3 * r + 2] * u[2]);
-    return q / c->mass[i];
+    return b + q / c->mass[i];
 }
 
-/* q_i += s W_i u */
+/* q_i += s W_i u: the vertex's own part now; its body's is gathered (see
+ * bodies_spread) */
 static void add_wu(const cloth *c, const double *S, int i, const double u[3], double s, double *q)
 {
+    if (bodies_on(c) && body_holds(c, i)) body_push((cloth *)c, S, i, u, s);
     if (c->con[i].ndof == 3) return;
     double *qi = q + 3 * (size_t)i, k = s / c->mass[i];
     if (c->con[i].ndof == 0) {
@@ -72,6 +85,23 @@ static void add_wu(const cloth *c, const double *S, int i, const double u[3], do
     }
     const double *Si = S + 9 * (size_t)i;
     for (int r = 0; r < 3; r++) qi[r] += k * (Si[3 * r] * u[0] + Si[3 * r + 1] * u[1] + Si[3 * r + 2] * u[2]);
+}
+
+/* The bodies' part of q = W G^T (...): each body moves by D = Minv F from
+ * the impulses add_wu gathered, and the held ends of the active links with
+ * it (each once: touched marks them, cleared again). */
+static void bodies_spread(const cloth *c, int m, const int *act, const double *S, double *q, unsigned char *touched)
+{
+    if (!bodies_on(c)) return;
+    body_solve((cloth *)c);
+    for (int t = 0; t < 2; t++)
+        for (int a = 0; a < m; a++) {
+            int i = t ? c->seq[act[a]].j : c->seq[act[a]].i;
+            if (touched[i] || !body_holds(c, i)) continue;
+            touched[i] = 1;
+            body_move(c, S, i, 1.0, q);
+        }
+    for (int a = 0; a < m; a++) touched[c->seq[act[a]].i] = touched[c->seq[act[a]].j] = 0;
 }
 
 /* y = G W G^T p over the m active links (q: 3n scratch, zeroed on return) */
@@ -83,6 +113,7 @@ static void link_matvec(const cloth *c, const double *S, int m, const int *act, 
         add_wu(c, S, L->i, u + 3 * a, -p[a], q);
         add_wu(c, S, L->j, u + 3 * a, p[a], q);
     }
+    bodies_spread(c, m, act, S, q, c->sl_held + c->n_seq);
     for (int a = 0; a < m; a++) {
         const link_topo *L = &c->seq[act[a]];
         const double *qi = q + 3 * L->i, *qj = q + 3 * L->j, *ua = u + 3 * a;
@@ -114,8 +145,9 @@ static double violation(const cloth *c, const double *x, double limit, int *over
 }
 
 /* x (and v, if not NULL, by q / cfac) += s q over the vertices touched by the
- * active links; each vertex once (touched[] marks them). */
-static void apply_step(const cloth *c, int m, const int *act, double *x, double *v, double cfac,
+ * active links; each vertex once (touched[] marks them). The other vertices
+ * held by a body move with it. */
+static void apply_step(const cloth *c, const double *S, int m, const int *act, double *x, double *v, double cfac,
                        const double *q, double s, unsigned char *touched)
 {
     for (int a = 0; a < m; a++) {
@@ -130,6 +162,9 @@ static void apply_step(const cloth *c, int m, const int *act, double *x, double 
             }
         }
     }
+    if (bodies_on(c))
+        for (int i = 0; i < c->n; i++)
+            if (!touched[i] && body_holds(c, i)) body_move(c, S, i, s, x);
     for (int a = 0; a < m; a++) touched[c->seq[act[a]].i] = touched[c->seq[act[a]].j] = 0;
 }
 
@@ -195,6 +230,7 @@ static void step_of(const cloth *c, const double *S, int m, const int *act, cons
         add_wu(c, S, L->i, u + 3 * a, lam[a], q);
         add_wu(c, S, L->j, u + 3 * a, -lam[a], q);
     }
+    bodies_spread(c, m, act, S, q, c->sl_held + c->n_seq);
 }
 
 static void clear_step(const cloth *c, int m, const int *act, double *q)
@@ -280,24 +316,25 @@ int strain_limit(cloth *c, double *x, double *v, const double *S, double cfac, i
          * halves of it; if none lowers it, undo and damp harder */
         double s = 1.0, merit1 = merit;
         int over1 = over, kept = 0;
-        apply_step(c, m, act, x, NULL, cfac, q, 1.0, touched);
+        apply_step(c, S, m, act, x, NULL, cfac, q, 1.0, touched);
         for (int half = 0; half < SL_HALVINGS; half++) {
             merit1 = violation(c, x, limit, &over1);
             if (merit1 < merit) {
                 kept = 1;
                 break;
             }
-            apply_step(c, m, act, x, NULL, cfac, q, -0.5 * s, touched);
+            apply_step(c, S, m, act, x, NULL, cfac, q, -0.5 * s, touched);
             s *= 0.5;
         }
         if (kept) { /* velocities follow; pushing links leave */
-            apply_step(c, m, act, v, NULL, cfac, q, s / cfac, touched);
+            apply_step(c, S, m, act, v, NULL, cfac, q, s / cfac, touched);
+            if (bodies_on(c)) body_kept(c, s / cfac);
             for (int a = 0; a < m; a++) in[act[a]] = lam[a] > 0.0;
             merit = merit1;
             over = over1;
             mu = mu / 10.0 > SL_MU_MIN ? mu / 10.0 : SL_MU_MIN;
         } else {
-            apply_step(c, m, act, x, NULL, cfac, q, -s, touched);
+            apply_step(c, S, m, act, x, NULL, cfac, q, -s, touched);
             mu *= 10.0;
         }
         clear_step(c, m, act, q);

@@ -2,6 +2,7 @@
  * velocity constraints, friction becomes a force, the core steps, and what
  * each constraint did to the cloth goes back, opposite, to its body. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include "dcloth_internal.h"
@@ -99,6 +100,89 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
     return 1;
 }
 
+/* The index of body b among this step's coupled bodies, adding it (with
+ * its mass, inertia in world axes, centre and the forces ODE holds for it
+ * now, gravity included) when new; -1 when it is not coupled or memory ran
+ * out. Not coupled: no body (static geom), kinematic, disabled, implicit
+ * coupling off, and bodies in joints (contact joints included): a joint
+ * changes how the body answers a force in ways the cloth's solve does not
+ * see (a box on a slider, coupled as if free, swung with its cloth). */
+static int coupled_body(dClothID c, dBodyID b)
+{
+    if (!b || !c->implicit || dBodyIsKinematic(b) || !dBodyIsEnabled(b) || dBodyGetNumJoints(b) > 0) return -1;
+    for (int k = 0; k < c->nbodies; k++)
+        if (c->bodies[k] == b) return k;
+    if (c->nbodies == c->bodies_cap) {
+        int cap = c->bodies_cap ? 2 * c->bodies_cap : 8;
+        dBodyID *nb = realloc(c->bodies, (size_t)cap * sizeof *nb);
+        if (nb) c->bodies = nb;
+        cloth_body *nd = nb ? realloc(c->bdesc, (size_t)cap * sizeof *nd) : NULL;
+        if (nd) c->bdesc = nd;
+        double *nf = nd ? realloc(c->bforce, 7 * (size_t)cap * sizeof *nf) : NULL;
+        if (nf) c->bforce = nf;
+        if (!nb || !nd || !nf) return -1;
+        c->bshare = c->bforce + 6 * (size_t)cap;
+        c->bodies_cap = cap;
+    }
+    dMass m;
+    dBodyGetMass(b, &m);
+    const dReal *R = dBodyGetRotation(b), *pos = dBodyGetPosition(b);
+    const dReal *F = dBodyGetForce(b), *T = dBodyGetTorque(b);
+    dVector3 g = {0, 0, 0};
+    if (dBodyGetGravityMode(b)) dWorldGetGravity(c->world, g);
+    cloth_body *d = &c->bdesc[c->nbodies];
+    d->mass = m.mass;
+    /* I_world = R I R^T (ODE's 3x3 matrices have rows of 4) */
+    for (int r = 0; r < 3; r++)
+        for (int q = 0; q < 3; q++) {
+            double s = 0.0;
+            for (int a = 0; a < 3; a++)
+                for (int e = 0; e < 3; e++) s += R[4 * r + a] * m.I[4 * a + e] * R[4 * q + e];
+            d->inertia[3 * r + q] = s;
+        }
+    for (int r = 0; r < 3; r++) {
+        /* symmetric to rounding: ODE keeps I symmetric, the product may not */
+        for (int q = 0; q < r; q++) d->inertia[3 * r + q] = d->inertia[3 * q + r];
+        d->com[r] = pos[r];
+        d->force[r] = F[r] + m.mass * g[r];
+        d->torque[r] = T[r];
+    }
+    c->bodies[c->nbodies] = b;
+    return c->nbodies++;
+}
+
+/* Hand this pass's moving bodies to the core: each vertex held (pinned, or
+ * in contact) by an enabled dynamic body has its body's velocity change
+ * solved with the cloth (cloth_body), so a body as light as the cloth does
+ * not overshoot with it. The vertex's target stays the body point's
+ * position with the body's velocity from before the step. */
+static void couple_bodies(dClothID c)
+{
+    cloth *core = c->core;
+    c->nbodies = 0;
+    for (int i = 0; i < c->n; i++) {
+        dBodyID b = c->pin[i].active ? c->pin[i].body : c->vc_new[i].active ? c->vc_new[i].body : 0;
+        if (b) coupled_body(c, b);
+    }
+    if (cloth_set_bodies(core, c->bdesc, c->nbodies) != CLOTH_OK) return; /* invalid mass: explicit */
+    for (int i = 0; i < c->n && c->nbodies > 0; i++) {
+        dBodyID b = c->pin[i].active ? c->pin[i].body : c->vc_new[i].active ? c->vc_new[i].body : 0;
+        int k = b ? coupled_body(c, b) : -1;
+        if (k >= 0) cloth_hold_by_body(core, i, k);
+    }
+}
+
+/* 1 + the index of the body solved with the cloth that holds vertex i's
+ * constraint, or 0 if none does */
+static int held_by_coupled(dClothID c, int i)
+{
+    dBodyID b = c->pin[i].active ? c->pin[i].body : c->vc_new[i].active ? c->vc_new[i].body : 0;
+    if (!b) return 0;
+    for (int k = 0; k < cloth_body_count(c->core); k++)
+        if (c->bodies[k] == b) return k + 1;
+    return 0;
+}
+
 cloth_status dClothStep(dClothID c, dReal h)
 {
     if (!c) return CLOTH_EINVAL;
@@ -157,6 +241,7 @@ cloth_status dClothStep(dClothID c, dReal h)
             if (!nw->from_triangle && -nw->gap > st.max_penetration) st.max_penetration = -nw->gap;
         }
         cloth_set_external_forces(core, c->fext);
+        couple_bodies(c);
         s = cloth_step(core, h, &st.core);
         passes++;
         if (s != CLOTH_OK) break;
@@ -210,19 +295,52 @@ cloth_status dClothStep(dClothID c, dReal h)
      * moving bodies go to the bodies (measured before: a
      * body holding a hanging cloth drifted up at 9 cm/s with the residual of
      * tolerance 1e-3 alone) */
+    /* A body solved with the cloth (couple_bodies) gets exactly the
+     * velocity change the core found for it, the elongation limit's share
+     * included: the force M du / h and torque I dw / h less what ODE already
+     * holds for it (gravity, the user's forces). Its constraints are then
+     * out of the shares below, and their forces count as explained. */
     double F[3] = {0.0, 0.0, 0.0}, wsum = 0.0;
+    int nb = cloth_body_count(core);
+    for (int k = 0; k < nb; k++) {
+        double du[6];
+        const cloth_body *d = &c->bdesc[k];
+        cloth_body_velocity_change(core, k, du);
+        for (int r = 0; r < 3; r++) {
+            c->bforce[6 * k + r] = d->mass * du[r] / h - d->force[r];
+            c->bforce[6 * k + 3 + r] =
+                (d->inertia[3 * r] * du[3] + d->inertia[3 * r + 1] * du[4] + d->inertia[3 * r + 2] * du[5]) / h -
+                d->torque[r];
+            F[r] += c->bforce[6 * k + r]; /* what the body took from the cloth, the cloth gave */
+        }
+    }
     {
         const double *v1 = cloth_velocities(core), *fe = c->fext;
         for (int i = 0; i < c->n; i++)
             for (int r = 0; r < 3; r++)
                 F[r] += mass[i] * (v1[3 * i + r] - c->v0[3 * i + r]) / h - mass[i] * cd.gravity[r] - fe[3 * i + r];
+        for (int k = 0; k < nb; k++) c->bshare[k] = 0.0;
         for (int i = 0; i < c->n; i++) {
             if (!c->pin[i].active && !c->vc_new[i].active) continue;
             double f[3];
             cloth_constraint_force(core, i, f);
+            double fs = sqrt(dcloth_dot3(f, f));
+            wsum += fs;
+            int k = held_by_coupled(c, i);
+            if (k) {
+                c->bshare[k - 1] += fs;
+                continue;
+            }
             for (int r = 0; r < 3; r++) F[r] -= f[r];
-            wsum += sqrt(dcloth_dot3(f, f));
         }
+    }
+    /* F is now what no force explains (the CG residual, the inelastic
+     * stops); all constraints share it by the size of their forces, a
+     * coupled body its vertices' shares, at its centre */
+    for (int k = 0; k < nb; k++) {
+        double *f = c->bforce + 6 * k, w = wsum > 0.0 ? c->bshare[k] / wsum : 0.0;
+        dBodyAddForce(c->bodies[k], f[0] - w * F[0], f[1] - w * F[1], f[2] - w * F[2]);
+        dBodyAddTorque(c->bodies[k], f[3], f[4], f[5]);
     }
     for (int i = 0; i < c->n; i++) {
         vpin *p = &c->pin[i];
@@ -236,7 +354,7 @@ cloth_status dClothStep(dClothID c, dReal h)
              * geom or the world takes any impulse without moving */
             dBodyID hb = p->active ? p->body : nw->body;
             double w = wsum > 0.0 ? sqrt(dcloth_dot3(f, f)) / wsum : 0.0;
-            if (hb && !dBodyIsKinematic(hb))
+            if (hb && !dBodyIsKinematic(hb) && !held_by_coupled(c, i))
                 for (int r = 0; r < 3; r++) f[r] += w * F[r];
         }
         if (p->active) {
@@ -249,7 +367,14 @@ cloth_status dClothStep(dClothID c, dReal h)
             b = nw->body;
             at = nw->point;
         }
-        if (b && !dBodyIsKinematic(b)) dBodyAddForceAtPos(b, -f[0], -f[1], -f[2], at[0], at[1], at[2]);
+        if (b && held_by_coupled(c, i)) {
+            /* the constraint's reaction went in with du above; friction is
+             * applied explicitly */
+            if (nw->active && !p->active)
+                dBodyAddForceAtPos(b, -nw->friction[0], -nw->friction[1], -nw->friction[2], at[0], at[1], at[2]);
+        } else if (b && !dBodyIsKinematic(b)) {
+            dBodyAddForceAtPos(b, -f[0], -f[1], -f[2], at[0], at[1], at[2]);
+        }
         if (!p->active && !nw->active) memset(nw, 0, sizeof *nw); /* only held contacts carry over */
     }
     vcontact *t = c->vc;

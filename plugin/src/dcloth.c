@@ -64,6 +64,7 @@ cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *d, d
     c->mu = d->mu;
     c->category = d->category_bits;
     c->collide = d->collide_bits;
+    c->implicit = 1;
     c->n = cloth_vertex_count(c->core);
     int R = d->cloth.rows, C = d->cloth.cols;
     c->ntri = 2 * (R - 1) * (C - 1);
@@ -113,6 +114,9 @@ void dClothDestroy(dClothID c)
     free(c->v0);
     cloth_state_destroy(c->save);
     free(c->cand);
+    free(c->bodies);
+    free(c->bdesc);
+    free(c->bforce);
     free(c);
 }
 

@@ -54,6 +54,13 @@ struct dxCloth {
     dGeomID *cand;       /* candidate geoms of the step                     */
     int ncand, cand_cap;
     int tri_hits;        /* vertex contacts set by triangle tests this step  */
+    /* moving bodies solved with the cloth this step (coupling.c) */
+    int implicit;        /* 1: couple dynamic bodies implicitly (default)   */
+    dBodyID *bodies;
+    cloth_body *bdesc;
+    double *bforce;      /* 6 per body: the cloth's force and torque on it  */
+    double *bshare;      /* 1 per body (in bforce's block): its share weight */
+    int nbodies, bodies_cap;
     dClothStepStats stats;
     char err[256];
 };
