@@ -1,0 +1,357 @@
+/* The drape-and-remove experiment: see drape.h. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include "drape.h"
+
+#define FLOOR_Z 0.0
+#define CLOTH_SIZE 1.0
+#define TABLE_SIDE 0.55
+#define TABLE_HEIGHT 0.6
+#define SPHERE_R 0.25
+#define SPHERE_Z 0.55
+#define LIFT_Z 1.4
+#define UNWRAP 0.97      /* corners' spacing, of the flat spacing, while lifted off */
+#define SLACK 0.8        /* corners' spacing while carried */
+#define SPREAD_Z 0.35    /* height where the corners are spread out */
+#define CARRY_X 1.0      /* the cloth is laid down centred at (CARRY_X, 0) */
+
+static const float table_rgb[3] = {0.55f, 0.40f, 0.28f}, sphere_rgb[3] = {0.60f, 0.62f, 0.68f};
+
+/* The table as a triangle mesh (the paper's collision: cloth vertices
+ * against the body's triangles): the corners of a box, and its 12 faces,
+ * outward-facing (counter-clockwise seen from outside). */
+static const int table_indices[36] = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+                                      2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+
+static void table_vertices(double side, double height, double v[8][3])
+{
+    for (int k = 0; k < 8; k++) {
+        v[k][0] = (k & 1 ? 0.5 : -0.5) * side;
+        v[k][1] = (k & 2 ? 0.5 : -0.5) * side;
+        v[k][2] = FLOOR_Z + (k & 4 ? height : 0.0);
+    }
+}
+
+static double smoothstep(double t)
+{
+    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    return t * t * (3 - 2 * t);
+}
+
+static double collider_top(drape_collider col) { return col == DRAPE_TABLE ? TABLE_HEIGHT : SPHERE_Z + SPHERE_R; }
+
+static void cameras(drape_collider col, demo_camera *draped, demo_camera *after, demo_camera *wide)
+{
+    double top = collider_top(col);
+    *draped = (demo_camera){{1.25, -1.55, top + 0.95}, {0, 0, top - 0.3}, 38};
+    *after = (demo_camera){{CARRY_X + 1.05, -1.0, 1.35}, {CARRY_X + 0.05, 0, 0}, 42};
+    *wide = (demo_camera){{0.5, -3.2, 2.2}, {0.5, 0, 0.45}, 45};
+}
+
+int demo_claim(int ok, const char *fmt, ...)
+{
+    va_list ap;
+    printf("check %s: ", ok ? "ok" : "FAILED");
+    va_start(ap, fmt);
+    vprintf(fmt, ap);
+    va_end(ap);
+    putchar('\n');
+    return !ok;
+}
+
+/* The corner phases after the drape. Each moves the four corners, by a
+ * smoothstep in time, to (cx + scale * ox, scale * oy, z) for the flat
+ * corner offsets (ox, oy). */
+typedef struct phase {
+    const char *name;
+    double scale, cx, z;
+} phase;
+
+/* What a run carries from step to step. */
+typedef struct runner {
+    const demo_opts *o;
+    const drape_variant *v;
+    dWorldID world;
+    dSpaceID space;
+    dClothID c;
+    demo_camera cam_wide;
+    demo_metrics run, phase; /* over the whole run, over the current phase */
+    int step, total, next_frame;
+    dTriMeshDataID mesh;
+    double table_v[8][3];
+} runner;
+
+static int run_step(runner *R)
+{
+    if (demo_step(R->o, R->world, &R->c, 1, 1.0 / R->o->hz, R->step)) return -1;
+    demo_track_step(R->c, &R->run);
+    demo_track_step(R->c, &R->phase);
+    R->step++;
+    /* --frames K: K frames evenly spaced over the run, from the wide camera */
+    if (R->o->frames && (long)R->step * R->o->frames >= (long)R->next_frame * R->total) {
+        char name[120];
+        snprintf(name, sizeof name, "%s_frame%03d", R->v->tag, R->next_frame++);
+        demo_save_frame(R->o, name, &R->cam_wide, R->space, &R->c, 1, NULL);
+    }
+    return 0;
+}
+
+static void phase_done(runner *R, const char *name)
+{
+    if (R->o->trace || R->o->phases)
+        printf("  phase %-7s to step %5d: max strain %.4f, max penetration %.2f mm\n", name, R->step,
+               R->phase.max_strain, 1e3 * R->phase.max_penetration);
+    memset(&R->phase, 0, sizeof R->phase);
+}
+
+/* Step `steps` free of pins (a settle), then measure the cloth into m (the
+ * run's extremes so far, its shape now, the wall time since t0) and save the
+ * picture <tag>_<what>. */
+static int settle_and_capture(runner *R, int steps, const char *what, double t0, const demo_camera *cam,
+                              demo_metrics *m, demo_image **pic)
+{
+    for (int s = 0; s < steps; s++)
+        if (run_step(R)) return -1;
+    phase_done(R, what);
+    *m = R->run;
+    m->wall = demo_now() - t0;
+    demo_measure_shape(R->c, FLOOR_Z, m);
+    char name[120];
+    snprintf(name, sizeof name, "%s_%s", R->v->tag, what);
+    demo_save_frame(R->o, name, cam, R->space, &R->c, 1, pic);
+    return 0;
+}
+
+int drape_run(const demo_opts *o, drape_collider col, const drape_variant *v, drape_result *r)
+{
+    memset(r, 0, sizeof *r);
+    double settle = o->short_run ? 2.5 : 4.0;
+    double move = o->short_run ? 1.0 : 1.5;
+    dClothDesc d = dClothDefaultDesc();
+    r->delta = v->material.delta;
+    r->thickness = d.thickness;
+    /* the floor corners a thickness above the floor: where a resting vertex is */
+    const phase phases[] = {
+        {"unwrap", UNWRAP, 0.0, collider_top(col) + 0.02},
+        {"lift", UNWRAP, 0.0, LIFT_Z},
+        {"gather", SLACK, 0.0, LIFT_Z},
+        {"carry", SLACK, CARRY_X, LIFT_Z},
+        {"spread", 1.0, CARRY_X, SPREAD_Z},
+        {"lower", 1.0, CARRY_X, FLOOR_Z + d.thickness},
+    };
+    const int nphase = sizeof phases / sizeof phases[0];
+
+    runner R = {.o = o, .v = v, .next_frame = 1};
+    R.world = dWorldCreate();
+    dWorldSetGravity(R.world, 0, 0, -9.81);
+    R.space = dHashSpaceCreate(0);
+    dCreatePlane(R.space, 0, 0, 1, FLOOR_Z);
+    if (col == DRAPE_TABLE && !o->box_table) {
+        R.mesh = dGeomTriMeshDataCreate();
+        table_vertices(TABLE_SIDE, TABLE_HEIGHT, R.table_v);
+        dGeomTriMeshDataBuildDouble(R.mesh, R.table_v, 3 * sizeof(double), 8, table_indices, 36, 3 * sizeof(int));
+        dGeomID table = dCreateTriMesh(R.space, R.mesh, NULL, NULL, NULL);
+        dGeomSetData(table, (void *)table_rgb);
+    } else if (col == DRAPE_TABLE) {
+        dGeomID table = dCreateBox(R.space, TABLE_SIDE, TABLE_SIDE, TABLE_HEIGHT);
+        dGeomSetPosition(table, 0, 0, FLOOR_Z + TABLE_HEIGHT / 2);
+        dGeomSetData(table, (void *)table_rgb);
+    } else {
+        dGeomID ball = dCreateSphere(R.space, SPHERE_R);
+        dGeomSetPosition(ball, 0, 0, SPHERE_Z);
+        dGeomSetData(ball, (void *)sphere_rgb);
+        double post = SPHERE_Z - SPHERE_R - FLOOR_Z;
+        dGeomID stem = dCreateCylinder(R.space, 0.04, post);
+        dGeomSetPosition(stem, 0, 0, FLOOR_Z + post / 2);
+        dGeomSetData(stem, (void *)sphere_rgb);
+    }
+    d.cloth.rows = d.cloth.cols = o->grid;
+    d.cloth.width = d.cloth.height = CLOTH_SIZE;
+    d.cloth.origin[0] = d.cloth.origin[1] = -CLOTH_SIZE / 2;
+    d.cloth.origin[2] = collider_top(col) + 0.05;
+    d.cloth.material = v->material;
+    cloth_error err;
+    int rc = -1;
+    if (dClothCreate(R.world, R.space, &d, &R.c, &err) != CLOTH_OK) {
+        fprintf(stderr, "%s: %s\n", o->prog, err.message);
+        goto done;
+    }
+    const int C = o->grid, corner[4] = {0, C - 1, (C - 1) * C, C * C - 1};
+    const double off[4][2] = {{-0.5, -0.5}, {0.5, -0.5}, {-0.5, 0.5}, {0.5, 0.5}};
+    demo_camera cam_draped, cam_after;
+    cameras(col, &cam_draped, &cam_after, &R.cam_wide);
+    int settle_steps = (int)lround(settle * o->hz), move_steps = (int)lround(move * o->hz);
+    R.total = 2 * settle_steps + nphase * move_steps;
+    double t0 = demo_now();
+
+    if (settle_and_capture(&R, settle_steps, "draped", t0, &cam_draped, &r->draped, &r->pic_draped)) goto done;
+
+    double from[4][3], to[4][3];
+    const dReal *x = dClothGetPositions(R.c);
+    for (int k = 0; k < 4; k++) memcpy(from[k], x + 3 * corner[k], sizeof from[k]);
+    for (int p = 0; p < nphase; p++) {
+        for (int k = 0; k < 4; k++) {
+            to[k][0] = phases[p].cx + phases[p].scale * off[k][0] * CLOTH_SIZE;
+            to[k][1] = phases[p].scale * off[k][1] * CLOTH_SIZE;
+            to[k][2] = phases[p].z;
+        }
+        for (int s = 1; s <= move_steps; s++) {
+            double w = smoothstep((double)s / move_steps);
+            for (int k = 0; k < 4; k++) {
+                dReal at[3];
+                for (int a = 0; a < 3; a++) at[a] = from[k][a] + w * (to[k][a] - from[k][a]);
+                dClothPinToWorld(R.c, corner[k], at);
+            }
+            if (run_step(&R)) goto done;
+        }
+        phase_done(&R, phases[p].name);
+        memcpy(from, to, sizeof from);
+    }
+    for (int k = 0; k < 4; k++) dClothReleasePin(R.c, corner[k]);
+    if (settle_and_capture(&R, settle_steps, "after", t0, &cam_after, &r->after, &r->pic_after)) goto done;
+    rc = 0;
+done:
+    if (rc) phase_done(&R, "FAILED");
+    dClothDestroy(R.c);
+    dSpaceDestroy(R.space);
+    dWorldDestroy(R.world);
+    if (R.mesh) dGeomTriMeshDataDestroy(R.mesh);
+    return rc;
+}
+
+int drape_run_all(const demo_opts *o, drape_collider col, const drape_variant *v, int nv, drape_result *results,
+                  const char *sheet, const char *title)
+{
+    if (nv <= 0 || nv > DEMO_MAX_ALPHAS || demo_make_out_dir(o)) return -1;
+    if (o->images && (!demo_render_available() || !demo_png_available()))
+        printf("%s: no pictures: %s\n", o->prog,
+               !demo_render_available() ? demo_render_unavailable_reason()
+                                         : "built without libpng (install libpng-dev and rebuild)");
+    int rc = 0;
+    for (int i = 0; i < nv && !rc; i++) {
+        printf("== %s: %s, %s\n", o->prog, v[i].label, col == DRAPE_TABLE ? "table" : "sphere");
+        rc = drape_run(o, col, &v[i], &results[i]);
+        if (rc) break;
+        char label[80];
+        snprintf(label, sizeof label, "%s draped", v[i].tag);
+        demo_print_metrics(stdout, label, &results[i].draped);
+        snprintf(label, sizeof label, "%s after removal", v[i].tag);
+        demo_print_metrics(stdout, label, &results[i].after);
+        if (o->csv) {
+            snprintf(label, sizeof label, "%s_draped", v[i].tag);
+            demo_csv_row(o->csv, o->prog, label, v[i].material.alpha, &results[i].draped);
+            snprintf(label, sizeof label, "%s_after", v[i].tag);
+            demo_csv_row(o->csv, o->prog, label, v[i].material.alpha, &results[i].after);
+        }
+    }
+    if (!rc && results[0].pic_draped) {
+        const demo_image **cells = calloc(2 * (size_t)nv, sizeof *cells);
+        const char **cols = calloc((size_t)nv, sizeof *cols);
+        if (cells && cols) {
+            for (int i = 0; i < nv; i++) {
+                cells[i] = results[i].pic_draped;
+                cells[nv + i] = results[i].pic_after;
+                cols[i] = v[i].label;
+            }
+            const char *rows[2] = {"draped", "after removal"};
+            demo_image *s = demo_contact_sheet(cells, 2, nv, rows, cols, title);
+            char path[1024];
+            snprintf(path, sizeof path, "%s/%s.png", o->out, sheet);
+            if (!s || demo_png_write(path, s)) rc = -1;
+            else printf("wrote %s\n", path);
+            demo_image_destroy(s);
+        }
+        free(cells);
+        free(cols);
+    }
+    for (int i = 0; i < nv; i++) {
+        demo_image_destroy(results[i].pic_draped);
+        demo_image_destroy(results[i].pic_after);
+        results[i].pic_draped = results[i].pic_after = NULL;
+    }
+    demo_render_shutdown();
+    return rc;
+}
+
+int drape_check_common(const demo_opts *o, const drape_variant *v, const drape_result *r)
+{
+    (void)o;
+    int failed = 0;
+    double pen = fmax(r->draped.max_penetration, r->after.max_penetration);
+    double strain = fmax(r->draped.max_strain, r->after.max_strain);
+    failed += demo_claim(pen < r->thickness, "%s: max penetration %.2f mm < thickness %.1f mm", v->tag, 1e3 * pen,
+                         1e3 * r->thickness);
+    failed += demo_claim(strain <= r->delta + 1e-4, "%s: max strain %.5f <= delta %.3f (+1e-4)", v->tag, strain,
+                         r->delta);
+    return failed;
+}
+
+/* A run's links yielded if its deepest bend reached its alpha. */
+static int yielded(double alpha, const drape_result *r)
+{
+    return alpha > 0.0 && fmin(r->draped.min_bend, r->after.min_bend) <= alpha;
+}
+
+int drape_check_alphas(const double *alphas, const drape_result *r, int n)
+{
+    int failed = 0, elastic = -1;
+    for (int i = 0; i < n; i++)
+        if (alphas[i] == 0.0) elastic = i;
+    if (elastic >= 0)
+        failed += demo_claim(r[elastic].after.crease_deg < DRAPE_FLAT_DEG && r[elastic].after.plastic_links == 0,
+                             "alpha 0: residual crease %.3f deg < %.2f deg, plastic links %d = 0",
+                             r[elastic].after.crease_deg, DRAPE_FLAT_DEG, r[elastic].after.plastic_links);
+    for (int i = 0; i < n; i++) {
+        if (alphas[i] == 0.0) continue;
+        double bend = fmin(r[i].draped.min_bend, r[i].after.min_bend);
+        if (!yielded(alphas[i], &r[i])) {
+            /* no link ever reached alpha l0: the plastic rule never acted,
+             * so the run must be the elastic one, to rounding */
+            failed += demo_claim(r[i].after.plastic_links == 0 &&
+                                     (elastic < 0 || fabs(r[i].after.crease_deg - r[elastic].after.crease_deg) < 1e-9),
+                                 "alpha %g: deepest bend d/l0 %.3f never reached alpha, so no plastic link (%d) and "
+                                 "the elastic run's crease (%.4f deg)",
+                                 alphas[i], bend, r[i].after.plastic_links, r[i].after.crease_deg);
+            continue;
+        }
+        if (elastic >= 0)
+            failed += demo_claim(r[i].after.crease_deg > DRAPE_MORE_FACTOR * r[elastic].after.crease_deg + DRAPE_FLAT_DEG,
+                                 "alpha %g (yielded: deepest bend %.3f): residual crease %.3f deg > %.1f x alpha 0's "
+                                 "+ %.1f deg (%.3f deg)",
+                                 alphas[i], bend, r[i].after.crease_deg, DRAPE_MORE_FACTOR, DRAPE_FLAT_DEG,
+                                 r[elastic].after.crease_deg);
+        for (int j = 0; j < n; j++)
+            if (alphas[j] > alphas[i] && yielded(alphas[j], &r[j]))
+                failed += demo_claim(r[j].after.crease_deg > r[i].after.crease_deg,
+                                     "residual crease grows with alpha: %.3f deg at %g > %.3f deg at %g",
+                                     r[j].after.crease_deg, alphas[j], r[i].after.crease_deg, alphas[i]);
+    }
+    return failed;
+}
+
+int drape_alpha_main(int argc, char **argv, const char *prog, const char *usage, drape_collider col,
+                     const double *default_alphas, int ndefault, const char *title)
+{
+    demo_opts o;
+    int p = demo_parse(&o, prog, usage, argc, argv);
+    if (p) return p == 1 ? 0 : 2;
+    double alphas[DEMO_MAX_ALPHAS];
+    int n = demo_alphas(&o, default_alphas, ndefault, alphas);
+    drape_variant v[DEMO_MAX_ALPHAS];
+    drape_result r[DEMO_MAX_ALPHAS];
+    for (int i = 0; i < n; i++) {
+        v[i].material = cloth_material_preset(o.material);
+        v[i].material.alpha = alphas[i];
+        snprintf(v[i].label, sizeof v[i].label, "alpha %g", alphas[i]);
+        snprintf(v[i].tag, sizeof v[i].tag, "alpha%g", alphas[i]);
+    }
+    if (drape_run_all(&o, col, v, n, r, prog, title)) return 1;
+    if (!o.check) return 0;
+    int failed = 0;
+    for (int i = 0; i < n; i++) failed += drape_check_common(&o, &v[i], &r[i]);
+    failed += drape_check_alphas(alphas, r, n);
+    printf("%s: %d check(s) failed\n", o.prog, failed);
+    return failed ? 1 : 0;
+}

@@ -1,0 +1,206 @@
+/* The option parser every demo shares. */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include "demo.h"
+
+static const char common_usage[] =
+    "common options:\n"
+    "  --alpha A[,B...]       plastic yield ratio(s) in [0, 1], one run each\n"
+    "  --material NAME        cotton | wool | elastic (Table 1 presets; default cotton)\n"
+    "  --grid N               nodes per side, 3..161 (default 21)\n"
+    "  --steps-per-second F   steps per simulated second, 10..10000 (default 60)\n"
+    "  --out DIR              where pictures and OBJ files go (default out/<demo>)\n"
+    "  --obj                  also write an OBJ of the cloth for every saved frame\n"
+    "  --frames K             also save K evenly spaced frames over each run (default 0)\n"
+    "  --smooth L             display-only subdivision levels of the cloth, 0..3 (default 1)\n"
+    "  --size WxH             picture size in pixels (default 400x300)\n"
+    "  --no-images            metrics only\n"
+    "  --csv FILE             append the metrics of each run to FILE\n"
+    "  --phases               print the largest strain and penetration of each phase\n"
+    "  --trace                print every step's statistics (and --phases)\n"
+    "  --box-table            drape_table, fabrics: the table as ODE's box geom (vertex and\n"
+    "                         libccd triangle contacts) instead of a triangle mesh\n"
+    "  --short                a shorter timeline (what --check uses in CTest)\n"
+    "  --check                assert the demo's claims on its own metrics (exit 1 if not)\n"
+    "  --help                 this text\n";
+
+static int bad(const demo_opts *o, const char *opt, const char *val, const char *why)
+{
+    fprintf(stderr, "%s: %s '%s': %s (try --help)\n", o->prog, opt, val ? val : "", why);
+    return 2;
+}
+
+/* A finite number filling the whole string. */
+static int parse_double(const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || *end || errno || !isfinite(v)) return -1;
+    *out = v;
+    return 0;
+}
+
+static int parse_int(const char *s, int lo, int hi, int *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (end == s || *end || errno || v < lo || v > hi) return -1;
+    *out = (int)v;
+    return 0;
+}
+
+static int parse_alphas(demo_opts *o, const char *s)
+{
+    char buf[256];
+    if (strlen(s) >= sizeof buf) return -1;
+    strcpy(buf, s);
+    o->nalpha = 0;
+    char *save = NULL;
+    for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+        double a;
+        if (o->nalpha == DEMO_MAX_ALPHAS || parse_double(t, &a) || a < 0.0 || a > 1.0) return -1;
+        o->alphas[o->nalpha++] = a;
+    }
+    return o->nalpha > 0 ? 0 : -1;
+}
+
+int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char **argv)
+{
+    static char out_default[256];
+    memset(o, 0, sizeof *o);
+    o->prog = prog;
+    o->material = CLOTH_COTTON;
+    o->material_name = "cotton";
+    o->grid = 21;
+    o->hz = 60.0;
+    snprintf(out_default, sizeof out_default, "out/%s", prog);
+    o->out = out_default;
+    o->smooth = 1;
+    o->width = 400;
+    o->height = 300;
+    o->images = 1;
+    for (int a = 1; a < argc; a++) {
+        const char *opt = argv[a];
+        const char *v = a + 1 < argc ? argv[a + 1] : NULL;
+        /* flags */
+        if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
+            fputs(usage, stdout);
+            fputs(common_usage, stdout);
+            return 1;
+        }
+        if (!strcmp(opt, "--obj")) { o->obj = 1; continue; }
+        if (!strcmp(opt, "--check")) { o->check = 1; continue; }
+        if (!strcmp(opt, "--short")) { o->short_run = 1; continue; }
+        if (!strcmp(opt, "--no-images")) { o->images = 0; continue; }
+        if (!strcmp(opt, "--trace")) { o->trace = o->phases = 1; continue; }
+        if (!strcmp(opt, "--phases")) { o->phases = 1; continue; }
+        if (!strcmp(opt, "--box-table")) { o->box_table = 1; continue; }
+        /* options with a value */
+        if (strncmp(opt, "--", 2)) return bad(o, "argument", opt, "not an option");
+        if (!v) return bad(o, opt, NULL, "needs a value");
+        a++;
+        if (!strcmp(opt, "--alpha")) {
+            if (parse_alphas(o, v)) return bad(o, opt, v, "want up to 8 numbers in [0, 1], comma-separated");
+        } else if (!strcmp(opt, "--material")) {
+            o->material_set = 1;
+            o->material_name = v;
+            if (!strcmp(v, "cotton")) o->material = CLOTH_COTTON;
+            else if (!strcmp(v, "wool")) o->material = CLOTH_WOOL;
+            else if (!strcmp(v, "elastic")) o->material = CLOTH_ELASTIC;
+            else return bad(o, opt, v, "want cotton, wool or elastic");
+        } else if (!strcmp(opt, "--grid")) {
+            if (parse_int(v, 3, 161, &o->grid)) return bad(o, opt, v, "want a whole number in 3..161");
+        } else if (!strcmp(opt, "--steps-per-second") || !strcmp(opt, "--hz")) {
+            if (parse_double(v, &o->hz) || o->hz < 10.0 || o->hz > 10000.0)
+                return bad(o, opt, v, "want a number in 10..10000");
+        } else if (!strcmp(opt, "--out")) {
+            if (!*v) return bad(o, opt, v, "empty directory name");
+            o->out = v;
+        } else if (!strcmp(opt, "--frames")) {
+            if (parse_int(v, 0, 1000, &o->frames)) return bad(o, opt, v, "want a whole number in 0..1000");
+        } else if (!strcmp(opt, "--smooth")) {
+            if (parse_int(v, 0, 3, &o->smooth)) return bad(o, opt, v, "want 0, 1, 2 or 3");
+        } else if (!strcmp(opt, "--size")) {
+            int w, h;
+            char tail;
+            if (sscanf(v, "%dx%d%c", &w, &h, &tail) != 2 || w < 32 || h < 32 || w > 4096 || h > 4096)
+                return bad(o, opt, v, "want WxH, each 32..4096");
+            o->width = w;
+            o->height = h;
+        } else if (!strcmp(opt, "--csv")) {
+            if (!*v) return bad(o, opt, v, "empty file name");
+            o->csv = v;
+        } else {
+            return bad(o, "unknown option", opt, "not one of the options");
+        }
+    }
+    dInitODE2(0);
+    atexit(dCloseODE);
+    return 0;
+}
+
+int demo_alphas(const demo_opts *o, const double *defaults, int n, double *out)
+{
+    if (o->nalpha) {
+        memcpy(out, o->alphas, (size_t)o->nalpha * sizeof *out);
+        return o->nalpha;
+    }
+    memcpy(out, defaults, (size_t)n * sizeof *out);
+    return n;
+}
+
+int demo_make_out_dir(const demo_opts *o)
+{
+    char path[1024];
+    if (snprintf(path, sizeof path, "%s", o->out) >= (int)sizeof path) {
+        fprintf(stderr, "%s: --out path too long\n", o->prog);
+        return -1;
+    }
+    for (char *p = path + 1;; p++) {
+        if (*p == '/' || !*p) {
+            char c = *p;
+            *p = '\0';
+            if (mkdir(path, 0777) && errno != EEXIST) {
+                fprintf(stderr, "%s: cannot create %s: %s\n", o->prog, path, strerror(errno));
+                return -1;
+            }
+            *p = c;
+            if (!c) break;
+        }
+    }
+    return 0;
+}
+
+double demo_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+int demo_step(const demo_opts *o, dWorldID world, dClothID *cloths, int n, double h, int step)
+{
+    if (dClothWorldStep(world, cloths, n, h, 0) == CLOTH_OK) {
+        for (int i = 0; o->trace && i < n; i++) {
+            const dClothStepStats *st = dClothGetStats(cloths[i]);
+            printf("step %5d cloth %d: CG %3d  strain %.5f  limited %3d  contacts %3d (sticking %3d, "
+                   "triangles %3d)  resolves %d  penetration %.2f mm  plastic %4d  kinetic %.3e J\n",
+                   step, i, st->core.iterations, st->core.max_strain, st->core.strain_limited, st->contacts,
+                   st->sticking, st->triangle_contacts, st->resolves, 1e3 * st->max_penetration,
+                   st->core.plastic_links, st->core.energy.kinetic);
+        }
+        return 0;
+    }
+    for (int i = 0; i < n; i++) {
+        const char *e = dClothGetLastError(cloths[i]);
+        if (*e) fprintf(stderr, "%s: step %d failed: %s\n", o->prog, step, e);
+    }
+    return -1;
+}
