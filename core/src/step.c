@@ -406,7 +406,11 @@ cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
     } else {
         st.first_failure = fail;
         st.substeps_failed = 1;
-        if (sv->max_substep_halvings > 0) fail = substep_retry(c, h, sv->max_substep_halvings, fail, &st, &ms);
+        /* not with bodies solved with the cloth (cloth_body): their
+         * velocity change would have to carry from one substep's targets
+         * to the next, which the retry does not do yet */
+        if (sv->max_substep_halvings > 0 && !c->body_held)
+            fail = substep_retry(c, h, sv->max_substep_halvings, fail, &st, &ms);
     }
     if (fail != CLOTH_FAIL_NONE) {
         st.failure = fail;
