@@ -4,7 +4,8 @@
 #   make            configure (RelWithDebInfo: -O2 -g) and build into build/
 #   make deps       install the missing Debian packages (apt-get)
 #   make test       deps + build + every test except the soak label
-#   make demo       deps + build + run build/examples/drape_pinned
+#   make demo       deps + build + drape_table for alpha 0, 0.5, 0.8 and 1:
+#                   pictures and the contact sheet in $(BUILD)/demo/
 #   make sanitize   build into build-san/ with ASan + UBSan and run the tests
 #   make bench      deps + build + run every build/examples/bench_* program
 #   make install    install into PREFIX (default /usr/local)
@@ -59,8 +60,9 @@ test: deps build
 	$(CTEST) --test-dir $(BUILD) $(CTEST_ARGS)
 
 demo: deps build
-	@test -x $(BUILD)/examples/drape_pinned || { echo "no examples/drape_pinned.c yet"; exit 1; }
-	$(BUILD)/examples/drape_pinned
+	@rm -f $(BUILD)/demo/drape_table.csv
+	$(BUILD)/examples/drape_table --alpha 0,0.5,0.8,1 --out $(BUILD)/demo --csv $(BUILD)/demo/drape_table.csv
+	@echo "contact sheet: $(BUILD)/demo/drape_table.png"
 
 # A separate tree, so the sanitized objects never mix with the normal ones.
 # The flags also reach the link lines (CMake passes C flags to the linker).
