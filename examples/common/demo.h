@@ -83,6 +83,10 @@ typedef struct demo_camera {
     double fov_deg;           /* vertical field of view */
 } demo_camera;
 
+/* A geom whose data is this pointer is not drawn (a plate between the
+ * camera and the cloth, say). */
+extern const float demo_geom_hidden[3];
+
 int demo_render_available(void);
 /* Why pictures are not available ("" if they are). */
 const char *demo_render_unavailable_reason(void);
@@ -141,6 +145,11 @@ int demo_write_obj(const char *path, dClothID c);
  * frees it), for a contact sheet. Returns 0, or -1 on a write error. */
 int demo_save_frame(const demo_opts *o, const char *name, const demo_camera *cam, dSpaceID space, dClothID *cloths,
                     int n, demo_image **keep);
+
+/* --frames K: after step `step` (1-based) of `total`, save frame *next
+ * (<tag>_frameNNN) when the run has reached it; K frames evenly spaced. */
+void demo_frame_hook(const demo_opts *o, const char *tag, int step, int total, int *next, const demo_camera *cam,
+                     dSpaceID space, dClothID *cloths, int n);
 
 /* -------------------------------------------------------------- stepping */
 

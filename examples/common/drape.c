@@ -19,19 +19,29 @@
 
 static const float table_rgb[3] = {0.55f, 0.40f, 0.28f}, sphere_rgb[3] = {0.60f, 0.62f, 0.68f};
 
-/* The table as a triangle mesh (the paper's collision: cloth vertices
- * against the body's triangles): the corners of a box, and its 12 faces,
- * outward-facing (counter-clockwise seen from outside). */
-static const int table_indices[36] = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
-                                      2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+static const int box_indices[36] = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+                                    2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
 
-static void table_vertices(double side, double height, double v[8][3])
+dGeomID demo_box_mesh_create(demo_box_mesh *m, dSpaceID space, double lx, double ly, double lz)
 {
+    /* corner k: bit 0 +x, bit 1 +y, bit 2 +z; faces counter-clockwise from outside */
     for (int k = 0; k < 8; k++) {
-        v[k][0] = (k & 1 ? 0.5 : -0.5) * side;
-        v[k][1] = (k & 2 ? 0.5 : -0.5) * side;
-        v[k][2] = FLOOR_Z + (k & 4 ? height : 0.0);
+        m->v[k][0] = (k & 1 ? 0.5 : -0.5) * lx;
+        m->v[k][1] = (k & 2 ? 0.5 : -0.5) * ly;
+        m->v[k][2] = (k & 4 ? 0.5 : -0.5) * lz;
     }
+    m->data = dGeomTriMeshDataCreate();
+    dGeomTriMeshDataBuildDouble(m->data, m->v, 3 * sizeof(double), 8, box_indices, 36, 3 * sizeof(int));
+    m->geom = dCreateTriMesh(space, m->data, NULL, NULL, NULL);
+    return m->geom;
+}
+
+void demo_box_mesh_destroy(demo_box_mesh *m)
+{
+    if (m->geom) dGeomDestroy(m->geom);
+    if (m->data) dGeomTriMeshDataDestroy(m->data);
+    m->geom = NULL;
+    m->data = NULL;
 }
 
 static double smoothstep(double t)
@@ -79,8 +89,7 @@ typedef struct runner {
     demo_camera cam_wide;
     demo_metrics run, phase; /* over the whole run, over the current phase */
     int step, total, next_frame;
-    dTriMeshDataID mesh;
-    double table_v[8][3];
+    demo_box_mesh table;
 } runner;
 
 static int run_step(runner *R)
@@ -89,12 +98,7 @@ static int run_step(runner *R)
     demo_track_step(R->c, &R->run);
     demo_track_step(R->c, &R->phase);
     R->step++;
-    /* --frames K: K frames evenly spaced over the run, from the wide camera */
-    if (R->o->frames && (long)R->step * R->o->frames >= (long)R->next_frame * R->total) {
-        char name[120];
-        snprintf(name, sizeof name, "%s_frame%03d", R->v->tag, R->next_frame++);
-        demo_save_frame(R->o, name, &R->cam_wide, R->space, &R->c, 1, NULL);
-    }
+    demo_frame_hook(R->o, R->v->tag, R->step, R->total, &R->next_frame, &R->cam_wide, R->space, &R->c, 1);
     return 0;
 }
 
@@ -124,8 +128,9 @@ static int settle_and_capture(runner *R, int steps, const char *what, double t0,
     return 0;
 }
 
-int drape_run(const demo_opts *o, drape_collider col, const drape_variant *v, drape_result *r)
+int drape_run(const demo_opts *o, const demo_scene *scene, const drape_variant *v, drape_result *r)
 {
+    drape_collider col = scene->col;
     memset(r, 0, sizeof *r);
     double settle = o->short_run ? 2.5 : 4.0;
     double move = o->short_run ? 1.0 : 1.5;
@@ -149,10 +154,8 @@ int drape_run(const demo_opts *o, drape_collider col, const drape_variant *v, dr
     R.space = dHashSpaceCreate(0);
     dCreatePlane(R.space, 0, 0, 1, FLOOR_Z);
     if (col == DRAPE_TABLE && !o->box_table) {
-        R.mesh = dGeomTriMeshDataCreate();
-        table_vertices(TABLE_SIDE, TABLE_HEIGHT, R.table_v);
-        dGeomTriMeshDataBuildDouble(R.mesh, R.table_v, 3 * sizeof(double), 8, table_indices, 36, 3 * sizeof(int));
-        dGeomID table = dCreateTriMesh(R.space, R.mesh, NULL, NULL, NULL);
+        dGeomID table = demo_box_mesh_create(&R.table, R.space, TABLE_SIDE, TABLE_SIDE, TABLE_HEIGHT);
+        dGeomSetPosition(table, 0, 0, FLOOR_Z + TABLE_HEIGHT / 2);
         dGeomSetData(table, (void *)table_rgb);
     } else if (col == DRAPE_TABLE) {
         dGeomID table = dCreateBox(R.space, TABLE_SIDE, TABLE_SIDE, TABLE_HEIGHT);
@@ -186,7 +189,8 @@ int drape_run(const demo_opts *o, drape_collider col, const drape_variant *v, dr
     R.total = 2 * settle_steps + nphase * move_steps;
     double t0 = demo_now();
 
-    if (settle_and_capture(&R, settle_steps, "draped", t0, &cam_draped, &r->draped, &r->pic_draped)) goto done;
+    if (settle_and_capture(&R, settle_steps, scene->tags[0], t0, &cam_draped, &r->draped, &r->pic_draped))
+        goto done;
 
     double from[4][3], to[4][3];
     const dReal *x = dClothGetPositions(R.c);
@@ -210,40 +214,44 @@ int drape_run(const demo_opts *o, drape_collider col, const drape_variant *v, dr
         memcpy(from, to, sizeof from);
     }
     for (int k = 0; k < 4; k++) dClothReleasePin(R.c, corner[k]);
-    if (settle_and_capture(&R, settle_steps, "after", t0, &cam_after, &r->after, &r->pic_after)) goto done;
+    if (settle_and_capture(&R, settle_steps, scene->tags[1], t0, &cam_after, &r->after, &r->pic_after))
+        goto done;
     rc = 0;
 done:
     if (rc) phase_done(&R, "FAILED");
     dClothDestroy(R.c);
+    demo_box_mesh_destroy(&R.table);
     dSpaceDestroy(R.space);
     dWorldDestroy(R.world);
-    if (R.mesh) dGeomTriMeshDataDestroy(R.mesh);
     return rc;
 }
 
-int drape_run_all(const demo_opts *o, drape_collider col, const drape_variant *v, int nv, drape_result *results,
+const demo_scene drape_table_scene = {"table", {"draped", "after removal"}, {"draped", "after"}, DRAPE_TABLE,
+                                      drape_run};
+const demo_scene drape_sphere_scene = {"sphere", {"draped", "after removal"}, {"draped", "after"}, DRAPE_SPHERE,
+                                       drape_run};
+
+int drape_run_all(const demo_opts *o, const demo_scene *sc, const drape_variant *v, int nv, drape_result *results,
                   const char *sheet, const char *title)
 {
     if (nv <= 0 || nv > DEMO_MAX_ALPHAS || demo_make_out_dir(o)) return -1;
+    memset(results, 0, (size_t)nv * sizeof *results); /* what a failed run leaves is freed below */
     if (o->images && (!demo_render_available() || !demo_png_available()))
         printf("%s: no pictures: %s\n", o->prog,
                !demo_render_available() ? demo_render_unavailable_reason()
                                          : "built without libpng (install libpng-dev and rebuild)");
     int rc = 0;
     for (int i = 0; i < nv && !rc; i++) {
-        printf("== %s: %s, %s\n", o->prog, v[i].label, col == DRAPE_TABLE ? "table" : "sphere");
-        rc = drape_run(o, col, &v[i], &results[i]);
+        printf("== %s: %s, %s\n", o->prog, v[i].label, sc->name);
+        rc = sc->run(o, sc, &v[i], &results[i]);
         if (rc) break;
-        char label[80];
-        snprintf(label, sizeof label, "%s draped", v[i].tag);
-        demo_print_metrics(stdout, label, &results[i].draped);
-        snprintf(label, sizeof label, "%s after removal", v[i].tag);
-        demo_print_metrics(stdout, label, &results[i].after);
-        if (o->csv) {
-            snprintf(label, sizeof label, "%s_draped", v[i].tag);
-            demo_csv_row(o->csv, o->prog, label, v[i].material.alpha, &results[i].draped);
-            snprintf(label, sizeof label, "%s_after", v[i].tag);
-            demo_csv_row(o->csv, o->prog, label, v[i].material.alpha, &results[i].after);
+        for (int k = 0; k < 2; k++) {
+            const demo_metrics *m = k ? &results[i].after : &results[i].draped;
+            char label[80];
+            snprintf(label, sizeof label, "%s %s", v[i].tag, sc->rows[k]);
+            demo_print_metrics(stdout, label, m);
+            snprintf(label, sizeof label, "%s_%s", v[i].tag, sc->tags[k]);
+            if (o->csv && demo_csv_row(o->csv, o->prog, label, v[i].material.alpha, m)) rc = -1;
         }
     }
     if (!rc && results[0].pic_draped) {
@@ -255,8 +263,7 @@ int drape_run_all(const demo_opts *o, drape_collider col, const drape_variant *v
                 cells[nv + i] = results[i].pic_after;
                 cols[i] = v[i].label;
             }
-            const char *rows[2] = {"draped", "after removal"};
-            demo_image *s = demo_contact_sheet(cells, 2, nv, rows, cols, title);
+            demo_image *s = demo_contact_sheet(cells, 2, nv, sc->rows, cols, title);
             char path[1024];
             snprintf(path, sizeof path, "%s/%s.png", o->out, sheet);
             if (!s || demo_png_write(path, s)) rc = -1;
@@ -331,7 +338,7 @@ int drape_check_alphas(const double *alphas, const drape_result *r, int n)
     return failed;
 }
 
-int drape_alpha_main(int argc, char **argv, const char *prog, const char *usage, drape_collider col,
+int drape_alpha_main(int argc, char **argv, const char *prog, const char *usage, const demo_scene *sc,
                      const double *default_alphas, int ndefault, const char *title)
 {
     demo_opts o;
@@ -347,7 +354,7 @@ int drape_alpha_main(int argc, char **argv, const char *prog, const char *usage,
         snprintf(v[i].label, sizeof v[i].label, "alpha %g", alphas[i]);
         snprintf(v[i].tag, sizeof v[i].tag, "alpha%g", alphas[i]);
     }
-    if (drape_run_all(&o, col, v, n, r, prog, title)) return 1;
+    if (drape_run_all(&o, sc, v, n, r, prog, title)) return 1;
     if (!o.check) return 0;
     int failed = 0;
     for (int i = 0; i < n; i++) failed += drape_check_common(&o, &v[i], &r[i]);

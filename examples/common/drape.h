@@ -30,6 +30,18 @@
 
 #include "demo.h"
 
+/* A box as a triangle mesh (12 triangles) centred on its geom's position:
+ * what the demos use for tables and plates, since cloth dragged over the
+ * edges of ODE's box geom fails its steps (see above). The vertices live
+ * here, as ODE keeps pointers to them. */
+typedef struct demo_box_mesh {
+    double v[8][3];
+    dTriMeshDataID data;
+    dGeomID geom;
+} demo_box_mesh;
+dGeomID demo_box_mesh_create(demo_box_mesh *m, dSpaceID space, double lx, double ly, double lz);
+void demo_box_mesh_destroy(demo_box_mesh *m); /* the geom and its data */
+
 typedef enum drape_collider { DRAPE_TABLE, DRAPE_SPHERE } drape_collider;
 
 typedef struct drape_variant {
@@ -39,20 +51,34 @@ typedef struct drape_variant {
 } drape_variant;
 
 typedef struct drape_result {
-    demo_metrics draped;     /* at the end of the drape                  */
-    demo_metrics after;      /* settled on the floor after removal       */
+    demo_metrics draped;     /* at the end of the drape (first picture)  */
+    demo_metrics after;      /* settled after removal (second picture)   */
     double delta;            /* the material's elongation limit          */
     double thickness;        /* m                                        */
     demo_image *pic_draped, *pic_after; /* NULL without pictures         */
 } drape_result;
 
-/* Run one variant; 0 on success, -1 if a step failed (message printed). */
-int drape_run(const demo_opts *o, drape_collider col, const drape_variant *v, drape_result *r);
+/* A two-picture experiment run per variant: drape and removal here; the
+ * crumple demo's press and release too. */
+typedef struct demo_scene demo_scene;
+struct demo_scene {
+    const char *name;      /* "table", ...                                     */
+    const char *rows[2];   /* picture labels: "draped", "after removal"        */
+    const char *tags[2];   /* file and CSV names: "draped", "after"            */
+    drape_collider col;    /* for drape_run                                    */
+    /* 0 on success, -1 if a step failed (message printed) */
+    int (*run)(const demo_opts *o, const demo_scene *s, const drape_variant *v, drape_result *r);
+};
 
-/* Run every variant, print a table, write the contact sheet <out>/<sheet>.png
- * (columns: variants; rows: "draped", "after removal") and the CSV rows.
- * results has nv entries; the pictures are freed. 0, or -1 on a failure. */
-int drape_run_all(const demo_opts *o, drape_collider col, const drape_variant *v, int nv, drape_result *results,
+/* The drape-and-remove run of one variant (a demo_scene's run). */
+int drape_run(const demo_opts *o, const demo_scene *s, const drape_variant *v, drape_result *r);
+extern const demo_scene drape_table_scene, drape_sphere_scene;
+
+/* Run every variant, print the metrics, write the contact sheet
+ * <out>/<sheet>.png (columns: variants; rows: the scene's two pictures) and
+ * the CSV rows. results has nv entries; the pictures are freed. 0, or -1
+ * on a failure. */
+int drape_run_all(const demo_opts *o, const demo_scene *s, const drape_variant *v, int nv, drape_result *results,
                   const char *sheet, const char *title);
 
 /* The claims common to every drape: no vertex past the thickness into a
@@ -76,7 +102,7 @@ int drape_check_alphas(const double *alphas, const drape_result *r, int n);
  * --material preset otherwise; defaults when no --alpha), the sheet <prog>.png,
  * and with --check the common claims and drape_check_alphas. Returns the
  * exit status. */
-int drape_alpha_main(int argc, char **argv, const char *prog, const char *usage, drape_collider col,
+int drape_alpha_main(int argc, char **argv, const char *prog, const char *usage, const demo_scene *s,
                      const double *default_alphas, int ndefault, const char *title);
 
 /* Print a check line ("check ok" / "check FAILED") and return !ok. */

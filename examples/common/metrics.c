@@ -248,3 +248,12 @@ int demo_save_frame(const demo_opts *o, const char *name, const demo_camera *cam
     else demo_image_destroy(im);
     return rc;
 }
+
+void demo_frame_hook(const demo_opts *o, const char *tag, int step, int total, int *next, const demo_camera *cam,
+                     dSpaceID space, dClothID *cloths, int n)
+{
+    if (!o->frames || (long)step * o->frames < (long)*next * total) return;
+    char name[120];
+    snprintf(name, sizeof name, "%s_frame%03d", tag, (*next)++);
+    demo_save_frame(o, name, cam, space, cloths, n, NULL);
+}

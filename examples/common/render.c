@@ -15,6 +15,8 @@
 #include <string.h>
 #include "demo.h"
 
+const float demo_geom_hidden[3] = {0, 0, 0};
+
 #ifdef ODECLOTH_HAVE_OSMESA
 #include <GL/osmesa.h>
 #include <GL/gl.h>
@@ -267,6 +269,7 @@ static void draw_geom(dGeomID g, const demo_camera *cam)
     }
     int cls = dGeomGetClass(g);
     const float *rgb = dGeomGetData(g);
+    if (rgb == demo_geom_hidden) return;
     static const float grey[3] = {0.62f, 0.62f, 0.66f};
     if (!rgb) rgb = grey;
     colour(rgb[0], rgb[1], rgb[2]);
