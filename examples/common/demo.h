@@ -52,6 +52,8 @@ int demo_alphas(const demo_opts *o, const double *defaults, int n, double *out);
 int demo_make_out_dir(const demo_opts *o);
 /* Seconds on a monotonic clock. */
 double demo_now(void);
+/* 3t^2 - 2t^3 on [0, 1], clamped: the scripted motions' easing. */
+double demo_smoothstep(double t);
 
 /* ------------------------------------------------------------------ image */
 

@@ -44,12 +44,6 @@ void demo_box_mesh_destroy(demo_box_mesh *m)
     m->data = NULL;
 }
 
-static double smoothstep(double t)
-{
-    t = t < 0 ? 0 : t > 1 ? 1 : t;
-    return t * t * (3 - 2 * t);
-}
-
 static double collider_top(drape_collider col) { return col == DRAPE_TABLE ? TABLE_HEIGHT : SPHERE_Z + SPHERE_R; }
 
 static void cameras(drape_collider col, demo_camera *draped, demo_camera *after, demo_camera *wide)
@@ -202,7 +196,7 @@ int drape_run(const demo_opts *o, const demo_scene *scene, const drape_variant *
             to[k][2] = phases[p].z;
         }
         for (int s = 1; s <= move_steps; s++) {
-            double w = smoothstep((double)s / move_steps);
+            double w = demo_smoothstep((double)s / move_steps);
             for (int k = 0; k < 4; k++) {
                 dReal at[3];
                 for (int a = 0; a < 3; a++) at[a] = from[k][a] + w * (to[k][a] - from[k][a]);

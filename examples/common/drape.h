@@ -73,6 +73,8 @@ struct demo_scene {
 /* The drape-and-remove run of one variant (a demo_scene's run). */
 int drape_run(const demo_opts *o, const demo_scene *s, const drape_variant *v, drape_result *r);
 extern const demo_scene drape_table_scene, drape_sphere_scene;
+/* The press-and-release run (examples/crumple.c, common/press.c). */
+extern const demo_scene press_scene;
 
 /* Run every variant, print the metrics, write the contact sheet
  * <out>/<sheet>.png (columns: variants; rows: the scene's two pictures) and

@@ -204,3 +204,9 @@ int demo_step(const demo_opts *o, dWorldID world, dClothID *cloths, int n, doubl
     }
     return -1;
 }
+
+double demo_smoothstep(double t)
+{
+    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    return t * t * (3 - 2 * t);
+}
