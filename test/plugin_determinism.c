@@ -29,6 +29,7 @@
 
 #include "odecloth/dcloth.h"
 #include "check.h"
+#include "body_state.h"
 
 #define STEPS 160
 #define SAVE_AT 80
@@ -81,26 +82,6 @@ static void destroy(run *r)
     dBodyDestroy(r->body);
     dSpaceDestroy(r->space);
     dWorldDestroy(r->world);
-}
-
-typedef struct body_state {
-    dReal pos[3], q[4], lv[3], av[3];
-} body_state;
-
-static void body_save(dBodyID b, body_state *s)
-{
-    memcpy(s->pos, dBodyGetPosition(b), sizeof s->pos);
-    memcpy(s->q, dBodyGetQuaternion(b), sizeof s->q);
-    memcpy(s->lv, dBodyGetLinearVel(b), sizeof s->lv);
-    memcpy(s->av, dBodyGetAngularVel(b), sizeof s->av);
-}
-
-static void body_restore(dBodyID b, const body_state *s)
-{
-    dBodySetPosition(b, s->pos[0], s->pos[1], s->pos[2]);
-    dBodySetQuaternion(b, s->q);
-    dBodySetLinearVel(b, s->lv[0], s->lv[1], s->lv[2]);
-    dBodySetAngularVel(b, s->av[0], s->av[1], s->av[2]);
 }
 
 static int step(run *r, int s)
