@@ -8,6 +8,8 @@
 #                   pictures and the contact sheet in $(BUILD)/demo/
 #   make sanitize   build into build-san/ with ASan + UBSan and run the tests
 #   make bench      deps + build + run every build/examples/bench_* program
+#   make fuzz       build the libFuzzer harnesses (clang, ASan + UBSan) into
+#                   build-fuzz/ and run each for FUZZ_SECONDS (default 60)
 #   make install    install into PREFIX (default /usr/local)
 #   make clean      remove build/ and build-san/
 
@@ -19,7 +21,8 @@ CTEST ?= ctest
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CTEST_ARGS ?= --output-on-failure -j2 -LE soak
 
-DEPS := libode-dev libccd-dev cmake pkg-config libosmesa6-dev libpng-dev gnuplot-nox
+DEPS := libode-dev libccd-dev cmake pkg-config libosmesa6-dev libpng-dev gnuplot-nox \
+        clang libclang-rt-dev valgrind
 SAN_FLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
 BENCHES := $(patsubst examples/%.c,$(BUILD)/examples/%,$(wildcard examples/bench_*.c))
 
@@ -29,7 +32,7 @@ MAKEFLAGS += --no-print-directory
 # Targets run one after another (deps before build); the parallelism is
 # inside the CMake build.
 .NOTPARALLEL:
-.PHONY: all build deps test demo sanitize bench install clean
+.PHONY: all build deps test demo sanitize bench install clean fuzz
 
 all: build
 
@@ -75,6 +78,31 @@ sanitize: deps
 bench: deps build
 	@$(if $(BENCHES),,echo "no benchmarks (examples/bench_*.c) yet")
 	@set -e; for b in $(BENCHES); do echo "== $$b"; $$b; done
+
+# libFuzzer: each test/fuzz_<name>.c defines LLVMFuzzerTestOneInput (its
+# main(), the CTest driver, is left out with -DODECLOTH_LIBFUZZER) and is
+# built with the core's sources, all instrumented, then run for a bounded
+# time from its seeds in test/corpus/<name>/ (new inputs it finds go to
+# build-fuzz/corpus_<name>/, crashes to build-fuzz/). Non-zero on a crash.
+FUZZ_BUILD ?= build-fuzz
+FUZZ_SECONDS ?= 60
+FUZZ_CC ?= clang
+FUZZ_FLAGS := -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
+              -fno-omit-frame-pointer -DODECLOTH_LIBFUZZER
+FUZZERS := $(patsubst test/fuzz_%.c,%,$(wildcard test/fuzz_*.c))
+
+fuzz: deps
+	@mkdir -p $(FUZZ_BUILD)
+	@set -e; for f in $(FUZZERS); do \
+	    echo "== fuzz_$$f: building with $(FUZZ_CC)"; \
+	    $(FUZZ_CC) $(FUZZ_FLAGS) -Icore/include -Icore/src -Itest core/src/*.c test/fuzz_$$f.c -lm \
+	        -o $(FUZZ_BUILD)/fuzz_$$f; \
+	    mkdir -p $(FUZZ_BUILD)/corpus_$$f; \
+	    echo "== fuzz_$$f: running for $(FUZZ_SECONDS) s"; \
+	    $(FUZZ_BUILD)/fuzz_$$f -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=2048 \
+	        -print_final_stats=1 -artifact_prefix=$(FUZZ_BUILD)/ \
+	        $(FUZZ_BUILD)/corpus_$$f test/corpus/$$f; \
+	done
 
 # The prefix is given at configure time too, so that GNUInstallDirs picks the
 # layout for it (lib/<multiarch> under /usr on Debian).
