@@ -368,31 +368,37 @@ cloth_status cloth_state_read_file(cloth_state *s, FILE *f, cloth_error *err);
  * should end within about tolerance * T of the exact motion (measured on the
  * work-precision chart, examples/bench_workprecision.c).
  *
- * A frame is n backward Euler substeps of frame/n. What a substep adds is
- * estimated by its local truncation error, from the velocity changes the
- * steps make anyway (no extra solves): h/2 |dv_k| for the positions
- * (h^2/2 x''), plus velocity_weight * |dv_k - dv_k-1| / 2 for the velocities
- * (h^2/2 x'''), RMS over vertices. A frame whose estimate passes twice its
- * budget is rolled back (cloth_restore) and solved again with more substeps,
- * as is one whose step fails (NaN, strain, CG); the next frame's n aims at
- * 0.7 of the budget. The CG tolerance is chosen so that the CG error stays a
- * tenth of the budget. The cloth's own solver settings are restored after
- * each frame. */
+ * A frame is n backward Euler substeps of frame/n. What a frame adds is
+ * estimated from its local truncation errors, using the velocity changes the
+ * steps make anyway (no extra solves; a_k = dv_k / h, RMS over vertices):
+ * the sum of h^2/2 |a_k| for the positions (h^2/2 x''), plus velocity_weight
+ * times h/2 |a_n - a_0| for the velocities (n h^2/2 x''', a_0 the last
+ * substep's before the frame). A frame whose estimate passes twice its
+ * budget is rolled back (cloth_restore) and solved again with the substeps
+ * it asks for, as is one whose step fails (NaN, strain, CG: twice the
+ * substeps and a 10x tighter CG); at max_substeps an over-budget frame is
+ * kept and flagged. The next frame's n aims at 0.7 of the budget. The CG
+ * tolerance: the solver's relative residual acts as a relative force error,
+ * a velocity error of cg |a| per second, held to a tenth of the budget:
+ * cg = 0.1 tolerance / (velocity_weight |a|). The first frame takes at
+ * least two substeps and CG tolerance 1e-6. The cloth's own solver settings
+ * are restored after each frame (the controller steps backward Euler). */
 typedef struct cloth_adaptive_desc {
     double tolerance;        /* m/s, RMS position error per simulated second, > 0 */
     int min_substeps;        /* per frame, >= 1                                    */
-    int max_substeps;        /* per frame, >= min_substeps; past it a frame fails  */
+    int max_substeps;        /* per frame, >= min_substeps                          */
     double cg_tolerance_min; /* range of the chosen CG tolerance, 0 < min <= max < 1 */
     double cg_tolerance_max;
-    double velocity_weight;  /* s, weight of the velocity error estimate, >= 0     */
+    double velocity_weight;  /* s, how long a velocity error counts as position
+                                error (the estimate's and the CG's), > 0         */
     /* Called before every substep with its h (contacts, moving pins): set the
      * constraints there. Nonzero fails the frame (state as before it). May be NULL. */
     int (*before_substep)(cloth *c, double h, void *user);
     void *user;
 } cloth_adaptive_desc;
 
-/* tolerance 1e-2 m/s, substeps 1..256, CG tolerance 1e-6..1e-1 (see adaptive.c
- * for velocity_weight's default) */
+/* tolerance 1e-2 m/s, substeps 1..256, CG tolerance 1e-8..1e-1, velocity
+ * weight 0.1 s */
 cloth_adaptive_desc cloth_adaptive_default_desc(void);
 
 typedef struct cloth_adaptive_stats {
