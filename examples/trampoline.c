@@ -39,28 +39,6 @@ static const char usage[] =
 
 static const float box_rgb[3] = {0.80f, 0.62f, 0.25f};
 
-typedef struct world_ctx {
-    dWorldID world;
-    dJointGroupID contacts;
-} world_ctx;
-
-/* The user's own collisions: the box against the floor (the cloth's are the
- * plugin's). */
-static void near_cb(void *data, dGeomID a, dGeomID b)
-{
-    world_ctx *w = data;
-    dContact ct[4];
-    int n = dCollide(a, b, 4, &ct[0].geom, sizeof ct[0]);
-    for (int i = 0; i < n; i++) {
-        ct[i].surface.mode = dContactBounce;
-        ct[i].surface.mu = 0.5;
-        ct[i].surface.bounce = 0.1;
-        ct[i].surface.bounce_vel = 0.1;
-        dJointID j = dJointCreateContact(w->world, w->contacts, &ct[i]);
-        dJointAttach(j, dGeomGetBody(a), dGeomGetBody(b));
-    }
-}
-
 static double pin_load;   /* N, vertical pin forces summed at the end */
 static double box_speed;  /* m/s, at the end */
 static double total_weight;
@@ -70,7 +48,7 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
     memset(r, 0, sizeof *r);
     const double h = 1.0 / o->hz;
     int steps = (int)lround((o->short_run ? 0.6 : 3.0) * o->hz);
-    world_ctx w = {dWorldCreate(), dJointGroupCreate(0)};
+    demo_contacts w = {dWorldCreate(), dJointGroupCreate(0), 0.5, 0.1};
     dWorldSetGravity(w.world, 0, 0, -G);
     dSpaceID space = dHashSpaceCreate(0);
     dCreatePlane(space, 0, 0, 1, 0);
@@ -117,7 +95,7 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
     dReal box_at_deepest[3] = {0, 0, 0};
     if (!deepest) goto done;
     for (int s = 0; s < steps; s++) {
-        dSpaceCollide(space, &w, near_cb);
+        dSpaceCollide(space, &w, demo_near_callback);
         if (demo_step(o, w.world, &c, 1, h, s)) goto done;
         dJointGroupEmpty(w.contacts);
         demo_track_step(c, &run);

@@ -27,6 +27,7 @@ typedef struct demo_opts {
     const char *material_name;
     int grid;                     /* nodes per side (--grid N)             */
     double hz;                    /* steps per second                      */
+    int hz_set;                   /* --steps-per-second given              */
     const char *out;              /* directory for pictures and OBJ files  */
     int obj;                      /* --obj: an OBJ per saved frame          */
     int frames;                   /* --frames K: K extra evenly spaced frames */
@@ -154,6 +155,16 @@ void demo_frame_hook(const demo_opts *o, const char *tag, int step, int total, i
                      dSpaceID space, dClothID *cloths, int n);
 
 /* -------------------------------------------------------------- stepping */
+
+/* The user's own collisions between bodies and geoms (the cloth's are the
+ * plugin's): pass as dSpaceCollide(space, &ctx, demo_near_callback) before
+ * a step and dJointGroupEmpty(ctx.contacts) after it. */
+typedef struct demo_contacts {
+    dWorldID world;
+    dJointGroupID contacts;
+    double mu, bounce;
+} demo_contacts;
+void demo_near_callback(void *ctx, dGeomID a, dGeomID b);
 
 /* One step of the world and its cloths; on failure prints the plugin's
  * message (with the demo's name and the step number) and returns -1. */

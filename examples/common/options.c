@@ -13,7 +13,7 @@ static const char common_usage[] =
     "  --alpha A[,B...]       plastic yield ratio(s) in [0, 1], one run each\n"
     "  --material NAME        cotton | wool | elastic (Table 1 presets; default cotton)\n"
     "  --grid N               nodes per side, 3..161 (default 21)\n"
-    "  --steps-per-second F   steps per simulated second, 10..10000 (default 60)\n"
+    "  --steps-per-second F   steps per simulated second, 10..10000 (default 60; curtain 240)\n"
     "  --out DIR              where pictures and OBJ files go (default out/<demo>)\n"
     "  --obj                  also write an OBJ of the cloth for every saved frame\n"
     "  --frames K             also save K evenly spaced frames over each run (default 0)\n"
@@ -120,6 +120,7 @@ int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char
         } else if (!strcmp(opt, "--steps-per-second") || !strcmp(opt, "--hz")) {
             if (parse_double(v, &o->hz) || o->hz < 10.0 || o->hz > 10000.0)
                 return bad(o, opt, v, "want a number in 10..10000");
+            o->hz_set = 1;
         } else if (!strcmp(opt, "--out")) {
             if (!*v) return bad(o, opt, v, "empty directory name");
             o->out = v;
@@ -209,4 +210,21 @@ double demo_smoothstep(double t)
 {
     t = t < 0 ? 0 : t > 1 ? 1 : t;
     return t * t * (3 - 2 * t);
+}
+
+void demo_near_callback(void *ctx, dGeomID a, dGeomID b)
+{
+    demo_contacts *w = ctx;
+    dBodyID ba = dGeomGetBody(a), bb = dGeomGetBody(b);
+    if (!ba && !bb) return; /* static against static */
+    dContact ct[4];
+    int n = dCollide(a, b, 4, &ct[0].geom, sizeof ct[0]);
+    for (int i = 0; i < n; i++) {
+        ct[i].surface.mode = dContactBounce;
+        ct[i].surface.mu = w->mu;
+        ct[i].surface.bounce = w->bounce;
+        ct[i].surface.bounce_vel = 0.1;
+        dJointID j = dJointCreateContact(w->world, w->contacts, &ct[i]);
+        dJointAttach(j, ba, bb);
+    }
 }
