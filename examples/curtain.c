@@ -65,7 +65,7 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
     r->delta = v->material.delta;
     r->thickness = d.thickness;
     dClothID c = NULL;
-    cloth_state *widest = NULL;
+    demo_moment widest = {0};
     cloth_error err;
     int rc = -1;
     if (dClothCreate(w.world, space, &d, &c, &err) != CLOTH_OK) {
@@ -77,9 +77,7 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
     for (int col = 0; col < C; col++) dClothPinToWorld(c, col, x + 3 * col);
     const int hem_mid = (C - 1) * C + C / 2;
     const double hem_y0 = x[3 * hem_mid + 1];
-    widest = cloth_state_create(dClothGetCore(c));
-    if (!widest) goto done;
-    dReal ball_at_widest[3] = {0, 0, 0};
+    if (demo_moment_init(&widest, c)) goto done;
     const demo_camera cam = {{1.6, -1.3, 1.0}, {0, 0.1, 0.55}, 42};
     demo_metrics run = {0};
     double t0 = demo_now();
@@ -95,29 +93,14 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
         demo_track_step(c, &run);
         demo_frame_hook(o, v->tag, s + 1, steps, &next_frame, &cam, space, &c, 1);
         double swing = fabs(x[3 * hem_mid + 1] - hem_y0);
-        if (swing > hem_swing) { /* keep the largest swing for its picture */
-            hem_swing = swing;
-            cloth_save(dClothGetCore(c), widest);
-            memcpy(ball_at_widest, dBodyGetPosition(ball), sizeof ball_at_widest);
-            r->draped = run;
-            r->draped.wall = demo_now() - t0;
-            demo_measure_shape(c, 0.0, &r->draped);
-        }
+        if (swing > hem_swing) hem_swing = swing;
+        demo_moment_offer(&widest, swing, c, ball, &run, t0, &r->draped); /* the widest swing */
     }
     speed_after = dBodyGetLinearVel(ball)[1];
-    r->after = run;
-    r->after.wall = demo_now() - t0;
-    demo_measure_shape(c, 0.0, &r->after);
-    char name[120];
-    snprintf(name, sizeof name, "%s_%s", v->tag, sc->tags[1]);
-    demo_save_frame(o, name, &cam, space, &c, 1, &r->pic_after);
-    cloth_restore(dClothGetCore(c), widest);
-    dBodySetPosition(ball, ball_at_widest[0], ball_at_widest[1], ball_at_widest[2]);
-    snprintf(name, sizeof name, "%s_%s", v->tag, sc->tags[0]);
-    demo_save_frame(o, name, &cam, space, &c, 1, &r->pic_draped);
+    demo_moment_finish(o, sc, v, &widest, c, ball, space, &cam, &run, t0, r);
     rc = 0;
 done:
-    cloth_state_destroy(widest);
+    demo_moment_free(&widest);
     dClothDestroy(c);
     dJointGroupDestroy(w.contacts);
     dSpaceDestroy(space);
@@ -138,12 +121,8 @@ int main(int argc, char **argv)
     if (!o.hz_set) o.hz = 240.0;
     drape_variant v[DEMO_MAX_ALPHAS];
     drape_result r[DEMO_MAX_ALPHAS];
-    int n = o.nalpha ? o.nalpha : 1, failed = 0;
+    int n = drape_material_variants(&o, v), failed = 0;
     for (int i = 0; i < n; i++) {
-        v[i].material = cloth_material_preset(o.material);
-        if (o.nalpha) v[i].material.alpha = o.alphas[i];
-        snprintf(v[i].label, sizeof v[i].label, "%s, alpha %g", o.material_name, v[i].material.alpha);
-        snprintf(v[i].tag, sizeof v[i].tag, "alpha%g", v[i].material.alpha);
         /* one run at a time: the ball's figures are the last run's */
         if (drape_run_all(&o, &scene, &v[i], 1, &r[i], "curtain", "a ball rolls into a curtain")) return 1;
         printf("ball speed %.4f m/s before the curtain, %.4f m/s after (%.2f%% lost); hem swung %.3f m\n",

@@ -70,7 +70,7 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
     r->delta = v->material.delta;
     r->thickness = d.thickness;
     dClothID c = NULL;
-    cloth_state *deepest = NULL;
+    demo_moment deepest = {0};
     cloth_error err;
     int rc = -1;
     if (dClothCreate(w.world, space, &d, &c, &err) != CLOTH_OK) {
@@ -89,30 +89,18 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
     total_weight = (cloth_mass + BOX_MASS) * G;
     const demo_camera cam = {{1.3, -1.6, 1.6}, {0, 0, 0.8}, 42};
     demo_metrics run = {0};
-    double t0 = demo_now(), lowest = INFINITY;
+    double t0 = demo_now();
     int next_frame = 1;
-    deepest = cloth_state_create(dClothGetCore(c));
-    dReal box_at_deepest[3] = {0, 0, 0};
-    if (!deepest) goto done;
+    if (demo_moment_init(&deepest, c)) goto done;
     for (int s = 0; s < steps; s++) {
         dSpaceCollide(space, &w, demo_near_callback);
         if (demo_step(o, w.world, &c, 1, h, s)) goto done;
         dJointGroupEmpty(w.contacts);
         demo_track_step(c, &run);
         demo_frame_hook(o, v->tag, s + 1, steps, &next_frame, &cam, space, &c, 1);
-        double bz = dBodyGetPosition(box)[2];
-        if (bz < lowest) { /* keep the deepest sag for its picture */
-            lowest = bz;
-            cloth_save(dClothGetCore(c), deepest);
-            memcpy(box_at_deepest, dBodyGetPosition(box), sizeof box_at_deepest);
-            r->draped = run;
-            r->draped.wall = demo_now() - t0;
-            demo_measure_shape(c, 0.0, &r->draped);
-        }
+        /* the deepest sag: the box at its lowest */
+        demo_moment_offer(&deepest, -dBodyGetPosition(box)[2], c, box, &run, t0, &r->draped);
     }
-    r->after = run;
-    r->after.wall = demo_now() - t0;
-    demo_measure_shape(c, 0.0, &r->after);
     pin_load = 0;
     for (int k = 0; k < 4; k++) {
         dReal f[3];
@@ -121,17 +109,10 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
     }
     const dReal *bv = dBodyGetLinearVel(box);
     box_speed = sqrt(bv[0] * bv[0] + bv[1] * bv[1] + bv[2] * bv[2]);
-    char name[120];
-    snprintf(name, sizeof name, "%s_%s", v->tag, sc->tags[1]);
-    demo_save_frame(o, name, &cam, space, &c, 1, &r->pic_after);
-    /* the deepest sag, put back for its picture */
-    cloth_restore(dClothGetCore(c), deepest);
-    dBodySetPosition(box, box_at_deepest[0], box_at_deepest[1], box_at_deepest[2]);
-    snprintf(name, sizeof name, "%s_%s", v->tag, sc->tags[0]);
-    demo_save_frame(o, name, &cam, space, &c, 1, &r->pic_draped);
+    demo_moment_finish(o, sc, v, &deepest, c, box, space, &cam, &run, t0, r);
     rc = 0;
 done:
-    cloth_state_destroy(deepest);
+    demo_moment_free(&deepest);
     dClothDestroy(c);
     dJointGroupDestroy(w.contacts);
     dSpaceDestroy(space);
@@ -148,13 +129,7 @@ int main(int argc, char **argv)
     if (p) return p == 1 ? 0 : 2;
     drape_variant v[DEMO_MAX_ALPHAS];
     drape_result r[DEMO_MAX_ALPHAS];
-    int n = o.nalpha ? o.nalpha : 1;
-    for (int i = 0; i < n; i++) {
-        v[i].material = cloth_material_preset(o.material);
-        if (o.nalpha) v[i].material.alpha = o.alphas[i];
-        snprintf(v[i].label, sizeof v[i].label, "%s, alpha %g", o.material_name, v[i].material.alpha);
-        snprintf(v[i].tag, sizeof v[i].tag, "alpha%g", v[i].material.alpha);
-    }
+    int n = drape_material_variants(&o, v);
     int failed = 0;
     for (int i = 0; i < n; i++) {
         /* one run at a time: the load figures are the last run's */

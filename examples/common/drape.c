@@ -356,3 +356,58 @@ int drape_alpha_main(int argc, char **argv, const char *prog, const char *usage,
     printf("%s: %d check(s) failed\n", o.prog, failed);
     return failed ? 1 : 0;
 }
+
+int drape_material_variants(const demo_opts *o, drape_variant *v)
+{
+    int n = o->nalpha ? o->nalpha : 1;
+    for (int i = 0; i < n; i++) {
+        v[i].material = cloth_material_preset(o->material);
+        if (o->nalpha) v[i].material.alpha = o->alphas[i];
+        snprintf(v[i].label, sizeof v[i].label, "%s, alpha %g", o->material_name, v[i].material.alpha);
+        snprintf(v[i].tag, sizeof v[i].tag, "alpha%g", v[i].material.alpha);
+    }
+    return n;
+}
+
+int demo_moment_init(demo_moment *k, dClothID c)
+{
+    k->state = cloth_state_create(dClothGetCore(c));
+    k->value = -INFINITY;
+    memset(k->body_at, 0, sizeof k->body_at);
+    if (!k->state) fprintf(stderr, "out of memory for a cloth state\n");
+    return k->state ? 0 : -1;
+}
+
+void demo_moment_free(demo_moment *k)
+{
+    cloth_state_destroy(k->state);
+    k->state = NULL;
+}
+
+void demo_moment_offer(demo_moment *k, double value, dClothID c, dBodyID b, const demo_metrics *run, double t0,
+                       demo_metrics *m)
+{
+    if (!(value > k->value)) return;
+    k->value = value;
+    cloth_save(dClothGetCore(c), k->state);
+    memcpy(k->body_at, dBodyGetPosition(b), sizeof k->body_at);
+    *m = *run;
+    m->wall = demo_now() - t0;
+    demo_measure_shape(c, 0.0, m);
+}
+
+void demo_moment_finish(const demo_opts *o, const demo_scene *sc, const drape_variant *v, demo_moment *k,
+                        dClothID c, dBodyID b, dSpaceID space, const demo_camera *cam, const demo_metrics *run,
+                        double t0, drape_result *r)
+{
+    r->after = *run;
+    r->after.wall = demo_now() - t0;
+    demo_measure_shape(c, 0.0, &r->after);
+    char name[120];
+    snprintf(name, sizeof name, "%s_%s", v->tag, sc->tags[1]);
+    demo_save_frame(o, name, cam, space, &c, 1, &r->pic_after);
+    cloth_restore(dClothGetCore(c), k->state);
+    dBodySetPosition(b, k->body_at[0], k->body_at[1], k->body_at[2]);
+    snprintf(name, sizeof name, "%s_%s", v->tag, sc->tags[0]);
+    demo_save_frame(o, name, cam, space, &c, 1, &r->pic_draped);
+}

@@ -107,6 +107,31 @@ int drape_check_alphas(const double *alphas, const drape_result *r, int n);
 int drape_alpha_main(int argc, char **argv, const char *prog, const char *usage, const demo_scene *s,
                      const double *default_alphas, int ndefault, const char *title);
 
+/* Variants for the one-material demos (trampoline, curtain): the
+ * --material preset, once per --alpha, or once at its own alpha. Returns n. */
+int drape_material_variants(const demo_opts *o, drape_variant *v);
+
+/* The moment of a run worth a picture besides its end (the deepest sag, the
+ * widest swing): the cloth's state, a body's position, the metrics then. */
+typedef struct demo_moment {
+    cloth_state *state;
+    dReal body_at[3];
+    double value; /* the largest offered so far */
+} demo_moment;
+int demo_moment_init(demo_moment *k, dClothID c); /* -1 on no memory */
+void demo_moment_free(demo_moment *k);
+/* Keep this moment if value is the largest yet: the cloth's state, b's
+ * position, and `run` (the metrics so far, wall time since t0, the cloth's
+ * shape now) into *m. */
+void demo_moment_offer(demo_moment *k, double value, dClothID c, dBodyID b, const demo_metrics *run, double t0,
+                       demo_metrics *m);
+/* At the end of a run: r->after = run (shape now, wall since t0), its
+ * picture <tag>_<tags[1]>; then the kept moment put back (cloth and body)
+ * and its picture <tag>_<tags[0]>. */
+void demo_moment_finish(const demo_opts *o, const demo_scene *sc, const drape_variant *v, demo_moment *k,
+                        dClothID c, dBodyID b, dSpaceID space, const demo_camera *cam, const demo_metrics *run,
+                        double t0, drape_result *r);
+
 /* Print a check line ("check ok" / "check FAILED") and return !ok. */
 int demo_claim(int ok, const char *fmt, ...)
 #if defined(__GNUC__)
