@@ -24,6 +24,6 @@ static const char usage[] =
 int main(int argc, char **argv)
 {
     static const double defaults[] = {0.0, 0.8, 1.0};
-    return drape_alpha_main(argc, argv, "drape_sphere", usage, DRAPE_SPHERE, defaults, 3,
+    return drape_alpha_main(argc, argv, "drape_sphere", usage, &drape_sphere_scene, defaults, 3,
                             "cloth over a sphere, then taken off");
 }

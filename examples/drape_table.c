@@ -24,6 +24,6 @@ static const char usage[] =
 int main(int argc, char **argv)
 {
     static const double defaults[] = {0.0, 0.5, 0.8};
-    return drape_alpha_main(argc, argv, "drape_table", usage, DRAPE_TABLE, defaults, 3,
+    return drape_alpha_main(argc, argv, "drape_table", usage, &drape_table_scene, defaults, 3,
                             "cloth over a table, then taken off");
 }
