@@ -23,6 +23,9 @@
  *    the enum's; the state and constraint count are finite and, if the call
  *    failed, unchanged (cloth_state_diff == 0, same constraint count and
  *    forces); cloth_last_error is non-empty after a failure.
+ *    Rigid bodies (cloth_set_bodies with bad masses, inertias, counts,
+ *    cloth_hold_by_body, cloth_body_velocity_change) and adaptive frames
+ *    (bad descriptors, frame lengths, the wrong cloth) are in the walk.
  * 3. Every function with a NULL cloth returns an error or a neutral value.
  */
 #include <float.h>
@@ -254,7 +257,7 @@ static void walk(void)
         double f0[3 * 35], f1[3 * 35];
         for (int i = 0; i < n; i++) cloth_constraint_force(c, i, f0 + 3 * i);
         cloth_desc d0 = cloth_get_desc(c);
-        int op = (int)(rng_u64(&g) % 24), isnull = 0, mutates = 1;
+        int op = (int)(rng_u64(&g) % 28), isnull = 0, mutates = 1;
         cloth_status s = CLOTH_OK;
         double v3[3], *p;
         switch (op) {
@@ -357,6 +360,54 @@ static void walk(void)
             mutates = 0;
             break;
         }
+        case 24: { /* rigid bodies solved with the cloth */
+            cloth_body bd[3];
+            int cnt = rng_u64(&g) % 4 ? (int)(rng_u64(&g) % 4) : xi(&g);
+            for (int q = 0; q < 3; q++) {
+                memset(&bd[q], 0, sizeof bd[q]);
+                bd[q].mass = dval(&g, 0.05, 2.0);
+                for (int r = 0; r < 3; r++) {
+                    bd[q].inertia[4 * r] = dval(&g, 1e-3, 0.1);
+                    bd[q].com[r] = dval(&g, -1, 1);
+                    bd[q].force[r] = dval(&g, -1, 1);
+                    bd[q].torque[r] = dval(&g, -0.1, 0.1);
+                }
+                if (rng_u64(&g) % 8 == 0) bd[q].inertia[1] = xd(&g); /* not symmetric */
+            }
+            s = cloth_set_bodies(c, rng_u64(&g) % 10 ? bd : NULL, cnt > 3 ? 3 : cnt);
+            mutates = 0; /* the state and the constraints stay */
+            break;
+        }
+        case 25: s = cloth_hold_by_body(c, index_of(&g, n), rng_u64(&g) % 2 ? (int)(rng_u64(&g) % 4) - 1 : xi(&g)); break;
+        case 26: {
+            double dv6[6];
+            s = cloth_body_velocity_change(c, rng_u64(&g) % 3 ? (int)(rng_u64(&g) % 3) : xi(&g),
+                                           rng_u64(&g) % 8 ? dv6 : NULL);
+            if (s == CLOTH_OK) CHECK(finite_all(dv6, 6), "body velocity change not finite");
+            mutates = 0;
+            break;
+        }
+        case 27: { /* one adaptive frame, sometimes with bad settings or the wrong cloth */
+            cloth_adaptive_desc ad = cloth_adaptive_default_desc();
+            ad.max_substeps = 8;
+            switch (rng_u64(&g) % 6) {
+            case 0: ad.tolerance = xd(&g); break;
+            case 1: ad.min_substeps = xi(&g); break;
+            case 2: ad.cg_tolerance_min = xd(&g); break;
+            default: break;
+            }
+            cloth_adaptive *A = NULL;
+            cloth *other = w.c[(ci + 1) % 3];
+            cloth_status r0 = cloth_adaptive_create(rng_u64(&g) % 10 ? c : NULL, rng_u64(&g) % 10 ? &ad : NULL, &A, NULL);
+            CHECK(status_ok(r0) && (r0 == CLOTH_OK) == (A != NULL), "adaptive_create: %d", (int)r0);
+            double dt = rng_u64(&g) % 5 ? rng_range(&g, 1e-3, 0.03) : xd(&g);
+            if (dt > 0.1 && isfinite(dt)) dt = 0.1;
+            cloth_adaptive_stats ast;
+            s = A ? cloth_adaptive_frame(A, rng_u64(&g) % 8 ? c : other, dt, rng_u64(&g) % 4 ? &ast : NULL)
+                  : cloth_adaptive_frame(NULL, c, dt, NULL);
+            cloth_adaptive_destroy(A);
+            break;
+        }
         default: { /* steps, more often */
             double h = rng_u64(&g) % 6 ? rng_range(&g, 1e-4, 0.05) : xd(&g);
             if (h > 1.0 && isfinite(h)) h = 1.0; /* a huge finite h is fine but slow to fail */
@@ -367,12 +418,26 @@ static void walk(void)
         }
         }
         calls[op]++;
+        if (getenv("FUZZ_DEBUG")) printf("call %d cloth %d op %d: %s %s\n", it, ci, op, cloth_status_string(s), s ? cloth_last_error(c) : "");
         CHECK(status_ok(s), "call %d (op %d): status %d", it, op, (int)s);
         CHECK(finite_all(cloth_positions(c), n3) && finite_all(cloth_velocities(c), n3),
               "call %d (op %d, %s): NaN/inf in the state", it, op, cloth_status_string(s));
         cloth_save(c, w.after);
         for (int i = 0; i < n; i++) cloth_constraint_force(c, i, f1 + 3 * i);
-        CHECK(finite_all(f1, n3), "call %d (op %d): constraint forces not finite", it, op);
+        if (!CHECK(finite_all(f1, n3), "call %d (op %d): constraint forces not finite", it, op) && getenv("FUZZ_DEBUG")) {
+            cloth_desc dd = cloth_get_desc(c);
+            printf("  bodies %d, constraints %d, gravity %g %g %g, k_t %g density %g, stats failure %d it %d\n",
+                   cloth_body_count(c), cloth_constraint_count(c), dd.gravity[0], dd.gravity[1], dd.gravity[2],
+                   dd.material.k_t, dd.material.density, cloth_last_stats(c)->failure, cloth_last_stats(c)->iterations);
+            for (int i = 0; i < n; i++) {
+                cloth_constraint kk;
+                cloth_get_constraint(c, i, &kk);
+                if (!finite_all(f1 + 3 * i, 3) || kk.ndof)
+                    printf("  vertex %d ndof %d f %g %g %g target %g %g %g axis %g %g %g x %g %g %g\n", i, kk.ndof, f1[3 * i],
+                           f1[3 * i + 1], f1[3 * i + 2], kk.target[0], kk.target[1], kk.target[2], kk.axis[0], kk.axis[1],
+                           kk.axis[2], cloth_positions(c)[3 * i], cloth_positions(c)[3 * i + 1], cloth_positions(c)[3 * i + 2]);
+            }
+        }
         if (s != CLOTH_OK || !mutates) {
             if (s != CLOTH_OK) fails[op]++;
             CHECK(cloth_state_diff(w.before, w.after) == 0.0, "call %d (op %d, %s): state changed", it, op,
@@ -387,12 +452,18 @@ static void walk(void)
         cloth_state_destroy(w.after);
     }
     long tot = 0, tf = 0;
-    for (int k = 0; k < 24; k++) {
+    for (int k = 0; k < 32; k++) {
         tot += calls[k];
         tf += fails[k];
     }
-    printf("random walk: %ld calls, %ld refused or failed (steps: %ld of %ld)\n", tot, tf, fails[20] + fails[21] +
-           fails[22] + fails[23], calls[20] + calls[21] + calls[22] + calls[23]);
+    long sf = 0, sc = 0;
+    for (int k = 20; k < 24; k++) {
+        sf += fails[k];
+        sc += calls[k];
+    }
+    printf("random walk: %ld calls, %ld refused or failed (steps: %ld of %ld; bodies: %ld of %ld set; adaptive "
+           "frames: %ld of %ld)\n",
+           tot, tf, sf, sc, fails[24], calls[24], fails[27], calls[27]);
     printf("step outcomes:");
     for (int k = 0; k <= CLOTH_FAIL_BAD_STEP; k++) printf(" %s %ld;", cloth_failure_string((cloth_failure)k), fail_why[k]);
     printf("\n");

@@ -309,6 +309,8 @@ static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, 
     if (fail == CLOTH_FAIL_NONE && sv->strain_limit_iterations > 0)
         st->strain_limited += strain_limit(c, c->x_new, c->v_new, c->S, cfac, sv->strain_limit_iterations);
     if (fail == CLOTH_FAIL_NONE && !(all_finite(c->x_new, n3) && all_finite(c->v_new, n3))) fail = CLOTH_FAIL_NAN;
+    /* the constraint forces too: A dv - b can overflow while x and v do not */
+    if (fail == CLOTH_FAIL_NONE && !all_finite(c->con_new, n3)) fail = CLOTH_FAIL_NAN;
     if (fail == CLOTH_FAIL_NONE) {
         *ms = max_strain_of(c, c->x_new);
         if (!(*ms <= sv->strain_fail)) fail = *ms != *ms ? CLOTH_FAIL_NAN : CLOTH_FAIL_STRAIN;
