@@ -173,7 +173,7 @@ static int heightfield_query(dClothID c, dGeomID g, const double *x, double reac
     return 1;
 }
 
-int dcloth_find_contacts(dClothID c, double h)
+int dcloth_find_candidates(dClothID c, double h, double reach)
 {
     const double *x = cloth_positions(c->core), *v = cloth_velocities(c->core);
     int n = c->n;
@@ -190,8 +190,8 @@ int dcloth_find_contacts(dClothID c, double h)
             hi[k] = fmax(hi[k], fmax(a, b));
         }
     for (int k = 0; k < 3; k++) {
-        lo[k] -= c->thickness * (1.0 + DCLOTH_CONTACT_MARGIN);
-        hi[k] += c->thickness * (1.0 + DCLOTH_CONTACT_MARGIN);
+        lo[k] -= c->thickness * (1.0 + DCLOTH_CONTACT_MARGIN) + reach;
+        hi[k] += c->thickness * (1.0 + DCLOTH_CONTACT_MARGIN) + reach;
     }
     dGeomBoxSetLengths(c->box, hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
     dGeomSetPosition(c->box, 0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]));
@@ -205,7 +205,14 @@ int dcloth_find_contacts(dClothID c, double h)
         c->ncand = 0;
         return -1;
     }
+    return c->ncand;
+}
 
+int dcloth_find_contacts(dClothID c, double h)
+{
+    if (dcloth_find_candidates(c, h, 0.0) < 0) return -1;
+    const double *x = cloth_positions(c->core), *v = cloth_velocities(c->core);
+    int n = c->n;
     dContactGeom cg[8];
     for (int a = 0; a < c->ncand; a++) {
         dGeomID g = c->cand[a];

@@ -190,6 +190,9 @@ cloth_status dClothStep(dClothID c, dReal h)
     dClothStepStats st;
     memset(&st, 0, sizeof st);
     double t0 = wall();
+    int sl = dcloth_sleep_before(c, h, t0);
+    if (sl < 0) return dcloth_fail(c, CLOTH_ENOMEM, "dClothStep: out of memory for the candidate geoms");
+    if (sl > 0) return CLOTH_OK;
     int cand = dcloth_find_contacts(c, h);
     st.seconds_contacts = wall() - t0;
     if (cand < 0) return dcloth_fail(c, CLOTH_ENOMEM, "dClothStep: out of memory for the candidate geoms");
@@ -382,6 +385,7 @@ cloth_status dClothStep(dClothID c, dReal h)
     c->vc_new = t;
     st.seconds_total = wall() - t0;
     c->stats = st;
+    dcloth_sleep_after(c);
     return CLOTH_OK;
 }
 

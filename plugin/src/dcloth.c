@@ -117,6 +117,8 @@ void dClothDestroy(dClothID c)
     free(c->bodies);
     free(c->bdesc);
     free(c->bforce);
+    free(c->sleep_geoms);
+    free(c->sleep_ids);
     free(c);
 }
 
@@ -175,6 +177,7 @@ cloth_status dClothPinToWorld(dClothID c, int vertex, const dReal point[3])
     p->active = 1;
     memcpy(p->local, point, sizeof p->local);
     memcpy(p->world, point, sizeof p->world);
+    dClothWake(c);
     return CLOTH_OK;
 }
 
@@ -194,6 +197,7 @@ cloth_status dClothPinToBody(dClothID c, int vertex, dBodyID b, const dReal loca
     dVector3 w;
     dBodyGetRelPointPos(b, local[0], local[1], local[2], w);
     memcpy(p->world, w, sizeof p->world);
+    dClothWake(c);
     return CLOTH_OK;
 }
 
@@ -202,6 +206,7 @@ cloth_status dClothReleasePin(dClothID c, int vertex)
     if (!c) return CLOTH_EINVAL;
     if (check_vertex(c, "dClothReleasePin", vertex) != CLOTH_OK) return CLOTH_EINVAL;
     memset(&c->pin[vertex], 0, sizeof c->pin[vertex]);
+    dClothWake(c);
     return CLOTH_OK;
 }
 
@@ -213,6 +218,7 @@ cloth_status dClothReleaseBody(dClothID c, dBodyID b)
         if (c->pin[i].active && c->pin[i].body == b) memset(&c->pin[i], 0, sizeof c->pin[i]);
     for (int i = 0; i < c->n; i++)
         if (c->vc[i].body == b) memset(&c->vc[i], 0, sizeof c->vc[i]);
+    dClothWake(c);
     return CLOTH_OK;
 }
 
@@ -241,6 +247,7 @@ cloth_status dClothSetFriction(dClothID c, dReal mu)
     if (!c) return CLOTH_EINVAL;
     if (!valid_mu(mu)) return dcloth_fail(c, CLOTH_EINVAL, "dClothSetFriction: mu = %g must be finite and >= 0", mu);
     c->mu = mu;
+    dClothWake(c);
     return CLOTH_OK;
 }
 
@@ -252,12 +259,28 @@ cloth_status dClothSetThickness(dClothID c, dReal t)
     if (!valid_thickness(t))
         return dcloth_fail(c, CLOTH_EINVAL, "dClothSetThickness: thickness = %g must be finite and > 0", t);
     c->thickness = t;
+    dClothWake(c);
     return CLOTH_OK;
 }
 
 dReal dClothGetThickness(dClothID c) { return c ? c->thickness : 0.0; }
-void dClothSetCategoryBits(dClothID c, unsigned long bits) { if (c) c->category = bits; }
-void dClothSetCollideBits(dClothID c, unsigned long bits) { if (c) c->collide = bits; }
+void dClothSetCategoryBits(dClothID c, unsigned long bits)
+{
+    if (!c) return;
+    c->category = bits;
+    dClothWake(c);
+}
+void dClothSetCollideBits(dClothID c, unsigned long bits)
+{
+    if (!c) return;
+    c->collide = bits;
+    dClothWake(c);
+}
 unsigned long dClothGetCategoryBits(dClothID c) { return c ? c->category : 0; }
 unsigned long dClothGetCollideBits(dClothID c) { return c ? c->collide : 0; }
-void dClothSetSpace(dClothID c, dSpaceID space) { if (c) c->space = space; }
+void dClothSetSpace(dClothID c, dSpaceID space)
+{
+    if (!c) return;
+    c->space = space;
+    dClothWake(c);
+}

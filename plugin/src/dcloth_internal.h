@@ -61,6 +61,14 @@ struct dxCloth {
     double *bforce;      /* 6 per body: the cloth's force and torque on it  */
     double *bshare;      /* 1 per body (in bforce's block): its share weight */
     int nbodies, bodies_cap;
+    /* sleeping (sleep.c) */
+    int sleep_on, sleep_steps, still, asleep;
+    double sleep_speed;
+    double sleep_gravity[3];  /* the world's gravity when it fell asleep     */
+    double *sleep_geoms;      /* per candidate then: position (3), and the
+                                 geom itself in sleep_ids                   */
+    dGeomID *sleep_ids;
+    int sleep_n, sleep_cap;
     dClothStepStats stats;
     char err[256];
 };
@@ -87,6 +95,19 @@ cloth_status dcloth_fail(dClothID c, cloth_status code, const char *fmt, ...);
  * is none within reach). Returns the number of candidate geoms, or -1 when
  * memory for the candidate list ran out. */
 int dcloth_find_contacts(dClothID c, double h);
+/* contacts.c: the broadphase alone, reaching `reach` m further: c->cand,
+ * c->ncand (and vc_new cleared); the count or -1 as above. */
+int dcloth_find_candidates(dClothID c, double h, double reach);
+
+/* A sleeping cloth watches this far around it (m): a body moving toward it
+ * faster than this per step may reach it before it wakes. */
+#define DCLOTH_WAKE_REACH 0.25
+
+/* sleep.c: before a step, 1 if the cloth sleeps through it (then the step
+ * is done: forces re-applied, stats set), -1 on no memory; after a solved
+ * step, whether it now falls asleep. */
+int dcloth_sleep_before(dClothID c, double h, double t0);
+void dcloth_sleep_after(dClothID c);
 
 /* triangles.c: cloth triangles against a box, capsule or cylinder (libccd)
  * over a step of h seconds;

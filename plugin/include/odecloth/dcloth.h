@@ -111,6 +111,10 @@ typedef struct dClothStepStats {
                                 none)                                         */
     double seconds_contacts; /* s, wall time finding contacts (broad + narrow) */
     double seconds_total;    /* s, wall time of the whole dClothStep           */
+    int sleeping;            /* 1: the cloth slept through this step (no solve;
+                                see dClothSetAutoSleep); the other fields are
+                                then those of the last step it was solved,
+                                but the timings                               */
 } dClothStepStats;
 
 /* Stats of the last dClothStep. */
@@ -158,6 +162,27 @@ unsigned long dClothGetCategoryBits(dClothID c);
 unsigned long dClothGetCollideBits(dClothID c);
 /* Change the space the cloth collides with (0: none). */
 void dClothSetSpace(dClothID c, dSpaceID space);
+
+/* -------------------------------------------------------------- sleeping */
+
+/* A cloth at rest costs nothing (off by default, as ODE's auto-disable).
+ * With on != 0, a cloth whose RMS vertex speed, sqrt(2 KE / M), has stayed
+ * below `speed` (m/s, > 0; ODE's own auto-disable uses 0.01) for `steps`
+ * (>= 1) steps in a row, while every body near it or
+ * holding it is static, disabled or slower than `speed` too, falls asleep:
+ * its velocities are zeroed and dClothStep only checks whether to wake it
+ * (the broadphase: no narrowphase, no solve). A free body (no joints) it
+ * alone holds comes to rest with it and is held as by a rigid support (what
+ * ODE holds for it, gravity and your forces, is cancelled each step); a
+ * body in joints keeps feeling the cloth's last forces. It wakes when a body within
+ * 0.25 m of it or holding it moves faster than `speed` (at its geom's far
+ * edge; a body faster than 0.25 m per step may reach it first), when a geom
+ * comes that near, leaves, or moves, when the world's gravity changes, and
+ * on any dCloth call that changes it (pins, friction, thickness, bits,
+ * space). After changing the core (dClothGetCore) call dClothWake. */
+cloth_status dClothSetAutoSleep(dClothID c, int on, dReal speed, int steps);
+int dClothIsSleeping(dClothID c);
+void dClothWake(dClothID c);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,195 @@
+/* Sleeping (dClothSetAutoSleep): a cloth at rest with nothing moving near it
+ * is not solved. What it remembers when it falls asleep (the geoms near it,
+ * where they were, the world's gravity) is what it compares each step to
+ * decide whether to wake. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include "dcloth_internal.h"
+
+cloth_status dClothSetAutoSleep(dClothID c, int on, dReal speed, int steps)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (on && (!(speed > 0.0) || !isfinite(speed)))
+        return dcloth_fail(c, CLOTH_EINVAL, "dClothSetAutoSleep: speed = %g must be finite and > 0", speed);
+    if (on && steps < 1) return dcloth_fail(c, CLOTH_EINVAL, "dClothSetAutoSleep: steps = %d must be >= 1", steps);
+    c->sleep_on = on != 0;
+    if (on) {
+        c->sleep_speed = speed;
+        c->sleep_steps = steps;
+    }
+    dClothWake(c);
+    return CLOTH_OK;
+}
+
+int dClothIsSleeping(dClothID c) { return c ? c->asleep : 0; }
+
+void dClothWake(dClothID c)
+{
+    if (!c) return;
+    c->asleep = 0;
+    c->still = 0;
+}
+
+/* Does geom g's body move faster than the threshold anywhere on the geom?
+ * (linear speed plus angular speed times the AABB's half diagonal) */
+static int body_moves(dClothID c, dBodyID b, dGeomID g)
+{
+    if (!b || !dBodyIsEnabled(b)) return 0;
+    const dReal *v = dBodyGetLinearVel(b), *w = dBodyGetAngularVel(b);
+    double r = 0.0;
+    if (g) {
+        dReal a[6];
+        dGeomGetAABB(g, a);
+        double dx = a[1] - a[0], dy = a[3] - a[2], dz = a[5] - a[4];
+        r = 0.5 * sqrt(dx * dx + dy * dy + dz * dz);
+        if (!isfinite(r)) r = 0.0; /* planes: unbounded; their bodies, if any, count by velocity */
+    }
+    double sv = sqrt(dcloth_dot3(v, v)) + r * sqrt(dcloth_dot3(w, w));
+    return !(sv <= c->sleep_speed);
+}
+
+/* Anything moving near the cloth or holding it (candidates of c->cand and
+ * the pins' bodies)? */
+static int anything_moves(dClothID c)
+{
+    for (int a = 0; a < c->ncand; a++)
+        if (body_moves(c, dGeomGetBody(c->cand[a]), c->cand[a])) return 1;
+    for (int i = 0; i < c->n; i++)
+        if (c->pin[i].active && body_moves(c, c->pin[i].body, 0)) return 1;
+    return 0;
+}
+
+/* The candidates and gravity now, against the ones it fell asleep with. */
+static int scene_changed(dClothID c)
+{
+    dVector3 g;
+    dWorldGetGravity(c->world, g);
+    if (g[0] != c->sleep_gravity[0] || g[1] != c->sleep_gravity[1] || g[2] != c->sleep_gravity[2]) return 1;
+    if (c->ncand != c->sleep_n) return 1;
+    for (int a = 0; a < c->ncand; a++) {
+        dGeomID gg = c->cand[a];
+        int k = 0;
+        while (k < c->sleep_n && c->sleep_ids[k] != gg) k++;
+        if (k == c->sleep_n) return 1;
+        /* a static geom moved by hand (a body's motion is judged by its
+         * velocity: a resting body's position drifts by rounding) */
+        const dReal *p = dGeomGetClass(gg) == dPlaneClass || dGeomGetBody(gg) ? NULL : dGeomGetPosition(gg);
+        if (p && (p[0] != c->sleep_geoms[3 * k] || p[1] != c->sleep_geoms[3 * k + 1] ||
+                  p[2] != c->sleep_geoms[3 * k + 2]))
+            return 1;
+    }
+    return 0;
+}
+
+/* Was b solved with the cloth in its last step (and still free of joints)? */
+static int held_coupled(dClothID c, dBodyID b)
+{
+    for (int k = 0; k < c->nbodies; k++)
+        if (c->bodies[k] == b) return dBodyGetNumJoints(b) == 0;
+    return 0;
+}
+
+static double wall(void)
+{
+    struct timespec t;
+    timespec_get(&t, TIME_UTC);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+int dcloth_sleep_before(dClothID c, double h, double t0)
+{
+    if (!c->asleep) return 0;
+    if (dcloth_find_candidates(c, h, DCLOTH_WAKE_REACH) < 0) return -1;
+    if (!c->sleep_on || anything_moves(c) || scene_changed(c)) {
+        dClothWake(c);
+        return 0;
+    }
+    /* The bodies it holds stay held. One solved with the cloth (held by it
+     * alone: no joints) is held as by a rigid support: what ODE holds for
+     * it (gravity, the user's forces) is cancelled; its velocity wakes the
+     * cloth if anything else moves it. A body in joints keeps the cloth's
+     * last forces at their points. */
+    for (int k = 0; k < c->nbodies; k++) {
+        dBodyID b = c->bodies[k];
+        if (!dBodyIsEnabled(b) || dBodyGetNumJoints(b) > 0) continue;
+        dVector3 g = {0, 0, 0};
+        if (dBodyGetGravityMode(b)) dWorldGetGravity(c->world, g);
+        dMass m;
+        dBodyGetMass(b, &m);
+        const dReal *F = dBodyGetForce(b), *T = dBodyGetTorque(b);
+        dBodyAddForce(b, -(F[0] + m.mass * g[0]), -(F[1] + m.mass * g[1]), -(F[2] + m.mass * g[2]));
+        dBodyAddTorque(b, -T[0], -T[1], -T[2]);
+    }
+    for (int i = 0; i < c->n; i++) {
+        const vpin *p = &c->pin[i];
+        const vcontact *k = &c->vc[i];
+        dBodyID b = p->active ? p->body : k->geom ? k->body : 0;
+        if (!b || dBodyIsKinematic(b) || !dBodyIsEnabled(b) || held_coupled(c, b)) continue;
+        const double *f = p->active ? p->force : k->force, *at = p->active ? p->world : k->point;
+        dBodyAddForceAtPos(b, -f[0], -f[1], -f[2], at[0], at[1], at[2]);
+    }
+    c->stats.sleeping = 1;
+    c->stats.seconds_contacts = 0.0;
+    c->stats.seconds_total = wall() - t0;
+    return 1;
+}
+
+void dcloth_sleep_after(dClothID c)
+{
+    if (!c->sleep_on) return;
+    /* at rest: the RMS speed sqrt(2 KE / M) (a single flap or corner may
+     * still sway: measured, a cloth settled on a box keeps a few vertices at
+     * 2-10 cm/s for seconds while its RMS speed is 7 mm/s) */
+    const double *v = cloth_velocities(c->core), *m = cloth_masses(c->core);
+    double e = 0.0, M = 0.0;
+    for (int i = 0; i < c->n; i++) {
+        e += m[i] * dcloth_dot3(v + 3 * i, v + 3 * i);
+        M += m[i];
+    }
+    int slow = e <= c->sleep_speed * c->sleep_speed * M;
+    if (!slow || anything_moves(c)) {
+        c->still = 0;
+        return;
+    }
+    if (++c->still < c->sleep_steps) return;
+    /* fall asleep: remember the scene as far as a sleeping cloth watches */
+    if (dcloth_find_candidates(c, 0.0, DCLOTH_WAKE_REACH) < 0 || anything_moves(c)) return;
+    if (c->ncand > c->sleep_cap) {
+        double *gp = realloc(c->sleep_geoms, 3 * (size_t)c->ncand * sizeof *gp);
+        if (gp) c->sleep_geoms = gp;
+        dGeomID *id = gp ? realloc(c->sleep_ids, (size_t)c->ncand * sizeof *id) : NULL;
+        if (id) c->sleep_ids = id;
+        if (!gp || !id) return; /* no memory: stay awake */
+        c->sleep_cap = c->ncand;
+    }
+    for (int a = 0; a < c->ncand; a++) {
+        c->sleep_ids[a] = c->cand[a];
+        const dReal *p = dGeomGetClass(c->cand[a]) == dPlaneClass ? NULL : dGeomGetPosition(c->cand[a]);
+        for (int k = 0; k < 3; k++) c->sleep_geoms[3 * a + k] = p ? p[k] : 0.0;
+    }
+    c->sleep_n = c->ncand;
+    dVector3 g;
+    dWorldGetGravity(c->world, g);
+    for (int k = 0; k < 3; k++) c->sleep_gravity[k] = g[k];
+    memset(c->v0, 0, 3 * (size_t)c->n * sizeof *c->v0); /* the step is over: scratch */
+    cloth_set_velocities(c->core, c->v0);
+    /* the bodies it alone holds come to rest with it (they are slower than
+     * the threshold: else it would not sleep) */
+    for (int k = 0; k < c->nbodies; k++)
+        if (held_coupled(c, c->bodies[k]) && dBodyIsEnabled(c->bodies[k])) {
+            dBodyID b = c->bodies[k];
+            dVector3 g = {0, 0, 0};
+            if (dBodyGetGravityMode(b)) dWorldGetGravity(c->world, g);
+            dMass m;
+            dBodyGetMass(b, &m);
+            dBodySetLinearVel(b, 0, 0, 0);
+            dBodySetAngularVel(b, 0, 0, 0);
+            /* and this step's forces on it (the user's, the cloth's) become
+             * the support that holds it: net zero with gravity */
+            dBodySetForce(b, -m.mass * g[0], -m.mass * g[1], -m.mass * g[2]);
+            dBodySetTorque(b, 0, 0, 0);
+        }
+    c->asleep = 1;
+}
