@@ -90,19 +90,23 @@ FUZZ_CC ?= clang
 FUZZ_FLAGS := -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
               -fno-omit-frame-pointer -DODECLOTH_LIBFUZZER
 FUZZERS := $(patsubst test/fuzz_%.c,%,$(wildcard test/fuzz_*.c))
+# What each harness is built with besides itself (default: the core).
+FUZZ_INC = -Icore/include -Icore/src -Iplugin/include -Iexamples/common -Itest
+FUZZ_SRC_default := $(wildcard core/src/*.c)
+FUZZ_SRC_options := examples/common/options.c $(FUZZ_SRC_default) $(wildcard plugin/src/*.c)
+FUZZ_LIBS_options = $$(pkg-config --cflags --libs ode ccd)
 
 fuzz: deps
 	@mkdir -p $(FUZZ_BUILD)
-	@set -e; for f in $(FUZZERS); do \
-	    echo "== fuzz_$$f: building with $(FUZZ_CC)"; \
-	    $(FUZZ_CC) $(FUZZ_FLAGS) -Icore/include -Icore/src -Itest core/src/*.c test/fuzz_$$f.c -lm \
-	        -o $(FUZZ_BUILD)/fuzz_$$f; \
-	    mkdir -p $(FUZZ_BUILD)/corpus_$$f; \
-	    echo "== fuzz_$$f: running for $(FUZZ_SECONDS) s"; \
-	    $(FUZZ_BUILD)/fuzz_$$f -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=2048 \
+	@set -e; $(foreach f,$(FUZZERS), \
+	    echo "== fuzz_$(f): building with $(FUZZ_CC)"; \
+	    $(FUZZ_CC) $(FUZZ_FLAGS) $(FUZZ_INC) $(or $(FUZZ_SRC_$(f)),$(FUZZ_SRC_default)) test/fuzz_$(f).c \
+	        $(FUZZ_LIBS_$(f)) -lm -o $(FUZZ_BUILD)/fuzz_$(f); \
+	    mkdir -p $(FUZZ_BUILD)/corpus_$(f); \
+	    echo "== fuzz_$(f): running for $(FUZZ_SECONDS) s"; \
+	    $(FUZZ_BUILD)/fuzz_$(f) -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=2048 \
 	        -print_final_stats=1 -artifact_prefix=$(FUZZ_BUILD)/ \
-	        $(FUZZ_BUILD)/corpus_$$f test/corpus/$$f; \
-	done
+	        $(FUZZ_BUILD)/corpus_$(f) test/corpus/$(f);)
 
 # The prefix is given at configure time too, so that GNUInstallDirs picks the
 # layout for it (lib/<multiarch> under /usr on Debian).

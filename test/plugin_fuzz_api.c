@@ -158,8 +158,8 @@ static void descriptors(scene *s)
             case 1: d.mu = xd(&g); break;
             case 2: d.category_bits = (unsigned long)rng_u64(&g); break;
             case 3: d.collide_bits = rng_u64(&g) % 2 ? 0 : ~0ul; break;
-            case 4: { int v = xi(&g); d.cloth.rows = v > 16 && v < 100000 ? 16 : v; break; }
-            case 5: { int v = xi(&g); d.cloth.cols = v > 16 && v < 100000 ? 16 : v; break; }
+            case 4: { int v = xi(&g); d.cloth.rows = v > 16 && v < INT_MAX ? 16 : v; break; }
+            case 5: { int v = xi(&g); d.cloth.cols = v > 16 && v < INT_MAX ? 16 : v; break; }
             case 6: d.cloth.width = xd(&g); break;
             case 7: d.cloth.origin[rng_u64(&g) % 3] = xd(&g); break;
             case 8: d.cloth.material.k_t = xd(&g); break;

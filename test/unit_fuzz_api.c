@@ -74,8 +74,10 @@ static void perturb(rng *g, cloth_desc *d, int f)
     }
     int v = xi(g);
     switch (f - nd) {
-    case 0: d->rows = v; if (v > 64 && v < 100000) d->rows = 64; break;
-    case 1: d->cols = v; if (v > 64 && v < 100000) d->cols = 64; break;
+    /* a valid 100000 x 3 grid asks multigrid for terabytes (issue 7 report):
+     * only sizes that must be refused (INT_MAX) stay large */
+    case 0: d->rows = v > 64 && v < INT_MAX ? 64 : v; break;
+    case 1: d->cols = v > 64 && v < INT_MAX ? 64 : v; break;
     case 2: d->solver.method = (cloth_method)v; break;
     case 3: d->solver.precond = (cloth_precond)v; break;
     case 4: d->solver.cg_max_iterations = v > 2000 ? 2000 : v; break;
