@@ -62,13 +62,15 @@ static int parse_alphas(demo_opts *o, const char *s)
     if (strlen(s) >= sizeof buf) return -1;
     strcpy(buf, s);
     o->nalpha = 0;
-    char *save = NULL;
-    for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+    for (char *t = buf;;) { /* comma-separated; an empty item is an error */
+        char *comma = strchr(t, ',');
+        if (comma) *comma = '\0';
         double a;
         if (o->nalpha == DEMO_MAX_ALPHAS || parse_double(t, &a) || a < 0.0 || a > 1.0) return -1;
         o->alphas[o->nalpha++] = a;
+        if (!comma) return 0;
+        t = comma + 1;
     }
-    return o->nalpha > 0 ? 0 : -1;
 }
 
 int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char **argv)
