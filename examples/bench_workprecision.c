@@ -435,9 +435,9 @@ int main(int argc, char **argv)
     if (o.grid) cf.grid = o.grid;
     FILE *csv = bench_open_csv(&o, "bench_workprecision");
     if (!csv) return 1;
-    static const double hz_impl[] = {24, 48, 96, 192, 384, 768, 1536, 0};
+    static const double hz_impl[] = {24, 48, 60, 96, 192, 384, 768, 1536, 0}; /* 60: the headline */
     static const double hz_impl_fast[] = {24, 48, 96, 192, 384, 0};
-    static const double hz_expl[] = {1536, 3072, 6144, 12288, 24576, 49152, 98304, 0};
+    static const double hz_expl[] = {60, 1536, 3072, 6144, 12288, 24576, 49152, 98304, 0};
     static const double hz_expl_fast[] = {1536, 6144, 24576, 0};
     const double *hi = fast ? hz_impl_fast : hz_impl, *he = fast ? hz_expl_fast : hz_expl;
     const series S[] = {
@@ -523,7 +523,7 @@ int main(int argc, char **argv)
                 "damping %gx cotton (swing %g s, sphere 0.5 s); crosses on the top edge: blown up'\n"
                 "set logscale xy\nset grid\nset key bottom left font ',8'\n"
                 "set xlabel 'CPU seconds per simulated second'\nset ylabel 'RMS position error, m'\n"
-                "set yrange [1e-8:3]\nset xrange [1e-3:30]\nset format y '10^{%%L}'\nset format x '10^{%%L}'\n"
+                "set yrange [%s:3]\nset xrange [1e-3:30]\nset format y '10^{%%L}'\nset format x '10^{%%L}'\n"
                 "top = 2\n"
                 "S = 'explicit_euler symplectic_euler be_1e-2 be_1e-3 be_1e-5 bdf2_1e-5 controller'\n"
                 "array T[7] = ['explicit Euler', 'symplectic Euler', 'BE, CG tol 1e-2', 'BE, CG tol 1e-3', "
@@ -539,7 +539,8 @@ int main(int argc, char **argv)
                 "'%s/bench_workprecision.csv' using (strcol(1) eq sc && strcol(2) eq 'reference_change' ? 1e-3 : 1/0):6:"
                 "(1e3):(0) with vectors nohead dt 2 lc 'black' title 'reference change (h_{ref} halved)'\n"
                 "}\nunset multiplot\n",
-                fast ? 640 : 1200, o.out, fast ? 1 : 2, cf.grid, cf.grid, cf.k_t, cf.damping, swing_T, fast ? "swing" : "swing sphere", o.out, o.out, o.out);
+                fast ? 640 : 1200, o.out, fast ? 1 : 2, cf.grid, cf.grid, cf.k_t, cf.damping, swing_T,
+                fast ? "1e-8" : "1e-5", fast ? "swing" : "swing sphere", o.out, o.out, o.out);
         fclose(gp);
         bench_run_gnuplot(&o, "bench_workprecision");
     }

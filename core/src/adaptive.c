@@ -17,8 +17,11 @@
  * h f, so an inexact solve is a relative error of about cg in the force,
  * repeated every substep (the warm start carries it on): the velocity drifts
  * by cg |a| per second, and with a loose tolerance the run converges to the
- * wrong motion (measured: cg 0.1 left 5 mm on an 11x11 swing at any n). It
- * is weighed like the velocity estimate and held to a tenth of the budget. */
+ * wrong motion (measured: cg 0.1 left 5 mm on an 11x11 swing at any n). A
+ * bias held for the run's time t moves the positions by cg |a| t^2 / 2; a
+ * tenth of the budget tolerance * t gives cg = 0.2 tolerance / (|a| t), with
+ * t the simulated time so far (at least velocity_weight): later frames solve
+ * tighter, as the bias has had longer to act. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,6 +38,7 @@ struct cloth_adaptive {
     int have_prev, have_prev_start;
     int n_next;            /* substeps of the next frame */
     double cg_next;        /* CG tolerance of the next frame */
+    double elapsed;        /* s, simulated time of the accepted frames */
 };
 
 cloth_adaptive_desc cloth_adaptive_default_desc(void)
@@ -240,7 +244,9 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
      * a velocity error of cg |a| per second, weighed like the truncation's
      * velocity error. A tenth of the budget: cg = 0.1 tol / (weight |a|). */
     double a_mean = 2.0 * t.ex / (n * st.h * st.h);
-    a->cg_next = a_mean > 0.0 ? 0.1 * a->d.tolerance / (a->d.velocity_weight * a_mean) : a->d.cg_tolerance_max;
+    a->elapsed += frame_dt;
+    double horizon = fmax(a->d.velocity_weight, a->elapsed);
+    a->cg_next = a_mean > 0.0 ? 0.2 * a->d.tolerance / (horizon * a_mean) : a->d.cg_tolerance_max;
     a->cg_next = clampd(a->cg_next, a->d.cg_tolerance_min, a->d.cg_tolerance_max);
     if (stats) *stats = st;
     return CLOTH_OK;

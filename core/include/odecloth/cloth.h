@@ -378,10 +378,11 @@ cloth_status cloth_state_read_file(cloth_state *s, FILE *f, cloth_error *err);
  * it asks for, as is one whose step fails (NaN, strain, CG: twice the
  * substeps and a 10x tighter CG); at max_substeps an over-budget frame is
  * kept and flagged. The next frame's n aims at 0.7 of the budget. The CG
- * tolerance: the solver's relative residual acts as a relative force error,
- * a velocity error of cg |a| per second, held to a tenth of the budget:
- * cg = 0.1 tolerance / (velocity_weight |a|). The first frame takes at
- * least two substeps and CG tolerance 1e-6. The cloth's own solver settings
+ * tolerance: the solver's relative residual acts as a relative force error
+ * that moves the positions by cg |a| t^2 / 2 over the simulated time t so
+ * far, held to a tenth of tolerance * t: cg = 0.2 tolerance / (|a| t), t at
+ * least velocity_weight. The first frame takes at least two substeps and CG
+ * tolerance 1e-6. The cloth's own solver settings
  * are restored after each frame (the controller steps backward Euler). */
 typedef struct cloth_adaptive_desc {
     double tolerance;        /* m/s, RMS position error per simulated second, > 0 */
@@ -390,7 +391,7 @@ typedef struct cloth_adaptive_desc {
     double cg_tolerance_min; /* range of the chosen CG tolerance, 0 < min <= max < 1 */
     double cg_tolerance_max;
     double velocity_weight;  /* s, how long a velocity error counts as position
-                                error (the estimate's and the CG's), > 0         */
+                                error, > 0                                       */
     /* Called before every substep with its h (contacts, moving pins): set the
      * constraints there. Nonzero fails the frame (state as before it). May be NULL. */
     int (*before_substep)(cloth *c, double h, void *user);
