@@ -40,6 +40,7 @@ typedef struct demo_opts {
     int trace;                    /* --trace: print every step's stats      */
     int phases;                   /* --phases: a line per scripted phase    */
     int box_table;                /* --box-table: the table as a dBox       */
+    int selftest;                 /* --selftest: check the metrics, exit    */
 } demo_opts;
 
 /* Defaults: grid 21, 60 steps/s, out "out/<prog>", smooth 1, 400 x 300,
@@ -138,6 +139,10 @@ void demo_track_step(dClothID c, demo_metrics *m);
 void demo_print_metrics(FILE *f, const char *label, const demo_metrics *m);
 /* Append a CSV row (with a header when the file is new); 0 on success. */
 int demo_csv_row(const char *path, const char *demo, const char *label, double alpha, const demo_metrics *m);
+
+/* The crease, wrinkle and bend metrics on a cloth folded by a known angle,
+ * against closed forms (metrics.c says which); prints, returns failures. */
+int demo_metrics_selftest(void);
 
 /* Write the cloth as a Wavefront OBJ (positions, normals, triangles). */
 int demo_write_obj(const char *path, dClothID c);

@@ -338,6 +338,7 @@ int drape_alpha_main(int argc, char **argv, const char *prog, const char *usage,
     demo_opts o;
     int p = demo_parse(&o, prog, usage, argc, argv);
     if (p) return p == 1 ? 0 : 2;
+    if (o.selftest) return demo_metrics_selftest() ? 1 : 0;
     double alphas[DEMO_MAX_ALPHAS];
     int n = demo_alphas(&o, default_alphas, ndefault, alphas);
     drape_variant v[DEMO_MAX_ALPHAS];

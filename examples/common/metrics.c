@@ -257,3 +257,58 @@ void demo_frame_hook(const demo_opts *o, const char *tag, int step, int total, i
     snprintf(name, sizeof name, "%s_frame%03d", tag, (*next)++);
     demo_save_frame(o, name, cam, space, cloths, n, NULL);
 }
+
+/* The metrics against closed forms: a flat 21 x 21 cloth folded along its
+ * middle column by a bend of theta (both halves turned up by theta / 2).
+ * The R - 1 edges on the fold are bent by theta, every other interior edge
+ * by 0, so the mean crease is theta (R - 1) / (interior edges), counted
+ * here from the grid (R(C-1) + C(R-1) + (R-1)(C-1) edges, 2(R-1) + 2(C-1)
+ * of them on the boundary); the max is theta; the fold is one wrinkle when
+ * theta > DEMO_WRINKLE_DEG, none below; the deepest bend is the interlaced
+ * link straddling the fold at right angles: d / l0 = cos(theta / 2).
+ * Returns the number of failures (printed). */
+int demo_metrics_selftest(void)
+{
+    dWorldID world = dWorldCreate();
+    dClothDesc d = dClothDefaultDesc();
+    const int R = d.cloth.rows, C = d.cloth.cols, c0 = C / 2;
+    const double s = d.cloth.width / (C - 1);
+    dClothID c = NULL;
+    cloth_error err;
+    int failed = 0;
+    double *x = malloc(3 * (size_t)R * C * sizeof *x);
+    if (!x || dClothCreate(world, 0, &d, &c, &err) != CLOTH_OK) {
+        fprintf(stderr, "selftest: %s\n", x ? err.message : "out of memory");
+        free(x);
+        dWorldDestroy(world);
+        return 1;
+    }
+    const double thetas[3] = {60.0, 5.0, 0.0};
+    for (int k = 0; k < 3; k++) {
+        double th = thetas[k] * M_PI / 180;
+        for (int r = 0; r < R; r++)
+            for (int col = 0; col < C; col++) {
+                double u = (col - c0) * s, *p = x + 3 * (r * C + col);
+                p[0] = u * cos(th / 2);
+                p[1] = r * s;
+                p[2] = fabs(u) * sin(th / 2);
+            }
+        cloth_set_positions(dClothGetCore(c), x);
+        double mean, mx;
+        demo_crease(c, &mean, &mx);
+        int interior = R * (C - 1) + C * (R - 1) + (R - 1) * (C - 1) - 2 * (R - 1) - 2 * (C - 1);
+        double want_mean = thetas[k] * (R - 1) / interior;
+        int wrinkles = demo_wrinkles(c, DEMO_WRINKLE_DEG, DEMO_WRINKLE_MIN_EDGES);
+        double bend = demo_deepest_bend(c);
+        int ok = fabs(mean - want_mean) < 1e-9 && fabs(mx - thetas[k]) < 1e-9 &&
+                 wrinkles == (thetas[k] > DEMO_WRINKLE_DEG) && fabs(bend - cos(th / 2)) < 1e-12;
+        printf("selftest %s: fold %g deg: mean crease %.12f (closed form %.12f), max %.12f, wrinkles %d, "
+               "deepest bend %.15f (cos(theta/2) = %.15f)\n",
+               ok ? "ok" : "FAILED", thetas[k], mean, want_mean, mx, wrinkles, bend, cos(th / 2));
+        failed += !ok;
+    }
+    free(x);
+    dClothDestroy(c);
+    dWorldDestroy(world);
+    return failed;
+}

@@ -27,6 +27,8 @@ static const char common_usage[] =
     "                         libccd triangle contacts) instead of a triangle mesh\n"
     "  --short                a shorter timeline (what --check uses in CTest)\n"
     "  --check                assert the demo's claims on its own metrics (exit 1 if not)\n"
+    "  --selftest             check the crease / wrinkle / bend metrics on a folded cloth\n"
+    "                         against closed forms, and exit\n"
     "  --help                 this text\n";
 
 static int bad(const demo_opts *o, const char *opt, const char *val, const char *why)
@@ -104,6 +106,7 @@ int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char
         if (!strcmp(opt, "--trace")) { o->trace = o->phases = 1; continue; }
         if (!strcmp(opt, "--phases")) { o->phases = 1; continue; }
         if (!strcmp(opt, "--box-table")) { o->box_table = 1; continue; }
+        if (!strcmp(opt, "--selftest")) { o->selftest = 1; continue; }
         /* options with a value */
         if (strncmp(opt, "--", 2)) return bad(o, "argument", opt, "not an option");
         if (!v) return bad(o, opt, NULL, "needs a value");
