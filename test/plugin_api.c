@@ -855,9 +855,45 @@ static void test_mesh(void)
     check_mesh("7 x 11, 2 x 1.2 m, tilted 30 deg", &t, n);
 }
 
+/* dClothSetConvexPoints: bad input refused with a message; a good call
+ * taken, replaced and forgotten. (Its effect, triangle tests against the
+ * convex, is measured in plugin_colliders.) */
+static void test_convex_points(void)
+{
+    dWorldID w = dWorldCreate();
+    dSpaceID sp = dHashSpaceCreate(0);
+    static const dReal planes[24] = {1, 0, 0, 1, -1, 0, 0, 1, 0, 1, 0, 1, 0, -1, 0, 1, 0, 0, 1, 1, 0, 0, -1, 1};
+    static const dReal pts[24] = {-1, -1, -1, 1, -1, -1, -1, 1, -1, 1, 1, -1, -1, -1, 1, 1, -1, 1, -1, 1, 1, 1, 1, 1};
+    static const unsigned polys[30] = {4, 1, 3, 7, 5, 4, 0, 4, 6, 2, 4, 2, 6, 7, 3, 4, 0, 1, 5, 4, 4, 4, 5, 7, 6, 4, 0, 2, 3, 1};
+    dGeomID cvx = dCreateConvex(sp, planes, 6, pts, 8, polys), sph = dCreateSphere(sp, 0.1);
+    dClothDesc d = dClothDefaultDesc();
+    dClothID c = NULL;
+    cloth_error err;
+    if (CHECK(dClothCreate(w, sp, &d, &c, &err) == CLOTH_OK, "create: %s", err.message)) {
+        dReal bad[24];
+        memcpy(bad, pts, sizeof bad);
+        bad[7] = NAN;
+        CHECK(dClothSetConvexPoints(c, 0, pts, 8) == CLOTH_EINVAL, "convex points: geom 0");
+        CHECK(dClothSetConvexPoints(c, sph, pts, 8) == CLOTH_EINVAL, "convex points: a sphere");
+        CHECK(strstr(dClothGetLastError(c), "not a convex") != NULL, "message: %s", dClothGetLastError(c));
+        CHECK(dClothSetConvexPoints(c, cvx, NULL, 8) == CLOTH_EINVAL, "convex points: NULL with 8");
+        CHECK(dClothSetConvexPoints(c, cvx, pts, -1) == CLOTH_EINVAL, "convex points: count -1");
+        CHECK(dClothSetConvexPoints(c, cvx, bad, 8) == CLOTH_EINVAL, "convex points: a NaN");
+        CHECK(dClothSetConvexPoints(NULL, cvx, pts, 8) == CLOTH_EINVAL, "convex points: NULL cloth");
+        CHECK(dClothSetConvexPoints(c, cvx, pts, 8) == CLOTH_OK, "convex points: %s", dClothGetLastError(c));
+        CHECK(dClothSetConvexPoints(c, cvx, pts, 4) == CLOTH_OK, "convex points replaced");
+        CHECK(dClothSetConvexPoints(c, cvx, NULL, 0) == CLOTH_OK, "convex points forgotten");
+        CHECK(dClothSetConvexPoints(c, cvx, NULL, 0) == CLOTH_OK, "forgetting twice is fine");
+        dClothDestroy(c);
+    }
+    dSpaceDestroy(sp);
+    dWorldDestroy(w);
+}
+
 int main(void)
 {
     dInitODE2(0);
+    test_convex_points();
     double t0 = now();
     test_filtering();
     double t1 = now();

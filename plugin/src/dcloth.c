@@ -119,6 +119,8 @@ void dClothDestroy(dClothID c)
     free(c->bforce);
     free(c->sleep_geoms);
     free(c->sleep_ids);
+    for (int k = 0; k < c->ncvx; k++) free(c->cvx[k].p);
+    free(c->cvx);
     free(c);
 }
 
@@ -283,4 +285,44 @@ void dClothSetSpace(dClothID c, dSpaceID space)
     if (!c) return;
     c->space = space;
     dClothWake(c);
+}
+
+cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dReal *points, int count)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!g) return dcloth_fail(c, CLOTH_EINVAL, "dClothSetConvexPoints: geom is 0");
+    if (dGeomGetClass(g) != dConvexClass)
+        return dcloth_fail(c, CLOTH_EINVAL, "dClothSetConvexPoints: the geom is not a convex (class %d)",
+                          dGeomGetClass(g));
+    if (count < 0 || (count > 0 && !points))
+        return dcloth_fail(c, CLOTH_EINVAL, "dClothSetConvexPoints: %d points at %p", count, (const void *)points);
+    for (int k = 0; k < 3 * count; k++)
+        if (!isfinite(points[k])) return dcloth_fail(c, CLOTH_EINVAL, "dClothSetConvexPoints: point %d is not finite", k / 3);
+    int at = 0;
+    while (at < c->ncvx && c->cvx[at].g != g) at++;
+    if (!points || count == 0) { /* forget */
+        if (at < c->ncvx) {
+            free(c->cvx[at].p);
+            c->cvx[at] = c->cvx[--c->ncvx];
+        }
+        dClothWake(c);
+        return CLOTH_OK;
+    }
+    double *p = malloc(3 * (size_t)count * sizeof *p);
+    if (!p) return dcloth_fail(c, CLOTH_ENOMEM, "dClothSetConvexPoints: out of memory for %d points", count);
+    for (int k = 0; k < 3 * count; k++) p[k] = points[k];
+    if (at == c->ncvx) {
+        struct cvx_points *nc = realloc(c->cvx, (size_t)(c->ncvx + 1) * sizeof *nc);
+        if (!nc) {
+            free(p);
+            return dcloth_fail(c, CLOTH_ENOMEM, "dClothSetConvexPoints: out of memory");
+        }
+        c->cvx = nc;
+        c->cvx[c->ncvx++] = (struct cvx_points){g, 0, NULL};
+    }
+    free(c->cvx[at].p);
+    c->cvx[at].p = p;
+    c->cvx[at].n = count;
+    dClothWake(c);
+    return CLOTH_OK;
 }

@@ -61,6 +61,13 @@ struct dxCloth {
     double *bforce;      /* 6 per body: the cloth's force and torque on it  */
     double *bshare;      /* 1 per body (in bforce's block): its share weight */
     int nbodies, bodies_cap;
+    /* convex geoms' points, for triangle tests (dClothSetConvexPoints) */
+    struct cvx_points {
+        dGeomID g;
+        int n;
+        double *p;       /* 3n, the geom's frame */
+    } *cvx;
+    int ncvx;
     /* sleeping (sleep.c) */
     int sleep_on, sleep_steps, still, asleep;
     double sleep_speed;

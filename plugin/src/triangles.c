@@ -3,7 +3,7 @@
  * Why: vertex contacts alone let a box's edge or corner pass between the
  * vertices of a coarse cloth (the paper's own flaw at the table corners:
  * the corner pokes through a triangle whose three vertices all rest beside
- * it). So each cloth triangle near a box, capsule or cylinder, grown by the
+ * it). So each cloth triangle near a box, capsule, cylinder or convex, grown by the
  * thickness (the Minkowski sum with a sphere), is tested against the geom
  * with libccd's GJK + EPA penetration query (MPR's direction, taken along
  * the line of centres, was wrong at box corners). The triangle is grown by the
@@ -19,10 +19,9 @@
  * own contact; the step's contact rule then treats it like any vertex
  * contact.
  *
- * Left out: ODE's convex class, whose points and planes ODE 0.16 does not
- * hand back through its public API (there is no getter), so its support
- * function cannot be written here; trimesh and heightfield are not convex.
- * Those keep vertex contacts. */
+ * ODE's convex class: ODE 0.16 does not hand back its points (no getter),
+ * so the user hands them over (dClothSetConvexPoints); a convex without them
+ * keeps vertex contacts, as do trimesh and heightfield (not convex). */
 #include <ccd/ccd.h>
 #include <math.h>
 #include <string.h>
@@ -38,6 +37,8 @@ typedef struct geom_shape {
     dGeomID g;
     int cls;
     double half[3];   /* box half lengths; capsule / cylinder: r, half length */
+    const double *pts; /* convex: points in the geom's frame, and how many */
+    int npts;
 } geom_shape;
 
 static void tri_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out)
@@ -74,6 +75,15 @@ static void geom_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out
         q[0] = f * p[0];
         q[1] = f * p[1];
         q[2] = (p[2] >= 0.0 ? s->half[1] : -s->half[1]) + f * p[2];
+    } else if (s->cls == dConvexClass) { /* the farthest point along d */
+        int best = 0;
+        double bd = -INFINITY;
+        for (int k = 0; k < s->npts; k++) {
+            const double *a = s->pts + 3 * k;
+            double e = a[0] * p[0] + a[1] * p[1] + a[2] * p[2];
+            if (e > bd) bd = e, best = k;
+        }
+        for (int k = 0; k < 3; k++) q[k] = s->pts[3 * best + k];
     } else { /* cylinder: the rim point of the cap toward d */
         double r = s->half[0], rho = sqrt(p[0] * p[0] + p[1] * p[1]), f = rho > 0.0 ? r / rho : 0.0;
         q[0] = f * p[0];
@@ -118,7 +128,7 @@ static void barycentric(const double *const v[3], const double *p, double w[3])
 
 int dcloth_triangle_contacts(dClothID c, dGeomID g, double h)
 {
-    geom_shape gs;
+    geom_shape gs = {0};
     gs.g = g;
     gs.cls = dGeomGetClass(g);
     if (gs.cls == dBoxClass) {
@@ -132,6 +142,12 @@ int dcloth_triangle_contacts(dClothID c, dGeomID g, double h)
         gs.half[0] = r;
         gs.half[1] = 0.5 * len;
         gs.half[2] = 0.0;
+    } else if (gs.cls == dConvexClass) {
+        int k = 0;
+        while (k < c->ncvx && c->cvx[k].g != g) k++;
+        if (k == c->ncvx) return 0; /* no points handed over: vertex contacts only */
+        gs.pts = c->cvx[k].p;
+        gs.npts = c->cvx[k].n;
     } else {
         return 0;
     }

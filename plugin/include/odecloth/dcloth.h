@@ -163,6 +163,14 @@ unsigned long dClothGetCollideBits(dClothID c);
 /* Change the space the cloth collides with (0: none). */
 void dClothSetSpace(dClothID c, dSpaceID space);
 
+/* Hand the cloth a convex geom's points (the array given to
+ * dGeomSetConvex, `count` points of 3 dReals in the geom's frame), copied,
+ * so that its triangles are tested against the geom like a box's (libccd):
+ * ODE 0.16 gives no access to a convex's points. Without it a convex gets
+ * vertex contacts only. points NULL (or count 0) forgets the geom: do so
+ * before destroying it. */
+cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dReal *points, int count);
+
 /* -------------------------------------------------------------- sleeping */
 
 /* A cloth at rest costs nothing (off by default, as ODE's auto-disable).
