@@ -25,6 +25,10 @@ int bench_option(bench_opts *o, int argc, char **argv, int *a)
     if (!v || (strcmp(arg, "--out") && strcmp(arg, "--grid"))) return 0;
     ++*a;
     if (!strcmp(arg, "--out")) {
+        if (!*v || strchr(v, '\'')) { /* the path goes into shell commands in quotes */
+            fprintf(stderr, "%s: --out '%s': give a non-empty directory name without a ' in it\n", o->prog, v);
+            return -1;
+        }
         o->out = v;
         return 1;
     }
