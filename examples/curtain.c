@@ -113,7 +113,7 @@ static const demo_scene scene = {"curtain", {"struck", "after"}, {"struck", "aft
 int main(int argc, char **argv)
 {
     demo_opts o;
-    int p = demo_parse(&o, "curtain", usage, argc, argv);
+    int p = demo_begin(&o, "curtain", usage, argc, argv);
     if (p) return p == 1 ? 0 : 2;
     /* 240 steps/s unless asked: at 1/60 s the ball's 2 m/s impact takes
      * vertices 13.8 mm into it and stretches links to 0.045 (delta 0.03),

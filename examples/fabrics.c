@@ -41,7 +41,7 @@ static int check_fabrics(const char *what, const drape_result *r)
 int main(int argc, char **argv)
 {
     demo_opts o;
-    int p = demo_parse(&o, "fabrics", usage, argc, argv);
+    int p = demo_begin(&o, "fabrics", usage, argc, argv);
     if (p) return p == 1 ? 0 : 2;
     if (o.nalpha > 1) {
         fprintf(stderr, "fabrics: give one --alpha at most\n");

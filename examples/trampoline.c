@@ -125,7 +125,7 @@ static const demo_scene scene = {"trampoline", {"impact", "at rest"}, {"impact",
 int main(int argc, char **argv)
 {
     demo_opts o;
-    int p = demo_parse(&o, "trampoline", usage, argc, argv);
+    int p = demo_begin(&o, "trampoline", usage, argc, argv);
     if (p) return p == 1 ? 0 : 2;
     drape_variant v[DEMO_MAX_ALPHAS];
     drape_result r[DEMO_MAX_ALPHAS];

@@ -46,8 +46,11 @@ typedef struct demo_opts {
 /* Defaults: grid 21, 60 steps/s, out "out/<prog>", smooth 1, 400 x 300,
  * cotton. Parses argv; on --help prints the common options after `usage`
  * and returns 1 (exit 0); on a bad option or value prints why and returns 2
- * (exit 2); else initialises ODE (dInitODE2, closed at exit) and returns 0. */
+ * (exit 2); else 0. No other side effect. */
 int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char **argv);
+/* What a demo's main calls: demo_parse, and when it returns 0 ODE's
+ * initialisation (dInitODE2, with dCloseODE at exit). Same returns. */
+int demo_begin(demo_opts *o, const char *prog, const char *usage, int argc, char **argv);
 /* The alphas asked for, or the defaults given (n of them). */
 int demo_alphas(const demo_opts *o, const double *defaults, int n, double *out);
 /* Create o->out (and its parents); 0 on success, else prints why. */

@@ -336,7 +336,7 @@ int drape_alpha_main(int argc, char **argv, const char *prog, const char *usage,
                      const double *default_alphas, int ndefault, const char *title)
 {
     demo_opts o;
-    int p = demo_parse(&o, prog, usage, argc, argv);
+    int p = demo_begin(&o, prog, usage, argc, argv);
     if (p) return p == 1 ? 0 : 2;
     if (o.selftest) return demo_metrics_selftest() ? 1 : 0;
     double alphas[DEMO_MAX_ALPHAS];

@@ -148,9 +148,17 @@ int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char
             return bad(o, "unknown option", opt, "not one of the options");
         }
     }
-    dInitODE2(0);
-    atexit(dCloseODE);
     return 0;
+}
+
+int demo_begin(demo_opts *o, const char *prog, const char *usage, int argc, char **argv)
+{
+    int p = demo_parse(o, prog, usage, argc, argv);
+    if (p == 0) {
+        dInitODE2(0);
+        atexit(dCloseODE);
+    }
+    return p;
 }
 
 int demo_alphas(const demo_opts *o, const double *defaults, int n, double *out)
