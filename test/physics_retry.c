@@ -8,11 +8,12 @@
  * 1. Without retries (max_substep_halvings 0) that step fails (strain past
  *    strain_fail): CLOTH_ESTEP, state bitwise unchanged.
  * 2. With retries (4) it succeeds: failure NONE, first_failure the whole
- *    step's, substeps > 1, halvings >= 1. Independent check: the same
- *    substep sequence taken by hand (retries off, each substep's pin target
- *    set to the straight-line interpolation x0 + (t/h)(target - x0) ourselves)
- *    gives bitwise the same positions and velocities, and its length-weighted
- *    mean constraint force equals the retried step's (1e-12 relative).
+ *    step's, halvings >= 1 and substeps = 2^halvings. Independent check: the
+ *    same substeps taken by hand (retries off, 2^halvings steps of
+ *    h / 2^halvings, each substep's pin targets set to the straight-line
+ *    interpolation x0 + (t/h)(target - x0) ourselves) give bitwise the same
+ *    positions and velocities, and their mean constraint force equals the
+ *    retried step's (1e-12 relative).
  *    Closed forms: the pinned corner ends on its target (1e-12 m) with the
  *    velocity (target - x0) / h of the whole step (1e-9 m/s), as a moving pin
  *    must in every substep; the still pin ends where it was with velocity 0.
@@ -111,32 +112,29 @@ static void jerk(void)
           (target[0] - x0[0]) / H);
     CHECK(fabs(v[0]) + fabs(v[1]) + fabs(v[2]) <= 1e-9, "still pin moves: v = (%g, %g, %g)", v[0], v[1], v[2]);
 
-    /* the same substeps by hand: replay the driver's bisection with retries
-     * off, pin targets interpolated here */
+    /* the same substeps by hand, retries off: 2^halvings equal substeps from
+     * the step's start, pin targets interpolated here */
     double *favg = calloc(n3, sizeof *favg), *f = calloc(n3, sizeof *f), *xs = malloc(n3 * sizeof *xs);
     memcpy(xs, cloth_positions(hand), n3 * sizeof *xs);
-    int d = 1, taken = 0;
-    long k = 0;
     cloth_constraint k0;
     cloth_get_constraint(hand, 0, &k0);
     const int pv[2] = {0, C - 1};
     const double *pt[2] = {k0.target, target};
-    while (k < (1L << d) && d <= 4) {
-        double parts = (double)(1L << d), frac = (double)(k + 1) / parts, tg[3];
+    int parts = 1 << st.halvings, taken = 0;
+    CHECK(st.substeps == parts, "%d substeps, expected 2^halvings = %d", st.substeps, parts);
+    for (int k = 0; k < parts; k++) {
+        double frac = (double)(k + 1) / parts, tg[3];
         for (int p = 0; p < 2; p++) {
             const double *a = xs + 3 * pv[p];
             for (int r2 = 0; r2 < 3; r2++) tg[r2] = frac == 1.0 ? pt[p][r2] : a[r2] + frac * (pt[p][r2] - a[r2]);
             cloth_pin(hand, pv[p], tg);
         }
-        if (cloth_step(hand, H / parts, NULL) == CLOTH_OK) {
-            forces(hand, f);
-            for (size_t q = 0; q < n3; q++) favg[q] += f[q] / parts;
-            k++;
-            taken++;
-        } else {
-            d++;
-            k *= 2;
-        }
+        if (!CHECK(cloth_step(hand, H / parts, NULL) == CLOTH_OK, "by hand, substep %d of %d: %s", k, parts,
+                   cloth_last_error(hand)))
+            break;
+        forces(hand, f);
+        for (size_t q = 0; q < n3; q++) favg[q] += f[q] / parts;
+        taken++;
     }
     CHECK(taken == st.substeps, "by hand: %d substeps, the driver %d", taken, st.substeps);
     CHECK(same_bits(cloth_positions(hand), x, n3), "by hand: positions differ from the retried step");

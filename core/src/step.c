@@ -334,17 +334,21 @@ static void commit(cloth *c, double h)
     cloth_update_plastic(c);
 }
 
-/* The retry after the whole step failed: substeps of h / 2^d, d from 1 up
- * to `halvings`, the substeps taken kept and a failed one split in two. On
- * success the state is the end of the step and the constraint forces their
- * length-weighted mean; past the bound (or without memory for the copy of
- * the state) the state is restored and the last failure returned. */
+/* The retry after the whole step failed: the step again from its start as
+ * 2^d equal substeps of h / 2^d, d = 1, 2, ... `halvings`, until one depth
+ * takes every substep. A failure at depth d rolls back to the step's start
+ * (the substeps taken are dropped: with explicit methods an unstable substep
+ * passes its checks and the blow-up shows only a few substeps later, so
+ * keeping them would carry the instability on). On success the state is the
+ * end of the step and the constraint forces are their mean over the
+ * substeps; past the bound (or without memory for the copy of the state) the
+ * state is restored and the last failure returned. */
 static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failure fail, cloth_step_stats *st,
                                    double *ms)
 {
     size_t n3 = 3 * (size_t)c->n;
     struct cloth_state bk;
-    double *xs = malloc(n3 * sizeof *xs), *fsum = calloc(n3, sizeof *fsum);
+    double *xs = malloc(n3 * sizeof *xs), *fsum = malloc(n3 * sizeof *fsum);
     if (!xs || !fsum || state_alloc(&bk, c->n, c->n_int) != 0) {
         free(xs);
         free(fsum);
@@ -352,34 +356,26 @@ static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failu
     }
     state_copy(&bk, &c->st);
     memcpy(xs, c->st.x, n3 * sizeof *xs);
-    int d = 1, done = 0;
-    long k = 0; /* substeps of h / 2^d taken */
-    st->halvings = 1;
-    st->residual = 0.0;       /* from now on, of the substeps */
-    st->strain_limited = 0;
-    while (k < (1L << d)) {
-        double parts = (double)(1L << d), hs = h / parts; /* exact: a power of two */
-        fail = attempt(c, hs, xs, (double)(k + 1) / parts, st, ms);
-        if (fail == CLOTH_FAIL_NONE) {
+    long k = 0;
+    for (int d = 1; d <= halvings; d++) {
+        long parts = 1L << d;
+        double hs = h / (double)parts; /* exact: a power of two */
+        st->halvings = d;
+        st->residual = 0.0; /* of this depth's substeps */
+        st->strain_limited = 0;
+        memset(fsum, 0, n3 * sizeof *fsum);
+        for (k = 0; k < parts; k++) {
+            fail = attempt(c, hs, xs, (double)(k + 1) / (double)parts, st, ms);
+            if (fail != CLOTH_FAIL_NONE) break;
             commit(c, hs);
-            for (size_t q = 0; q < n3; q++) fsum[q] += c->con_new[q] / parts;
-            k++;
-            done++;
-            continue;
+            for (size_t q = 0; q < n3; q++) fsum[q] += c->con_new[q] / (double)parts;
         }
+        if (fail == CLOTH_FAIL_NONE) break;
         st->substeps_failed++;
-        if (d >= halvings) break;
-        d++;
-        k *= 2;
-        st->halvings++;
-    }
-    if (fail == CLOTH_FAIL_NONE) {
-        memcpy(c->con_force, fsum, n3 * sizeof *fsum);
-        st->substeps = done;
-    } else {
         state_copy(&c->st, &bk);
-        st->substeps = done + 1;
     }
+    st->substeps = fail == CLOTH_FAIL_NONE ? (int)k : (int)k + 1;
+    if (fail == CLOTH_FAIL_NONE) memcpy(c->con_force, fsum, n3 * sizeof *fsum);
     state_free(&bk);
     free(xs);
     free(fsum);

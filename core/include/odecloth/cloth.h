@@ -297,11 +297,12 @@ typedef struct cloth_step_stats {
     int strain_limited;    /* sequential links corrected by the limit,
                               summed over the substeps                */
     int substeps;          /* substeps of the committed step (1: taken
-                              whole); on failure, those of the last attempt */
+                              whole, else 2^halvings); on failure, those
+                              the last attempt reached                 */
     int halvings;          /* retries: times the substep was halved (0 if
                               the whole step succeeded)               */
-    int substeps_failed;   /* substeps that failed and were retried
-                              shorter (or, past the bound, gave up)    */
+    int substeps_failed;   /* failed attempts: the whole step, then one
+                              per substep size that failed             */
     cloth_failure first_failure; /* why the whole step failed before the
                               retries (NONE if it did not)             */
 } cloth_step_stats;
@@ -310,10 +311,11 @@ typedef struct cloth_step_stats {
  * CLOTH_EINVAL, failure BAD_STEP, state unchanged.
  *
  * A step fails on NaN/inf, CG not converging (or meeting non-positive
- * curvature) or strain past solver.strain_fail. A failed step is retried from
- * where it failed with half the substep, down to h / 2^max_substep_halvings:
- * substeps already taken are kept, the failed one is taken again as two
- * halves (and the rest of the step at that size). Constraint targets are the
+ * curvature) or strain past solver.strain_fail. A failed step is taken again
+ * from its start as 2 equal substeps of h/2, then (if one of those fails) 4
+ * of h/4, ... down to 2^max_substep_halvings substeps; each failed depth is
+ * rolled back whole, so no substep of a failed depth is kept (an unstable
+ * substep can pass its own checks). Constraint targets are the
  * positions at the end of the whole step: a substep ending at time t of the
  * step aims at x0 + (t / h) (target - x0) along the constrained directions,
  * x0 the positions when the step began, so a moving pin moves at the same
