@@ -69,6 +69,7 @@
 
 #include "odecloth/dcloth.h"
 #include "check.h"
+#include "body_state.h"
 
 static const double H = 1.0 / 60;
 
@@ -570,8 +571,8 @@ static void test_step_and_pin_bad_input(void)
               "dClothSetFriction(%g): status %d, friction now %g, message '%s'", bad_mu[i], s, dClothGetFriction(c),
               dClothGetLastError(c));
     }
-    const double bad_t[] = {0.0, -0.001, NAN, INFINITY, -INFINITY};
-    for (int i = 0; i < 5; i++) {
+    const double bad_t[] = {0.0, -0.001, NAN, INFINITY, -INFINITY, 1e300, 1e-300};
+    for (int i = 0; i < 7; i++) {
         prime_error(c);
         s = dClothSetThickness(c, bad_t[i]);
         CHECK(s == CLOTH_EINVAL && dClothGetThickness(c) == d.thickness &&
@@ -890,10 +891,74 @@ static void test_convex_points(void)
     dWorldDestroy(w);
 }
 
+/* dClothWorldStep is all or nothing: cloth A, pinned to a free 1 kg body,
+ * steps; cloth B then fails (its vertex 0 thrown at 1e4 m/s: the step
+ * fails on strain); A and the body are as before the call, bitwise, and the
+ * world did not step. Then a bad h, a cloth twice, a cloth of another
+ * world: refused before anything moves. */
+static void test_world_step_undo(void)
+{
+    dWorldID w = dWorldCreate(), w2 = dWorldCreate();
+    dWorldSetGravity(w, 0, 0, -9.81);
+    dSpaceID sp = dHashSpaceCreate(0);
+    dClothDesc d = dClothDefaultDesc();
+    dClothID a = NULL, b = NULL, other = NULL;
+    cloth_error err;
+    if (!CHECK(dClothCreate(w, sp, &d, &a, &err) == CLOTH_OK && dClothCreate(w, sp, &d, &b, &err) == CLOTH_OK &&
+                   dClothCreate(w2, 0, &d, &other, &err) == CLOTH_OK,
+               "create: %s", err.message))
+        goto done;
+    dBodyID body = dBodyCreate(w);
+    dMass m;
+    dMassSetBoxTotal(&m, 1.0, 0.1, 0.1, 0.1);
+    dBodySetMass(body, &m);
+    const dReal *x0 = dClothGetPositions(a);
+    dBodySetPosition(body, x0[0], x0[1], x0[2] + 0.05);
+    dReal local[3] = {0, 0, -0.05};
+    CHECK(dClothPinToBody(a, 0, body, local) == CLOTH_OK, "pin to body: %s", dClothGetLastError(a));
+    dClothID both[2] = {a, b};
+    for (int k = 0; k < 5; k++) CHECK(dClothWorldStep(w, both, 2, 1.0 / 60, 0) == CLOTH_OK, "warm-up step");
+    double v0[3] = {1e4, 0, 0};
+    CHECK(cloth_set_vertex(dClothGetCore(b), 0, dClothGetPositions(b), v0) == CLOTH_OK, "throw B's vertex");
+    cloth_state *sa = cloth_state_create(dClothGetCore(a)), *sa2 = cloth_state_create(dClothGetCore(a));
+    cloth_save(dClothGetCore(a), sa);
+    body_state b0, b1;
+    dBodyAddForce(body, 0.5, 0, 0); /* the user's own force, before the step */
+    body_save(body, &b0);
+    cloth_status s = dClothWorldStep(w, both, 2, 1.0 / 60, 0);
+    cloth_save(dClothGetCore(a), sa2);
+    body_save(body, &b1);
+    CHECK(s == CLOTH_ESTEP, "B's step fails: status %d (%s)", s, dClothGetLastError(b));
+    CHECK(cloth_state_diff(sa, sa2) == 0.0, "A is back as before the call (diff %g)", cloth_state_diff(sa, sa2));
+    CHECK(memcmp(&b0, &b1, sizeof b0) == 0, "the body A pulls on is as before, force accumulator included");
+    dReal pin[3];
+    CHECK(dClothGetPinForce(a, 0, pin) == CLOTH_OK, "pin force");
+    /* refused before anything moves */
+    CHECK(dClothWorldStep(w, both, 2, NAN, 0) == CLOTH_EINVAL, "h NaN refused");
+    CHECK(dClothWorldStep(w, NULL, 0, -1.0, 0) == CLOTH_EINVAL, "no cloth and h -1: refused (ODE never sees it)");
+    dClothID twice[2] = {a, a};
+    CHECK(dClothWorldStep(w, twice, 2, 1.0 / 60, 0) == CLOTH_EINVAL, "a cloth twice refused");
+    dClothID mixed[2] = {a, other};
+    CHECK(dClothWorldStep(w, mixed, 2, 1.0 / 60, 0) == CLOTH_EINVAL, "a cloth of another world refused");
+    cloth_save(dClothGetCore(a), sa2);
+    body_save(body, &b1);
+    CHECK(cloth_state_diff(sa, sa2) == 0.0 && memcmp(&b0, &b1, sizeof b0) == 0, "nothing moved");
+    cloth_state_destroy(sa);
+    cloth_state_destroy(sa2);
+done:
+    dClothDestroy(a);
+    dClothDestroy(b);
+    dClothDestroy(other);
+    dSpaceDestroy(sp);
+    dWorldDestroy(w);
+    dWorldDestroy(w2);
+}
+
 int main(void)
 {
     dInitODE2(0);
     test_convex_points();
+    test_world_step_undo();
     double t0 = now();
     test_filtering();
     double t1 = now();

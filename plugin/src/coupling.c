@@ -190,6 +190,7 @@ cloth_status dClothStep(dClothID c, dReal h)
     dClothStepStats st;
     memset(&st, 0, sizeof st);
     double t0 = wall();
+    c->njournal = 0;
     int sl = dcloth_sleep_before(c, h, t0);
     if (sl < 0) return dcloth_fail(c, CLOTH_ENOMEM, "dClothStep: out of memory for the candidate geoms");
     if (sl > 0) return CLOTH_OK;
@@ -342,6 +343,7 @@ cloth_status dClothStep(dClothID c, dReal h)
      * coupled body its vertices' shares, at its centre */
     for (int k = 0; k < nb; k++) {
         double *f = c->bforce + 6 * k, w = wsum > 0.0 ? c->bshare[k] / wsum : 0.0;
+        dcloth_touch(c, c->bodies[k]);
         dBodyAddForce(c->bodies[k], f[0] - w * F[0], f[1] - w * F[1], f[2] - w * F[2]);
         dBodyAddTorque(c->bodies[k], f[3], f[4], f[5]);
     }
@@ -373,9 +375,12 @@ cloth_status dClothStep(dClothID c, dReal h)
         if (b && held_by_coupled(c, i)) {
             /* the constraint's reaction went in with du above; friction is
              * applied explicitly */
-            if (nw->active && !p->active)
+            if (nw->active && !p->active) {
+                dcloth_touch(c, b);
                 dBodyAddForceAtPos(b, -nw->friction[0], -nw->friction[1], -nw->friction[2], at[0], at[1], at[2]);
+            }
         } else if (b && !dBodyIsKinematic(b)) {
+            dcloth_touch(c, b);
             dBodyAddForceAtPos(b, -f[0], -f[1], -f[2], at[0], at[1], at[2]);
         }
         if (!p->active && !nw->active) memset(nw, 0, sizeof *nw); /* only held contacts carry over */
@@ -386,17 +391,5 @@ cloth_status dClothStep(dClothID c, dReal h)
     st.seconds_total = wall() - t0;
     c->stats = st;
     dcloth_sleep_after(c);
-    return CLOTH_OK;
-}
-
-cloth_status dClothWorldStep(dWorldID world, dClothID *cloths, int n, dReal h, int quick)
-{
-    if (!world || n < 0 || (n > 0 && !cloths)) return CLOTH_EINVAL;
-    for (int k = 0; k < n; k++) {
-        cloth_status s = dClothStep(cloths[k], h);
-        if (s != CLOTH_OK) return s;
-    }
-    if (quick) dWorldQuickStep(world, h);
-    else dWorldStep(world, h);
     return CLOTH_OK;
 }

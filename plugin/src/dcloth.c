@@ -36,7 +36,12 @@ dClothDesc dClothDefaultDesc(void)
     return d;
 }
 
-static int valid_thickness(double t) { return t > 0.0 && isfinite(t); }
+/* Thickness range: below a micron libccd's EPA tolerance (1e-3 of it) is
+ * lost in rounding and GJK spins; past 10 m its sums overflow (1e300 made
+ * libccd crash: found by plugin_fuzz_api). */
+#define DCLOTH_THICKNESS_MIN 1e-6
+#define DCLOTH_THICKNESS_MAX 10.0
+static int valid_thickness(double t) { return t >= DCLOTH_THICKNESS_MIN && t <= DCLOTH_THICKNESS_MAX; }
 static int valid_mu(double mu) { return mu >= 0.0 && isfinite(mu); }
 
 cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *d, dClothID *out, cloth_error *err)
@@ -49,7 +54,7 @@ cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *d, d
     *out = NULL;
     if (!world) return create_fail(err, CLOTH_EINVAL, "world is 0");
     if (!d) return create_fail(err, CLOTH_EINVAL, "desc is NULL");
-    if (!valid_thickness(d->thickness)) return create_fail(err, CLOTH_EINVAL, "thickness must be finite and > 0");
+    if (!valid_thickness(d->thickness)) return create_fail(err, CLOTH_EINVAL, "thickness must be in [1e-6, 10] m");
     if (!valid_mu(d->mu)) return create_fail(err, CLOTH_EINVAL, "mu must be finite and >= 0");
     dClothID c = calloc(1, sizeof *c);
     if (!c) return create_fail(err, CLOTH_ENOMEM, "out of memory");
@@ -117,6 +122,10 @@ void dClothDestroy(dClothID c)
     free(c->bodies);
     free(c->bdesc);
     free(c->bforce);
+    free(c->journal);
+    cloth_state_destroy(c->undo_core);
+    free(c->undo_vc);
+    free(c->undo_pin);
     free(c->sleep_geoms);
     free(c->sleep_ids);
     for (int k = 0; k < c->ncvx; k++) free(c->cvx[k].p);
@@ -259,7 +268,8 @@ cloth_status dClothSetThickness(dClothID c, dReal t)
 {
     if (!c) return CLOTH_EINVAL;
     if (!valid_thickness(t))
-        return dcloth_fail(c, CLOTH_EINVAL, "dClothSetThickness: thickness = %g must be finite and > 0", t);
+        return dcloth_fail(c, CLOTH_EINVAL, "dClothSetThickness: thickness = %g must be in [%g, %g] m", t,
+                           DCLOTH_THICKNESS_MIN, DCLOTH_THICKNESS_MAX);
     c->thickness = t;
     dClothWake(c);
     return CLOTH_OK;

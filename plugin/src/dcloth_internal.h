@@ -68,6 +68,16 @@ struct dxCloth {
         double *p;       /* 3n, the geom's frame */
     } *cvx;
     int ncvx;
+    /* the bodies this step touched, each as it was before (world.c) */
+    struct body_rec {
+        dBodyID b;
+        dReal f[3], t[3], lv[3], av[3];
+    } *journal;
+    int njournal, journal_cap;
+    /* a copy of the cloth's state, for dClothWorldStep's undo (world.c) */
+    cloth_state *undo_core;
+    vcontact *undo_vc;
+    vpin *undo_pin;
     /* sleeping (sleep.c) */
     int sleep_on, sleep_steps, still, asleep;
     double sleep_speed;
@@ -109,6 +119,11 @@ int dcloth_find_candidates(dClothID c, double h, double reach);
 /* A sleeping cloth watches this far around it (m): a body moving toward it
  * faster than this per step may reach it before it wakes. */
 #define DCLOTH_WAKE_REACH 0.25
+
+/* world.c: note body b's force, torque and velocities before this step
+ * first changes them (0, or -1 on no memory: then the step must not change
+ * b); the journal is emptied at each step's start. */
+int dcloth_touch(dClothID c, dBodyID b);
 
 /* sleep.c: before a step, 1 if the cloth sleeps through it (then the step
  * is done: forces re-applied, stats set), -1 on no memory; after a solved

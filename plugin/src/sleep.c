@@ -119,6 +119,7 @@ int dcloth_sleep_before(dClothID c, double h, double t0)
         dMass m;
         dBodyGetMass(b, &m);
         const dReal *F = dBodyGetForce(b), *T = dBodyGetTorque(b);
+        dcloth_touch(c, b);
         dBodyAddForce(b, -(F[0] + m.mass * g[0]), -(F[1] + m.mass * g[1]), -(F[2] + m.mass * g[2]));
         dBodyAddTorque(b, -T[0], -T[1], -T[2]);
     }
@@ -128,6 +129,7 @@ int dcloth_sleep_before(dClothID c, double h, double t0)
         dBodyID b = p->active ? p->body : k->geom ? k->body : 0;
         if (!b || dBodyIsKinematic(b) || !dBodyIsEnabled(b) || held_coupled(c, b)) continue;
         const double *f = p->active ? p->force : k->force, *at = p->active ? p->world : k->point;
+        dcloth_touch(c, b);
         dBodyAddForceAtPos(b, -f[0], -f[1], -f[2], at[0], at[1], at[2]);
     }
     c->stats.sleeping = 1;
@@ -184,6 +186,7 @@ void dcloth_sleep_after(dClothID c)
             if (dBodyGetGravityMode(b)) dWorldGetGravity(c->world, g);
             dMass m;
             dBodyGetMass(b, &m);
+            dcloth_touch(c, b);
             dBodySetLinearVel(b, 0, 0, 0);
             dBodySetAngularVel(b, 0, 0, 0);
             /* and this step's forces on it (the user's, the cloth's) become

@@ -58,7 +58,7 @@ typedef struct dxCloth *dClothID;
 
 typedef struct dClothDesc {
     cloth_desc cloth;            /* grid, placement, material, solver (cloth.h) */
-    dReal thickness;             /* m, > 0: vertices keep this far from surfaces */
+    dReal thickness;             /* m, 1e-6 .. 10: vertices keep this far from surfaces */
     dReal mu;                    /* Coulomb friction coefficient, >= 0 (0: none) */
     unsigned long category_bits; /* ODE's collision bits: the cloth and a geom  */
     unsigned long collide_bits;  /* meet if (collide & theirs.category) or
@@ -91,8 +91,11 @@ const char *dClothGetLastError(dClothID c);
  * they were. */
 cloth_status dClothStep(dClothID c, dReal h);
 
-/* Step n cloths, then the world (dWorldQuickStep if quick, else dWorldStep),
- * by h. Stops at the first cloth that fails; the world is then not stepped. */
+/* Step n cloths (at most 64, each once, all of this world), then the world
+ * (dWorldQuickStep if quick, else dWorldStep), by h. All or nothing: when a
+ * cloth fails, the cloths before it are put back as they were, and so are
+ * the force and torque accumulators and velocities of the bodies they
+ * pushed, and the world is not stepped. */
 cloth_status dClothWorldStep(dWorldID world, dClothID *cloths, int n, dReal h, int quick);
 
 typedef struct dClothStepStats {

@@ -1,0 +1,111 @@
+/* Stepping several cloths and the world together (dClothWorldStep), all or
+ * nothing: when a cloth fails, the cloths stepped before it are put back as
+ * they were, and so are the bodies they pushed (their force and torque
+ * accumulators and velocities, from a journal each step keeps), and the
+ * world is not stepped. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "dcloth_internal.h"
+
+int dcloth_touch(dClothID c, dBodyID b)
+{
+    for (int k = 0; k < c->njournal; k++)
+        if (c->journal[k].b == b) return 0;
+    if (c->njournal == c->journal_cap) {
+        int cap = c->journal_cap ? 2 * c->journal_cap : 8;
+        struct body_rec *j = realloc(c->journal, (size_t)cap * sizeof *j);
+        if (!j) return -1;
+        c->journal = j;
+        c->journal_cap = cap;
+    }
+    struct body_rec *r = &c->journal[c->njournal++];
+    r->b = b;
+    const dReal *f = dBodyGetForce(b), *t = dBodyGetTorque(b), *lv = dBodyGetLinearVel(b), *av = dBodyGetAngularVel(b);
+    for (int k = 0; k < 3; k++) {
+        r->f[k] = f[k];
+        r->t[k] = t[k];
+        r->lv[k] = lv[k];
+        r->av[k] = av[k];
+    }
+    return 0;
+}
+
+/* The cloth's own state before a step (core and plugin), for undo. */
+static int save_undo(dClothID c)
+{
+    size_t n = (size_t)c->n;
+    if (!c->undo_core) c->undo_core = cloth_state_create(c->core);
+    if (!c->undo_vc) c->undo_vc = malloc(n * sizeof *c->undo_vc);
+    if (!c->undo_pin) c->undo_pin = malloc(n * sizeof *c->undo_pin);
+    if (!c->undo_core || !c->undo_vc || !c->undo_pin) return -1;
+    cloth_save(c->core, c->undo_core);
+    memcpy(c->undo_vc, c->vc, n * sizeof *c->vc);
+    memcpy(c->undo_pin, c->pin, n * sizeof *c->pin);
+    return 0;
+}
+
+/* Undo a step taken since save_undo: the cloth, then the bodies it touched. */
+static void undo(dClothID c, const dClothStepStats *stats, int asleep, int still)
+{
+    size_t n = (size_t)c->n;
+    cloth_restore(c->core, c->undo_core);
+    memcpy(c->vc, c->undo_vc, n * sizeof *c->vc);
+    memcpy(c->pin, c->undo_pin, n * sizeof *c->pin);
+    c->stats = *stats;
+    c->asleep = asleep;
+    c->still = still;
+    for (int k = c->njournal - 1; k >= 0; k--) {
+        const struct body_rec *r = &c->journal[k];
+        dBodySetForce(r->b, r->f[0], r->f[1], r->f[2]);
+        dBodySetTorque(r->b, r->t[0], r->t[1], r->t[2]);
+        dBodySetLinearVel(r->b, r->lv[0], r->lv[1], r->lv[2]);
+        dBodySetAngularVel(r->b, r->av[0], r->av[1], r->av[2]);
+    }
+    c->njournal = 0;
+}
+
+#define WORLD_STEP_MAX_UNDO 64
+
+cloth_status dClothWorldStep(dWorldID world, dClothID *cloths, int n, dReal h, int quick)
+{
+    if (!world || n < 0 || (n > 0 && !cloths)) return CLOTH_EINVAL;
+    for (int k = 0; k < n; k++)
+        if (!cloths[k]) return CLOTH_EINVAL;
+    /* checked here too, so that no cloth is stepped and dWorldStep never
+     * sees a bad h (its assertion would end the program) */
+    if (!(h > 0.0) || !isfinite(h))
+        return n > 0 ? dcloth_fail(cloths[0], CLOTH_EINVAL, "dClothWorldStep: h = %g must be finite and > 0", h)
+                     : CLOTH_EINVAL;
+    for (int k = 0; k < n; k++) {
+        if (cloths[k]->world != world)
+            return dcloth_fail(cloths[k], CLOTH_EINVAL, "dClothWorldStep: cloth %d is not in this world", k);
+        for (int j = 0; j < k; j++)
+            if (cloths[j] == cloths[k])
+                return dcloth_fail(cloths[k], CLOTH_EINVAL, "dClothWorldStep: cloth %d is also cloth %d", k, j);
+    }
+    if (n > WORLD_STEP_MAX_UNDO)
+        return dcloth_fail(cloths[0], CLOTH_EINVAL, "dClothWorldStep: %d cloths, at most %d at once", n,
+                           WORLD_STEP_MAX_UNDO);
+    /* what undo needs beyond save_undo: each cloth's stats and sleep state */
+    dClothStepStats stats[WORLD_STEP_MAX_UNDO];
+    int asleep[WORLD_STEP_MAX_UNDO], still[WORLD_STEP_MAX_UNDO];
+    for (int k = 0; k < n; k++) {
+        dClothID c = cloths[k];
+        cloth_status s = CLOTH_OK;
+        if (n > 1) {
+            stats[k] = c->stats;
+            asleep[k] = c->asleep;
+            still[k] = c->still;
+            if (save_undo(c) != 0) s = dcloth_fail(c, CLOTH_ENOMEM, "dClothWorldStep: out of memory for the undo copy");
+        }
+        if (s == CLOTH_OK) s = dClothStep(c, h);
+        if (s != CLOTH_OK) {
+            for (int j = k - 1; j >= 0; j--) undo(cloths[j], &stats[j], asleep[j], still[j]);
+            return s;
+        }
+    }
+    if (quick) dWorldQuickStep(world, h);
+    else dWorldStep(world, h);
+    return CLOTH_OK;
+}
