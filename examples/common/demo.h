@@ -41,6 +41,7 @@ typedef struct demo_opts {
     int phases;                   /* --phases: a line per scripted phase    */
     int box_table;                /* --box-table: the table as a dBox       */
     int selftest;                 /* --selftest: check the metrics, exit    */
+    int sleep;                    /* --sleep: dClothSetAutoSleep (1 cm/s, 10 steps) */
 } demo_opts;
 
 /* Defaults: grid 21, 60 steps/s, out "out/<prog>", smooth 1, 400 x 300,

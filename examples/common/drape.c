@@ -82,13 +82,14 @@ typedef struct runner {
     dClothID c;
     demo_camera cam_wide;
     demo_metrics run, phase; /* over the whole run, over the current phase */
-    int step, total, next_frame;
+    int step, total, next_frame, slept;
     demo_box_mesh table;
 } runner;
 
 static int run_step(runner *R)
 {
     if (demo_step(R->o, R->world, &R->c, 1, 1.0 / R->o->hz, R->step)) return -1;
+    R->slept += dClothGetStats(R->c)->sleeping;
     demo_track_step(R->c, &R->run);
     demo_track_step(R->c, &R->phase);
     R->step++;
@@ -175,6 +176,7 @@ int drape_run(const demo_opts *o, const demo_scene *scene, const drape_variant *
         fprintf(stderr, "%s: %s\n", o->prog, err.message);
         goto done;
     }
+    if (o->sleep) dClothSetAutoSleep(R.c, 1, 0.01, 10);
     const int C = o->grid, corner[4] = {0, C - 1, (C - 1) * C, C * C - 1};
     const double off[4][2] = {{-0.5, -0.5}, {0.5, -0.5}, {-0.5, 0.5}, {0.5, 0.5}};
     demo_camera cam_draped, cam_after;
@@ -211,6 +213,9 @@ int drape_run(const demo_opts *o, const demo_scene *scene, const drape_variant *
     if (settle_and_capture(&R, settle_steps, scene->tags[1], t0, &cam_after, &r->after, &r->pic_after))
         goto done;
     rc = 0;
+    if (o->sleep)
+        printf("%s: slept %d of %d steps (%.0f%%), %.2f s wall\n", v->tag, R.slept, R.step,
+               100.0 * R.slept / (R.step > 0 ? R.step : 1), demo_now() - t0);
 done:
     if (rc) phase_done(&R, "FAILED");
     dClothDestroy(R.c);

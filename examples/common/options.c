@@ -26,6 +26,8 @@ static const char common_usage[] =
     "  --box-table            drape_table, fabrics, crumple: tables and plates as ODE's box\n"
     "                         geom (vertex and libccd triangle contacts) instead of a\n"
     "                         triangle mesh (the removal and the press then fail: README)\n"
+    "  --sleep                let a cloth at rest sleep (dClothSetAutoSleep: RMS speed under\n"
+    "                         1 cm/s for 10 steps); drape_table, drape_sphere print the saving\n"
     "  --short                a shorter timeline (what --check uses in CTest)\n"
     "  --check                assert the demo's claims on its own metrics (exit 1 if not)\n"
     "  --selftest             check the crease / wrinkle / bend metrics on a folded cloth\n"
@@ -108,6 +110,7 @@ int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char
         if (!strcmp(opt, "--phases")) { o->phases = 1; continue; }
         if (!strcmp(opt, "--box-table")) { o->box_table = 1; continue; }
         if (!strcmp(opt, "--selftest")) { o->selftest = 1; continue; }
+        if (!strcmp(opt, "--sleep")) { o->sleep = 1; continue; }
         /* options with a value */
         if (strncmp(opt, "--", 2)) return bad(o, "argument", opt, "not an option");
         if (!v) return bad(o, opt, NULL, "needs a value");
