@@ -23,6 +23,9 @@
  *    the enum's; the state and constraint count are finite and, if the call
  *    failed, unchanged (cloth_state_diff == 0, same constraint count and
  *    forces); cloth_last_error is non-empty after a failure.
+ *    State records of the cloth, written, damaged (a bit, a length) or not,
+ *    read and restored (a sound one changes nothing, a damaged one is
+ *    refused).
  *    Rigid bodies (cloth_set_bodies with bad masses, inertias, counts,
  *    cloth_hold_by_body, cloth_body_velocity_change) and adaptive frames
  *    (bad descriptors, frame lengths, the wrong cloth) are in the walk.
@@ -259,7 +262,7 @@ static void walk(void)
         double f0[3 * 35], f1[3 * 35];
         for (int i = 0; i < n; i++) cloth_constraint_force(c, i, f0 + 3 * i);
         cloth_desc d0 = cloth_get_desc(c);
-        int op = (int)(rng_u64(&g) % 28), isnull = 0, mutates = 1;
+        int op = (int)(rng_u64(&g) % 29), isnull = 0, mutates = 1;
         cloth_status s = CLOTH_OK;
         double v3[3], *p;
         switch (op) {
@@ -408,6 +411,23 @@ static void walk(void)
             s = A ? cloth_adaptive_frame(A, rng_u64(&g) % 8 ? c : other, dt, rng_u64(&g) % 4 ? &ast : NULL)
                   : cloth_adaptive_frame(NULL, c, dt, NULL);
             cloth_adaptive_destroy(A);
+            break;
+        }
+        case 28: { /* a state record: written, maybe damaged, read into a state, restored */
+            cloth_state *ws = cloth_state_create(c);
+            size_t len = cloth_state_size_bytes(ws);
+            unsigned char *rec = malloc(len + 8);
+            cloth_save(c, ws);
+            size_t wr = 0;
+            CHECK(cloth_state_write(ws, rec, len + 8, &wr, NULL) == CLOTH_OK && wr == len, "state_write");
+            int dmg = (int)(rng_u64(&g) % 3);
+            if (dmg == 1) rec[rng_u64(&g) % len] ^= (unsigned char)(1u << (rng_u64(&g) % 8));
+            size_t rl = dmg == 2 ? (size_t)(rng_u64(&g) % (len + 8)) : len;
+            s = cloth_state_read(w.s[ci], rec, rl, NULL);
+            if (s == CLOTH_OK) s = cloth_restore(c, w.s[ci]);
+            mutates = 0; /* a record of c's own state: restoring it changes nothing */
+            free(rec);
+            cloth_state_destroy(ws);
             break;
         }
         default: { /* steps, more often */
