@@ -582,9 +582,34 @@ static void check_existing(void)
     printf("%d bad calls on an existing cloth\n", ncases);
 }
 
+/* Axes of extreme but valid size are normalised exactly (scaled by their
+ * largest component first): 1e200 and 1e-200 components once became a zero
+ * normal or were refused as zero. */
+static void check_extreme_axes(void)
+{
+    cloth_desc d = cloth_default_desc();
+    d.rows = d.cols = 3;
+    cloth *c = NULL;
+    cloth_error err;
+    if (!CHECK(cloth_create(&d, &c, &err) == CLOTH_OK, "create: %s", err.message)) return;
+    const double in[4][3] = {{1e200, 0, 0}, {0, 3e300, 4e300}, {1e-200, 1e-200, 0}, {0, 0, -5e-310}};
+    const double want[4][3] = {{1, 0, 0}, {0, 0.6, 0.8}, {M_SQRT1_2, M_SQRT1_2, 0}, {0, 0, -1}};
+    for (int t = 0; t < 4; t++) {
+        cloth_constraint k = {.vertex = 4, .ndof = 1};
+        memcpy(k.axis, in[t], sizeof k.axis);
+        memcpy(k.target, cloth_positions(c) + 12, sizeof k.target);
+        cloth_constraint got;
+        CHECK(cloth_set_constraint(c, &k) == CLOTH_OK && cloth_get_constraint(c, 4, &got) == CLOTH_OK,
+              "axis %d taken: %s", t, cloth_last_error(c));
+        for (int a = 0; a < 3; a++) CHECK_NEAR(got.axis[a], want[t][a], 1e-15);
+    }
+    cloth_destroy(c);
+}
+
 int main(void)
 {
     check_create();
     check_existing();
+    check_extreme_axes();
     return check_summary();
 }

@@ -33,23 +33,8 @@ cloth_desc cloth_default_desc(void)
     d.solver.warm_start = 1;
     d.solver.strain_limit_iterations = 20;
     d.solver.strain_fail = 0.5;
-    /* 0 until test/unit_definiteness.c, which needs the single step's own
-     * CG_INDEFINITE, sets 0 for itself; then 4 (issue 7) */
-    d.solver.max_substep_halvings = 0;
+    d.solver.max_substep_halvings = 4; /* a failed step is tried again as 2, 4, 8, 16 substeps */
     return d;
-}
-
-/* The solver checks of cloth_solver_validate (material.c) and those of the
- * fields it does not know yet. */
-#define CLOTH_MAX_SUBSTEP_HALVINGS 16
-static cloth_status solver_check(const cloth_solver *s, cloth_error *err)
-{
-    cloth_status r = cloth_solver_validate(s, err);
-    if (r != CLOTH_OK) return r;
-    if (s->max_substep_halvings < 0 || s->max_substep_halvings > CLOTH_MAX_SUBSTEP_HALVINGS)
-        return error_set(err, CLOTH_EINVAL, "solver.max_substep_halvings = %d must be in [0, %d]",
-                         s->max_substep_halvings, CLOTH_MAX_SUBSTEP_HALVINGS);
-    return CLOTH_OK;
 }
 
 static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
@@ -110,7 +95,7 @@ cloth_status cloth_desc_validate(const cloth_desc *d, cloth_error *err)
     if (!(0.25 * cell >= DBL_MIN) || !isfinite(cell))
         return error_set(err, CLOTH_EINVAL, "node masses from density %g kg/m^2 and cells of %g x %g m are %g kg: "
                          "not a normal positive double", d->material.density, dx, dy, 0.25 * cell);
-    return solver_check(&d->solver, err);
+    return cloth_solver_validate(&d->solver, err);
 }
 
 /* Orthonormal frame: u normalised, v made orthogonal to u (Gram-Schmidt). */
@@ -359,7 +344,7 @@ cloth_status cloth_set_solver(cloth *c, const cloth_solver *s)
 {
     if (!c) return CLOTH_EINVAL;
     cloth_error e;
-    if (solver_check(s, &e) != CLOTH_OK) return cloth_fail(c, e.code, "%s", e.message);
+    if (cloth_solver_validate(s, &e) != CLOTH_OK) return cloth_fail(c, e.code, "%s", e.message);
     c->desc.solver = *s;
     return CLOTH_OK;
 }

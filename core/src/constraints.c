@@ -19,10 +19,20 @@ cloth_status cloth_set_constraint(cloth *c, const cloth_constraint *k)
     if (k->ndof == 1 || k->ndof == 2) {
         if (!finite3(k->axis))
             return cloth_fail(c, CLOTH_EINVAL, "cloth_set_constraint: axis must be finite");
-        double n = sqrt(k->axis[0] * k->axis[0] + k->axis[1] * k->axis[1] + k->axis[2] * k->axis[2]);
-        if (!(n > 1e-12))
-            return cloth_fail(c, CLOTH_EINVAL, "cloth_set_constraint: axis must be non-zero");
-        for (int a = 0; a < 3; a++) kk.axis[a] = k->axis[a] / n;
+        /* scaled by its largest component first, so that neither huge
+         * (1e200) nor tiny (1e-200) components overflow or vanish when
+         * squared (found by unit_fuzz_api: 1e154 became a zero normal) */
+        double big = fmax(fabs(k->axis[0]), fmax(fabs(k->axis[1]), fabs(k->axis[2])));
+        if (!(big > 0.0)) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_constraint: axis must be non-zero");
+        double n2 = k->axis[0] * k->axis[0] + k->axis[1] * k->axis[1] + k->axis[2] * k->axis[2];
+        if (n2 > 1e-280 && n2 < 1e280) { /* the common case, as it always was (bit for bit) */
+            double n = sqrt(n2);
+            for (int a = 0; a < 3; a++) kk.axis[a] = k->axis[a] / n;
+        } else {
+            double u[3] = {k->axis[0] / big, k->axis[1] / big, k->axis[2] / big};
+            double n = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+            for (int a = 0; a < 3; a++) kk.axis[a] = u[a] / n;
+        }
     } else {
         kk.axis[0] = kk.axis[1] = kk.axis[2] = 0.0;
     }

@@ -93,5 +93,8 @@ cloth_status cloth_solver_validate(const cloth_solver *s, cloth_error *err)
                          s->strain_limit_iterations);
     if (!(s->strain_fail > 0.0) || bad(s->strain_fail))
         return error_set(err, CLOTH_EINVAL, "solver.strain_fail = %g must be finite and > 0", s->strain_fail);
+    if (s->max_substep_halvings < 0 || s->max_substep_halvings > 16)
+        return error_set(err, CLOTH_EINVAL, "solver.max_substep_halvings = %d must be in [0, 16]",
+                         s->max_substep_halvings);
     return CLOTH_OK;
 }

@@ -110,7 +110,7 @@ typedef struct cloth_solver {
                                      exceeds this after limiting fails    */
     int max_substep_halvings;     /* a failed step is retried in substeps
                                      h/2, h/4, ... h/2^this (0 = no retry;
-                                     in [0, 16], default 0 for now); see
+                                     in [0, 16], default 4); see
                                      cloth_step */
 } cloth_solver;
 
