@@ -174,6 +174,21 @@ void dClothSetSpace(dClothID c, dSpaceID space);
  * before destroying it. */
 cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dReal *points, int count);
 
+/* ---------------------------------------------------------- save/restore */
+
+/* All a cloth carries from one step to the next: the core's state
+ * (cloth_save) and the plugin's own, each vertex's contact history (in
+ * contact, sticking, last force, slip: they decide release and the friction
+ * cone), the pins and their forces, the sleep state. Restoring it (and your
+ * bodies) continues bitwise as the uninterrupted run; restoring the core
+ * alone does not (measured: 2.8 cm apart 80 steps on). Geoms and bodies
+ * are referred to, not copied: they must still exist. */
+typedef struct dClothState dClothState;
+dClothState *dClothStateCreate(dClothID c); /* for c's vertex count; NULL on no memory */
+void dClothStateDestroy(dClothState *s);    /* NULL is fine */
+cloth_status dClothSave(dClothID c, dClothState *s);
+cloth_status dClothRestore(dClothID c, const dClothState *s);
+
 /* -------------------------------------------------------------- sleeping */
 
 /* A cloth at rest costs nothing (off by default, as ODE's auto-disable).

@@ -1,0 +1,116 @@
+/* Saving and restoring a plugin cloth (dClothSave / dClothRestore): the
+ * core's state and what the plugin carries from one step to the next: each
+ * vertex's contact history (whether it was in contact, sticking, its last
+ * force and slip: they decide release and the friction cone), the pins and
+ * their forces, the sleep state and the last stats. A restore then continues
+ * exactly as the uninterrupted run (plugin_determinism). */
+#include <stdlib.h>
+#include <string.h>
+#include "dcloth_internal.h"
+
+struct dClothState {
+    int n;
+    cloth_state *core;
+    vcontact *vc;
+    vpin *pin;
+    dClothStepStats stats;
+    int sleep_on, sleep_steps, still, asleep, sleep_n;
+    double sleep_speed, sleep_gravity[3];
+    double *sleep_geoms;
+    dGeomID *sleep_ids;
+};
+
+dClothState *dClothStateCreate(dClothID c)
+{
+    if (!c) return NULL;
+    dClothState *s = calloc(1, sizeof *s);
+    if (!s) return NULL;
+    s->n = c->n;
+    s->core = cloth_state_create(c->core);
+    s->vc = malloc((size_t)c->n * sizeof *s->vc);
+    s->pin = malloc((size_t)c->n * sizeof *s->pin);
+    if (!s->core || !s->vc || !s->pin) {
+        dClothStateDestroy(s);
+        return NULL;
+    }
+    return s;
+}
+
+void dClothStateDestroy(dClothState *s)
+{
+    if (!s) return;
+    cloth_state_destroy(s->core);
+    free(s->vc);
+    free(s->pin);
+    free(s->sleep_geoms);
+    free(s->sleep_ids);
+    free(s);
+}
+
+/* copy the sleep snapshot arrays (n geoms) into *ids / *geoms, grown */
+static int copy_snapshot(int n, const dGeomID *ids_in, const double *geoms_in, dGeomID **ids, double **geoms)
+{
+    if (n == 0) return 0;
+    dGeomID *i2 = realloc(*ids, (size_t)n * sizeof *i2);
+    if (!i2) return -1;
+    *ids = i2;
+    double *g2 = realloc(*geoms, 3 * (size_t)n * sizeof *g2);
+    if (!g2) return -1;
+    *geoms = g2;
+    memcpy(i2, ids_in, (size_t)n * sizeof *i2);
+    memcpy(g2, geoms_in, 3 * (size_t)n * sizeof *g2);
+    return 0;
+}
+
+cloth_status dClothSave(dClothID c, dClothState *s)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!s) return dcloth_fail(c, CLOTH_EINVAL, "dClothSave: state is NULL");
+    if (s->n != c->n)
+        return dcloth_fail(c, CLOTH_EINVAL, "dClothSave: the state is for %d vertices, the cloth has %d", s->n, c->n);
+    if (copy_snapshot(c->sleep_n, c->sleep_ids, c->sleep_geoms, &s->sleep_ids, &s->sleep_geoms))
+        return dcloth_fail(c, CLOTH_ENOMEM, "dClothSave: out of memory");
+    cloth_status r = cloth_save(c->core, s->core);
+    if (r != CLOTH_OK) return dcloth_fail(c, r, "dClothSave: %s", cloth_last_error(c->core));
+    memcpy(s->vc, c->vc, (size_t)c->n * sizeof *s->vc);
+    memcpy(s->pin, c->pin, (size_t)c->n * sizeof *s->pin);
+    s->stats = c->stats;
+    s->sleep_on = c->sleep_on;
+    s->sleep_steps = c->sleep_steps;
+    s->sleep_speed = c->sleep_speed;
+    s->still = c->still;
+    s->asleep = c->asleep;
+    s->sleep_n = c->sleep_n;
+    memcpy(s->sleep_gravity, c->sleep_gravity, sizeof s->sleep_gravity);
+    return CLOTH_OK;
+}
+
+cloth_status dClothRestore(dClothID c, const dClothState *s)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!s) return dcloth_fail(c, CLOTH_EINVAL, "dClothRestore: state is NULL");
+    if (s->n != c->n)
+        return dcloth_fail(c, CLOTH_EINVAL, "dClothRestore: the state is for %d vertices, the cloth has %d", s->n, c->n);
+    /* the snapshot first (the only step that can fail), into the cloth's own arrays */
+    if (s->sleep_n > c->sleep_cap) {
+        if (copy_snapshot(s->sleep_n, s->sleep_ids, s->sleep_geoms, &c->sleep_ids, &c->sleep_geoms))
+            return dcloth_fail(c, CLOTH_ENOMEM, "dClothRestore: out of memory");
+        c->sleep_cap = s->sleep_n;
+    } else if (s->sleep_n > 0) {
+        memcpy(c->sleep_ids, s->sleep_ids, (size_t)s->sleep_n * sizeof *c->sleep_ids);
+        memcpy(c->sleep_geoms, s->sleep_geoms, 3 * (size_t)s->sleep_n * sizeof *c->sleep_geoms);
+    }
+    cloth_status r = cloth_restore(c->core, s->core);
+    if (r != CLOTH_OK) return dcloth_fail(c, r, "dClothRestore: %s", cloth_last_error(c->core));
+    memcpy(c->vc, s->vc, (size_t)c->n * sizeof *c->vc);
+    memcpy(c->pin, s->pin, (size_t)c->n * sizeof *c->pin);
+    c->stats = s->stats;
+    c->sleep_on = s->sleep_on;
+    c->sleep_steps = s->sleep_steps;
+    c->sleep_speed = s->sleep_speed;
+    c->still = s->still;
+    c->asleep = s->asleep;
+    c->sleep_n = s->sleep_n;
+    memcpy(c->sleep_gravity, s->sleep_gravity, sizeof c->sleep_gravity);
+    return CLOTH_OK;
+}
