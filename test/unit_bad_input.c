@@ -606,10 +606,46 @@ static void check_extreme_axes(void)
     cloth_destroy(c);
 }
 
+/* A grid that does not coarsen (a side under 5 nodes) cannot have the
+ * multigrid preconditioner (its dense coarsest level: 3 x 100000 asked for
+ * 6.5 TB); the others are fine, and nothing is allocated for multigrid
+ * unless it is chosen. */
+static void check_multigrid_shape(void)
+{
+    cloth_desc d = cloth_default_desc();
+    d.rows = 3;
+    d.cols = 5000;
+    d.width = 100.0;
+    d.height = 0.04;
+    cloth *c = NULL;
+    cloth_error err;
+    d.solver.precond = CLOTH_PRECOND_MULTIGRID;
+    CHECK(cloth_create(&d, &c, &err) == CLOTH_EINVAL && c == NULL && strstr(err.message, "multigrid"),
+          "3 x 5000 with multigrid refused: %s", err.message);
+    d.solver.precond = CLOTH_PRECOND_BLOCK_JACOBI;
+    if (CHECK(cloth_create(&d, &c, &err) == CLOTH_OK, "3 x 5000 with block Jacobi: %s", err.message)) {
+        cloth_solver s = cloth_get_desc(c).solver;
+        s.precond = CLOTH_PRECOND_MULTIGRID;
+        CHECK(cloth_set_solver(c, &s) == CLOTH_EINVAL && cloth_get_desc(c).solver.precond == CLOTH_PRECOND_BLOCK_JACOBI,
+              "switching it to multigrid refused, solver unchanged: %s", cloth_last_error(c));
+        CHECK(cloth_step(c, 1.0 / 60, NULL) == CLOTH_OK, "it steps: %s", cloth_last_error(c));
+        cloth_destroy(c);
+    }
+    d = cloth_default_desc();
+    if (CHECK(cloth_create(&d, &c, &err) == CLOTH_OK, "21 x 21: %s", err.message)) {
+        cloth_solver s = cloth_get_desc(c).solver;
+        s.precond = CLOTH_PRECOND_MULTIGRID;
+        CHECK(cloth_set_solver(c, &s) == CLOTH_OK, "21 x 21 switched to multigrid: %s", cloth_last_error(c));
+        CHECK(cloth_step(c, 1.0 / 60, NULL) == CLOTH_OK, "and steps: %s", cloth_last_error(c));
+        cloth_destroy(c);
+    }
+}
+
 int main(void)
 {
     check_create();
     check_existing();
     check_extreme_axes();
+    check_multigrid_shape();
     return check_summary();
 }

@@ -262,7 +262,20 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
     c->sl_vtx = calloc(n3, sizeof *c->sl_vtx);
     c->sl_held = calloc((size_t)c->n_seq + (size_t)n, 1);
     if (!c->sl || !c->sl_act || !c->sl_vtx || !c->sl_held) goto nomem;
-    if (!c->cflag || !c->clist || mg_create(&c->mg, R, C) != 0) goto nomem;
+    if (!c->cflag || !c->clist) goto nomem;
+    /* the multigrid's levels only for the multigrid preconditioner (made
+     * later by cloth_set_solver if it is chosen then) */
+    if (d->solver.precond == CLOTH_PRECOND_MULTIGRID) {
+        int r = mg_create(&c->mg, R, C);
+        if (r == -2) {
+            cloth_destroy(c);
+            return error_set(err, CLOTH_EINVAL,
+                             "cloth_create: the multigrid preconditioner needs a grid that coarsens (%d x %d does "
+                             "not: a side under 5 nodes); choose another preconditioner",
+                             R, C);
+        }
+        if (r != 0) goto nomem;
+    }
 
     *out = c;
     return CLOTH_OK;
@@ -345,6 +358,15 @@ cloth_status cloth_set_solver(cloth *c, const cloth_solver *s)
     if (!c) return CLOTH_EINVAL;
     cloth_error e;
     if (cloth_solver_validate(s, &e) != CLOTH_OK) return cloth_fail(c, e.code, "%s", e.message);
+    if (s->precond == CLOTH_PRECOND_MULTIGRID && c->mg.nlev == 0) {
+        int r = mg_create(&c->mg, c->rows, c->cols);
+        if (r == -2)
+            return cloth_fail(c, CLOTH_EINVAL,
+                              "cloth_set_solver: the multigrid preconditioner needs a grid that coarsens (%d x %d "
+                              "does not: a side under 5 nodes)",
+                              c->rows, c->cols);
+        if (r != 0) return cloth_fail(c, CLOTH_ENOMEM, "cloth_set_solver: out of memory for the multigrid levels");
+    }
     c->desc.solver = *s;
     return CLOTH_OK;
 }

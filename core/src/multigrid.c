@@ -63,9 +63,25 @@ void mg_free(multigrid *mg)
     memset(mg, 0, sizeof *mg);
 }
 
+/* The coarsest level's node count for an R x C grid (the levels of
+ * mg_create, without allocating). */
+static long coarsest_nodes(int R, int C)
+{
+    long n = (long)R * C;
+    for (int l = 0; n > 64 && R >= 5 && C >= 5 && l + 1 < MG_MAX_LEVELS; l++) {
+        R = coarse_dim(R);
+        C = coarse_dim(C);
+        n = (long)R * C;
+    }
+    return n;
+}
+
 int mg_create(multigrid *mg, int R, int C)
 {
     memset(mg, 0, sizeof *mg);
+    /* the coarsest level is solved densely: a grid that does not coarsen
+     * (a side under 5 nodes: 3 x 100000 asked for 6.5 TB) is refused */
+    if (3 * coarsest_nodes(R, C) > MG_DENSE_MAX) return -2;
     int l = 0;
     mg->lev[0].R = R;
     mg->lev[0].C = C;

@@ -32,7 +32,10 @@ typedef struct multigrid {
 } multigrid;
 
 /* Levels for an R x C grid: coarsened by two (node 2I of a level is node I
- * of the next) while the level has more than 64 nodes. 0, or -1 on no memory. */
+ * of the next) while the level has more than 64 nodes. 0; -1 on no memory;
+ * -2 when the coarsest level would have more than MG_DENSE_MAX unknowns
+ * (a grid with a side under 5 nodes does not coarsen). */
+#define MG_DENSE_MAX 3072
 int mg_create(multigrid *mg, int R, int C);
 void mg_free(multigrid *mg);
 
