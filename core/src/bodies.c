@@ -14,7 +14,7 @@
 
 /* workspace per body, in doubles: M ginv (36 each), rhs u r p q s (6 each),
  * com (3), then for the elongation limit minv (36), F and D (6 each) */
-enum { WS_PER_BODY = 2 * 36 + 6 * 6 + 3 + 36 + 12 };
+enum { WS_PER_BODY = 2 * 36 + 6 * 6 + 3 + 36 + 12 + 6 }; /* + U (6): the substep retry's sum of du */
 
 /* P_i = I - S_i applied to a 3-vector */
 static void con_project(const double *S, const double *a, double *o)
@@ -89,12 +89,15 @@ cloth_status cloth_set_bodies(cloth *c, const cloth_body *bodies, int count)
         cloth_body *nb = malloc((size_t)(count > 0 ? count : 1) * sizeof *nb);
         double *ws = calloc((size_t)(count > 0 ? count : 1) * WS_PER_BODY, sizeof *ws);
         int *vb = c->vbody ? c->vbody : malloc((size_t)c->n * sizeof *vb);
-        if (!nb || !ws || !vb) {
+        double *dev = c->body_dev ? c->body_dev : calloc(3 * (size_t)c->n, sizeof *dev);
+        if (!nb || !ws || !vb || !dev) {
             free(nb);
             free(ws);
             if (vb != c->vbody) free(vb);
+            if (dev != c->body_dev) free(dev);
             return cloth_fail(c, CLOTH_ENOMEM, "cloth_set_bodies: out of memory for %d bodies", count);
         }
+        c->body_dev = dev;
         if (vb != c->vbody)
             for (int i = 0; i < c->n; i++) vb[i] = -1;
         free(c->body);
@@ -412,4 +415,58 @@ void bodies_apply_ginv(const mpcg_bodies *B, const double *r, double *out)
             for (int b = 0; b < 6; b++) s += B->ginv[36 * g + 6 * a + b] * r[6 * g + b];
             out[6 * g + a] = s;
         }
+}
+
+/* ------------------------------------------------- the substep retry */
+
+/* A step retried in substeps (step.c) moves a held vertex with its body's
+ * velocity from before the step (the target's interpolation) plus what the
+ * substeps taken so far gave the body: U, the sum of their du, and D_i, the
+ * displacement U made at vertex i. */
+static double *body_U(const cloth *c) { return bw(c, 0) + 51 * (size_t)c->nbody; }
+
+void bodies_retry_reset(cloth *c)
+{
+    if (!c->nbody || !c->body_dev) return;
+    memset(body_U(c), 0, 6 * (size_t)c->nbody * sizeof(double));
+    memset(c->body_dev, 0, 3 * (size_t)c->n * sizeof *c->body_dev);
+}
+
+static void body_point_vel(const cloth *c, int i, const double *U, double v[3])
+{
+    double r[3];
+    lever_of(c, i, r);
+    v[0] = U[0] + U[4] * r[2] - U[5] * r[1];
+    v[1] = U[1] + U[5] * r[0] - U[3] * r[2];
+    v[2] = U[2] + U[3] * r[1] - U[4] * r[0];
+}
+
+void bodies_retry_target(const cloth *c, int i, double hs, double tg[3])
+{
+    if (!c->nbody || !c->body_dev || c->vbody[i] < 0) return;
+    double v[3];
+    body_point_vel(c, i, body_U(c) + 6 * c->vbody[i], v);
+    for (int a = 0; a < 3; a++) tg[a] += c->body_dev[3 * i + a] + hs * v[a];
+}
+
+void bodies_retry_commit(cloth *c, double hs)
+{
+    if (!c->nbody || !c->body_dev || !c->body_held) return;
+    size_t nb = (size_t)c->nbody;
+    double *U = body_U(c);
+    const double *u = c->body_ws + 78 * nb;
+    for (size_t k = 0; k < 6 * nb; k++) U[k] += u[k];
+    for (int i = 0; i < c->n; i++) {
+        if (c->vbody[i] < 0 || !c->con[i].ndof) continue;
+        double v[3];
+        body_point_vel(c, i, U + 6 * c->vbody[i], v);
+        for (int a = 0; a < 3; a++) c->body_dev[3 * i + a] += hs * v[a];
+    }
+}
+
+void bodies_retry_finish(cloth *c)
+{
+    if (!c->nbody || !c->body_dev) return;
+    size_t nb = (size_t)c->nbody;
+    memcpy(c->body_ws + 78 * nb, body_U(c), 6 * nb * sizeof(double));
 }

@@ -172,6 +172,7 @@ void cloth_destroy(cloth *c)
     free(c->body);
     free(c->body_ws);
     free(c->vbody);
+    free(c->body_dev);
     bsr_free(&c->A);
     free(c->seq_blk);
     free(c->int_blk);

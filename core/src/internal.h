@@ -95,6 +95,10 @@ struct cloth {
                                   CG vectors (5 x 6); vbody (n ints) after */
     int *vbody;                /* n: body of each constrained vertex, -1 none */
     int body_held;             /* vertices held by bodies in this step's solve */
+    double *body_dev;          /* 3n: the substep retry's displacement of held
+                                  vertices by their bodies' du so far */
+    int body_retry;            /* 1 while a step is retried in substeps */
+    double body_hs;            /* that substep's size */
 
     /* step workspace, sized at creation: the step allocates nothing */
     bsr A;                     /* pattern: diagonal + one block pair per link */
@@ -149,6 +153,14 @@ void body_push(cloth *c, const double *S, int i, const double u[3], double s);
 void body_solve(cloth *c);
 void body_move(const cloth *c, const double *S, int i, double s, double *q);
 void body_kept(cloth *c, double s);
+/* bodies.c, for the substep retry (step.c): reset the sums at a depth's
+ * start; a held vertex's target shifted by what the substeps so far gave
+ * its body; after each substep taken, add its du; at the end, the total du
+ * as the step's (cloth_body_velocity_change). */
+void bodies_retry_reset(cloth *c);
+void bodies_retry_target(const cloth *c, int i, double hs, double tg[3]);
+void bodies_retry_commit(cloth *c, double hs);
+void bodies_retry_finish(cloth *c);
 
 /* state.c */
 int state_alloc(struct cloth_state *s, int n, int n_int);

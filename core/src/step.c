@@ -63,6 +63,7 @@ static void build_constraints(cloth *c, const double *a, const double *v0, doubl
         double dvt[3], tg[3];
         for (int r = 0; r < 3; r++)
             tg[r] = xs && frac != 1.0 ? xs[3 * i + r] + frac * (k->target[r] - xs[3 * i + r]) : k->target[r];
+        if (c->body_retry) bodies_retry_target(c, i, c->body_hs, tg);
         for (int r = 0; r < 3; r++) dvt[r] = (tg[r] - a[3 * i + r]) / cfac - v0[3 * i + r];
         for (int r = 0; r < 3; r++)
             z[r] = dvt[r] - (S[3 * r] * dvt[0] + S[3 * r + 1] * dvt[1] + S[3 * r + 2] * dvt[2]);
@@ -364,18 +365,28 @@ static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failu
         st->residual = 0.0; /* of this depth's substeps */
         st->strain_limited = 0;
         memset(fsum, 0, n3 * sizeof *fsum);
+        /* bodies solved with the cloth: their du carries from substep to
+         * substep (bodies.c) */
+        bodies_retry_reset(c);
+        c->body_retry = 1;
+        c->body_hs = hs;
         for (k = 0; k < parts; k++) {
             fail = attempt(c, hs, xs, (double)(k + 1) / (double)parts, st, ms);
             if (fail != CLOTH_FAIL_NONE) break;
             commit(c, hs);
+            bodies_retry_commit(c, hs);
             for (size_t q = 0; q < n3; q++) fsum[q] += c->con_new[q] / (double)parts;
         }
+        c->body_retry = 0;
         if (fail == CLOTH_FAIL_NONE) break;
         st->substeps_failed++;
         state_copy(&c->st, &bk);
     }
     st->substeps = fail == CLOTH_FAIL_NONE ? (int)k : (int)k + 1;
-    if (fail == CLOTH_FAIL_NONE) memcpy(c->con_force, fsum, n3 * sizeof *fsum);
+    if (fail == CLOTH_FAIL_NONE) {
+        memcpy(c->con_force, fsum, n3 * sizeof *fsum);
+        bodies_retry_finish(c);
+    }
     state_free(&bk);
     free(xs);
     free(fsum);
@@ -404,11 +415,7 @@ cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
     } else {
         st.first_failure = fail;
         st.substeps_failed = 1;
-        /* not with bodies solved with the cloth (cloth_body): their
-         * velocity change would have to carry from one substep's targets
-         * to the next, which the retry does not do yet */
-        if (sv->max_substep_halvings > 0 && !c->body_held)
-            fail = substep_retry(c, h, sv->max_substep_halvings, fail, &st, &ms);
+        if (sv->max_substep_halvings > 0) fail = substep_retry(c, h, sv->max_substep_halvings, fail, &st, &ms);
     }
     if (fail != CLOTH_FAIL_NONE) {
         st.failure = fail;

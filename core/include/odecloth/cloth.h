@@ -244,8 +244,9 @@ cloth_status cloth_constraint_force(const cloth *c, int vertex, double f[3]);
  * move with du. The cloth's constraint forces (cloth_constraint_force) are
  * then exactly the reactions that make du; apply them, opposite, to the
  * body. Backward Euler and BDF2 only (the explicit steppers treat the
- * targets as final); gyroscopic terms are left out; a step whose vertices
- * a body holds is not retried in substeps (max_substep_halvings). */
+ * targets as final); gyroscopic terms are left out. A step retried in
+ * substeps (max_substep_halvings) carries each body's du from substep to
+ * substep and reports their sum. */
 typedef struct cloth_body {
     double mass;       /* kg, > 0 */
     double inertia[9]; /* kg m^2, about the centre of mass in world axes,
