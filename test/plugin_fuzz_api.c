@@ -222,7 +222,7 @@ static void walk(scene *s)
         const double *x = dClothGetPositions(c);
         int vi = index_of(&g, n), vv = vi >= 0 && vi < n ? vi : 0;
         for (int r = 0; r < 3; r++) p[r] = rng_u64(&g) % 12 ? x[3 * vv + r] : xd(&g);
-        int op = (int)(rng_u64(&g) % 20);
+        int op = (int)(rng_u64(&g) % 23);
         cloth_status st = CLOTH_OK;
         int is_step = 0;
         switch (op) {
@@ -264,6 +264,44 @@ static void walk(scene *s)
             if (h > 0.1 && isfinite(h)) h = 0.1;
             st = dClothWorldStep(rng_u64(&g) % 10 ? s->world : NULL, rng_u64(&g) % 10 ? arr : NULL, nn, h, (int)(rng_u64(&g) % 2));
             is_step = 2;
+            break;
+        }
+        case 14: /* sleeping: on or off, extreme speeds and step counts */
+            st = dClothSetAutoSleep(c, (int)(rng_u64(&g) % 3), rng_u64(&g) % 3 ? dval(&g, 1e-3, 0.1) : xd(&g),
+                                    rng_u64(&g) % 3 ? (int)(rng_u64(&g) % 20) : xi(&g));
+            break;
+        case 15: { /* convex points for geoms that are not convex, NULL, bad counts and values */
+            dReal pts[12];
+            for (int q = 0; q < 12; q++) pts[q] = rng_u64(&g) % 6 ? rng_range(&g, -1, 1) : xd(&g);
+            dGeomID gg = rng_u64(&g) % 3 == 0 ? 0 : rng_u64(&g) % 2 ? s->box : s->sph;
+            st = dClothSetConvexPoints(c, gg, rng_u64(&g) % 6 ? pts : NULL, rng_u64(&g) % 3 ? 4 : xi(&g));
+            break;
+        }
+        case 16: { /* save, then restore into itself (nothing changes) or the other cloth (another size) */
+            dClothState *ds = dClothStateCreate(c);
+            if (!CHECK(ds != NULL, "dClothStateCreate")) break;
+            st = dClothSave(c, ds);
+            if (st == CLOTH_OK) {
+                dClothID into = rng_u64(&g) % 3 ? c : cl[1 - ci];
+                st = dClothRestore(into, ds);
+                if (into == c) {
+                    cloth_state *mid = cloth_state_create(core);
+                    cloth_save(core, mid);
+                    CHECK(st == CLOTH_OK && cloth_state_diff(before, mid) == 0.0,
+                          "call %d: saving and restoring a cloth changed it", it);
+                    cloth_state_destroy(mid);
+                } else {
+                    CHECK(st == CLOTH_EINVAL, "call %d: a state restored into a cloth of another size", it);
+                    cloth *oc = dClothGetCore(into);
+                    cloth_state *oa = cloth_state_create(oc);
+                    cloth_save(oc, oa);
+                    CHECK(cloth_state_diff(other_before, oa) == 0.0, "call %d: a refused restore changed the cloth",
+                          it);
+                    cloth_state_destroy(oa);
+                    st = CLOTH_OK; /* refused on the other cloth; this one was only saved */
+                }
+            }
+            dClothStateDestroy(ds);
             break;
         }
         default: {
