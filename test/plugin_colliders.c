@@ -566,6 +566,17 @@ typedef struct figures {
     int kind;
 } figures;
 
+/* A run's figures before its first step. */
+static figures figures_for(int kind)
+{
+    figures f;
+    memset(&f, 0, sizeof f);
+    f.worst_run = INFINITY;
+    f.edge = INFINITY;
+    f.kind = kind;
+    return f;
+}
+
 /* The rest checks shared by the static classes and the dynamic body. */
 static void check_rest(const char *name, const dClothDesc *d, const figures *f, int check_candidates)
 {
@@ -761,11 +772,7 @@ static void run_class(int k)
     dClothDesc d = desc_at(shape_top(&s) + DROP);
     dClothID c = NULL;
     cloth_error err;
-    figures f;
-    memset(&f, 0, sizeof f);
-    f.worst_run = INFINITY;
-    f.edge = INFINITY;
-    f.kind = k;
+    figures f = figures_for(k);
     if (CHECK(dClothCreate(w, sp, &d, &c, &err) == CLOTH_OK, "%s: dClothCreate: %s", kind_name[k], err.message)) {
         if (k == K_CONVEX)
             CHECK(dClothSetConvexPoints(c, g, cvx_points, 8) == CLOTH_OK, "convex points: %s", dClothGetLastError(c));
@@ -879,11 +886,7 @@ static void run_dynamic(void)
     dClothDesc d = desc_at(shape_top(&s) + DROP);
     dClothID c = NULL;
     cloth_error err;
-    figures f;
-    memset(&f, 0, sizeof f);
-    f.worst_run = INFINITY;
-    f.edge = INFINITY;
-    f.kind = K_BODY;
+    figures f = figures_for(K_BODY);
     if (CHECK(dClothCreate(w, sp, &d, &c, &err) == CLOTH_OK, "%s: dClothCreate: %s", name, err.message)) {
         double mc = cloth_mass(c), weight = 9.81 * mc;
         oc.fz_window = 0;

@@ -78,14 +78,17 @@ struct dxCloth {
     cloth_state *undo_core;
     vcontact *undo_vc;
     vpin *undo_pin;
-    /* sleeping (sleep.c) */
-    int sleep_on, sleep_steps, still, asleep;
-    double sleep_speed;
-    double sleep_gravity[3];  /* the world's gravity when it fell asleep     */
+    /* sleeping (sleep.c): the settings and state, and the geoms near it
+     * when it fell asleep (sleep.n of them) */
+    struct sleep_state {
+        int on, steps, still, asleep, n;
+        double speed;
+        double gravity[3];   /* the world's gravity when it fell asleep     */
+    } sleep;
     double *sleep_geoms;      /* per candidate then: position (3), and the
                                  geom itself in sleep_ids                   */
     dGeomID *sleep_ids;
-    int sleep_n, sleep_cap;
+    int sleep_cap;
     dClothStepStats stats;
     char err[256];
 };

@@ -14,8 +14,7 @@ struct dClothState {
     vcontact *vc;
     vpin *pin;
     dClothStepStats stats;
-    int sleep_on, sleep_steps, still, asleep, sleep_n;
-    double sleep_speed, sleep_gravity[3];
+    struct sleep_state sleep;
     double *sleep_geoms;
     dGeomID *sleep_ids;
 };
@@ -68,20 +67,14 @@ cloth_status dClothSave(dClothID c, dClothState *s)
     if (!s) return dcloth_fail(c, CLOTH_EINVAL, "dClothSave: state is NULL");
     if (s->n != c->n)
         return dcloth_fail(c, CLOTH_EINVAL, "dClothSave: the state is for %d vertices, the cloth has %d", s->n, c->n);
-    if (copy_snapshot(c->sleep_n, c->sleep_ids, c->sleep_geoms, &s->sleep_ids, &s->sleep_geoms))
+    if (copy_snapshot(c->sleep.n, c->sleep_ids, c->sleep_geoms, &s->sleep_ids, &s->sleep_geoms))
         return dcloth_fail(c, CLOTH_ENOMEM, "dClothSave: out of memory");
     cloth_status r = cloth_save(c->core, s->core);
     if (r != CLOTH_OK) return dcloth_fail(c, r, "dClothSave: %s", cloth_last_error(c->core));
     memcpy(s->vc, c->vc, (size_t)c->n * sizeof *s->vc);
     memcpy(s->pin, c->pin, (size_t)c->n * sizeof *s->pin);
     s->stats = c->stats;
-    s->sleep_on = c->sleep_on;
-    s->sleep_steps = c->sleep_steps;
-    s->sleep_speed = c->sleep_speed;
-    s->still = c->still;
-    s->asleep = c->asleep;
-    s->sleep_n = c->sleep_n;
-    memcpy(s->sleep_gravity, c->sleep_gravity, sizeof s->sleep_gravity);
+    s->sleep = c->sleep;
     return CLOTH_OK;
 }
 
@@ -92,25 +85,19 @@ cloth_status dClothRestore(dClothID c, const dClothState *s)
     if (s->n != c->n)
         return dcloth_fail(c, CLOTH_EINVAL, "dClothRestore: the state is for %d vertices, the cloth has %d", s->n, c->n);
     /* the snapshot first (the only step that can fail), into the cloth's own arrays */
-    if (s->sleep_n > c->sleep_cap) {
-        if (copy_snapshot(s->sleep_n, s->sleep_ids, s->sleep_geoms, &c->sleep_ids, &c->sleep_geoms))
+    if (s->sleep.n > c->sleep_cap) {
+        if (copy_snapshot(s->sleep.n, s->sleep_ids, s->sleep_geoms, &c->sleep_ids, &c->sleep_geoms))
             return dcloth_fail(c, CLOTH_ENOMEM, "dClothRestore: out of memory");
-        c->sleep_cap = s->sleep_n;
-    } else if (s->sleep_n > 0) {
-        memcpy(c->sleep_ids, s->sleep_ids, (size_t)s->sleep_n * sizeof *c->sleep_ids);
-        memcpy(c->sleep_geoms, s->sleep_geoms, 3 * (size_t)s->sleep_n * sizeof *c->sleep_geoms);
+        c->sleep_cap = s->sleep.n;
+    } else if (s->sleep.n > 0) {
+        memcpy(c->sleep_ids, s->sleep_ids, (size_t)s->sleep.n * sizeof *c->sleep_ids);
+        memcpy(c->sleep_geoms, s->sleep_geoms, 3 * (size_t)s->sleep.n * sizeof *c->sleep_geoms);
     }
     cloth_status r = cloth_restore(c->core, s->core);
     if (r != CLOTH_OK) return dcloth_fail(c, r, "dClothRestore: %s", cloth_last_error(c->core));
     memcpy(c->vc, s->vc, (size_t)c->n * sizeof *c->vc);
     memcpy(c->pin, s->pin, (size_t)c->n * sizeof *c->pin);
     c->stats = s->stats;
-    c->sleep_on = s->sleep_on;
-    c->sleep_steps = s->sleep_steps;
-    c->sleep_speed = s->sleep_speed;
-    c->still = s->still;
-    c->asleep = s->asleep;
-    c->sleep_n = s->sleep_n;
-    memcpy(c->sleep_gravity, s->sleep_gravity, sizeof c->sleep_gravity);
+    c->sleep = s->sleep;
     return CLOTH_OK;
 }

@@ -14,22 +14,22 @@ cloth_status dClothSetAutoSleep(dClothID c, int on, dReal speed, int steps)
     if (on && (!(speed > 0.0) || !isfinite(speed)))
         return dcloth_fail(c, CLOTH_EINVAL, "dClothSetAutoSleep: speed = %g must be finite and > 0", speed);
     if (on && steps < 1) return dcloth_fail(c, CLOTH_EINVAL, "dClothSetAutoSleep: steps = %d must be >= 1", steps);
-    c->sleep_on = on != 0;
+    c->sleep.on = on != 0;
     if (on) {
-        c->sleep_speed = speed;
-        c->sleep_steps = steps;
+        c->sleep.speed = speed;
+        c->sleep.steps = steps;
     }
     dClothWake(c);
     return CLOTH_OK;
 }
 
-int dClothIsSleeping(dClothID c) { return c ? c->asleep : 0; }
+int dClothIsSleeping(dClothID c) { return c ? c->sleep.asleep : 0; }
 
 void dClothWake(dClothID c)
 {
     if (!c) return;
-    c->asleep = 0;
-    c->still = 0;
+    c->sleep.asleep = 0;
+    c->sleep.still = 0;
 }
 
 /* Does geom g's body move faster than the threshold anywhere on the geom?
@@ -47,7 +47,7 @@ static int body_moves(dClothID c, dBodyID b, dGeomID g)
         if (!isfinite(r)) r = 0.0; /* planes: unbounded; their bodies, if any, count by velocity */
     }
     double sv = sqrt(dcloth_dot3(v, v)) + r * sqrt(dcloth_dot3(w, w));
-    return !(sv <= c->sleep_speed);
+    return !(sv <= c->sleep.speed);
 }
 
 /* Anything moving near the cloth or holding it (candidates of c->cand and
@@ -66,13 +66,13 @@ static int scene_changed(dClothID c)
 {
     dVector3 g;
     dWorldGetGravity(c->world, g);
-    if (g[0] != c->sleep_gravity[0] || g[1] != c->sleep_gravity[1] || g[2] != c->sleep_gravity[2]) return 1;
-    if (c->ncand != c->sleep_n) return 1;
+    if (g[0] != c->sleep.gravity[0] || g[1] != c->sleep.gravity[1] || g[2] != c->sleep.gravity[2]) return 1;
+    if (c->ncand != c->sleep.n) return 1;
     for (int a = 0; a < c->ncand; a++) {
         dGeomID gg = c->cand[a];
         int k = 0;
-        while (k < c->sleep_n && c->sleep_ids[k] != gg) k++;
-        if (k == c->sleep_n) return 1;
+        while (k < c->sleep.n && c->sleep_ids[k] != gg) k++;
+        if (k == c->sleep.n) return 1;
         /* a static geom moved by hand (a body's motion is judged by its
          * velocity: a resting body's position drifts by rounding) */
         const dReal *p = dGeomGetClass(gg) == dPlaneClass || dGeomGetBody(gg) ? NULL : dGeomGetPosition(gg);
@@ -100,9 +100,9 @@ static double wall(void)
 
 int dcloth_sleep_before(dClothID c, double h, double t0)
 {
-    if (!c->asleep) return 0;
+    if (!c->sleep.asleep) return 0;
     if (dcloth_find_candidates(c, h, DCLOTH_WAKE_REACH) < 0) return -1;
-    if (!c->sleep_on || anything_moves(c) || scene_changed(c)) {
+    if (!c->sleep.on || anything_moves(c) || scene_changed(c)) {
         dClothWake(c);
         return 0;
     }
@@ -140,7 +140,7 @@ int dcloth_sleep_before(dClothID c, double h, double t0)
 
 void dcloth_sleep_after(dClothID c)
 {
-    if (!c->sleep_on) return;
+    if (!c->sleep.on) return;
     /* at rest: the RMS speed sqrt(2 KE / M) (a single flap or corner may
      * still sway: measured, a cloth settled on a box keeps a few vertices at
      * 2-10 cm/s for seconds while its RMS speed is 7 mm/s) */
@@ -150,12 +150,12 @@ void dcloth_sleep_after(dClothID c)
         e += m[i] * dcloth_dot3(v + 3 * i, v + 3 * i);
         M += m[i];
     }
-    int slow = e <= c->sleep_speed * c->sleep_speed * M;
+    int slow = e <= c->sleep.speed * c->sleep.speed * M;
     if (!slow || anything_moves(c)) {
-        c->still = 0;
+        c->sleep.still = 0;
         return;
     }
-    if (++c->still < c->sleep_steps) return;
+    if (++c->sleep.still < c->sleep.steps) return;
     /* fall asleep: remember the scene as far as a sleeping cloth watches */
     if (dcloth_find_candidates(c, 0.0, DCLOTH_WAKE_REACH) < 0 || anything_moves(c)) return;
     if (c->ncand > c->sleep_cap) {
@@ -171,10 +171,10 @@ void dcloth_sleep_after(dClothID c)
         const dReal *p = dGeomGetClass(c->cand[a]) == dPlaneClass ? NULL : dGeomGetPosition(c->cand[a]);
         for (int k = 0; k < 3; k++) c->sleep_geoms[3 * a + k] = p ? p[k] : 0.0;
     }
-    c->sleep_n = c->ncand;
+    c->sleep.n = c->ncand;
     dVector3 g;
     dWorldGetGravity(c->world, g);
-    for (int k = 0; k < 3; k++) c->sleep_gravity[k] = g[k];
+    for (int k = 0; k < 3; k++) c->sleep.gravity[k] = g[k];
     memset(c->v0, 0, 3 * (size_t)c->n * sizeof *c->v0); /* the step is over: scratch */
     cloth_set_velocities(c->core, c->v0);
     /* the bodies it alone holds come to rest with it (they are slower than
@@ -194,5 +194,5 @@ void dcloth_sleep_after(dClothID c)
             dBodySetForce(b, -m.mass * g[0], -m.mass * g[1], -m.mass * g[2]);
             dBodySetTorque(b, 0, 0, 0);
         }
-    c->asleep = 1;
+    c->sleep.asleep = 1;
 }

@@ -46,15 +46,14 @@ static int save_undo(dClothID c)
 }
 
 /* Undo a step taken since save_undo: the cloth, then the bodies it touched. */
-static void undo(dClothID c, const dClothStepStats *stats, int asleep, int still)
+static void undo(dClothID c, const dClothStepStats *stats, const struct sleep_state *sleep)
 {
     size_t n = (size_t)c->n;
     cloth_restore(c->core, c->undo_core);
     memcpy(c->vc, c->undo_vc, n * sizeof *c->vc);
     memcpy(c->pin, c->undo_pin, n * sizeof *c->pin);
     c->stats = *stats;
-    c->asleep = asleep;
-    c->still = still;
+    c->sleep = *sleep;
     for (int k = c->njournal - 1; k >= 0; k--) {
         const struct body_rec *r = &c->journal[k];
         dBodySetForce(r->b, r->f[0], r->f[1], r->f[2]);
@@ -89,19 +88,18 @@ cloth_status dClothWorldStep(dWorldID world, dClothID *cloths, int n, dReal h, i
                            WORLD_STEP_MAX_UNDO);
     /* what undo needs beyond save_undo: each cloth's stats and sleep state */
     dClothStepStats stats[WORLD_STEP_MAX_UNDO];
-    int asleep[WORLD_STEP_MAX_UNDO], still[WORLD_STEP_MAX_UNDO];
+    struct sleep_state sleep[WORLD_STEP_MAX_UNDO];
     for (int k = 0; k < n; k++) {
         dClothID c = cloths[k];
         cloth_status s = CLOTH_OK;
         if (n > 1) {
             stats[k] = c->stats;
-            asleep[k] = c->asleep;
-            still[k] = c->still;
+            sleep[k] = c->sleep;
             if (save_undo(c) != 0) s = dcloth_fail(c, CLOTH_ENOMEM, "dClothWorldStep: out of memory for the undo copy");
         }
         if (s == CLOTH_OK) s = dClothStep(c, h);
         if (s != CLOTH_OK) {
-            for (int j = k - 1; j >= 0; j--) undo(cloths[j], &stats[j], asleep[j], still[j]);
+            for (int j = k - 1; j >= 0; j--) undo(cloths[j], &stats[j], &sleep[j]);
             return s;
         }
     }
