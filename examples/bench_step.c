@@ -8,6 +8,11 @@
  * DIR/bench_step.png.
  *
  *   bench_step [--out DIR] [--grids 21,41,81,161] [--cap SECONDS] [--seconds T]
+ *              [--precond jacobi,block,ssor,multigrid] [--hz 60,240] [--hash]
+ *
+ * --precond and --hz pick a subset of the table (the CSV then has only those
+ * rows); --hash prints a hash of the final positions' bits after each row, to
+ * check that a change to the solver left the results bitwise identical.
  *
  * A run whose wall time passes the cap stops early and is marked partial
  * (its figures are over the steps it took), so the whole table stays within
@@ -28,6 +33,13 @@ static double now(void)
     return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
+static double cpu_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
 static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -37,7 +49,17 @@ static int cmp_double(const void *a, const void *b)
 typedef struct result {
     int steps, done, failed;
     double steps_per_s, median_ms, iters;
+    double cpu_steps_per_s; /* over the process's CPU time: less noisy on a shared machine */
+    unsigned long long hash; /* FNV-1a of the final positions' bytes */
 } result;
+
+static unsigned long long fnv1a(const void *p, size_t n)
+{
+    const unsigned char *b = p;
+    unsigned long long h = 1469598103934665603ULL;
+    for (size_t k = 0; k < n; k++) h = (h ^ b[k]) * 1099511628211ULL;
+    return h;
+}
 
 static result run(int N, double hz, cloth_precond pc, double seconds, double cap)
 {
@@ -61,7 +83,7 @@ static result run(int N, double hz, cloth_precond pc, double seconds, double cap
     r.steps = (int)(seconds * hz + 0.5);
     double *dt = malloc((size_t)r.steps * sizeof *dt);
     long iters = 0;
-    double t0 = now();
+    double t0 = now(), c0 = cpu_now();
     for (int s = 0; s < r.steps; s++) {
         double a = now();
         cloth_step_stats st;
@@ -75,13 +97,15 @@ static result run(int N, double hz, cloth_precond pc, double seconds, double cap
         r.done = s + 1;
         if (now() - t0 > cap) break;
     }
-    double wall = now() - t0;
+    double wall = now() - t0, cpu = cpu_now() - c0;
     if (r.done > 0) {
         r.steps_per_s = r.done / wall;
+        r.cpu_steps_per_s = r.done / cpu;
         r.iters = (double)iters / r.done;
         qsort(dt, (size_t)r.done, sizeof *dt, cmp_double);
         r.median_ms = 1e3 * dt[r.done / 2];
     }
+    r.hash = fnv1a(cloth_positions(c), 3 * (size_t)N * N * sizeof(double));
     free(dt);
     cloth_destroy(c);
     return r;
@@ -92,14 +116,48 @@ int main(int argc, char **argv)
     const char *out = "out/bench";
     int grids[16] = {21, 41, 81, 161}, ng = 4;
     double cap = 40.0, seconds = 2.0;
+    int use_pc[4] = {1, 1, 1, 1}, use_hz[2] = {1, 1}, hash = 0;
+    const char *pcn[4] = {"jacobi", "block", "ssor", "multigrid"};
     for (int a = 1; a < argc; a++) {
         const char *v = a + 1 < argc ? argv[a + 1] : NULL;
         if (!strcmp(argv[a], "--help") || !strcmp(argv[a], "-h")) {
             puts("usage: bench_step [--out DIR] [--grids 21,41,81,161] [--cap SECONDS] [--seconds T]\n"
+                 "                  [--precond jacobi,block,ssor,multigrid] [--hz 60,240] [--hash]\n"
                  "Steps per second and CG iterations of backward Euler + MPCG for a pinned\n"
                  "cotton cloth, per grid, step size (1/60, 1/240 s) and preconditioner.\n"
-                 "Writes DIR/bench_step.csv and DIR/bench_step.png (default DIR out/bench).");
+                 "Writes DIR/bench_step.csv and DIR/bench_step.png (default DIR out/bench).\n"
+                 "--precond, --hz: only those rows; --hash: print a hash of the final positions.");
             return 0;
+        } else if (!strcmp(argv[a], "--hash")) {
+            hash = 1;
+            continue;
+        } else if (v && !strcmp(argv[a], "--precond")) {
+            for (int p = 0; p < 4; p++) use_pc[p] = 0;
+            for (const char *s = v; *s;) {
+                size_t len = strcspn(s, ",");
+                int p = 0;
+                while (p < 4 && !(strlen(pcn[p]) == len && !strncmp(s, pcn[p], len))) p++;
+                if (p == 4) {
+                    fprintf(stderr, "bench_step: unknown preconditioner in '%s'\n", v);
+                    return 2;
+                }
+                use_pc[p] = 1;
+                s += len;
+                if (*s == ',') s++;
+            }
+        } else if (v && !strcmp(argv[a], "--hz")) {
+            use_hz[0] = use_hz[1] = 0;
+            for (char *s = (char *)v; *s;) {
+                long hz = strtol(s, &s, 10);
+                if (hz == 60) use_hz[0] = 1;
+                else if (hz == 240) use_hz[1] = 1;
+                else {
+                    fprintf(stderr, "bench_step: --hz takes 60 and/or 240\n");
+                    return 2;
+                }
+                if (*s == ',') s++;
+                else break;
+            }
         } else if (v && !strcmp(argv[a], "--out")) {
             out = v;
         } else if (v && !strcmp(argv[a], "--cap")) {
@@ -140,23 +198,27 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_step: cannot write %s: %s\n", path, strerror(errno));
         return 1;
     }
-    fprintf(csv, "grid,nodes,hz,precond,steps,steps_done,steps_per_s,median_step_ms,cg_iterations,partial\n");
+    fprintf(csv, "grid,nodes,hz,precond,steps,steps_done,steps_per_s,median_step_ms,cg_iterations,partial,cpu_steps_per_s\n");
     const double hzs[2] = {60.0, 240.0};
     const cloth_precond pcs[4] = {CLOTH_PRECOND_JACOBI, CLOTH_PRECOND_BLOCK_JACOBI, CLOTH_PRECOND_SSOR,
                                   CLOTH_PRECOND_MULTIGRID};
-    const char *pcn[4] = {"jacobi", "block", "ssor", "multigrid"};
-    printf("%-8s %-6s %-10s %10s %12s %10s %s\n", "grid", "h", "precond", "steps/s", "median ms", "CG it", "");
+    printf("%-8s %-6s %-10s %10s %10s %12s %10s %s\n", "grid", "h", "precond", "steps/s", "cpu st/s", "median ms",
+           "CG it", "");
     for (int g = 0; g < ng; g++)
         for (int k = 0; k < 2; k++)
             for (int p = 0; p < 4; p++) {
+                if (!use_hz[k] || !use_pc[p]) continue;
                 result r = run(grids[g], hzs[k], pcs[p], seconds, cap);
                 int partial = r.done < r.steps;
-                printf("%3dx%-4d 1/%-4.0f %-10s %10.1f %12.3f %10.1f %s\n", grids[g], grids[g], hzs[k], pcn[p],
-                       r.steps_per_s, r.median_ms, r.iters,
+                printf("%3dx%-4d 1/%-4.0f %-10s %10.1f %10.1f %12.3f %10.1f %s", grids[g], grids[g], hzs[k], pcn[p],
+                       r.steps_per_s, r.cpu_steps_per_s, r.median_ms, r.iters,
                        r.failed ? "FAILED" : partial ? "(partial: wall cap)" : "");
+                if (hash) printf(" hash %016llx", r.hash);
+                printf("\n");
                 fflush(stdout);
-                fprintf(csv, "%d,%d,%.0f,%s,%d,%d,%.3f,%.4f,%.2f,%d\n", grids[g], grids[g] * grids[g], hzs[k],
-                        pcn[p], r.steps, r.done, r.steps_per_s, r.median_ms, r.iters, partial || r.failed);
+                fprintf(csv, "%d,%d,%.0f,%s,%d,%d,%.3f,%.4f,%.2f,%d,%.3f\n", grids[g], grids[g] * grids[g], hzs[k],
+                        pcn[p], r.steps, r.done, r.steps_per_s, r.median_ms, r.iters, partial || r.failed,
+                        r.cpu_steps_per_s);
             }
     fclose(csv);
 

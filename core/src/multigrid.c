@@ -15,7 +15,11 @@
  *    correction, and an exact (Cholesky) solve on the coarsest level: the
  *    V-cycle is then a symmetric positive definite operator, as CG needs.
  * Coarse levels store a full 5x5 stencil per node: with interlaced links the
- * fine stencil reaches two nodes, and so does every Galerkin coarse one. */
+ * fine stencil reaches two nodes, and so does every Galerkin coarse one. They
+ * are kept in block-CSR form (the stencil's neighbours on the grid, in
+ * stencil order), so every level is smoothed by the same loops, which walk
+ * only a row's stored blocks (no off-grid tests; the diagonal skipped by
+ * splitting the row at it). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -49,14 +53,13 @@ void mg_free(multigrid *mg)
 {
     for (int l = 0; l < MG_MAX_LEVELS; l++) {
         mg_level *L = &mg->lev[l];
-        free(L->A);
+        bsr_free(&L->M);
         if (l > 0) free(L->Dinv);
         free(L->x);
         free(L->b);
-        free(L->r);
         free(L->par);
         free(L->w);
-        free(L->nb);
+        free(L->slot);
         free(L->rc);
     }
     free(mg->dense);
@@ -76,6 +79,47 @@ static long coarsest_nodes(int R, int C)
     return n;
 }
 
+static int on_grid(const mg_level *L, int i, int k, int *j)
+{
+    int r2 = L->rc[2 * i] + k / 5 - 2, c2 = L->rc[2 * i + 1] + k % 5 - 2;
+    *j = r2 * L->C + c2;
+    return r2 >= 0 && r2 < L->R && c2 >= 0 && c2 < L->C;
+}
+
+/* A coarse level's block-CSR pattern: the 5x5 stencil's neighbours on the
+ * grid, in stencil order (= ascending column); slot maps stencil offsets to
+ * blocks. 0, or -1 on no memory. */
+static int level_pattern(mg_level *L)
+{
+    bsr *M = &L->M;
+    int nnzb = 0, j;
+    for (int i = 0; i < L->n; i++)
+        for (int k = 0; k < NSTEN; k++) nnzb += on_grid(L, i, k, &j);
+    M->n = L->n;
+    M->nnzb = nnzb;
+    M->row_ptr = malloc(((size_t)L->n + 1) * sizeof *M->row_ptr);
+    M->col = malloc((size_t)nnzb * sizeof *M->col);
+    M->diag = malloc((size_t)L->n * sizeof *M->diag);
+    M->val = calloc(9 * (size_t)nnzb, sizeof *M->val);
+    L->slot = malloc(NSTEN * (size_t)L->n * sizeof *L->slot);
+    if (!M->row_ptr || !M->col || !M->diag || !M->val || !L->slot) return -1;
+    int b = 0;
+    for (int i = 0; i < L->n; i++) {
+        M->row_ptr[i] = b;
+        for (int k = 0; k < NSTEN; k++) {
+            if (!on_grid(L, i, k, &j)) {
+                L->slot[NSTEN * i + k] = -1;
+                continue;
+            }
+            if (k == CENTER) M->diag[i] = b;
+            L->slot[NSTEN * i + k] = b;
+            M->col[b++] = j;
+        }
+    }
+    M->row_ptr[L->n] = b;
+    return 0;
+}
+
 int mg_create(multigrid *mg, int R, int C)
 {
     memset(mg, 0, sizeof *mg);
@@ -93,9 +137,8 @@ int mg_create(multigrid *mg, int R, int C)
         K->n = K->R * K->C;
         F->par = malloc(4 * (size_t)F->n * sizeof *F->par);
         F->w = malloc(4 * (size_t)F->n * sizeof *F->w);
-        K->A = malloc(NSTEN * 9 * (size_t)K->n * sizeof *K->A);
         K->Dinv = malloc(9 * (size_t)K->n * sizeof *K->Dinv);
-        if (!F->par || !F->w || !K->A || !K->Dinv) goto fail;
+        if (!F->par || !F->w || !K->Dinv) goto fail;
         for (int r = 0; r < F->R; r++)
             for (int c = 0; c < F->C; c++) {
                 int ri[2], ci[2];
@@ -119,19 +162,13 @@ int mg_create(multigrid *mg, int R, int C)
         mg_level *L = &mg->lev[l];
         L->x = calloc(3 * (size_t)L->n, sizeof(double));
         L->b = calloc(3 * (size_t)L->n, sizeof(double));
-        L->r = calloc(3 * (size_t)L->n, sizeof(double));
         L->rc = malloc(2 * (size_t)L->n * sizeof *L->rc);
-        L->nb = l > 0 ? malloc(NSTEN * (size_t)L->n * sizeof *L->nb) : NULL;
-        if (!L->x || !L->b || !L->r || !L->rc || (l > 0 && !L->nb)) goto fail;
+        if (!L->x || !L->b || !L->rc) goto fail;
         for (int i = 0; i < L->n; i++) {
-            int r = i / L->C, c = i % L->C;
-            L->rc[2 * i] = r;
-            L->rc[2 * i + 1] = c;
-            for (int k = 0; l > 0 && k < NSTEN; k++) {
-                int r2 = r + k / 5 - 2, c2 = c + k % 5 - 2;
-                L->nb[NSTEN * i + k] = (r2 < 0 || r2 >= L->R || c2 < 0 || c2 >= L->C) ? -1 : r2 * L->C + c2;
-            }
+            L->rc[2 * i] = i / L->C;
+            L->rc[2 * i + 1] = i % L->C;
         }
+        if (l > 0 && level_pattern(L) != 0) goto fail;
     }
     mg->nc = 3 * mg->lev[mg->nlev - 1].n;
     mg->dense = malloc((size_t)mg->nc * mg->nc * sizeof *mg->dense);
@@ -182,14 +219,11 @@ static void galerkin_block(const mg_level *F, mg_level *K, int i, int j, const d
         for (int b = 0; b < 4 && F->par[4 * j + b] >= 0; b++) {
             const int *rcJ = K->rc + 2 * F->par[4 * j + b];
             double w = wi * F->w[4 * j + b];
-            double *D = K->A + 9 * ((size_t)I * NSTEN + (size_t)((rcJ[0] - rcI[0] + 2) * 5 + (rcJ[1] - rcI[1] + 2)));
+            double *D = K->M.val + 9 * (size_t)K->slot[(size_t)I * NSTEN + (size_t)((rcJ[0] - rcI[0] + 2) * 5 + (rcJ[1] - rcI[1] + 2))];
             for (int k = 0; k < 9; k++) D[k] += w * B[k];
         }
     }
 }
-
-/* neighbour of node i at stencil offset k on level L (>= 1), or -1 */
-static inline int stencil_nb(const mg_level *L, int i, int k) { return L->nb[NSTEN * i + k]; }
 
 /* Cholesky of the coarsest level's dense matrix, in place (lower). A pivot
  * that is not positive (an indefinite matrix, e.g. without the definiteness
@@ -245,7 +279,7 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
     /* level 0 -> 1 from the BSR matrix, filtered */
     if (mg->nlev > 1) {
         mg_level *F = &mg->lev[0], *K = &mg->lev[1];
-        memset(K->A, 0, NSTEN * 9 * (size_t)K->n * sizeof *K->A);
+        bsr_zero(&K->M);
         for (int i = 0; i < F->n; i++)
             for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++) {
                 int j = A->col[k];
@@ -259,15 +293,14 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
     }
     for (int l = 1; l < mg->nlev; l++) {
         mg_level *L = &mg->lev[l];
-        for (int i = 0; i < L->n; i++) inv_reg(L->A + 9 * ((size_t)i * NSTEN + CENTER), L->Dinv + 9 * (size_t)i);
+        const bsr *M = &L->M;
+        for (int i = 0; i < L->n; i++) inv_reg(M->val + 9 * (size_t)M->diag[i], L->Dinv + 9 * (size_t)i);
         if (l + 1 == mg->nlev) break;
         mg_level *K = &mg->lev[l + 1];
-        memset(K->A, 0, NSTEN * 9 * (size_t)K->n * sizeof *K->A);
+        bsr_zero(&K->M);
         for (int i = 0; i < L->n; i++)
-            for (int k = 0; k < NSTEN; k++) {
-                int j = stencil_nb(L, i, k);
-                if (j >= 0) galerkin_block(L, K, i, j, L->A + 9 * ((size_t)i * NSTEN + k));
-            }
+            for (int k = M->row_ptr[i]; k < M->row_ptr[i + 1]; k++)
+                galerkin_block(L, K, i, M->col[k], M->val + 9 * (size_t)k);
     }
     /* coarsest level: dense, factored */
     mg_level *L = &mg->lev[mg->nlev - 1];
@@ -283,84 +316,107 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
                 dense_put(mg->dense, n3, i, j, B);
             }
     } else {
+        const bsr *M = &L->M;
         for (int i = 0; i < L->n; i++)
-            for (int k = 0; k < NSTEN; k++) {
-                int j = stencil_nb(L, i, k);
-                if (j >= 0) dense_put(mg->dense, n3, i, j, L->A + 9 * ((size_t)i * NSTEN + k));
-            }
+            for (int k = M->row_ptr[i]; k < M->row_ptr[i + 1]; k++)
+                dense_put(mg->dense, n3, i, M->col[k], M->val + 9 * (size_t)k);
     }
     cholesky(mg->dense, n3);
 }
 
 /* ------------------------------------------------------------- smoothing */
 
-/* acc = b_i - sum A_ij x_j over the row's blocks of one triangle or both
- * (part < 0: j < i only; part > 0: j > i only; 0: all j != i), filtered on
- * level 0. */
-static void row_residual(const multigrid *mg, int l, int i, const double *x, const double *b, int part,
-                         double acc[3])
+/* acc -= sum A_ij x_j over the blocks k in [a, z) of a row (each block's
+ * product summed as mat3vec does, then subtracted: the order of the
+ * original per-block loop, so the results are bitwise the same). */
+static inline void row_sub(const bsr *A, int a, int z, const double *x, double acc[3])
 {
-    const mg_level *L = &mg->lev[l];
-    acc[0] = b ? b[3 * i] : 0.0;
-    acc[1] = b ? b[3 * i + 1] : 0.0;
-    acc[2] = b ? b[3 * i + 2] : 0.0;
-    double t[3];
-    int lo, hi, mid;
-    const double *val;
-    const int *col = NULL;
-    if (l == 0) {
-        const bsr *A = mg->A0;
-        lo = A->row_ptr[i];
-        hi = A->row_ptr[i + 1];
-        mid = A->diag[i];
-        val = A->val;
-        col = A->col;
-    } else {
-        lo = (int)((size_t)i * NSTEN);
-        hi = lo + NSTEN;
-        mid = lo + CENTER;
-        val = L->A;
-    }
-    int a = part > 0 ? mid + 1 : lo, z = part < 0 ? mid : hi;
+    const double *val = A->val;
+    const int *col = A->col;
+    double a0 = acc[0], a1 = acc[1], a2 = acc[2];
     for (int k = a; k < z; k++) {
-        if (k == mid) continue;
-        int j = col ? col[k] : L->nb[k];
-        if (j < 0) continue;
-        mat3vec(val + 9 * (size_t)k, x + 3 * j, t);
-        acc[0] -= t[0];
-        acc[1] -= t[1];
-        acc[2] -= t[2];
+        const double *B = val + 9 * (size_t)k, *xj = x + 3 * (size_t)col[k];
+        double x0 = xj[0], x1 = xj[1], x2 = xj[2];
+        a0 -= B[0] * x0 + B[1] * x1 + B[2] * x2;
+        a1 -= B[3] * x0 + B[4] * x1 + B[5] * x2;
+        a2 -= B[6] * x0 + B[7] * x1 + B[8] * x2;
     }
+    acc[0] = a0;
+    acc[1] = a1;
+    acc[2] = a2;
+}
+
+/* acc = S_i acc on level 0's constrained vertices */
+static inline void filter_row(const multigrid *mg, int l, int i, double acc[3])
+{
     if (l == 0 && mg->constrained[i]) {
+        double t[3];
         mat3vec(mg->S0 + 9 * (size_t)i, acc, t);
         memcpy(acc, t, sizeof t);
     }
 }
 
-/* One block Gauss-Seidel update of node i; part as in row_residual (a
- * forward sweep from x = 0 needs only j < i: the rest of x is still zero). */
-static void gs_node(const multigrid *mg, int l, int i, double *x, const double *b, int part)
+static inline const bsr *level_matrix(const multigrid *mg, int l) { return l ? &mg->lev[l].M : mg->A0; }
+
+/* Forward block Gauss-Seidel from x = 0: D_i x_i = b_i - sum_{j<i} A_ij x_j
+ * (the rest of x is still zero), filtered on level 0. */
+static void forward_sweep_from_zero(const multigrid *mg, int l, double *x, const double *b)
 {
-    double acc[3];
-    row_residual(mg, l, i, x, b, part, acc);
-    mat3vec(mg->lev[l].Dinv + 9 * (size_t)i, acc, x + 3 * i);
+    const bsr *A = level_matrix(mg, l);
+    const double *Dinv = mg->lev[l].Dinv;
+    for (int i = 0; i < A->n; i++) {
+        double acc[3] = {b[3 * i], b[3 * i + 1], b[3 * i + 2]};
+        row_sub(A, A->row_ptr[i], A->diag[i], x, acc);
+        filter_row(mg, l, i, acc);
+        mat3vec(Dinv + 9 * (size_t)i, acc, x + 3 * i);
+    }
+}
+
+/* Backward block Gauss-Seidel: D_i x_i = b_i - sum_{j != i} A_ij x_j, i
+ * descending, filtered on level 0. */
+static void backward_sweep(const multigrid *mg, int l, double *x, const double *b)
+{
+    const bsr *A = level_matrix(mg, l);
+    const double *Dinv = mg->lev[l].Dinv;
+    for (int i = A->n - 1; i >= 0; i--) {
+        double acc[3] = {b[3 * i], b[3 * i + 1], b[3 * i + 2]};
+        row_sub(A, A->row_ptr[i], A->diag[i], x, acc);
+        row_sub(A, A->diag[i] + 1, A->row_ptr[i + 1], x, acc);
+        filter_row(mg, l, i, acc);
+        mat3vec(Dinv + 9 * (size_t)i, acc, x + 3 * i);
+    }
 }
 
 /* The residual r = b - A x right after a forward Gauss-Seidel sweep that
- * started from x = 0. Each node's update solved its own row exactly against
- * the nodes before it, D_i x_i = b_i - sum_{j<i} A_ij x_j, so what remains is
+ * started from x = 0, restricted to the next level: bc = W^T r. Each node's
+ * update solved its own row exactly against the nodes before it,
+ * D_i x_i = b_i - sum_{j<i} A_ij x_j, so what remains is
  * r_i = -sum_{j>i} A_ij x_j: only the strictly upper triangle, half a sweep.
  * (On level 0 D_i is S A_ii S + (I - S) and x_i lies in the free directions,
- * so the same holds for the filtered rows.) */
-static void residual_after_forward_sweep(const multigrid *mg, int l, const double *x, double *r)
+ * so the same holds for the filtered rows.) Each r_i goes to its parents as
+ * soon as it is known. */
+static void restrict_residual_after_forward_sweep(const multigrid *mg, int l, const double *x, double *bc)
 {
-    for (int i = 0; i < mg->lev[l].n; i++) row_residual(mg, l, i, x, NULL, 1, r + 3 * i);
+    const mg_level *L = &mg->lev[l];
+    const bsr *A = level_matrix(mg, l);
+    memset(bc, 0, 3 * (size_t)mg->lev[l + 1].n * sizeof *bc);
+    for (int i = 0; i < L->n; i++) {
+        double r[3] = {0.0, 0.0, 0.0};
+        row_sub(A, A->diag[i] + 1, A->row_ptr[i + 1], x, r);
+        filter_row(mg, l, i, r);
+        for (int a = 0; a < 4 && L->par[4 * i + a] >= 0; a++) {
+            double w = L->w[4 * i + a];
+            double *bi = bc + 3 * L->par[4 * i + a];
+            bi[0] += w * r[0];
+            bi[1] += w * r[1];
+            bi[2] += w * r[2];
+        }
+    }
 }
 
 static void vcycle(const multigrid *mg, int l, double *x, const double *b)
 {
     const mg_level *L = &mg->lev[l];
-    size_t n3 = 3 * (size_t)L->n;
     if (l == mg->nlev - 1) {
         cholesky_solve(mg->dense, mg->nc, b, x);
         if (l == 0)
@@ -372,19 +428,9 @@ static void vcycle(const multigrid *mg, int l, double *x, const double *b)
                 }
         return;
     }
-    memset(x, 0, n3 * sizeof *x);
-    for (int i = 0; i < L->n; i++) gs_node(mg, l, i, x, b, -1);
-    residual_after_forward_sweep(mg, l, x, L->r);
+    forward_sweep_from_zero(mg, l, x, b);
     const mg_level *K = &mg->lev[l + 1];
-    memset(K->b, 0, 3 * (size_t)K->n * sizeof *K->b);
-    for (int i = 0; i < L->n; i++)
-        for (int a = 0; a < 4 && L->par[4 * i + a] >= 0; a++) {
-            double w = L->w[4 * i + a];
-            double *bc = K->b + 3 * L->par[4 * i + a];
-            bc[0] += w * L->r[3 * i];
-            bc[1] += w * L->r[3 * i + 1];
-            bc[2] += w * L->r[3 * i + 2];
-        }
+    restrict_residual_after_forward_sweep(mg, l, x, K->b);
     vcycle(mg, l + 1, K->x, K->b);
     for (int i = 0; i < L->n; i++) {
         double e[3] = {0.0, 0.0, 0.0};
@@ -404,7 +450,7 @@ static void vcycle(const multigrid *mg, int l, double *x, const double *b)
         x[3 * i + 1] += e[1];
         x[3 * i + 2] += e[2];
     }
-    for (int i = L->n - 1; i >= 0; i--) gs_node(mg, l, i, x, b, 0);
+    backward_sweep(mg, l, x, b);
 }
 
 void mg_apply(void *ctx, const double *r, double *s)

@@ -9,11 +9,13 @@
 
 typedef struct mg_level {
     int R, C, n;         /* grid of this level                                     */
-    /* levels >= 1: a 5x5-offset stencil matrix, 25 blocks of 9 per node */
-    double *A;
+    /* levels >= 1: the 5x5-offset stencil matrix in block-CSR form, one block
+     * per stencil neighbour on the grid (rows sorted, so in stencil order) */
+    bsr M;
+    int *slot;           /* levels >= 1: 25n, block of M at each stencil offset
+                          * (-1 = off the grid)                                    */
     double *Dinv;        /* 9n inverse diagonal blocks (level 0: the cloth's)      */
-    double *x, *b, *r;   /* 3n                                                     */
-    int *nb;             /* levels >= 1: 25n stencil neighbours (-1 = off the grid) */
+    double *x, *b;       /* 3n                                                     */
     int *rc;             /* 2n: row and column of each node                        */
     /* prolongation from the next coarser level: up to 4 parents per node */
     int *par;            /* 4n coarse node indices (-1 = none)                     */

@@ -45,17 +45,29 @@ static void build_filtered(const bsr *A, const double *S, const unsigned char *c
         }
 }
 
+/* acc -= sum Ah_ij y_j over the blocks k in [a, z) of a row */
+static inline void row_sub(const bsr *A, const double *Ah, int a, int z, const double *y, double acc[3])
+{
+    const int *col = A->col;
+    double a0 = acc[0], a1 = acc[1], a2 = acc[2];
+    for (int k = a; k < z; k++) {
+        const double *B = Ah + 9 * (size_t)k, *yj = y + 3 * (size_t)col[k];
+        double y0 = yj[0], y1 = yj[1], y2 = yj[2];
+        a0 -= B[0] * y0 + B[1] * y1 + B[2] * y2;
+        a1 -= B[3] * y0 + B[4] * y1 + B[5] * y2;
+        a2 -= B[6] * y0 + B[7] * y1 + B[8] * y2;
+    }
+    acc[0] = a0;
+    acc[1] = a1;
+    acc[2] = a2;
+}
+
 /* y = P^-1 v: forward, D_i y_i = v_i - sum_{j<i} Ah_ij y_j */
 static void forward(const bsr *A, const double *Ah, const double *Dinv, const double *v, double *y)
 {
     for (int i = 0; i < A->n; i++) {
         double acc[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
-        for (int k = A->row_ptr[i]; k < A->diag[i]; k++) {
-            const double *B = Ah + 9 * (size_t)k, *yj = y + 3 * (size_t)A->col[k];
-            acc[0] -= B[0] * yj[0] + B[1] * yj[1] + B[2] * yj[2];
-            acc[1] -= B[3] * yj[0] + B[4] * yj[1] + B[5] * yj[2];
-            acc[2] -= B[6] * yj[0] + B[7] * yj[1] + B[8] * yj[2];
-        }
+        row_sub(A, Ah, A->row_ptr[i], A->diag[i], y, acc);
         mat3vec(Dinv + 9 * (size_t)i, acc, y + 3 * i);
     }
 }
@@ -65,14 +77,51 @@ static void backward(const bsr *A, const double *Ah, const double *Dinv, const d
 {
     for (int i = A->n - 1; i >= 0; i--) {
         double acc[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
-        for (int k = A->diag[i] + 1; k < A->row_ptr[i + 1]; k++) {
-            const double *B = Ah + 9 * (size_t)k, *yj = y + 3 * (size_t)A->col[k];
-            acc[0] -= B[0] * yj[0] + B[1] * yj[1] + B[2] * yj[2];
-            acc[1] -= B[3] * yj[0] + B[4] * yj[1] + B[5] * yj[2];
-            acc[2] -= B[6] * yj[0] + B[7] * yj[1] + B[8] * yj[2];
-        }
+        row_sub(A, Ah, A->diag[i] + 1, A->row_ptr[i + 1], y, acc);
         mat3vec(Dinv + 9 * (size_t)i, acc, y + 3 * i);
     }
+}
+
+/* One CG iteration's product, fused with the vector updates around it (the
+ * same operations in the same order as done one after another, so bitwise
+ * the same):
+ *   p = s + beta p (skipped on the first iteration, first != 0),
+ *   t = Q^-1 p (backward sweep), u = p - D t,
+ * then (forward_pq) q = P^-1 u, and returns p^T (q + t); the operator's
+ * product is q + t, left as two vectors. */
+static void backward_p(const bsr *A, const double *Ah, const double *Dinv, const double *s, double beta, int first,
+                       double *p, double *t, double *u)
+{
+    for (int i = A->n - 1; i >= 0; i--) {
+        double *pi = p + 3 * i;
+        if (!first) {
+            pi[0] = s[3 * i] + beta * pi[0];
+            pi[1] = s[3 * i + 1] + beta * pi[1];
+            pi[2] = s[3 * i + 2] + beta * pi[2];
+        }
+        double acc[3] = {pi[0], pi[1], pi[2]}, dt[3];
+        row_sub(A, Ah, A->diag[i] + 1, A->row_ptr[i + 1], t, acc);
+        double *ti = t + 3 * i;
+        mat3vec(Dinv + 9 * (size_t)i, acc, ti);
+        mat3vec(Ah + 9 * (size_t)A->diag[i], ti, dt);
+        u[3 * i] = pi[0] - dt[0];
+        u[3 * i + 1] = pi[1] - dt[1];
+        u[3 * i + 2] = pi[2] - dt[2];
+    }
+}
+
+static double forward_pq(const bsr *A, const double *Ah, const double *Dinv, const double *u, const double *t,
+                         const double *p, double *q)
+{
+    double pq = 0.0;
+    for (int i = 0; i < A->n; i++) {
+        double acc[3] = {u[3 * i], u[3 * i + 1], u[3 * i + 2]};
+        row_sub(A, Ah, A->row_ptr[i], A->diag[i], q, acc);
+        double *qi = q + 3 * i;
+        mat3vec(Dinv + 9 * (size_t)i, acc, qi);
+        for (int k = 3 * i; k < 3 * i + 3; k++) pq += p[k] * (q[k] + t[k]);
+    }
+    return pq;
 }
 
 /* y = P v (lower triangle with the diagonal) or Q v (upper) */
@@ -150,7 +199,7 @@ mpcg_result ssor_run(const mpcg_problem *P, const unsigned char *cflag, double *
     /* the true norm over the cheap one at the last check: the true residual
      * is computed (half a pass) only when the cheap one, scaled by it,
      * predicts convergence, or every 16 iterations */
-    double ratio = delta > 0.0 ? true2 / delta : 1.0;
+    double ratio = delta > 0.0 ? true2 / delta : 1.0, beta = 0.0;
     int it = 0;
     while (true2 > tol2) {
         if (!(delta > 0.0)) {
@@ -161,13 +210,10 @@ mpcg_result ssor_run(const mpcg_problem *P, const unsigned char *cflag, double *
             res.failure = CLOTH_FAIL_CG_MAX_ITER;
             break;
         }
-        /* q = P^-1 Ah Q^-1 p = t + P^-1 (p - D t), t = Q^-1 p */
-        backward(A, Ah, Dinv, p, t);
-        APPLY_D(t, u);
-        for (size_t k = 0; k < N; k++) u[k] = p[k] - u[k];
-        forward(A, Ah, Dinv, u, q);
-        for (size_t k = 0; k < N; k++) q[k] += t[k];
-        double pq = dot(p, q, N);
+        /* p = s + beta p (from the second iteration on); then
+         * P^-1 Ah Q^-1 p = t + P^-1 (p - D t), t = Q^-1 p: q + t */
+        backward_p(A, Ah, Dinv, s, beta, it == 0, p, t, u);
+        double pq = forward_pq(A, Ah, Dinv, u, t, p, q);
         if (!isfinite(pq)) {
             res.failure = CLOTH_FAIL_NAN;
             break;
@@ -176,13 +222,15 @@ mpcg_result ssor_run(const mpcg_problem *P, const unsigned char *cflag, double *
             res.failure = CLOTH_FAIL_CG_INDEFINITE;
             break;
         }
-        double alpha = delta / pq;
-        for (size_t k = 0; k < N; k++) {
-            y[k] += alpha * p[k];
-            r[k] -= alpha * q[k];
+        double alpha = delta / pq, dnew = 0.0;
+        for (int i = 0; i < n; i++) {
+            for (int k = 3 * i; k < 3 * i + 3; k++) {
+                y[k] += alpha * p[k];
+                r[k] -= alpha * (q[k] + t[k]);
+            }
+            mat3vec(Ah + 9 * (size_t)A->diag[i], r + 3 * i, s + 3 * i); /* s = D r~ */
+            for (int k = 3 * i; k < 3 * i + 3; k++) dnew += r[k] * s[k];
         }
-        APPLY_D(r, s);
-        double dnew = dot(r, s, N);
         it++;
         /* the true filtered residual is P r~ */
         if (dnew * ratio <= 1.5 * tol2 || it % 16 == 0) {
@@ -190,8 +238,7 @@ mpcg_result ssor_run(const mpcg_problem *P, const unsigned char *cflag, double *
             true2 = wnorm2(n, Dinv, u);
             if (dnew > 0.0) ratio = true2 / dnew;
         }
-        double beta = dnew / delta;
-        for (size_t k = 0; k < N; k++) p[k] = s[k] + beta * p[k];
+        beta = dnew / delta; /* p = s + beta p: in the next iteration's sweep */
         delta = dnew;
     }
 #undef APPLY_D
