@@ -2,6 +2,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "bsr.h"
+#include "mat3.h"
 
 void bsr_free(bsr *A)
 {
@@ -9,6 +10,7 @@ void bsr_free(bsr *A)
     free(A->col);
     free(A->diag);
     free(A->val);
+    free(A->sym);
     memset(A, 0, sizeof *A);
 }
 
@@ -71,7 +73,8 @@ int bsr_build(bsr *A, int n, int nedges, const int *ei, const int *ej, int *blk)
     A->row_ptr[n] = out;
     A->nnzb = out;
     A->val = calloc(9 * (size_t)out, sizeof *A->val);
-    if (!A->val) goto fail;
+    A->sym = calloc(2 * (size_t)n, 1);
+    if (!A->val || !A->sym) goto fail;
     for (int i = 0; i < n; i++) A->diag[i] = find_block(A, i, i);
     for (int e = 0; e < nedges; e++) {
         blk[2 * e] = find_block(A, ei[e], ej[e]);
@@ -103,6 +106,34 @@ void bsr_mul(const bsr *A, const double *x, double *y)
         y[3 * i] = y0;
         y[3 * i + 1] = y1;
         y[3 * i + 2] = y2;
+    }
+}
+
+int bsr_check_sym(const bsr *A, const double *val, unsigned char *flag)
+{
+    int count = 0;
+    for (int i = 0; i < A->n; i++) {
+        int s = 1;
+        for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1] && s; k++) s = mat3_is_sym(val + 9 * (size_t)k);
+        flag[i] = (unsigned char)s;
+        count += s;
+    }
+    return count;
+}
+
+void bsr_mul_sym(const bsr *A, const double *x, double *y)
+{
+    if (!A->sym) {
+        bsr_mul(A, x, y);
+        return;
+    }
+    for (int i = 0; i < A->n; i++) {
+        double acc[3] = {0.0, 0.0, 0.0};
+        if (A->sym[i]) row_add_sym(A->val, A->col, A->row_ptr[i], A->row_ptr[i + 1], x, acc);
+        else row_add(A->val, A->col, A->row_ptr[i], A->row_ptr[i + 1], x, acc);
+        y[3 * i] = acc[0];
+        y[3 * i + 1] = acc[1];
+        y[3 * i + 2] = acc[2];
     }
 }
 

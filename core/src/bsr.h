@@ -11,6 +11,11 @@ typedef struct bsr {
     int *col;       /* nnzb, sorted within each row */
     int *diag;      /* n: index of block (i, i) */
     double *val;    /* 9 * nnzb, each block row-major */
+    /* 2n row flags (bsr_check_sym), or NULL: sym[i] = 1 when row i's blocks
+     * in val are all exactly symmetric, as last checked (stale once val
+     * changes); sym[n + i] the same for a caller's copy of the values on
+     * this pattern (ssor.c's filtered matrix). */
+    unsigned char *sym;
 } bsr;
 
 /* Pattern: every diagonal block plus (i,j) and (j,i) for each edge
@@ -27,6 +32,13 @@ void bsr_mul(const bsr *A, const double *x, double *y);
  * link's blocks are -(beta h D + gamma h^2 K), both symmetric); walks only
  * the rows of those columns. cols NULL: all (bsr_mul). */
 void bsr_mul_cols(const bsr *A, const double *x, const int *cols, int m, double *y);
+/* Flags (n) of the rows of val (A's pattern) whose blocks are all exactly
+ * (bitwise) symmetric; returns how many. */
+int bsr_check_sym(const bsr *A, const double *val, unsigned char *flag);
+/* y = A x as bsr_mul, bitwise the same, faster on the rows flagged in
+ * A->sym (bsr_check_sym(A, A->val, A->sym) must be current; A->sym NULL:
+ * bsr_mul). */
+void bsr_mul_sym(const bsr *A, const double *x, double *y);
 /* Dense copy (3n x 3n, row-major) for tests and small problems. */
 void bsr_to_dense(const bsr *A, double *dense);
 

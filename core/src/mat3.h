@@ -3,6 +3,17 @@
 #define ODECLOTH_MAT3_H
 
 #include <math.h>
+#include <string.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+/* the block-row loops below are the solvers' inner loops: always inline */
+#if defined(__GNUC__)
+#define MAT3_INLINE static inline __attribute__((always_inline))
+#else
+#define MAT3_INLINE static inline
+#endif
 
 /* y = M x (y may not alias x) */
 static inline void mat3vec(const double *M, const double *x, double *y)
@@ -39,5 +50,81 @@ static inline double mat3inv(const double *m, double *o)
     o[8] = (m[0] * m[4] - m[1] * m[3]) * id;
     return det;
 }
+
+/* ------------------------------------------------------ block-row sums
+ * Products of a row of 3x3 blocks (row-major, val + 9 k for k in [a, z))
+ * with the 3-vectors x_col[k]. Each block's product is summed as mat3vec
+ * does, (B0 x0 + B1 x1) + B2 x2 per row, and added to (subtracted from) acc
+ * block by block: the order of a plain loop, so every variant gives the same
+ * bits. */
+
+/* A block equal to its transpose bit for bit. */
+static inline int mat3_is_sym(const double *B)
+{
+    return !memcmp(B + 1, B + 3, sizeof *B) && !memcmp(B + 2, B + 6, sizeof *B) && !memcmp(B + 5, B + 7, sizeof *B);
+}
+
+/* acc += sum B_k x_col[k] */
+MAT3_INLINE void row_add(const double *val, const int *col, int a, int z, const double *x, double acc[3])
+{
+    double a0 = acc[0], a1 = acc[1], a2 = acc[2];
+    for (int k = a; k < z; k++) {
+        const double *B = val + 9 * (size_t)k, *xj = x + 3 * (size_t)col[k];
+        double x0 = xj[0], x1 = xj[1], x2 = xj[2];
+        a0 += B[0] * x0 + B[1] * x1 + B[2] * x2;
+        a1 += B[3] * x0 + B[4] * x1 + B[5] * x2;
+        a2 += B[6] * x0 + B[7] * x1 + B[8] * x2;
+    }
+    acc[0] = a0;
+    acc[1] = a1;
+    acc[2] = a2;
+}
+
+/* acc -= sum B_k x_col[k] */
+MAT3_INLINE void row_sub(const double *val, const int *col, int a, int z, const double *x, double acc[3])
+{
+    double a0 = acc[0], a1 = acc[1], a2 = acc[2];
+    for (int k = a; k < z; k++) {
+        const double *B = val + 9 * (size_t)k, *xj = x + 3 * (size_t)col[k];
+        double x0 = xj[0], x1 = xj[1], x2 = xj[2];
+        a0 -= B[0] * x0 + B[1] * x1 + B[2] * x2;
+        a1 -= B[3] * x0 + B[4] * x1 + B[5] * x2;
+        a2 -= B[6] * x0 + B[7] * x1 + B[8] * x2;
+    }
+    acc[0] = a0;
+    acc[1] = a1;
+    acc[2] = a2;
+}
+
+/* The same for rows whose blocks are all symmetric (mat3_is_sym). With
+ * SSE2, rows 0 and 1 of a block product go as one pair: they need the
+ * column-major pairs (B0, B3), (B1, B4), (B2, B5), which for a symmetric
+ * block are (B0, B1), (B3, B4), (B6, B7), adjacent in memory. Each lane
+ * does the scalar operations in the scalar order: bitwise the same. */
+#if defined(__SSE2__)
+#define MAT3_ROW_SYM(name, op, vop)                                                                         \
+    MAT3_INLINE void name(const double *val, const int *col, int a, int z, const double *x, double acc[3]) \
+    {                                                                                                       \
+        __m128d a01 = _mm_loadu_pd(acc);                                                                    \
+        double a2 = acc[2];                                                                                 \
+        for (int k = a; k < z; k++) {                                                                       \
+            const double *B = val + 9 * (size_t)k, *xj = x + 3 * (size_t)col[k];                            \
+            double x0 = xj[0], x1 = xj[1], x2 = xj[2];                                                      \
+            __m128d t = _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(B), _mm_set1_pd(x0)),                            \
+                                   _mm_mul_pd(_mm_loadu_pd(B + 3), _mm_set1_pd(x1)));                       \
+            t = _mm_add_pd(t, _mm_mul_pd(_mm_loadu_pd(B + 6), _mm_set1_pd(x2)));                            \
+            a01 = vop(a01, t);                                                                              \
+            a2 op B[6] * x0 + B[7] * x1 + B[8] * x2;                                                        \
+        }                                                                                                   \
+        _mm_storeu_pd(acc, a01);                                                                            \
+        acc[2] = a2;                                                                                        \
+    }
+MAT3_ROW_SYM(row_add_sym, +=, _mm_add_pd)
+MAT3_ROW_SYM(row_sub_sym, -=, _mm_sub_pd)
+#undef MAT3_ROW_SYM
+#else
+#define row_add_sym row_add
+#define row_sub_sym row_sub
+#endif
 
 #endif

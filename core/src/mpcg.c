@@ -8,6 +8,7 @@
  * move from z: the constraints hold exactly, not approximately. */
 #include <math.h>
 #include <string.h>
+#include "mat3.h"
 #include "mpcg.h"
 
 void filter_apply(int n, const double *S, const double *x, double *y)
@@ -56,6 +57,97 @@ static void filter_inplace(const mpcg_problem *P, double *y)
         int i = P->con[k];
         filter_apply(1, P->S + 9 * (size_t)i, y + 3 * (size_t)i, y + 3 * (size_t)i);
     }
+}
+
+/* The fused loops of mpcg_run (no bodies): the same operations on each
+ * element as the separate passes, and the dot products summed in the same
+ * (ascending) order, so bitwise the same results with fewer passes over the
+ * vectors. `fil` walks the ascending list of constrained vertices (all when
+ * P->con is NULL): is vertex i filtered? */
+typedef struct con_walk {
+    const int *con;
+    int ncon, k;
+} con_walk;
+
+static inline int con_next(con_walk *w, int i)
+{
+    if (!w->con) return 1;
+    if (w->k < w->ncon && w->con[w->k] == i) {
+        w->k++;
+        return 1;
+    }
+    return 0;
+}
+
+/* y_i = S_i y_i (filter_apply's arithmetic) */
+static inline void filter3(const double *Si, double *y)
+{
+    double a[3] = {y[0], y[1], y[2]};
+    filter_apply(1, Si, a, y);
+}
+
+/* q = S A p; returns p^T q */
+static double mul_filter_dot(const mpcg_problem *P, const double *p, double *q)
+{
+    const bsr *A = P->A;
+    con_walk w = {P->con, P->ncon, 0};
+    double pq = 0.0;
+    for (int i = 0; i < A->n; i++) {
+        double acc[3] = {0.0, 0.0, 0.0};
+        if (A->sym && A->sym[i]) row_add_sym(A->val, A->col, A->row_ptr[i], A->row_ptr[i + 1], p, acc);
+        else row_add(A->val, A->col, A->row_ptr[i], A->row_ptr[i + 1], p, acc);
+        double *qi = q + 3 * (size_t)i;
+        qi[0] = acc[0];
+        qi[1] = acc[1];
+        qi[2] = acc[2];
+        if (con_next(&w, i)) filter3(P->S + 9 * (size_t)i, qi);
+        for (int k = 0; k < 3; k++) pq += p[3 * (size_t)i + k] * qi[k];
+    }
+    return pq;
+}
+
+/* x += alpha p, r -= alpha q; block Jacobi: s = S Dinv r and returns
+ * r^T s */
+static double update_jacobi(const mpcg_problem *P, double alpha, const double *p, const double *q, double *x,
+                            double *r, double *s)
+{
+    con_walk w = {P->con, P->ncon, 0};
+    double rs = 0.0;
+    for (int i = 0; i < P->A->n; i++) {
+        size_t o = 3 * (size_t)i;
+        for (size_t k = o; k < o + 3; k++) {
+            x[k] += alpha * p[k];
+            r[k] -= alpha * q[k];
+        }
+        filter_apply(1, P->Dinv + 9 * (size_t)i, r + o, s + o);
+        if (con_next(&w, i)) filter3(P->S + 9 * (size_t)i, s + o);
+        for (size_t k = o; k < o + 3; k++) rs += r[k] * s[k];
+    }
+    return rs;
+}
+
+/* r^T s, and *rr = r^T Dinv r (u = Dinv r) */
+static double dots_pc(const mpcg_problem *P, const double *r, const double *s, double *u, double *rr)
+{
+    double rs = 0.0, ru = 0.0;
+    for (int i = 0; i < P->A->n; i++) {
+        size_t o = 3 * (size_t)i;
+        filter_apply(1, P->Dinv + 9 * (size_t)i, r + o, u + o);
+        for (size_t k = o; k < o + 3; k++) {
+            rs += r[k] * s[k];
+            ru += r[k] * u[k];
+        }
+    }
+    *rr = ru;
+    return rs;
+}
+
+/* is the list of constrained vertices ascending (as the walks need)? */
+static int con_sorted(const mpcg_problem *P)
+{
+    for (int k = 1; P->con && k < P->ncon; k++)
+        if (P->con[k] <= P->con[k - 1]) return 0;
+    return 1;
 }
 
 int mpcg_reference(const mpcg_problem *P, double *x, double *r, double *u, double *ref, mpcg_result *res)
@@ -131,6 +223,7 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
     filter_inplace(P, x);
     for (size_t k = 0; k < N; k++) x[k] += z[k];
     bsr_mul(A, x, t);
+    if (A->sym) bsr_check_sym(A, A->val, A->sym); /* for bsr_mul_sym below */
     for (size_t k = 0; k < N; k++) r[k] = b[k] - t[k];
     if (B) { /* the bodies' residual rhs - M u + J^T P (b - A dv) at u = 0 */
         memset(B->u, 0, NB * sizeof *B->u);
@@ -143,6 +236,8 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
     memcpy(p, s, N * sizeof *p);
     if (B) memcpy(B->p, B->s, NB * sizeof *B->p);
     double tol2 = tol * tol * ref;
+    /* the fused loops: without bodies, with the constrained list ascending */
+    int fused = !B && con_sorted(P);
 
     int it = 0;
     while (rr > tol2 || rr < 0.0) {
@@ -157,13 +252,18 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
         if (B) { /* q = [S; J^T P] A (p + P J p_u) + (0, M p_u) */
             memcpy(t, p, N * sizeof *t);
             bodies_expand(P, B->p, t);
-            bsr_mul(A, t, q);
+            bsr_mul_sym(A, t, q);
             bodies_reduce(P, q, B->p, 1.0, B->q);
-        } else {
-            bsr_mul(A, p, q);
+        } else if (!fused) {
+            bsr_mul_sym(A, p, q);
         }
-        filter_inplace(P, q);
-        double pq = DOT(p, q);
+        double pq;
+        if (fused) {
+            pq = mul_filter_dot(P, p, q) + 0.0; /* + 0.0: as DOT adds the (absent) bodies' part */
+        } else {
+            filter_inplace(P, q);
+            pq = DOT(p, q);
+        }
         if (!isfinite(pq)) {
             res.failure = CLOTH_FAIL_NAN;
             break;
@@ -172,18 +272,29 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
             res.failure = CLOTH_FAIL_CG_INDEFINITE;
             break;
         }
-        double alpha = delta / pq;
-        for (size_t k = 0; k < N; k++) {
-            x[k] += alpha * p[k];
-            r[k] -= alpha * q[k];
+        double alpha = delta / pq, dnew;
+        if (fused && !P->pc) {
+            dnew = update_jacobi(P, alpha, p, q, x, r, s) + 0.0;
+            rr = dnew;
+        } else {
+            for (size_t k = 0; k < N; k++) {
+                x[k] += alpha * p[k];
+                r[k] -= alpha * q[k];
+            }
+            for (size_t k = 0; k < NB; k++) {
+                B->u[k] += alpha * B->p[k];
+                B->r[k] -= alpha * B->q[k];
+            }
+            PRECONDITION();
+            if (fused) {
+                double ru;
+                dnew = dots_pc(P, r, s, u, &ru) + 0.0;
+                rr = ru + 0.0;
+            } else {
+                dnew = DOT(r, s);
+                rr = P->pc ? NORM2() : dnew;
+            }
         }
-        for (size_t k = 0; k < NB; k++) {
-            B->u[k] += alpha * B->p[k];
-            B->r[k] -= alpha * B->q[k];
-        }
-        PRECONDITION();
-        double dnew = DOT(r, s);
-        rr = P->pc ? NORM2() : dnew;
         double beta = dnew / delta;
         for (size_t k = 0; k < N; k++) p[k] = s[k] + beta * p[k];
         for (size_t k = 0; k < NB; k++) B->p[k] = B->s[k] + beta * B->p[k];

@@ -61,6 +61,7 @@ void mg_free(multigrid *mg)
         free(L->w);
         free(L->slot);
         free(L->rc);
+        free(L->symrow);
     }
     free(mg->dense);
     memset(mg, 0, sizeof *mg);
@@ -163,7 +164,8 @@ int mg_create(multigrid *mg, int R, int C)
         L->x = calloc(3 * (size_t)L->n, sizeof(double));
         L->b = calloc(3 * (size_t)L->n, sizeof(double));
         L->rc = malloc(2 * (size_t)L->n * sizeof *L->rc);
-        if (!L->x || !L->b || !L->rc) goto fail;
+        L->symrow = calloc((size_t)L->n, 1);
+        if (!L->x || !L->b || !L->rc || !L->symrow) goto fail;
         for (int i = 0; i < L->n; i++) {
             L->rc[2 * i] = i / L->C;
             L->rc[2 * i + 1] = i % L->C;
@@ -209,18 +211,35 @@ static void inv_reg(const double *B, double *o)
 }
 
 /* Add w_I w_J B to coarse block (I, J) for every parent I of fine node i and
- * J of fine node j. */
+ * J of fine node j. (Element by element, D[k] += w B[k]: with SSE2 two
+ * elements at a time, the same operations, so the same bits.) */
 static void galerkin_block(const mg_level *F, mg_level *K, int i, int j, const double *B)
 {
-    for (int a = 0; a < 4 && F->par[4 * i + a] >= 0; a++) {
-        int I = F->par[4 * i + a];
-        double wi = F->w[4 * i + a];
+    const int *pi = F->par + 4 * i, *pj = F->par + 4 * j;
+    const double *wi_ = F->w + 4 * i, *wj_ = F->w + 4 * j;
+#if defined(__SSE2__)
+    __m128d b01 = _mm_loadu_pd(B), b23 = _mm_loadu_pd(B + 2), b45 = _mm_loadu_pd(B + 4), b67 = _mm_loadu_pd(B + 6);
+#endif
+    double b8 = B[8];
+    for (int a = 0; a < 4 && pi[a] >= 0; a++) {
+        int I = pi[a];
+        double wi = wi_[a];
         const int *rcI = K->rc + 2 * I;
-        for (int b = 0; b < 4 && F->par[4 * j + b] >= 0; b++) {
-            const int *rcJ = K->rc + 2 * F->par[4 * j + b];
-            double w = wi * F->w[4 * j + b];
-            double *D = K->M.val + 9 * (size_t)K->slot[(size_t)I * NSTEN + (size_t)((rcJ[0] - rcI[0] + 2) * 5 + (rcJ[1] - rcI[1] + 2))];
-            for (int k = 0; k < 9; k++) D[k] += w * B[k];
+        const int *slot = K->slot + (size_t)I * NSTEN;
+        for (int b = 0; b < 4 && pj[b] >= 0; b++) {
+            const int *rcJ = K->rc + 2 * pj[b];
+            double w = wi * wj_[b];
+            double *D = K->M.val + 9 * (size_t)slot[(rcJ[0] - rcI[0] + 2) * 5 + (rcJ[1] - rcI[1] + 2)];
+#if defined(__SSE2__)
+            __m128d wv = _mm_set1_pd(w);
+            _mm_storeu_pd(D, _mm_add_pd(_mm_loadu_pd(D), _mm_mul_pd(wv, b01)));
+            _mm_storeu_pd(D + 2, _mm_add_pd(_mm_loadu_pd(D + 2), _mm_mul_pd(wv, b23)));
+            _mm_storeu_pd(D + 4, _mm_add_pd(_mm_loadu_pd(D + 4), _mm_mul_pd(wv, b45)));
+            _mm_storeu_pd(D + 6, _mm_add_pd(_mm_loadu_pd(D + 6), _mm_mul_pd(wv, b67)));
+#else
+            for (int k = 0; k < 8; k++) D[k] += w * B[k];
+#endif
+            D[8] += w * b8;
         }
     }
 }
@@ -280,16 +299,20 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
     if (mg->nlev > 1) {
         mg_level *F = &mg->lev[0], *K = &mg->lev[1];
         bsr_zero(&K->M);
-        for (int i = 0; i < F->n; i++)
+        for (int i = 0; i < F->n; i++) {
+            int sym = 1;
             for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++) {
                 int j = A->col[k];
                 const double *Bk = A->val + 9 * (size_t)k;
+                sym = sym && mat3_is_sym(Bk);
                 if (constrained[i] || constrained[j]) {
                     filter_block(S + 9 * (size_t)i, Bk, S + 9 * (size_t)j, B);
                     Bk = B;
                 }
                 galerkin_block(F, K, i, j, Bk);
             }
+            F->symrow[i] = (unsigned char)sym;
+        }
     }
     for (int l = 1; l < mg->nlev; l++) {
         mg_level *L = &mg->lev[l];
@@ -298,9 +321,14 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
         if (l + 1 == mg->nlev) break;
         mg_level *K = &mg->lev[l + 1];
         bsr_zero(&K->M);
-        for (int i = 0; i < L->n; i++)
-            for (int k = M->row_ptr[i]; k < M->row_ptr[i + 1]; k++)
+        for (int i = 0; i < L->n; i++) {
+            int sym = 1;
+            for (int k = M->row_ptr[i]; k < M->row_ptr[i + 1]; k++) {
+                sym = sym && mat3_is_sym(M->val + 9 * (size_t)k);
                 galerkin_block(L, K, i, M->col[k], M->val + 9 * (size_t)k);
+            }
+            L->symrow[i] = (unsigned char)sym;
+        }
     }
     /* coarsest level: dense, factored */
     mg_level *L = &mg->lev[mg->nlev - 1];
@@ -326,24 +354,15 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
 
 /* ------------------------------------------------------------- smoothing */
 
-/* acc -= sum A_ij x_j over the blocks k in [a, z) of a row (each block's
- * product summed as mat3vec does, then subtracted: the order of the
- * original per-block loop, so the results are bitwise the same). */
-static inline void row_sub(const bsr *A, int a, int z, const double *x, double acc[3])
+/* acc -= sum A_ij x_j over the blocks k in [a, z) of row i (mat3.h: each
+ * block's product summed as mat3vec does, then subtracted, the order of the
+ * original per-block loop; rows of symmetric blocks take the paired loop,
+ * with the same bits). */
+MAT3_INLINE void level_row_sub(const bsr *A, const unsigned char *symrow, int i, int a, int z, const double *x,
+                                 double acc[3])
 {
-    const double *val = A->val;
-    const int *col = A->col;
-    double a0 = acc[0], a1 = acc[1], a2 = acc[2];
-    for (int k = a; k < z; k++) {
-        const double *B = val + 9 * (size_t)k, *xj = x + 3 * (size_t)col[k];
-        double x0 = xj[0], x1 = xj[1], x2 = xj[2];
-        a0 -= B[0] * x0 + B[1] * x1 + B[2] * x2;
-        a1 -= B[3] * x0 + B[4] * x1 + B[5] * x2;
-        a2 -= B[6] * x0 + B[7] * x1 + B[8] * x2;
-    }
-    acc[0] = a0;
-    acc[1] = a1;
-    acc[2] = a2;
+    if (symrow[i]) row_sub_sym(A->val, A->col, a, z, x, acc);
+    else row_sub(A->val, A->col, a, z, x, acc);
 }
 
 /* acc = S_i acc on level 0's constrained vertices */
@@ -358,58 +377,61 @@ static inline void filter_row(const multigrid *mg, int l, int i, double acc[3])
 
 static inline const bsr *level_matrix(const multigrid *mg, int l) { return l ? &mg->lev[l].M : mg->A0; }
 
-/* Forward block Gauss-Seidel from x = 0: D_i x_i = b_i - sum_{j<i} A_ij x_j
- * (the rest of x is still zero), filtered on level 0. */
-static void forward_sweep_from_zero(const multigrid *mg, int l, double *x, const double *b)
-{
-    const bsr *A = level_matrix(mg, l);
-    const double *Dinv = mg->lev[l].Dinv;
-    for (int i = 0; i < A->n; i++) {
-        double acc[3] = {b[3 * i], b[3 * i + 1], b[3 * i + 2]};
-        row_sub(A, A->row_ptr[i], A->diag[i], x, acc);
-        filter_row(mg, l, i, acc);
-        mat3vec(Dinv + 9 * (size_t)i, acc, x + 3 * i);
-    }
-}
-
 /* Backward block Gauss-Seidel: D_i x_i = b_i - sum_{j != i} A_ij x_j, i
  * descending, filtered on level 0. */
 static void backward_sweep(const multigrid *mg, int l, double *x, const double *b)
 {
     const bsr *A = level_matrix(mg, l);
     const double *Dinv = mg->lev[l].Dinv;
+    const unsigned char *sym = mg->lev[l].symrow;
     for (int i = A->n - 1; i >= 0; i--) {
         double acc[3] = {b[3 * i], b[3 * i + 1], b[3 * i + 2]};
-        row_sub(A, A->row_ptr[i], A->diag[i], x, acc);
-        row_sub(A, A->diag[i] + 1, A->row_ptr[i + 1], x, acc);
+        level_row_sub(A, sym, i, A->row_ptr[i], A->diag[i], x, acc);
+        level_row_sub(A, sym, i, A->diag[i] + 1, A->row_ptr[i + 1], x, acc);
         filter_row(mg, l, i, acc);
         mat3vec(Dinv + 9 * (size_t)i, acc, x + 3 * i);
     }
 }
 
-/* The residual r = b - A x right after a forward Gauss-Seidel sweep that
- * started from x = 0, restricted to the next level: bc = W^T r. Each node's
- * update solved its own row exactly against the nodes before it,
- * D_i x_i = b_i - sum_{j<i} A_ij x_j, so what remains is
+/* Forward block Gauss-Seidel from x = 0, D_i x_i = b_i - sum_{j<i} A_ij x_j
+ * (the rest of x is still zero), filtered on level 0; and the residual it
+ * leaves, restricted to the next level: bc = W^T r. Each node's update
+ * solved its own row exactly against the nodes before it, so what remains is
  * r_i = -sum_{j>i} A_ij x_j: only the strictly upper triangle, half a sweep.
  * (On level 0 D_i is S A_ii S + (I - S) and x_i lies in the free directions,
- * so the same holds for the filtered rows.) Each r_i goes to its parents as
- * soon as it is known. */
-static void restrict_residual_after_forward_sweep(const multigrid *mg, int l, const double *x, double *bc)
+ * so the same holds for the filtered rows.) Row p's residual is taken as
+ * soon as its last neighbour is updated, a band behind the sweep, so its
+ * blocks are still in cache from the sweep: one pass over the matrix. The
+ * residuals go to their parents in ascending order, as a separate pass
+ * would add them. */
+static void forward_sweep_restrict(const multigrid *mg, int l, double *x, const double *b, double *bc)
 {
     const mg_level *L = &mg->lev[l];
     const bsr *A = level_matrix(mg, l);
+    const double *Dinv = L->Dinv;
+    const unsigned char *sym = L->symrow;
+    const int *row_ptr = A->row_ptr, *diag = A->diag, *col = A->col;
     memset(bc, 0, 3 * (size_t)mg->lev[l + 1].n * sizeof *bc);
-    for (int i = 0; i < L->n; i++) {
-        double r[3] = {0.0, 0.0, 0.0};
-        row_sub(A, A->diag[i] + 1, A->row_ptr[i + 1], x, r);
-        filter_row(mg, l, i, r);
-        for (int a = 0; a < 4 && L->par[4 * i + a] >= 0; a++) {
-            double w = L->w[4 * i + a];
-            double *bi = bc + 3 * L->par[4 * i + a];
-            bi[0] += w * r[0];
-            bi[1] += w * r[1];
-            bi[2] += w * r[2];
+    int p = 0; /* the next row whose residual is pending */
+    for (int i = 0; i <= A->n; i++) {
+        if (i < A->n) {
+            double acc[3] = {b[3 * i], b[3 * i + 1], b[3 * i + 2]};
+            level_row_sub(A, sym, i, row_ptr[i], diag[i], x, acc);
+            filter_row(mg, l, i, acc);
+            mat3vec(Dinv + 9 * (size_t)i, acc, x + 3 * i);
+        }
+        /* rows whose neighbours are all updated (all rows at the end) */
+        for (; p <= i && p < A->n && (i == A->n || col[row_ptr[p + 1] - 1] <= i); p++) {
+            double r[3] = {0.0, 0.0, 0.0};
+            level_row_sub(A, sym, p, diag[p] + 1, row_ptr[p + 1], x, r);
+            filter_row(mg, l, p, r);
+            for (int a = 0; a < 4 && L->par[4 * p + a] >= 0; a++) {
+                double w = L->w[4 * p + a];
+                double *bi = bc + 3 * L->par[4 * p + a];
+                bi[0] += w * r[0];
+                bi[1] += w * r[1];
+                bi[2] += w * r[2];
+            }
         }
     }
 }
@@ -428,9 +450,8 @@ static void vcycle(const multigrid *mg, int l, double *x, const double *b)
                 }
         return;
     }
-    forward_sweep_from_zero(mg, l, x, b);
     const mg_level *K = &mg->lev[l + 1];
-    restrict_residual_after_forward_sweep(mg, l, x, K->b);
+    forward_sweep_restrict(mg, l, x, b, K->b);
     vcycle(mg, l + 1, K->x, K->b);
     for (int i = 0; i < L->n; i++) {
         double e[3] = {0.0, 0.0, 0.0};

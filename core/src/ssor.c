@@ -43,23 +43,16 @@ static void build_filtered(const bsr *A, const double *S, const unsigned char *c
                 for (int e = 0; e < 9; e++) o[e] += I3[e] - S[9 * (size_t)i + e];
             memcpy(Ah + 9 * (size_t)k, o, sizeof o);
         }
+    if (A->sym) bsr_check_sym(A, Ah, A->sym + A->n);
 }
 
-/* acc -= sum Ah_ij y_j over the blocks k in [a, z) of a row */
-static inline void row_sub(const bsr *A, const double *Ah, int a, int z, const double *y, double acc[3])
+/* acc -= sum Ah_ij y_j over the blocks k in [a, z) of row i; rows whose
+ * blocks are all symmetric (flags A->sym + n, set by build_filtered) take
+ * the paired loop, with the same bits */
+MAT3_INLINE void row_sub_ah(const bsr *A, const double *Ah, int i, int a, int z, const double *y, double acc[3])
 {
-    const int *col = A->col;
-    double a0 = acc[0], a1 = acc[1], a2 = acc[2];
-    for (int k = a; k < z; k++) {
-        const double *B = Ah + 9 * (size_t)k, *yj = y + 3 * (size_t)col[k];
-        double y0 = yj[0], y1 = yj[1], y2 = yj[2];
-        a0 -= B[0] * y0 + B[1] * y1 + B[2] * y2;
-        a1 -= B[3] * y0 + B[4] * y1 + B[5] * y2;
-        a2 -= B[6] * y0 + B[7] * y1 + B[8] * y2;
-    }
-    acc[0] = a0;
-    acc[1] = a1;
-    acc[2] = a2;
+    if (A->sym && A->sym[A->n + i]) row_sub_sym(Ah, A->col, a, z, y, acc);
+    else row_sub(Ah, A->col, a, z, y, acc);
 }
 
 /* y = P^-1 v: forward, D_i y_i = v_i - sum_{j<i} Ah_ij y_j */
@@ -67,7 +60,7 @@ static void forward(const bsr *A, const double *Ah, const double *Dinv, const do
 {
     for (int i = 0; i < A->n; i++) {
         double acc[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
-        row_sub(A, Ah, A->row_ptr[i], A->diag[i], y, acc);
+        row_sub_ah(A, Ah, i, A->row_ptr[i], A->diag[i], y, acc);
         mat3vec(Dinv + 9 * (size_t)i, acc, y + 3 * i);
     }
 }
@@ -77,7 +70,7 @@ static void backward(const bsr *A, const double *Ah, const double *Dinv, const d
 {
     for (int i = A->n - 1; i >= 0; i--) {
         double acc[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
-        row_sub(A, Ah, A->diag[i] + 1, A->row_ptr[i + 1], y, acc);
+        row_sub_ah(A, Ah, i, A->diag[i] + 1, A->row_ptr[i + 1], y, acc);
         mat3vec(Dinv + 9 * (size_t)i, acc, y + 3 * i);
     }
 }
@@ -100,7 +93,7 @@ static void backward_p(const bsr *A, const double *Ah, const double *Dinv, const
             pi[2] = s[3 * i + 2] + beta * pi[2];
         }
         double acc[3] = {pi[0], pi[1], pi[2]}, dt[3];
-        row_sub(A, Ah, A->diag[i] + 1, A->row_ptr[i + 1], t, acc);
+        row_sub_ah(A, Ah, i, A->diag[i] + 1, A->row_ptr[i + 1], t, acc);
         double *ti = t + 3 * i;
         mat3vec(Dinv + 9 * (size_t)i, acc, ti);
         mat3vec(Ah + 9 * (size_t)A->diag[i], ti, dt);
@@ -116,7 +109,7 @@ static double forward_pq(const bsr *A, const double *Ah, const double *Dinv, con
     double pq = 0.0;
     for (int i = 0; i < A->n; i++) {
         double acc[3] = {u[3 * i], u[3 * i + 1], u[3 * i + 2]};
-        row_sub(A, Ah, A->row_ptr[i], A->diag[i], q, acc);
+        row_sub_ah(A, Ah, i, A->row_ptr[i], A->diag[i], q, acc);
         double *qi = q + 3 * i;
         mat3vec(Dinv + 9 * (size_t)i, acc, qi);
         for (int k = 3 * i; k < 3 * i + 3; k++) pq += p[k] * (q[k] + t[k]);
@@ -130,12 +123,8 @@ static void tri_mul(const bsr *A, const double *Ah, int upper, const double *v, 
     for (int i = 0; i < A->n; i++) {
         double acc[3] = {0.0, 0.0, 0.0};
         int lo = upper ? A->diag[i] : A->row_ptr[i], hi = upper ? A->row_ptr[i + 1] : A->diag[i] + 1;
-        for (int k = lo; k < hi; k++) {
-            const double *B = Ah + 9 * (size_t)k, *vj = v + 3 * (size_t)A->col[k];
-            acc[0] += B[0] * vj[0] + B[1] * vj[1] + B[2] * vj[2];
-            acc[1] += B[3] * vj[0] + B[4] * vj[1] + B[5] * vj[2];
-            acc[2] += B[6] * vj[0] + B[7] * vj[1] + B[8] * vj[2];
-        }
+        if (A->sym && A->sym[A->n + i]) row_add_sym(Ah, A->col, lo, hi, v, acc);
+        else row_add(Ah, A->col, lo, hi, v, acc);
         y[3 * i] = acc[0], y[3 * i + 1] = acc[1], y[3 * i + 2] = acc[2];
     }
 }
