@@ -21,8 +21,8 @@ CTEST ?= ctest
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CTEST_ARGS ?= --output-on-failure -j2 -LE soak
 
-DEPS := libode-dev libccd-dev cmake pkg-config libosmesa6-dev libpng-dev gnuplot-nox \
-        clang libclang-rt-dev valgrind
+DEPS := libode-dev libccd-dev cmake pkg-config libosmesa6-dev libpng-dev libglfw3-dev \
+        xvfb xauth gnuplot-nox clang libclang-rt-dev valgrind
 SAN_FLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
 BENCHES := $(patsubst examples/%.c,$(BUILD)/examples/%,$(wildcard examples/bench_*.c))
 

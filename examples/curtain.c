@@ -18,6 +18,7 @@
 #include <math.h>
 #include <string.h>
 #include "common/drape.h"
+#include "common/view.h"
 
 #define ROD_Z 1.1
 #define BALL_R 0.15
@@ -92,6 +93,7 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
         dJointGroupEmpty(w.contacts);
         demo_track_step(c, &run);
         demo_frame_hook(o, v->tag, s + 1, steps, &next_frame, &cam, space, &c, 1);
+        demo_view_frame(o, v->label, s + 1, steps, &cam, space, &c, 1);
         double swing = fabs(x[3 * hem_mid + 1] - hem_y0);
         if (swing > hem_swing) hem_swing = swing;
         demo_moment_offer(&widest, swing, c, ball, &run, t0, &r->draped); /* the widest swing */

@@ -24,6 +24,7 @@
 #include <math.h>
 #include <string.h>
 #include "common/drape.h"
+#include "common/view.h"
 
 #define PIN_Z 1.0
 #define BOX_SIDE 0.3
@@ -98,6 +99,7 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
         dJointGroupEmpty(w.contacts);
         demo_track_step(c, &run);
         demo_frame_hook(o, v->tag, s + 1, steps, &next_frame, &cam, space, &c, 1);
+        demo_view_frame(o, v->label, s + 1, steps, &cam, space, &c, 1);
         /* the deepest sag: the box at its lowest */
         demo_moment_offer(&deepest, -dBodyGetPosition(box)[2], c, box, &run, t0, &r->draped);
     }

@@ -3,6 +3,7 @@
  * contact-sheet composer, an offscreen OpenGL renderer (OSMesa) of a cloth
  * and the geoms of an ODE space, an OBJ writer, and the metrics every demo
  * prints (residual crease, wrinkles, plastic links, penetration, strain).
+ * The --view window (GLFW) is view.h's; it draws with the renderer's code.
  *
  * Without OSMesa or libpng at build time everything still builds:
  * demo_render_available() / demo_png_available() say so, and the demos
@@ -42,6 +43,9 @@ typedef struct demo_opts {
     int box_table;                /* --box-table: the table as a dBox       */
     int selftest;                 /* --selftest: check the metrics, exit    */
     int sleep;                    /* --sleep: dClothSetAutoSleep (1 cm/s, 10 steps) */
+    int view;                     /* --view: a live window (view.h)         */
+    int view_frames;              /* --view-frames N: close it after N frames
+                                     (0: when the user closes it)          */
 } demo_opts;
 
 /* Defaults: grid 21, 60 steps/s, out "out/<prog>", smooth 1, 400 x 300,
@@ -107,6 +111,11 @@ demo_image *demo_render(const demo_camera *cam, dSpaceID space, dClothID *cloths
                         int h);
 /* Free the offscreen context (at exit; harmless if none). */
 void demo_render_shutdown(void);
+/* What demo_render draws, into the caller's current OpenGL context (the
+ * --view window, view.c): clears a w x h viewport and draws the geoms and
+ * the cloths from cam. Only in builds with OpenGL (OSMesa or GLFW). 0, or
+ * -1 on no memory (printed). */
+int demo_draw_scene(const demo_camera *cam, dSpaceID space, dClothID *cloths, int ncloths, int smooth, int w, int h);
 
 /* ---------------------------------------------------------------- metrics */
 

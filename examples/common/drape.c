@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "drape.h"
+#include "view.h"
 
 #define FLOOR_Z 0.0
 #define CLOTH_SIZE 1.0
@@ -94,6 +95,7 @@ static int run_step(runner *R)
     demo_track_step(R->c, &R->phase);
     R->step++;
     demo_frame_hook(R->o, R->v->tag, R->step, R->total, &R->next_frame, &R->cam_wide, R->space, &R->c, 1);
+    demo_view_frame(R->o, R->v->label, R->step, R->total, &R->cam_wide, R->space, &R->c, 1);
     return 0;
 }
 

@@ -28,6 +28,15 @@ static const char common_usage[] =
     "                         triangle mesh (the removal and the press then fail: README)\n"
     "  --sleep                let a cloth at rest sleep (dClothSetAutoSleep: RMS speed under\n"
     "                         1 cm/s for 10 steps); drape_table, drape_sphere print the saving\n"
+    "  --view                 watch the run in a window (GLFW + OpenGL) when there is a display:\n"
+    "                         left-drag rotates, right-drag or scroll zooms, middle-drag pans;\n"
+    "                         space pauses / resumes, n or . steps once while paused, f runs\n"
+    "                         as fast as it can (else in real time), r resets the camera, s\n"
+    "                         saves the window as <out>/view_NNN.png, q or Esc closes it (the\n"
+    "                         demo then runs on headless); each run's end waits for space.\n"
+    "                         No display: says so and runs headless. Same results either way\n"
+    "  --view-frames N        --view for scripted runs: draw every step, close the window after\n"
+    "                         N frames and write the last as <out>/view.png (no pauses)\n"
     "  --short                a shorter timeline (what --check uses in CTest)\n"
     "  --check                assert the demo's claims on its own metrics (exit 1 if not)\n"
     "  --selftest             check the crease / wrinkle / bend metrics on a folded cloth\n"
@@ -111,6 +120,7 @@ int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char
         if (!strcmp(opt, "--box-table")) { o->box_table = 1; continue; }
         if (!strcmp(opt, "--selftest")) { o->selftest = 1; continue; }
         if (!strcmp(opt, "--sleep")) { o->sleep = 1; continue; }
+        if (!strcmp(opt, "--view")) { o->view = 1; continue; }
         /* options with a value */
         if (strncmp(opt, "--", 2)) return bad(o, "argument", opt, "not an option");
         if (!v) return bad(o, opt, NULL, "needs a value");
@@ -135,6 +145,9 @@ int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char
             o->out = v;
         } else if (!strcmp(opt, "--frames")) {
             if (parse_int(v, 0, 1000, &o->frames)) return bad(o, opt, v, "want a whole number in 0..1000");
+        } else if (!strcmp(opt, "--view-frames")) {
+            if (parse_int(v, 1, 1000000, &o->view_frames)) return bad(o, opt, v, "want a whole number in 1..1000000");
+            o->view = 1;
         } else if (!strcmp(opt, "--smooth")) {
             if (parse_int(v, 0, 3, &o->smooth)) return bad(o, opt, v, "want 0, 1, 2 or 3");
         } else if (!strcmp(opt, "--size")) {

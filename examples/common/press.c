@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "drape.h"
+#include "view.h"
 
 #define TOP_Z 1.3      /* m, the top plate's underside; the cloth hangs from it */
 #define PLATE_T 0.04   /* m, plate thickness */
@@ -133,6 +134,7 @@ static int press_run(const demo_opts *o, const demo_scene *sc, const drape_varia
         if (demo_step(o, world, &c, 1, h, s)) goto done;
         demo_track_step(c, &run);
         demo_frame_hook(o, v->tag, s + 1, n_total, &next_frame, &cam, space, &c, 1);
+        demo_view_frame(o, v->label, s + 1, n_total, &cam, space, &c, 1);
         if (s + 1 == n_pressed || s + 1 == n_total) {
             int last = s + 1 == n_total;
             demo_metrics *m = last ? &r->after : &r->draped;

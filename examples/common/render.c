@@ -1,5 +1,7 @@
-/* Offscreen pictures of a cloth scene with OSMesa and the fixed-function
- * OpenGL pipeline (OSMesa ships a GL 2.1 compatibility context).
+/* Pictures of a cloth scene with the fixed-function OpenGL pipeline: one
+ * scene-drawing function (demo_draw_scene) used by the offscreen renderer
+ * here (OSMesa, which ships a GL 2.1 compatibility context) and by the
+ * --view window (view.c: GLFW's context on the system's libGL).
  *
  * The cloth is drawn smooth-shaded from its grid, optionally subdivided
  * for display by the four-point interpolating scheme (Dyn, Levin, Gregory)
@@ -8,8 +10,9 @@
  * (GL_LIGHT_MODEL_TWO_SIDE), each in its own colour: the face seen from
  * axis_u x axis_v ("top" of the cloth as created) warm, the other cool.
  * The geoms of the space are drawn flat-coloured (a geom's data, when it is
- * set, is read as a `const float[3]` colour: a demo convention). Pictures
- * are rendered at twice the size and averaged down 2x2 (antialiasing). */
+ * set, is read as a `const float[3]` colour: a demo convention). Offscreen
+ * pictures are rendered at twice the size and averaged down 2x2
+ * (antialiasing). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,52 +20,17 @@
 
 const float demo_geom_hidden[3] = {0, 0, 0};
 
+/* The drawing needs OpenGL: from OSMesa (offscreen pictures) or from the
+ * system's libGL next to GLFW (the --view window, view.c); both share it. */
+#if defined(ODECLOTH_HAVE_OSMESA) || defined(ODECLOTH_HAVE_GLFW)
+#define DEMO_HAVE_GL 1
+#endif
+
 #ifdef ODECLOTH_HAVE_OSMESA
 #include <GL/osmesa.h>
+#endif
+#ifdef DEMO_HAVE_GL
 #include <GL/gl.h>
-
-static OSMesaContext ctx;
-static unsigned char *buffer;
-static int buf_w, buf_h;
-static char failure[160];
-
-int demo_render_available(void) { return 1; }
-const char *demo_render_unavailable_reason(void) { return failure; }
-
-void demo_render_shutdown(void)
-{
-    if (ctx) OSMesaDestroyContext(ctx);
-    ctx = NULL;
-    free(buffer);
-    buffer = NULL;
-    buf_w = buf_h = 0;
-}
-
-static int ensure_context(int w, int h)
-{
-    if (!ctx) {
-        ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, NULL);
-        if (!ctx) {
-            snprintf(failure, sizeof failure, "OSMesaCreateContextExt failed");
-            return -1;
-        }
-    }
-    if (w != buf_w || h != buf_h) {
-        unsigned char *b = realloc(buffer, 4 * (size_t)w * (size_t)h);
-        if (!b) {
-            snprintf(failure, sizeof failure, "out of memory for a %d x %d frame", w, h);
-            return -1;
-        }
-        buffer = b;
-        buf_w = w;
-        buf_h = h;
-    }
-    if (!OSMesaMakeCurrent(ctx, buffer, GL_UNSIGNED_BYTE, w, h)) {
-        snprintf(failure, sizeof failure, "OSMesaMakeCurrent failed for %d x %d", w, h);
-        return -1;
-    }
-    return 0;
-}
 
 /* ---------------------------------------------------------------- helpers */
 
@@ -396,19 +364,12 @@ static int draw_cloth(dClothID cl, int smooth)
     return 0;
 }
 
-demo_image *demo_render(const demo_camera *cam, dSpaceID space, dClothID *cloths, int ncloths, int smooth, int w,
-                        int h)
+int demo_draw_scene(const demo_camera *cam, dSpaceID space, dClothID *cloths, int ncloths, int smooth, int w, int h)
 {
-    const int ss = 2; /* supersampling */
-    if (w <= 0 || h <= 0 || ensure_context(ss * w, ss * h)) {
-        if (w <= 0 || h <= 0) snprintf(failure, sizeof failure, "bad picture size %d x %d", w, h);
-        fprintf(stderr, "render: %s\n", failure);
-        return NULL;
-    }
-    int W = ss * w, H = ss * h;
-    glViewport(0, 0, W, H);
+    glViewport(0, 0, w, h);
     glClearColor(0.93f, 0.95f, 0.98f, 1);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glDisable(GL_BLEND);
     glEnable(GL_DEPTH_TEST);
     glEnable(GL_LIGHTING);
     glEnable(GL_NORMALIZE);
@@ -439,8 +400,70 @@ demo_image *demo_render(const demo_camera *cam, dSpaceID space, dClothID *cloths
     for (int i = 0; i < ncloths; i++)
         if (draw_cloth(cloths[i], smooth)) {
             fprintf(stderr, "render: out of memory for the cloth mesh\n");
-            return NULL;
+            return -1;
         }
+    return 0;
+}
+#endif /* DEMO_HAVE_GL */
+
+/* ------------------------------------------------------- offscreen (OSMesa) */
+
+#ifdef ODECLOTH_HAVE_OSMESA
+
+static OSMesaContext ctx;
+static unsigned char *buffer;
+static int buf_w, buf_h;
+static char failure[160];
+
+int demo_render_available(void) { return 1; }
+const char *demo_render_unavailable_reason(void) { return failure; }
+
+void demo_render_shutdown(void)
+{
+    if (ctx) OSMesaDestroyContext(ctx);
+    ctx = NULL;
+    free(buffer);
+    buffer = NULL;
+    buf_w = buf_h = 0;
+}
+
+static int ensure_context(int w, int h)
+{
+    if (!ctx) {
+        ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, NULL);
+        if (!ctx) {
+            snprintf(failure, sizeof failure, "OSMesaCreateContextExt failed");
+            return -1;
+        }
+    }
+    if (w != buf_w || h != buf_h) {
+        unsigned char *b = realloc(buffer, 4 * (size_t)w * (size_t)h);
+        if (!b) {
+            snprintf(failure, sizeof failure, "out of memory for a %d x %d frame", w, h);
+            return -1;
+        }
+        buffer = b;
+        buf_w = w;
+        buf_h = h;
+    }
+    if (!OSMesaMakeCurrent(ctx, buffer, GL_UNSIGNED_BYTE, w, h)) {
+        snprintf(failure, sizeof failure, "OSMesaMakeCurrent failed for %d x %d", w, h);
+        return -1;
+    }
+    return 0;
+}
+
+demo_image *demo_render(const demo_camera *cam, dSpaceID space, dClothID *cloths, int ncloths, int smooth, int w,
+                        int h)
+{
+    const int ss = 2; /* supersampling */
+    if (w <= 0 || h <= 0 || ensure_context(ss * w, ss * h)) {
+        if (w <= 0 || h <= 0) snprintf(failure, sizeof failure, "bad picture size %d x %d", w, h);
+        fprintf(stderr, "render: %s\n", failure);
+        return NULL;
+    }
+    int W = ss * w, H = ss * h;
+    if (demo_draw_scene(cam, space, cloths, ncloths, smooth, W, H)) return NULL;
     glFinish();
     static const unsigned char bg[3] = {255, 255, 255};
     demo_image *im = demo_image_create(w, h, bg);
