@@ -27,14 +27,17 @@
 #include <string.h>
 #include "dcloth_internal.h"
 
-/* EPA's tolerance, of the thickness, for the geometry of a triangle within
- * its shell on a capsule. Measured with the refinement on every class, on
- * plugin_colliders_capsule's resting cloth (kinetic energy) and
- * plugin_coupling_light's box (worst pin-force imbalance, worst box speed
- * over the last 2 s): 1e-4: the capsule fails, the box 1.9 mm/s; 1e-5:
- * 3.1e-7 J, 1.29%, 0.84 mm/s; 1e-6: 2.3e-7 J, 0.057%, 0.19 mm/s (and 1.6
- * mm/s on another run: that scene is chaotic). */
+/* EPA's tolerance, of the thickness, for a triangle within its shell (the
+ * loose one, 1e-3, serves to detect moving triangles). Measured with the
+ * refinement on every class, plugin_coupling_light's 0.5 kg box on a pinned
+ * cloth (worst pin-force imbalance, worst box speed over the last 2 s, bound
+ * 2% and 1 mm/s): 1e-5: 0.08%, 0.16 mm/s; 3e-6: 0.10%, 0.36; 1e-6: 0.24%,
+ * 0.60; 3e-7: 0.16%, 0.29; 1e-7: 0.24%, 0.42; with the loose tolerance
+ * alone: 15%, 36 mm/s. A cloth at rest on a capsule: kinetic energy 1-7e-5
+ * J loose, 4.7e-7 J refined (plugin_colliders). */
 #define EPA_FINE 1e-6
+/* a triangle moving less than this, of the thickness, per step is at rest */
+#define SWEEP_NEGLIGIBLE 1e-3
 
 typedef struct tri_shape {
     const double *v[3];
@@ -203,43 +206,50 @@ int dcloth_triangle_contacts(dClothID c, dGeomID g, double h)
             out = hi < aabb[2 * a] || lo > aabb[2 * a + 1];
         }
         if (out) continue;
+        /* At rest (a sweep under SWEEP_NEGLIGIBLE of the thickness) the
+         * swept shape is the shell (the triangle grown by the thickness and
+         * margin) and one query, converged tightly, gives the contact. A
+         * moving triangle is detected with its swept shape and a loose EPA;
+         * if it is already within its shell, the geometry is taken from the
+         * shell, converged tightly, and otherwise the swept query's
+         * (predictive) geometry is kept. Why: the loose EPA's direction and
+         * point wandered from step to step on a capsule's round side, and
+         * the swept shape, several times thicker than the cloth at speed,
+         * can have its least separating direction along the triangle. */
+        double shell_r = t * (1.0 + DCLOTH_CONTACT_MARGIN);
+        int swept = reach > SWEEP_NEGLIGIBLE * t;
         ccd_real_t depth;
         ccd_vec3_t dir, pos;
-        if (ccdGJKPenetration(&gs, &ts, &ccd, &depth, &dir, &pos) != 0) continue;
+        if (ccdGJKPenetration(&gs, &ts, swept ? &ccd : &fine, &depth, &dir, &pos) != 0) continue;
         if (!(depth > 0.0) || !isfinite(depth)) continue;
         /* the triangle's distance beyond the thickness, as a vertex gap */
         double lift = depth - (ts.radius - t);
-        /* On a capsule, within the shell (the triangle grown by the
-         * thickness and margin only, no sweep), the contact's geometry is
-         * taken from that shape with EPA converged tightly: on the capsule's
-         * round side the loose EPA's direction and point wandered from step
-         * to step. Measured (plugin_colliders_capsule): the resting cloth
-         * kept a kinetic energy of 1-7e-5 J, stick and slip flipping on ~40
-         * vertices every other step (not the CG: the same at tolerance
-         * 1e-7); refined, 4.7e-7 J. The swept query still catches what will
-         * arrive within the step (its predictive contact keeps its own
-         * geometry). For every class (box, cylinder, convex too) the
-         * refinement also settled a 0.5 kg box on a pinned cloth
-         * (plugin_coupling_light: pin forces to 0.06-1.3%, box 0.2-1.6
-         * mm/s, against 15% and 36 mm/s) and kept the box, cylinder and
-         * convex cases of plugin_colliders passing, but a cloth on a 0.4 m
-         * box top (plugin_api) then rested with its centre 1.5 mm too high:
-         * a triangle touching flat on a face gets an arbitrary point of the
-         * face from the tight EPA, and its contact holds all three vertices
-         * where they are (triangles.c's weights), so it stays capsule-only
-         * until flat contacts get a better point. */
-        tri_shape shell = ts;
-        shell.radius = t * (1.0 + DCLOTH_CONTACT_MARGIN);
-        ccd_real_t d2;
-        ccd_vec3_t dir2, pos2;
-        if (gs.cls == dCapsuleClass && ccdGJKPenetration(&gs, &shell, &fine, &d2, &dir2, &pos2) == 0 && d2 > 0.0 &&
-            isfinite(d2)) {
-            lift = d2 - (shell.radius - t);
-            dir = dir2;
-            pos = pos2;
+        /* clear: the thin triangle itself is outside the geom (its depth
+         * into the grown shape is less than the growth), so the plane
+         * through the geom's support along the contact direction separates
+         * them, and every vertex is at least as far from the geom as its
+         * height above that plane */
+        int clear = !swept && depth < ts.radius;
+        if (swept) {
+            tri_shape shell = ts;
+            shell.radius = shell_r;
+            ccd_real_t d2;
+            ccd_vec3_t dir2, pos2;
+            if (ccdGJKPenetration(&gs, &shell, &fine, &d2, &dir2, &pos2) == 0 && d2 > 0.0 && isfinite(d2)) {
+                lift = d2 - (shell_r - t);
+                dir = dir2;
+                pos = pos2;
+                clear = d2 < shell_r;
+            }
         }
         double nl = sqrt(dir.v[0] * dir.v[0] + dir.v[1] * dir.v[1] + dir.v[2] * dir.v[2]);
         if (!(nl > 0.0)) continue;
+        double n[3] = {dir.v[0] / nl, dir.v[1] / nl, dir.v[2] / nl}, support = 0.0;
+        if (clear) {
+            ccd_vec3_t nd = {{n[0], n[1], n[2]}}, sp;
+            geom_support(&gs, &nd, &sp);
+            support = n[0] * sp.v[0] + n[1] * sp.v[1] + n[2] * sp.v[2];
+        }
         /* barycentric weights of the contact point, projected on the
          * triangle and clamped into it */
         double w[3];
@@ -249,6 +259,16 @@ int dcloth_triangle_contacts(dClothID c, dGeomID g, double h)
             vcontact *vc = &c->vc_new[p[a]];
             if (!(w[a] > 0.0)) continue;
             double gap = -lift * w[a] / w2;
+            /* A vertex never gets a smaller gap than its height above the
+             * separating plane allows. A triangle lying flat on a face
+             * touches it everywhere, the tight EPA returns any point of the
+             * face, and the lift shared from there held a vertex 1.5 mm
+             * above its place (plugin_api, measured) */
+            if (clear) {
+                const double *xa = ts.v[a];
+                double above = n[0] * xa[0] + n[1] * xa[1] + n[2] * xa[2] - support - t;
+                if (above > gap) gap = above;
+            }
             /* only deeper than the vertex's own contact. (Requiring "deeper
              * beyond rounding" instead, so that ties at 1e-17 keep the
              * vertex's own, made an 81x81 cloth on a box fail at step 425 of
@@ -257,7 +277,7 @@ int dcloth_triangle_contacts(dClothID c, dGeomID g, double h)
             vc->geom = g;
             vc->body = body;
             for (int q = 0; q < 3; q++) {
-                vc->normal[q] = dir.v[q] / nl;
+                vc->normal[q] = n[q];
                 vc->point[q] = pos.v[q];
                 vc->vbody[q] = 0.0;
             }
