@@ -137,6 +137,18 @@ void bsr_mul_sym(const bsr *A, const double *x, double *y)
     }
 }
 
+void bsr_mul_rows(const bsr *A, const double *x, const int *rows, int m, double *y)
+{
+    for (int a = 0; a < m; a++) {
+        int i = rows[a];
+        double acc[3] = {0.0, 0.0, 0.0};
+        row_add(A->val, A->col, A->row_ptr[i], A->row_ptr[i + 1], x, acc);
+        y[3 * (size_t)i] = acc[0];
+        y[3 * (size_t)i + 1] = acc[1];
+        y[3 * (size_t)i + 2] = acc[2];
+    }
+}
+
 void bsr_mul_cols(const bsr *A, const double *x, const int *cols, int m, double *y)
 {
     if (!cols) {

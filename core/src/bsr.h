@@ -39,6 +39,9 @@ int bsr_check_sym(const bsr *A, const double *val, unsigned char *flag);
  * A->sym (bsr_check_sym(A, A->val, A->sym) must be current; A->sym NULL:
  * bsr_mul). */
 void bsr_mul_sym(const bsr *A, const double *x, double *y);
+/* y_i = (A x)_i for the block rows rows[0..m) only (y's other rows are not
+ * touched), each as bsr_mul computes it. */
+void bsr_mul_rows(const bsr *A, const double *x, const int *rows, int m, double *y);
 /* Dense copy (3n x 3n, row-major) for tests and small problems. */
 void bsr_to_dense(const bsr *A, double *dense);
 

@@ -122,9 +122,21 @@ MAT3_INLINE void row_sub(const double *val, const int *col, int a, int z, const 
 MAT3_ROW_SYM(row_add_sym, +=, _mm_add_pd)
 MAT3_ROW_SYM(row_sub_sym, -=, _mm_sub_pd)
 #undef MAT3_ROW_SYM
+
+/* mat3vec for a symmetric M, the same way (y may not alias x) */
+MAT3_INLINE void mat3vec_sym(const double *M, const double *x, double *y)
+{
+    double x0 = x[0], x1 = x[1], x2 = x[2];
+    __m128d t = _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(M), _mm_set1_pd(x0)), _mm_mul_pd(_mm_loadu_pd(M + 3), _mm_set1_pd(x1)));
+    t = _mm_add_pd(t, _mm_mul_pd(_mm_loadu_pd(M + 6), _mm_set1_pd(x2)));
+    double y2 = M[6] * x0 + M[7] * x1 + M[8] * x2;
+    _mm_storeu_pd(y, t);
+    y[2] = y2;
+}
 #else
 #define row_add_sym row_add
 #define row_sub_sym row_sub
+#define mat3vec_sym mat3vec
 #endif
 
 #endif

@@ -79,11 +79,11 @@ static inline int con_next(con_walk *w, int i)
     return 0;
 }
 
-/* y_i = S_i y_i (filter_apply's arithmetic) */
+/* y_i = S_i y_i (filter_apply's arithmetic, which is mat3vec's) */
 static inline void filter3(const double *Si, double *y)
 {
     double a[3] = {y[0], y[1], y[2]};
-    filter_apply(1, Si, a, y);
+    mat3vec(Si, a, y);
 }
 
 /* q = S A p; returns p^T q */
@@ -119,7 +119,7 @@ static double update_jacobi(const mpcg_problem *P, double alpha, const double *p
             x[k] += alpha * p[k];
             r[k] -= alpha * q[k];
         }
-        filter_apply(1, P->Dinv + 9 * (size_t)i, r + o, s + o);
+        mat3vec(P->Dinv + 9 * (size_t)i, r + o, s + o);
         if (con_next(&w, i)) filter3(P->S + 9 * (size_t)i, s + o);
         for (size_t k = o; k < o + 3; k++) rs += r[k] * s[k];
     }
@@ -132,7 +132,7 @@ static double dots_pc(const mpcg_problem *P, const double *r, const double *s, d
     double rs = 0.0, ru = 0.0;
     for (int i = 0; i < P->A->n; i++) {
         size_t o = 3 * (size_t)i;
-        filter_apply(1, P->Dinv + 9 * (size_t)i, r + o, u + o);
+        mat3vec(P->Dinv + 9 * (size_t)i, r + o, u + o);
         for (size_t k = o; k < o + 3; k++) {
             rs += r[k] * s[k];
             ru += r[k] * u[k];

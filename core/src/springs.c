@@ -21,7 +21,7 @@
 
 #define SPRING_MIN_LENGTH 1e-12
 
-static double link_vec(const double xi[3], const double xj[3], double u[3])
+static inline double link_vec(const double xi[3], const double xj[3], double u[3])
 {
     u[0] = xj[0] - xi[0];
     u[1] = xj[1] - xi[1];
@@ -37,8 +37,9 @@ static double link_vec(const double xi[3], const double xj[3], double u[3])
 
 double spring_energy(const double xi[3], const double xj[3], spring_law s)
 {
-    double u[3];
-    double d = link_vec(xi, xj, u), e = d - s.rest, el = d > s.lim ? d - s.lim : 0.0;
+    /* the length as link_vec computes it (the direction is not needed) */
+    double u0 = xj[0] - xi[0], u1 = xj[1] - xi[1], u2 = xj[2] - xi[2];
+    double d = sqrt(u0 * u0 + u1 * u1 + u2 * u2), e = d - s.rest, el = d > s.lim ? d - s.lim : 0.0;
     return 0.5 * (e >= 0.0 ? s.k_hi : s.k_lo) * e * e + 0.5 * s.k_lim * el * el;
 }
 

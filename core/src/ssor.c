@@ -28,7 +28,7 @@
 
 /* Ah's blocks from A's: S_i A_ij S_j, and + (I - S_i) on the diagonal; only
  * rows and columns of constrained vertices differ from A. */
-static void build_filtered(const bsr *A, const double *S, const unsigned char *cflag, double *Ah)
+static void build_filtered(const bsr *A, const double *S, const unsigned char *cflag, const double *Dinv, double *Ah)
 {
     memcpy(Ah, A->val, 9 * (size_t)A->nnzb * sizeof *Ah);
     static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
@@ -43,7 +43,20 @@ static void build_filtered(const bsr *A, const double *S, const unsigned char *c
                 for (int e = 0; e < 9; e++) o[e] += I3[e] - S[9 * (size_t)i + e];
             memcpy(Ah + 9 * (size_t)k, o, sizeof o);
         }
-    if (A->sym) bsr_check_sym(A, Ah, A->sym + A->n);
+    /* rows of symmetric blocks with a symmetric Dinv_i: the paired loops */
+    if (A->sym) {
+        unsigned char *fl = A->sym + A->n;
+        bsr_check_sym(A, Ah, fl);
+        for (int i = 0; i < A->n; i++) fl[i] = fl[i] && mat3_is_sym(Dinv + 9 * (size_t)i);
+    }
+}
+
+/* y = M x for row i's 3x3 blocks (Dinv_i or the diagonal block): paired on
+ * the flagged rows, with the same bits */
+MAT3_INLINE void mv_ah(const bsr *A, int i, const double *M, const double *x, double *y)
+{
+    if (A->sym && A->sym[A->n + i]) mat3vec_sym(M, x, y);
+    else mat3vec(M, x, y);
 }
 
 /* acc -= sum Ah_ij y_j over the blocks k in [a, z) of row i; rows whose
@@ -61,7 +74,7 @@ static void forward(const bsr *A, const double *Ah, const double *Dinv, const do
     for (int i = 0; i < A->n; i++) {
         double acc[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
         row_sub_ah(A, Ah, i, A->row_ptr[i], A->diag[i], y, acc);
-        mat3vec(Dinv + 9 * (size_t)i, acc, y + 3 * i);
+        mv_ah(A, i, Dinv + 9 * (size_t)i, acc, y + 3 * i);
     }
 }
 
@@ -71,7 +84,7 @@ static void backward(const bsr *A, const double *Ah, const double *Dinv, const d
     for (int i = A->n - 1; i >= 0; i--) {
         double acc[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
         row_sub_ah(A, Ah, i, A->diag[i] + 1, A->row_ptr[i + 1], y, acc);
-        mat3vec(Dinv + 9 * (size_t)i, acc, y + 3 * i);
+        mv_ah(A, i, Dinv + 9 * (size_t)i, acc, y + 3 * i);
     }
 }
 
@@ -95,8 +108,8 @@ static void backward_p(const bsr *A, const double *Ah, const double *Dinv, const
         double acc[3] = {pi[0], pi[1], pi[2]}, dt[3];
         row_sub_ah(A, Ah, i, A->diag[i] + 1, A->row_ptr[i + 1], t, acc);
         double *ti = t + 3 * i;
-        mat3vec(Dinv + 9 * (size_t)i, acc, ti);
-        mat3vec(Ah + 9 * (size_t)A->diag[i], ti, dt);
+        mv_ah(A, i, Dinv + 9 * (size_t)i, acc, ti);
+        mv_ah(A, i, Ah + 9 * (size_t)A->diag[i], ti, dt);
         u[3 * i] = pi[0] - dt[0];
         u[3 * i + 1] = pi[1] - dt[1];
         u[3 * i + 2] = pi[2] - dt[2];
@@ -111,7 +124,7 @@ static double forward_pq(const bsr *A, const double *Ah, const double *Dinv, con
         double acc[3] = {u[3 * i], u[3 * i + 1], u[3 * i + 2]};
         row_sub_ah(A, Ah, i, A->row_ptr[i], A->diag[i], q, acc);
         double *qi = q + 3 * i;
-        mat3vec(Dinv + 9 * (size_t)i, acc, qi);
+        mv_ah(A, i, Dinv + 9 * (size_t)i, acc, qi);
         for (int k = 3 * i; k < 3 * i + 3; k++) pq += p[k] * (q[k] + t[k]);
     }
     return pq;
@@ -158,7 +171,7 @@ mpcg_result ssor_run(const mpcg_problem *P, const unsigned char *cflag, double *
     /* bodies solved with the cloth: the plain modified CG (block Jacobi)
      * carries their unknowns; this one does not */
     if (P->bodies) return mpcg_run(P, x, w);
-    build_filtered(A, P->S, cflag, Ah);
+    build_filtered(A, P->S, cflag, Dinv, Ah);
     /* u = rh0 = S (b - A z); ref, the stopping norm's reference */
     double ref;
     if (mpcg_reference(P, x, u, t, &ref, &res)) return res;
@@ -217,7 +230,7 @@ mpcg_result ssor_run(const mpcg_problem *P, const unsigned char *cflag, double *
                 y[k] += alpha * p[k];
                 r[k] -= alpha * (q[k] + t[k]);
             }
-            mat3vec(Ah + 9 * (size_t)A->diag[i], r + 3 * i, s + 3 * i); /* s = D r~ */
+            mv_ah(A, i, Ah + 9 * (size_t)A->diag[i], r + 3 * i, s + 3 * i); /* s = D r~ */
             for (int k = 3 * i; k < 3 * i + 3; k++) dnew += r[k] * s[k];
         }
         it++;

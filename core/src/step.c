@@ -226,7 +226,7 @@ static cloth_failure implicit_step(cloth *c, double h, int bdf2, const double *x
      * filter removed is the impulse the constraints applied, (beta h) f_c. */
     memset(c->con_new, 0, n3 * sizeof *c->con_new);
     if (c->n_con > 0) {
-        bsr_mul(&c->A, c->dv, c->y);
+        bsr_mul_rows(&c->A, c->dv, c->clist, c->n_con, c->y); /* only the constrained rows are read */
         for (int i = 0; i < c->n; i++) {
             if (c->con[i].ndof == 0) continue;
             const double *Si = c->S + 9 * (size_t)i;
