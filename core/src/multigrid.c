@@ -244,6 +244,49 @@ static void galerkin_block(const mg_level *F, mg_level *K, int i, int j, const d
     }
 }
 
+/* galerkin_block for the blocks val + 9 k, k in [lo, hi), of fine row i
+ * (columns col[k]), parent by parent of i: the slots of parent I's coarse
+ * row are found once per I. Each coarse block gets its contributions in the
+ * same order as block by block: those from row i to a block (I, J) share
+ * the parent I of i, and each fine block k gives one, k ascending. */
+static void galerkin_row(const mg_level *F, mg_level *K, int i, const double *val, const int *col, int lo, int hi)
+{
+    const int *pi = F->par + 4 * i;
+    const double *wi_ = F->w + 4 * i;
+    for (int a = 0; a < 4 && pi[a] >= 0; a++) {
+        int I = pi[a];
+        double wi = wi_[a];
+        const int *rcI = K->rc + 2 * I;
+        /* slot of coarse node J: (rcJ0 - rcI0 + 2) * 5 + (rcJ1 - rcI1 + 2) */
+        const int *slot = K->slot + (size_t)I * NSTEN + (2 - rcI[0]) * 5 + (2 - rcI[1]);
+        for (int k = lo; k < hi; k++) {
+            const double *B = val + 9 * (size_t)k;
+            const int *pj = F->par + 4 * col[k];
+            const double *wj = F->w + 4 * col[k];
+#if defined(__SSE2__)
+            __m128d b01 = _mm_loadu_pd(B), b23 = _mm_loadu_pd(B + 2), b45 = _mm_loadu_pd(B + 4),
+                    b67 = _mm_loadu_pd(B + 6);
+#endif
+            double b8 = B[8];
+            for (int b = 0; b < 4 && pj[b] >= 0; b++) {
+                const int *rcJ = K->rc + 2 * pj[b];
+                double w = wi * wj[b];
+                double *D = K->M.val + 9 * (size_t)slot[rcJ[0] * 5 + rcJ[1]];
+#if defined(__SSE2__)
+                __m128d wv = _mm_set1_pd(w);
+                _mm_storeu_pd(D, _mm_add_pd(_mm_loadu_pd(D), _mm_mul_pd(wv, b01)));
+                _mm_storeu_pd(D + 2, _mm_add_pd(_mm_loadu_pd(D + 2), _mm_mul_pd(wv, b23)));
+                _mm_storeu_pd(D + 4, _mm_add_pd(_mm_loadu_pd(D + 4), _mm_mul_pd(wv, b45)));
+                _mm_storeu_pd(D + 6, _mm_add_pd(_mm_loadu_pd(D + 6), _mm_mul_pd(wv, b67)));
+#else
+                for (int e = 0; e < 8; e++) D[e] += w * B[e];
+#endif
+                D[8] += w * b8;
+            }
+        }
+    }
+}
+
 /* Cholesky of the coarsest level's dense matrix, in place (lower). A pivot
  * that is not positive (an indefinite matrix, e.g. without the definiteness
  * rule) is replaced so the V-cycle stays defined; CG then sees the true
@@ -300,18 +343,25 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
         mg_level *F = &mg->lev[0], *K = &mg->lev[1];
         bsr_zero(&K->M);
         for (int i = 0; i < F->n; i++) {
-            int sym = 1;
+            int sym = mat3_is_sym(Dinv0 + 9 * (size_t)i), filt = constrained[i];
+            for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++) {
+                sym = sym && mat3_is_sym(A->val + 9 * (size_t)k);
+                filt = filt || constrained[A->col[k]];
+            }
+            F->symrow[i] = (unsigned char)sym;
+            if (!filt) {
+                galerkin_row(F, K, i, A->val, A->col, A->row_ptr[i], A->row_ptr[i + 1]);
+                continue;
+            }
             for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++) {
                 int j = A->col[k];
                 const double *Bk = A->val + 9 * (size_t)k;
-                sym = sym && mat3_is_sym(Bk);
                 if (constrained[i] || constrained[j]) {
                     filter_block(S + 9 * (size_t)i, Bk, S + 9 * (size_t)j, B);
                     Bk = B;
                 }
                 galerkin_block(F, K, i, j, Bk);
             }
-            F->symrow[i] = (unsigned char)sym;
         }
     }
     for (int l = 1; l < mg->nlev; l++) {
@@ -322,12 +372,10 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
         mg_level *K = &mg->lev[l + 1];
         bsr_zero(&K->M);
         for (int i = 0; i < L->n; i++) {
-            int sym = 1;
-            for (int k = M->row_ptr[i]; k < M->row_ptr[i + 1]; k++) {
-                sym = sym && mat3_is_sym(M->val + 9 * (size_t)k);
-                galerkin_block(L, K, i, M->col[k], M->val + 9 * (size_t)k);
-            }
+            int sym = mat3_is_sym(L->Dinv + 9 * (size_t)i);
+            for (int k = M->row_ptr[i]; k < M->row_ptr[i + 1]; k++) sym = sym && mat3_is_sym(M->val + 9 * (size_t)k);
             L->symrow[i] = (unsigned char)sym;
+            galerkin_row(L, K, i, M->val, M->col, M->row_ptr[i], M->row_ptr[i + 1]);
         }
     }
     /* coarsest level: dense, factored */
@@ -389,7 +437,8 @@ static void backward_sweep(const multigrid *mg, int l, double *x, const double *
         level_row_sub(A, sym, i, A->row_ptr[i], A->diag[i], x, acc);
         level_row_sub(A, sym, i, A->diag[i] + 1, A->row_ptr[i + 1], x, acc);
         filter_row(mg, l, i, acc);
-        mat3vec(Dinv + 9 * (size_t)i, acc, x + 3 * i);
+        if (sym[i]) mat3vec_sym(Dinv + 9 * (size_t)i, acc, x + 3 * i);
+        else mat3vec(Dinv + 9 * (size_t)i, acc, x + 3 * i);
     }
 }
 
@@ -418,7 +467,8 @@ static void forward_sweep_restrict(const multigrid *mg, int l, double *x, const 
             double acc[3] = {b[3 * i], b[3 * i + 1], b[3 * i + 2]};
             level_row_sub(A, sym, i, row_ptr[i], diag[i], x, acc);
             filter_row(mg, l, i, acc);
-            mat3vec(Dinv + 9 * (size_t)i, acc, x + 3 * i);
+            if (sym[i]) mat3vec_sym(Dinv + 9 * (size_t)i, acc, x + 3 * i);
+            else mat3vec(Dinv + 9 * (size_t)i, acc, x + 3 * i);
         }
         /* rows whose neighbours are all updated (all rows at the end) */
         for (; p <= i && p < A->n && (i == A->n || col[row_ptr[p + 1] - 1] <= i); p++) {

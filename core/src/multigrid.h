@@ -15,7 +15,7 @@ typedef struct mg_level {
     int *slot;           /* levels >= 1: 25n, block of M at each stencil offset
                           * (-1 = off the grid)                                    */
     double *Dinv;        /* 9n inverse diagonal blocks (level 0: the cloth's)      */
-    unsigned char *symrow; /* n: row i's blocks all exactly symmetric (mg_setup;
+    unsigned char *symrow; /* n: row i's blocks and Dinv_i all exactly symmetric (mg_setup;
                             * the smoother's paired loop, same bits)             */
     double *x, *b;       /* 3n                                                     */
     int *rc;             /* 2n: row and column of each node                        */
