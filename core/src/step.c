@@ -70,10 +70,7 @@ static void build_constraints(cloth *c, const double *a, const double *v0, doubl
     }
 }
 
-static void add_blk(double *A, const double *B, double s)
-{
-    for (int k = 0; k < 9; k++) A[k] += s * B[k];
-}
+static void add_blk(double *A, const double *B, double s) { mat3_axpy(A, B, s); }
 
 /* A = M - beta h df/dv - gamma h^2 df/dx (eq. 21 for beta = gamma = 1),
  * keeping each link's K = df_i/dx_j for the right-hand side, and in the same
