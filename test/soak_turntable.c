@@ -94,6 +94,8 @@ int main(void)
     const double *mass = cloth_masses(dClothGetCore(cl));
 
     double gap_early = 0.0, gap_late = 0.0, gap_max = 0.0, ke_early = 0.0, ke_late = 0.0, ke_max = 0.0, com_max = 0.0;
+    double strain_max = 0.0;
+    long strain_over = 0;
     double target_max = 0.0, gap_excess = -1.0;
     long failed = 0, nonfinite = 0, rss_first = -1, rss_start = -1;
     double t0 = now();
@@ -145,6 +147,9 @@ int main(void)
                 m += mass[i];
             }
             ke_max = fmax(ke_max, ke);
+            double sm = dClothGetStats(cl)->core.max_strain;
+            strain_max = fmax(strain_max, sm);
+            strain_over += sm > 0.035; /* reported, not asserted: a known gap (README) */
             if (s < 11000) ke_early = fmax(ke_early, ke);
             if (s >= steps - 10000) ke_late = fmax(ke_late, ke);
             com_max = fmax(com_max, hypot(cm[0] / m, cm[1] / m));
@@ -181,6 +186,7 @@ int main(void)
            "the end\n",
            steps, steps * H * OMEGA / (2 * 3.14159265358979), wall, 1e3 * wall / steps, target_max, gap_max,
            gap_early, gap_late, ke_early, ke_late, com_max, rss_first, rss_start, steps / 5, rss_end);
+    printf("max strain %.4f (delta 0.03); %ld steps over 0.035\n", strain_max, strain_over);
     dClothDestroy(cl);
     dGeomDestroy(box);
     dSpaceDestroy(space);

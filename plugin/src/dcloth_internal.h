@@ -17,6 +17,8 @@ typedef struct vcontact {
     double gap;          /* m, distance to the surface minus the thickness  */
     double vbody[3];     /* m/s, the body's velocity at the point           */
     int sticking;        /* 1: pinned to the body's motion (static friction) */
+    int anchored;        /* 1: sticking to a kinematic body at anchor       */
+    double anchor[3];    /* body frame: where the sticking vertex is held    */
     int from_triangle;   /* 1: set by a triangle test (triangles.c)         */
     int active;          /* 1: a constraint in this step's solve            */
     int forced;          /* 1: a re-solve found the vertex inside its shell  */
