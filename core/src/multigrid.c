@@ -210,6 +210,22 @@ static void inv_reg(const double *B, double *o)
     }
 }
 
+/* D += w B, element by element (with SSE2 two elements at a time: the same
+ * operations, so the same bits) */
+static inline void add_scaled_block(double *D, double w, const double *B)
+{
+#if defined(__SSE2__)
+    __m128d wv = _mm_set1_pd(w);
+    _mm_storeu_pd(D, _mm_add_pd(_mm_loadu_pd(D), _mm_mul_pd(wv, _mm_loadu_pd(B))));
+    _mm_storeu_pd(D + 2, _mm_add_pd(_mm_loadu_pd(D + 2), _mm_mul_pd(wv, _mm_loadu_pd(B + 2))));
+    _mm_storeu_pd(D + 4, _mm_add_pd(_mm_loadu_pd(D + 4), _mm_mul_pd(wv, _mm_loadu_pd(B + 4))));
+    _mm_storeu_pd(D + 6, _mm_add_pd(_mm_loadu_pd(D + 6), _mm_mul_pd(wv, _mm_loadu_pd(B + 6))));
+#else
+    for (int k = 0; k < 8; k++) D[k] += w * B[k];
+#endif
+    D[8] += w * B[8];
+}
+
 /* Add w_I w_J B to coarse block (I, J) for every parent I of fine node i and
  * J of fine node j. (Element by element, D[k] += w B[k]: with SSE2 two
  * elements at a time, the same operations, so the same bits.) */
@@ -217,10 +233,6 @@ static void galerkin_block(const mg_level *F, mg_level *K, int i, int j, const d
 {
     const int *pi = F->par + 4 * i, *pj = F->par + 4 * j;
     const double *wi_ = F->w + 4 * i, *wj_ = F->w + 4 * j;
-#if defined(__SSE2__)
-    __m128d b01 = _mm_loadu_pd(B), b23 = _mm_loadu_pd(B + 2), b45 = _mm_loadu_pd(B + 4), b67 = _mm_loadu_pd(B + 6);
-#endif
-    double b8 = B[8];
     for (int a = 0; a < 4 && pi[a] >= 0; a++) {
         int I = pi[a];
         double wi = wi_[a];
@@ -229,17 +241,7 @@ static void galerkin_block(const mg_level *F, mg_level *K, int i, int j, const d
         for (int b = 0; b < 4 && pj[b] >= 0; b++) {
             const int *rcJ = K->rc + 2 * pj[b];
             double w = wi * wj_[b];
-            double *D = K->M.val + 9 * (size_t)slot[(rcJ[0] - rcI[0] + 2) * 5 + (rcJ[1] - rcI[1] + 2)];
-#if defined(__SSE2__)
-            __m128d wv = _mm_set1_pd(w);
-            _mm_storeu_pd(D, _mm_add_pd(_mm_loadu_pd(D), _mm_mul_pd(wv, b01)));
-            _mm_storeu_pd(D + 2, _mm_add_pd(_mm_loadu_pd(D + 2), _mm_mul_pd(wv, b23)));
-            _mm_storeu_pd(D + 4, _mm_add_pd(_mm_loadu_pd(D + 4), _mm_mul_pd(wv, b45)));
-            _mm_storeu_pd(D + 6, _mm_add_pd(_mm_loadu_pd(D + 6), _mm_mul_pd(wv, b67)));
-#else
-            for (int k = 0; k < 8; k++) D[k] += w * B[k];
-#endif
-            D[8] += w * b8;
+            add_scaled_block(K->M.val + 9 * (size_t)slot[(rcJ[0] - rcI[0] + 2) * 5 + (rcJ[1] - rcI[1] + 2)], w, B);
         }
     }
 }
@@ -263,25 +265,9 @@ static void galerkin_row(const mg_level *F, mg_level *K, int i, const double *va
             const double *B = val + 9 * (size_t)k;
             const int *pj = F->par + 4 * col[k];
             const double *wj = F->w + 4 * col[k];
-#if defined(__SSE2__)
-            __m128d b01 = _mm_loadu_pd(B), b23 = _mm_loadu_pd(B + 2), b45 = _mm_loadu_pd(B + 4),
-                    b67 = _mm_loadu_pd(B + 6);
-#endif
-            double b8 = B[8];
             for (int b = 0; b < 4 && pj[b] >= 0; b++) {
                 const int *rcJ = K->rc + 2 * pj[b];
-                double w = wi * wj[b];
-                double *D = K->M.val + 9 * (size_t)slot[rcJ[0] * 5 + rcJ[1]];
-#if defined(__SSE2__)
-                __m128d wv = _mm_set1_pd(w);
-                _mm_storeu_pd(D, _mm_add_pd(_mm_loadu_pd(D), _mm_mul_pd(wv, b01)));
-                _mm_storeu_pd(D + 2, _mm_add_pd(_mm_loadu_pd(D + 2), _mm_mul_pd(wv, b23)));
-                _mm_storeu_pd(D + 4, _mm_add_pd(_mm_loadu_pd(D + 4), _mm_mul_pd(wv, b45)));
-                _mm_storeu_pd(D + 6, _mm_add_pd(_mm_loadu_pd(D + 6), _mm_mul_pd(wv, b67)));
-#else
-                for (int e = 0; e < 8; e++) D[e] += w * B[e];
-#endif
-                D[8] += w * b8;
+                add_scaled_block(K->M.val + 9 * (size_t)slot[rcJ[0] * 5 + rcJ[1]], wi * wj[b], B);
             }
         }
     }
