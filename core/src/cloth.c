@@ -166,6 +166,9 @@ void cloth_destroy(cloth *c)
     free(c->seq);
     free(c->lint);
     state_free(&c->st);
+    state_free(&c->retry_bk);
+    free(c->retry_xs);
+    free(c->retry_fsum);
     free(c->con);
     free(c->con_force);
     free(c->f_ext);
@@ -238,6 +241,11 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
     /* the state has the interlaced links' plastic state: allocate it now */
     state_free(&c->st);
     if (state_alloc(&c->st, n, c->n_int) != 0) goto nomem;
+    /* the substep retry's workspace: a hard step allocates nothing either */
+    if (state_alloc(&c->retry_bk, n, c->n_int) != 0) goto nomem;
+    c->retry_xs = malloc(n3 * sizeof *c->retry_xs);
+    c->retry_fsum = malloc(n3 * sizeof *c->retry_fsum);
+    if (!c->retry_xs || !c->retry_fsum) goto nomem;
     memcpy(c->st.x, x0, n3 * sizeof *x0);
     for (int e = 0; e < c->n_int; e++) c->st.l1[e] = c->lint[e].rest;
     free(x0);

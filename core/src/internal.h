@@ -82,6 +82,8 @@ struct cloth {
     int n_seq, n_int;
     link_topo *seq, *lint;     /* sequential and interlaced links */
     struct cloth_state st;     /* the evolving state */
+    struct cloth_state retry_bk; /* the substep retry's copy of st, and its */
+    double *retry_xs, *retry_fsum; /* 3n start positions and force sums      */
 
     /* constraints: one slot per vertex */
     cloth_constraint *con;     /* n, ndof 0 = free */

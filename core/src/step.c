@@ -339,20 +339,16 @@ static void commit(cloth *c, double h)
  * passes its checks and the blow-up shows only a few substeps later, so
  * keeping them would carry the instability on). On success the state is the
  * end of the step and the constraint forces are their mean over the
- * substeps; past the bound (or without memory for the copy of the state) the
- * state is restored and the last failure returned. */
+ * substeps; past the bound the state is restored and the last failure
+ * returned. Its workspace is the cloth's (retry_bk, retry_xs, retry_fsum),
+ * sized at creation. */
 static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failure fail, cloth_step_stats *st,
                                    double *ms)
 {
     size_t n3 = 3 * (size_t)c->n;
-    struct cloth_state bk;
-    double *xs = malloc(n3 * sizeof *xs), *fsum = malloc(n3 * sizeof *fsum);
-    if (!xs || !fsum || state_alloc(&bk, c->n, c->n_int) != 0) {
-        free(xs);
-        free(fsum);
-        return fail;
-    }
-    state_copy(&bk, &c->st);
+    struct cloth_state *bk = &c->retry_bk;
+    double *xs = c->retry_xs, *fsum = c->retry_fsum;
+    state_copy(bk, &c->st);
     memcpy(xs, c->st.x, n3 * sizeof *xs);
     long k = 0;
     for (int d = 1; d <= halvings; d++) {
@@ -377,16 +373,13 @@ static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failu
         c->body_retry = 0;
         if (fail == CLOTH_FAIL_NONE) break;
         st->substeps_failed++;
-        state_copy(&c->st, &bk);
+        state_copy(&c->st, bk);
     }
     st->substeps = fail == CLOTH_FAIL_NONE ? (int)k : (int)k + 1;
     if (fail == CLOTH_FAIL_NONE) {
         memcpy(c->con_force, fsum, n3 * sizeof *fsum);
         bodies_retry_finish(c);
     }
-    state_free(&bk);
-    free(xs);
-    free(fsum);
     return fail;
 }
 
