@@ -88,39 +88,26 @@ static inline int mat3_is_sym(const double *B)
     return !memcmp(B + 1, B + 3, sizeof *B) && !memcmp(B + 2, B + 6, sizeof *B) && !memcmp(B + 5, B + 7, sizeof *B);
 }
 
-/* acc += sum B_k x_col[k] */
-MAT3_INLINE void row_add(const double *val, const int *col, int a, int z, const double *x, double acc[3])
-{
-    double a0 = acc[0], a1 = acc[1], a2 = acc[2];
-    MAT3_UNROLL
-    for (int k = a; k < z; k++) {
-        const double *B = val + 9 * (size_t)k, *xj = x + 3 * (size_t)col[k];
-        double x0 = xj[0], x1 = xj[1], x2 = xj[2];
-        a0 += B[0] * x0 + B[1] * x1 + B[2] * x2;
-        a1 += B[3] * x0 + B[4] * x1 + B[5] * x2;
-        a2 += B[6] * x0 + B[7] * x1 + B[8] * x2;
+/* acc += (row_add) or -= (row_sub) sum B_k x_col[k] */
+#define MAT3_ROW(name, op)                                                                                  \
+    MAT3_INLINE void name(const double *val, const int *col, int a, int z, const double *x, double acc[3]) \
+    {                                                                                                       \
+        double a0 = acc[0], a1 = acc[1], a2 = acc[2];                                                       \
+        MAT3_UNROLL                                                                                         \
+        for (int k = a; k < z; k++) {                                                                       \
+            const double *B = val + 9 * (size_t)k, *xj = x + 3 * (size_t)col[k];                            \
+            double x0 = xj[0], x1 = xj[1], x2 = xj[2];                                                      \
+            a0 op B[0] * x0 + B[1] * x1 + B[2] * x2;                                                        \
+            a1 op B[3] * x0 + B[4] * x1 + B[5] * x2;                                                        \
+            a2 op B[6] * x0 + B[7] * x1 + B[8] * x2;                                                        \
+        }                                                                                                   \
+        acc[0] = a0;                                                                                        \
+        acc[1] = a1;                                                                                        \
+        acc[2] = a2;                                                                                        \
     }
-    acc[0] = a0;
-    acc[1] = a1;
-    acc[2] = a2;
-}
-
-/* acc -= sum B_k x_col[k] */
-MAT3_INLINE void row_sub(const double *val, const int *col, int a, int z, const double *x, double acc[3])
-{
-    double a0 = acc[0], a1 = acc[1], a2 = acc[2];
-    MAT3_UNROLL
-    for (int k = a; k < z; k++) {
-        const double *B = val + 9 * (size_t)k, *xj = x + 3 * (size_t)col[k];
-        double x0 = xj[0], x1 = xj[1], x2 = xj[2];
-        a0 -= B[0] * x0 + B[1] * x1 + B[2] * x2;
-        a1 -= B[3] * x0 + B[4] * x1 + B[5] * x2;
-        a2 -= B[6] * x0 + B[7] * x1 + B[8] * x2;
-    }
-    acc[0] = a0;
-    acc[1] = a1;
-    acc[2] = a2;
-}
+MAT3_ROW(row_add, +=)
+MAT3_ROW(row_sub, -=)
+#undef MAT3_ROW
 
 /* The same for rows whose blocks are all symmetric (mat3_is_sym). With
  * SSE2, rows 0 and 1 of a block product go as one pair: they need the

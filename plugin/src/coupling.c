@@ -25,6 +25,20 @@ static double wall(void)
 #define RESOLVE_DEPTH 0.1
 #define RESOLVE_PASSES 4
 
+/* Where a point fixed in body b's frame (local) is now (w) and where it
+ * will be at the end of the step (target, advanced along its velocity):
+ * what a pin to a body, and a contact sticking to a kinematic body, aim at. */
+static void follow_body(dBodyID b, const double local[3], double h, double w[3], double target[3])
+{
+    dVector3 p, pv;
+    dBodyGetRelPointPos(b, local[0], local[1], local[2], p);
+    dBodyGetPointVel(b, p[0], p[1], p[2], pv);
+    for (int r = 0; r < 3; r++) {
+        w[r] = p[r];
+        target[r] = p[r] + h * pv[r];
+    }
+}
+
 /* Decide the vertex's contact for this step: none (returns 0), sticking or
  * sliding; fills its constraint and, sliding, its friction force. */
 static int contact_rule(dClothID c, int i, double h, double mass, const double g[3], vcontact *nw,
@@ -98,18 +112,18 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
      * the shell. */
     nw->anchored = 0;
     if (stick && nw->body && dBodyIsKinematic(nw->body)) {
-        dVector3 w, pv;
         if (had && old->anchored && old->body == nw->body) {
             memcpy(nw->anchor, old->anchor, sizeof nw->anchor);
         } else {
-            dBodyGetPosRelPoint(nw->body, x[0], x[1], x[2], w);
-            for (int r = 0; r < 3; r++) nw->anchor[r] = w[r];
+            dVector3 l;
+            dBodyGetPosRelPoint(nw->body, x[0], x[1], x[2], l);
+            for (int r = 0; r < 3; r++) nw->anchor[r] = l[r];
         }
         nw->anchored = 1;
-        dBodyGetRelPointPos(nw->body, nw->anchor[0], nw->anchor[1], nw->anchor[2], w);
-        dBodyGetPointVel(nw->body, w[0], w[1], w[2], pv);
+        double w[3];
+        follow_body(nw->body, nw->anchor, h, w, k->target);
         double off = nw->gap + n[0] * (w[0] - x[0]) + n[1] * (w[1] - x[1]) + n[2] * (w[2] - x[2]);
-        for (int r = 0; r < 3; r++) k->target[r] = w[r] + h * pv[r] - off * n[r];
+        for (int r = 0; r < 3; r++) k->target[r] -= off * n[r];
     }
     k->ndof = stick ? 3 : 1;
     nw->sticking = stick;
@@ -244,13 +258,7 @@ cloth_status dClothStep(dClothID c, dReal h)
             if (!p->active) continue;
             double target[3];
             if (p->body) {
-                dVector3 w, pv;
-                dBodyGetRelPointPos(p->body, p->local[0], p->local[1], p->local[2], w);
-                dBodyGetPointVel(p->body, w[0], w[1], w[2], pv);
-                for (int r = 0; r < 3; r++) {
-                    p->world[r] = w[r];
-                    target[r] = w[r] + h * pv[r];
-                }
+                follow_body(p->body, p->local, h, p->world, target);
             } else {
                 memcpy(target, p->local, sizeof target);
             }
