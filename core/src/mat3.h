@@ -153,4 +153,84 @@ MAT3_INLINE void mat3vec_sym(const double *M, const double *x, double *y)
 #define mat3vec_sym mat3vec
 #endif
 
+/* ------------------------------------------------------------------ AVX
+ * The symmetric rows' sums with 256-bit vectors, chosen at run time (the
+ * build targets plain x86-64; -march=native is not used): rows 0, 1 and 2
+ * of a block product go as one triple. For a symmetric block the column
+ * triples (B0, B3, B6), (B1, B4, B7), (B2, B5, B8) are (B0, B1, B2),
+ * (B3, B4, B5), (B6, B7, B8), each contiguous; the fourth lane is unused
+ * (it reads one double past the block: every array these loops read has a
+ * padding double after its last block, or the loop never reaches its last
+ * block, as the callers note). Each lane does the scalar operations in the
+ * scalar order and no FMA is used (target "avx" only: multiply and add stay
+ * separate roundings), so every path gives the same bits.
+ *
+ * How a kernel uses it: its body is an always-inline function taking a
+ * constant flag avx and calling row_add_symv / row_sub_symv; two wrappers
+ * call it with 0 and with 1, the latter marked MAT3_AVX_FN (target "avx"
+ * and flatten, which inlines the AVX loops into it); mat3_avx() says which
+ * to call. Built with -DODECLOTH_NO_AVX (or not on x86 with GCC or Clang)
+ * only the plain path exists. */
+#if defined(__SSE2__) && defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__)) && \
+    !defined(ODECLOTH_NO_AVX)
+#define MAT3_HAVE_AVX 1
+#include <immintrin.h>
+#define MAT3_AVX_FN __attribute__((target("avx"), flatten))
+/* the AVX loops may run here (the CPU and the OS support AVX) */
+static inline int mat3_avx(void) { return __builtin_cpu_supports("avx"); }
+
+/* not always_inline: inlined only into MAT3_AVX_FN functions */
+#define MAT3_ROW_SYM_AVX(name, vop)                                                                          \
+    static inline __attribute__((target("avx"))) void name(const double *val, const int *col, int a, int z, \
+                                                           const double *x, double acc[3])                  \
+    {                                                                                                        \
+        __m256d ac = _mm256_set_pd(0.0, acc[2], acc[1], acc[0]);                                             \
+        for (int k = a; k < z; k++) {                                                                        \
+            const double *B = val + 9 * (size_t)k, *xj = x + 3 * (size_t)col[k];                             \
+            __m256d t = _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(B), _mm256_broadcast_sd(xj)),            \
+                                      _mm256_mul_pd(_mm256_loadu_pd(B + 3), _mm256_broadcast_sd(xj + 1)));   \
+            t = _mm256_add_pd(t, _mm256_mul_pd(_mm256_loadu_pd(B + 6), _mm256_broadcast_sd(xj + 2)));       \
+            ac = vop(ac, t);                                                                                 \
+        }                                                                                                    \
+        _mm_storeu_pd(acc, _mm256_castpd256_pd128(ac));                                                      \
+        _mm_store_sd(acc + 2, _mm256_extractf128_pd(ac, 1));                                                 \
+    }
+MAT3_ROW_SYM_AVX(row_add_sym_avx, _mm256_add_pd)
+MAT3_ROW_SYM_AVX(row_sub_sym_avx, _mm256_sub_pd)
+#undef MAT3_ROW_SYM_AVX
+
+#else
+#define MAT3_HAVE_AVX 0
+#define MAT3_AVX_FN
+static inline int mat3_avx(void) { return 0; }
+#endif
+
+/* row_add_sym / row_sub_sym, by the AVX loop when avx (a constant in the
+ * kernels) is set */
+MAT3_INLINE void row_add_symv(int avx, const double *val, const int *col, int a, int z, const double *x,
+                              double acc[3])
+{
+#if MAT3_HAVE_AVX
+    if (avx) {
+        row_add_sym_avx(val, col, a, z, x, acc);
+        return;
+    }
+#endif
+    (void)avx;
+    row_add_sym(val, col, a, z, x, acc);
+}
+
+MAT3_INLINE void row_sub_symv(int avx, const double *val, const int *col, int a, int z, const double *x,
+                              double acc[3])
+{
+#if MAT3_HAVE_AVX
+    if (avx) {
+        row_sub_sym_avx(val, col, a, z, x, acc);
+        return;
+    }
+#endif
+    (void)avx;
+    row_sub_sym(val, col, a, z, x, acc);
+}
+
 #endif

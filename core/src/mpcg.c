@@ -86,15 +86,18 @@ static inline void filter3(const double *Si, double *y)
     mat3vec(Si, a, y);
 }
 
-/* q = S A p; returns p^T q */
-static double mul_filter_dot(const mpcg_problem *P, const double *p, double *q)
+/* q = S A p; returns p^T q. avx (a constant): the AVX loops (mat3.h), on
+ * all rows but the last (whose last block, the matrix's last, they cannot
+ * read: they read a double past a block). */
+MAT3_INLINE double mul_filter_dot_k(int avx, const mpcg_problem *P, const double *p, double *q)
 {
     const bsr *A = P->A;
     con_walk w = {P->con, P->ncon, 0};
     double pq = 0.0;
     for (int i = 0; i < A->n; i++) {
         double acc[3] = {0.0, 0.0, 0.0};
-        if (A->sym && A->sym[i]) row_add_sym(A->val, A->col, A->row_ptr[i], A->row_ptr[i + 1], p, acc);
+        if (A->sym && A->sym[i])
+            row_add_symv(avx && i + 1 < A->n, A->val, A->col, A->row_ptr[i], A->row_ptr[i + 1], p, acc);
         else row_add(A->val, A->col, A->row_ptr[i], A->row_ptr[i + 1], p, acc);
         double *qi = q + 3 * (size_t)i;
         qi[0] = acc[0];
@@ -104,6 +107,26 @@ static double mul_filter_dot(const mpcg_problem *P, const double *p, double *q)
         for (int k = 0; k < 3; k++) pq += p[3 * (size_t)i + k] * qi[k];
     }
     return pq;
+}
+
+static double mul_filter_dot_plain(const mpcg_problem *P, const double *p, double *q)
+{
+    return mul_filter_dot_k(0, P, p, q);
+}
+
+#if MAT3_HAVE_AVX
+MAT3_AVX_FN static double mul_filter_dot_avx(const mpcg_problem *P, const double *p, double *q)
+{
+    return mul_filter_dot_k(1, P, p, q);
+}
+#endif
+
+static double mul_filter_dot(const mpcg_problem *P, const double *p, double *q)
+{
+#if MAT3_HAVE_AVX
+    if (mat3_avx()) return mul_filter_dot_avx(P, p, q);
+#endif
+    return mul_filter_dot_plain(P, p, q);
 }
 
 /* x += alpha p, r -= alpha q; block Jacobi: s = S Dinv r and returns

@@ -392,10 +392,10 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
  * block's product summed as mat3vec does, then subtracted, the order of the
  * original per-block loop; rows of symmetric blocks take the paired loop,
  * with the same bits). */
-MAT3_INLINE void level_row_sub(const bsr *A, const unsigned char *symrow, int i, int a, int z, const double *x,
-                                 double acc[3])
+MAT3_INLINE void level_row_sub(int avx, const bsr *A, const unsigned char *symrow, int i, int a, int z,
+                                 const double *x, double acc[3])
 {
-    if (symrow[i]) row_sub_sym(A->val, A->col, a, z, x, acc);
+    if (symrow[i]) row_sub_symv(avx, A->val, A->col, a, z, x, acc);
     else row_sub(A->val, A->col, a, z, x, acc);
 }
 
@@ -412,16 +412,18 @@ static inline void filter_row(const multigrid *mg, int l, int i, double acc[3])
 static inline const bsr *level_matrix(const multigrid *mg, int l) { return l ? &mg->lev[l].M : mg->A0; }
 
 /* Backward block Gauss-Seidel: D_i x_i = b_i - sum_{j != i} A_ij x_j, i
- * descending, filtered on level 0. */
-static void backward_sweep(const multigrid *mg, int l, double *x, const double *b)
+ * descending, filtered on level 0. (The sweeps never read a diagonal block
+ * with the row loops, so never the matrix's last block, which the AVX loop
+ * could not read: it reads a double past a block.) */
+MAT3_INLINE void backward_sweep_k(int avx, const multigrid *mg, int l, double *x, const double *b)
 {
     const bsr *A = level_matrix(mg, l);
     const double *Dinv = mg->lev[l].Dinv;
     const unsigned char *sym = mg->lev[l].symrow;
     for (int i = A->n - 1; i >= 0; i--) {
         double acc[3] = {b[3 * i], b[3 * i + 1], b[3 * i + 2]};
-        level_row_sub(A, sym, i, A->row_ptr[i], A->diag[i], x, acc);
-        level_row_sub(A, sym, i, A->diag[i] + 1, A->row_ptr[i + 1], x, acc);
+        level_row_sub(avx, A, sym, i, A->row_ptr[i], A->diag[i], x, acc);
+        level_row_sub(avx, A, sym, i, A->diag[i] + 1, A->row_ptr[i + 1], x, acc);
         filter_row(mg, l, i, acc);
         if (sym[i]) mat3vec_sym(Dinv + 9 * (size_t)i, acc, x + 3 * i);
         else mat3vec(Dinv + 9 * (size_t)i, acc, x + 3 * i);
@@ -439,7 +441,8 @@ static void backward_sweep(const multigrid *mg, int l, double *x, const double *
  * blocks are still in cache from the sweep: one pass over the matrix. The
  * residuals go to their parents in ascending order, as a separate pass
  * would add them. */
-static void forward_sweep_restrict(const multigrid *mg, int l, double *x, const double *b, double *bc)
+MAT3_INLINE void forward_sweep_restrict_k(int avx, const multigrid *mg, int l, double *x, const double *b,
+                                          double *bc)
 {
     const mg_level *L = &mg->lev[l];
     const bsr *A = level_matrix(mg, l);
@@ -451,7 +454,7 @@ static void forward_sweep_restrict(const multigrid *mg, int l, double *x, const 
     for (int i = 0; i <= A->n; i++) {
         if (i < A->n) {
             double acc[3] = {b[3 * i], b[3 * i + 1], b[3 * i + 2]};
-            level_row_sub(A, sym, i, row_ptr[i], diag[i], x, acc);
+            level_row_sub(avx, A, sym, i, row_ptr[i], diag[i], x, acc);
             filter_row(mg, l, i, acc);
             if (sym[i]) mat3vec_sym(Dinv + 9 * (size_t)i, acc, x + 3 * i);
             else mat3vec(Dinv + 9 * (size_t)i, acc, x + 3 * i);
@@ -459,7 +462,7 @@ static void forward_sweep_restrict(const multigrid *mg, int l, double *x, const 
         /* rows whose neighbours are all updated (all rows at the end) */
         for (; p <= i && p < A->n && (i == A->n || col[row_ptr[p + 1] - 1] <= i); p++) {
             double r[3] = {0.0, 0.0, 0.0};
-            level_row_sub(A, sym, p, diag[p] + 1, row_ptr[p + 1], x, r);
+            level_row_sub(avx, A, sym, p, diag[p] + 1, row_ptr[p + 1], x, r);
             filter_row(mg, l, p, r);
             for (int a = 0; a < 4 && L->par[4 * p + a] >= 0; a++) {
                 double w = L->w[4 * p + a];
@@ -472,7 +475,55 @@ static void forward_sweep_restrict(const multigrid *mg, int l, double *x, const 
     }
 }
 
-static void vcycle(const multigrid *mg, int l, double *x, const double *b)
+/* the sweeps with the plain and the AVX loops (mat3.h) */
+static void backward_sweep_plain(const multigrid *mg, int l, double *x, const double *b)
+{
+    backward_sweep_k(0, mg, l, x, b);
+}
+
+static void forward_sweep_restrict_plain(const multigrid *mg, int l, double *x, const double *b, double *bc)
+{
+    forward_sweep_restrict_k(0, mg, l, x, b, bc);
+}
+
+#if MAT3_HAVE_AVX
+MAT3_AVX_FN static void backward_sweep_avx(const multigrid *mg, int l, double *x, const double *b)
+{
+    backward_sweep_k(1, mg, l, x, b);
+}
+
+MAT3_AVX_FN static void forward_sweep_restrict_avx(const multigrid *mg, int l, double *x, const double *b, double *bc)
+{
+    forward_sweep_restrict_k(1, mg, l, x, b, bc);
+}
+#endif
+
+static void backward_sweep(int avx, const multigrid *mg, int l, double *x, const double *b)
+{
+#if MAT3_HAVE_AVX
+    if (avx) {
+        backward_sweep_avx(mg, l, x, b);
+        return;
+    }
+#endif
+    (void)avx;
+    backward_sweep_plain(mg, l, x, b);
+}
+
+static void forward_sweep_restrict(int avx, const multigrid *mg, int l, double *x, const double *b, double *bc)
+{
+#if MAT3_HAVE_AVX
+    if (avx) {
+        forward_sweep_restrict_avx(mg, l, x, b, bc);
+        return;
+    }
+#endif
+    (void)avx;
+    forward_sweep_restrict_plain(mg, l, x, b, bc);
+}
+
+/* avx: mat3_avx() */
+static void vcycle(int avx, const multigrid *mg, int l, double *x, const double *b)
 {
     const mg_level *L = &mg->lev[l];
     if (l == mg->nlev - 1) {
@@ -487,8 +538,8 @@ static void vcycle(const multigrid *mg, int l, double *x, const double *b)
         return;
     }
     const mg_level *K = &mg->lev[l + 1];
-    forward_sweep_restrict(mg, l, x, b, K->b);
-    vcycle(mg, l + 1, K->x, K->b);
+    forward_sweep_restrict(avx, mg, l, x, b, K->b);
+    vcycle(avx, mg, l + 1, K->x, K->b);
     for (int i = 0; i < L->n; i++) {
         double e[3] = {0.0, 0.0, 0.0};
         for (int a = 0; a < 4 && L->par[4 * i + a] >= 0; a++) {
@@ -507,10 +558,10 @@ static void vcycle(const multigrid *mg, int l, double *x, const double *b)
         x[3 * i + 1] += e[1];
         x[3 * i + 2] += e[2];
     }
-    backward_sweep(mg, l, x, b);
+    backward_sweep(avx, mg, l, x, b);
 }
 
 void mg_apply(void *ctx, const double *r, double *s)
 {
-    vcycle((const multigrid *)ctx, 0, s, r);
+    vcycle(mat3_avx(), (const multigrid *)ctx, 0, s, r);
 }

@@ -62,28 +62,29 @@ MAT3_INLINE void mv_ah(const bsr *A, int i, const double *M, const double *x, do
 /* acc -= sum Ah_ij y_j over the blocks k in [a, z) of row i; rows whose
  * blocks are all symmetric (flags A->sym + n, set by build_filtered) take
  * the paired loop, with the same bits */
-MAT3_INLINE void row_sub_ah(const bsr *A, const double *Ah, int i, int a, int z, const double *y, double acc[3])
+MAT3_INLINE void row_sub_ah(int avx, const bsr *A, const double *Ah, int i, int a, int z, const double *y,
+                            double acc[3])
 {
-    if (A->sym && A->sym[A->n + i]) row_sub_sym(Ah, A->col, a, z, y, acc);
+    if (A->sym && A->sym[A->n + i]) row_sub_symv(avx, Ah, A->col, a, z, y, acc);
     else row_sub(Ah, A->col, a, z, y, acc);
 }
 
 /* y = P^-1 v: forward, D_i y_i = v_i - sum_{j<i} Ah_ij y_j */
-static void forward(const bsr *A, const double *Ah, const double *Dinv, const double *v, double *y)
+MAT3_INLINE void forward(int avx, const bsr *A, const double *Ah, const double *Dinv, const double *v, double *y)
 {
     for (int i = 0; i < A->n; i++) {
         double acc[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
-        row_sub_ah(A, Ah, i, A->row_ptr[i], A->diag[i], y, acc);
+        row_sub_ah(avx, A, Ah, i, A->row_ptr[i], A->diag[i], y, acc);
         mv_ah(A, i, Dinv + 9 * (size_t)i, acc, y + 3 * i);
     }
 }
 
 /* y = Q^-1 v: backward, D_i y_i = v_i - sum_{j>i} Ah_ij y_j */
-static void backward(const bsr *A, const double *Ah, const double *Dinv, const double *v, double *y)
+MAT3_INLINE void backward(int avx, const bsr *A, const double *Ah, const double *Dinv, const double *v, double *y)
 {
     for (int i = A->n - 1; i >= 0; i--) {
         double acc[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
-        row_sub_ah(A, Ah, i, A->diag[i] + 1, A->row_ptr[i + 1], y, acc);
+        row_sub_ah(avx, A, Ah, i, A->diag[i] + 1, A->row_ptr[i + 1], y, acc);
         mv_ah(A, i, Dinv + 9 * (size_t)i, acc, y + 3 * i);
     }
 }
@@ -95,8 +96,8 @@ static void backward(const bsr *A, const double *Ah, const double *Dinv, const d
  *   t = Q^-1 p (backward sweep), u = p - D t,
  * then (forward_pq) q = P^-1 u, and returns p^T (q + t); the operator's
  * product is q + t, left as two vectors. */
-static void backward_p(const bsr *A, const double *Ah, const double *Dinv, const double *s, double beta, int first,
-                       double *p, double *t, double *u)
+MAT3_INLINE void backward_p(int avx, const bsr *A, const double *Ah, const double *Dinv, const double *s, double beta,
+                            int first, double *p, double *t, double *u)
 {
     for (int i = A->n - 1; i >= 0; i--) {
         double *pi = p + 3 * i;
@@ -106,7 +107,7 @@ static void backward_p(const bsr *A, const double *Ah, const double *Dinv, const
             pi[2] = s[3 * i + 2] + beta * pi[2];
         }
         double acc[3] = {pi[0], pi[1], pi[2]}, dt[3];
-        row_sub_ah(A, Ah, i, A->diag[i] + 1, A->row_ptr[i + 1], t, acc);
+        row_sub_ah(avx, A, Ah, i, A->diag[i] + 1, A->row_ptr[i + 1], t, acc);
         double *ti = t + 3 * i;
         mv_ah(A, i, Dinv + 9 * (size_t)i, acc, ti);
         mv_ah(A, i, Ah + 9 * (size_t)A->diag[i], ti, dt);
@@ -116,13 +117,13 @@ static void backward_p(const bsr *A, const double *Ah, const double *Dinv, const
     }
 }
 
-static double forward_pq(const bsr *A, const double *Ah, const double *Dinv, const double *u, const double *t,
-                         const double *p, double *q)
+MAT3_INLINE double forward_pq(int avx, const bsr *A, const double *Ah, const double *Dinv, const double *u,
+                              const double *t, const double *p, double *q)
 {
     double pq = 0.0;
     for (int i = 0; i < A->n; i++) {
         double acc[3] = {u[3 * i], u[3 * i + 1], u[3 * i + 2]};
-        row_sub_ah(A, Ah, i, A->row_ptr[i], A->diag[i], q, acc);
+        row_sub_ah(avx, A, Ah, i, A->row_ptr[i], A->diag[i], q, acc);
         double *qi = q + 3 * i;
         mv_ah(A, i, Dinv + 9 * (size_t)i, acc, qi);
         for (int k = 3 * i; k < 3 * i + 3; k++) pq += p[k] * (q[k] + t[k]);
@@ -131,12 +132,14 @@ static double forward_pq(const bsr *A, const double *Ah, const double *Dinv, con
 }
 
 /* y = P v (lower triangle with the diagonal) or Q v (upper) */
-static void tri_mul(const bsr *A, const double *Ah, int upper, const double *v, double *y)
+MAT3_INLINE void tri_mul(int avx, const bsr *A, const double *Ah, int upper, const double *v, double *y)
 {
     for (int i = 0; i < A->n; i++) {
         double acc[3] = {0.0, 0.0, 0.0};
         int lo = upper ? A->diag[i] : A->row_ptr[i], hi = upper ? A->row_ptr[i + 1] : A->diag[i] + 1;
-        if (A->sym && A->sym[A->n + i]) row_add_sym(Ah, A->col, lo, hi, v, acc);
+        /* (the AVX loop reads a double past a block: not at Ah's last one,
+         * the last row's diagonal) */
+        if (A->sym && A->sym[A->n + i]) row_add_symv(avx && i + 1 < A->n, Ah, A->col, lo, hi, v, acc);
         else row_add(Ah, A->col, lo, hi, v, acc);
         y[3 * i] = acc[0], y[3 * i + 1] = acc[1], y[3 * i + 2] = acc[2];
     }
@@ -160,7 +163,9 @@ static double dot(const double *a, const double *b, size_t n)
     return s;
 }
 
-mpcg_result ssor_run(const mpcg_problem *P, const unsigned char *cflag, double *Ah, double *x, double *w)
+/* ssor_run's body; avx (a constant): the AVX loops (mat3.h) */
+MAT3_INLINE mpcg_result ssor_run_k(int avx, const mpcg_problem *P, const unsigned char *cflag, double *Ah, double *x,
+                                   double *w)
 {
     const bsr *A = P->A;
     int n = A->n;
@@ -177,8 +182,8 @@ mpcg_result ssor_run(const mpcg_problem *P, const unsigned char *cflag, double *
     if (mpcg_reference(P, x, u, t, &ref, &res)) return res;
     /* warm start xh0 = S x: y0 = Q xh0, r~0 = P^-1 (rh0 - Ah xh0) */
     filter_apply(n, P->S, x, x);
-    tri_mul(A, Ah, 1, x, p);                   /* p = Q xh0 = y0 */
-    tri_mul(A, Ah, 0, x, q);                   /* q = P xh0 */
+    tri_mul(avx, A, Ah, 1, x, p);                   /* p = Q xh0 = y0 */
+    tri_mul(avx, A, Ah, 0, x, q);                   /* q = P xh0 */
     /* Ah xh0 = P xh0 + Q xh0 - D xh0 */
     for (int i = 0; i < n; i++) {
         const double *Dii = Ah + 9 * (size_t)A->diag[i];
@@ -189,7 +194,7 @@ mpcg_result ssor_run(const mpcg_problem *P, const unsigned char *cflag, double *
     for (size_t k = 0; k < N; k++) u[k] -= t[k];   /* u = rh = rh0 - Ah xh0 */
     double *y = x;                                /* y lives in x until the end */
     memcpy(y, p, N * sizeof *y);
-    forward(A, Ah, Dinv, u, r);                   /* r = r~ */
+    forward(avx, A, Ah, Dinv, u, r);                  /* r = r~ */
     double tol2 = P->tol * P->tol * ref;
     double true2 = wnorm2(n, Dinv, u);
     /* preconditioner D: s = D r~ */
@@ -214,8 +219,8 @@ mpcg_result ssor_run(const mpcg_problem *P, const unsigned char *cflag, double *
         }
         /* p = s + beta p (from the second iteration on); then
          * P^-1 Ah Q^-1 p = t + P^-1 (p - D t), t = Q^-1 p: q + t */
-        backward_p(A, Ah, Dinv, s, beta, it == 0, p, t, u);
-        double pq = forward_pq(A, Ah, Dinv, u, t, p, q);
+        backward_p(avx, A, Ah, Dinv, s, beta, it == 0, p, t, u);
+        double pq = forward_pq(avx, A, Ah, Dinv, u, t, p, q);
         if (!isfinite(pq)) {
             res.failure = CLOTH_FAIL_NAN;
             break;
@@ -236,7 +241,7 @@ mpcg_result ssor_run(const mpcg_problem *P, const unsigned char *cflag, double *
         it++;
         /* the true filtered residual is P r~ */
         if (dnew * ratio <= 1.5 * tol2 || it % 16 == 0) {
-            tri_mul(A, Ah, 0, r, u);
+            tri_mul(avx, A, Ah, 0, r, u);
             true2 = wnorm2(n, Dinv, u);
             if (dnew > 0.0) ratio = true2 / dnew;
         }
@@ -245,10 +250,31 @@ mpcg_result ssor_run(const mpcg_problem *P, const unsigned char *cflag, double *
     }
 #undef APPLY_D
     /* xh = Q^-1 y; x = z + xh */
-    backward(A, Ah, Dinv, y, t);
+    backward(avx, A, Ah, Dinv, y, t);
     for (size_t k = 0; k < N; k++) x[k] = P->z[k] + t[k];
     res.iterations = it;
     res.residual = sqrt(fmax(true2, 0.0) / ref);
     if (res.failure == CLOTH_FAIL_NONE && !isfinite(true2)) res.failure = CLOTH_FAIL_NAN;
     return res;
+}
+
+static mpcg_result ssor_run_plain(const mpcg_problem *P, const unsigned char *cflag, double *Ah, double *x, double *w)
+{
+    return ssor_run_k(0, P, cflag, Ah, x, w);
+}
+
+#if MAT3_HAVE_AVX
+MAT3_AVX_FN static mpcg_result ssor_run_avx(const mpcg_problem *P, const unsigned char *cflag, double *Ah, double *x,
+                                            double *w)
+{
+    return ssor_run_k(1, P, cflag, Ah, x, w);
+}
+#endif
+
+mpcg_result ssor_run(const mpcg_problem *P, const unsigned char *cflag, double *Ah, double *x, double *w)
+{
+#if MAT3_HAVE_AVX
+    if (mat3_avx()) return ssor_run_avx(P, cflag, Ah, x, w);
+#endif
+    return ssor_run_plain(P, cflag, Ah, x, w);
 }
