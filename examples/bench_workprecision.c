@@ -19,13 +19,27 @@
  * CG) or whose error passes 1 m is "blown up": drawn as a cross on the chart's
  * top edge at the cost it had spent per simulated second until then.
  * The accuracy-driven controller (cloth_adaptive_*, core/src/adaptive.c) is
- * run at several tolerances and drawn on the same chart.
+ * run at several tolerances and drawn on the same chart; for each it prints
+ * the error against the request (tolerance x sample time, RMS), the
+ * substeps, the share of frames stepped by symplectic Euler, its own global
+ * estimate (RMS over the samples) against the true error, and the
+ * frontier's cost at its error (the cheapest fixed-step series there,
+ * log-log interpolated between step sizes).
+ *
+ * CSV columns: scene, series, steps per second (60 for the controller), CG
+ * tolerance (the controller: its tolerance, m/s), requested error (the
+ * controller), error m, CPU s per simulated s, CG iterations per step,
+ * blown up (0/1), time reached s, why; the controller also: substeps per
+ * frame, CG tolerance (geometric mean), share of symplectic frames, global
+ * estimate m, the frontier's CPU s per s at its error.
  *
  *   bench_workprecision [--out DIR] [--grid N] [--scene swing|sphere] [--sphere-seconds T] [--fast] [--check]
  *
- * --fast: 11x11 grid, T = 1 s, fewer step sizes. --check: exit 1 unless the
- * measured orders on the swing scene are 1 (backward Euler) and 2 (BDF2)
- * within 10% and the controller's runs meet their requested error within 2x.
+ * --fast: 11x11 grid, T = 1 s, fewer step sizes, swing only. --check: exit 1
+ * unless the measured orders on the swing scene are 1 (backward Euler) and 2
+ * (BDF2) within 10%, and each controller run meets its requested error
+ * within 2x with its global estimate within [0.5, 2] of its true error (fast:
+ * 3e-2, 3e-3, 1e-3 m/s on the swing; full: every tolerance, both scenes).
  *
  * ctest: bench workprecision --fast --check --out out/bench_fast
  */
@@ -188,6 +202,8 @@ typedef struct run_result {
     double *samples;    /* nsamp x 3n positions */
     /* controller runs */
     double mean_substeps, mean_cg_tol;
+    double explicit_frames; /* fraction of frames stepped by symplectic Euler */
+    double estimate;        /* RMS over the samples of the controller's global estimate */
 } run_result;
 
 /* x (3n) - ref (3n): mean squared vertex distance */
@@ -260,13 +276,13 @@ static run_result run_adaptive(const config *cf, int scene, double tol, const do
         exit(1);
     }
     const double hz = 60.0, h = 1.0 / hz;
-    double sq = 0.0, sub = 0.0, cgt = 0.0;
-    long frames = 0, steps = 0, iters = 0;
+    double sq = 0.0, sub = 0.0, cgt = 0.0, gsq = 0.0;
+    long frames = 0, steps = 0, iters = 0, sym = 0;
+    cloth_adaptive_stats st = {0};
     double t0 = bench_cpu_now();
     for (int k = 0; k < cf->nsamp && !r.failed; k++) {
         long until = lround(sample_time(k) * hz);
         for (; frames < until; frames++) {
-            cloth_adaptive_stats st;
             cloth_status cs = cloth_adaptive_frame(ctl, c, h, &st);
             if (cs != CLOTH_OK) {
                 r.failed = 1;
@@ -276,11 +292,13 @@ static run_result run_adaptive(const config *cf, int scene, double tol, const do
             steps += st.steps;
             iters += st.cg_iterations;
             sub += st.substeps;
+            sym += st.method == CLOTH_SYMPLECTIC_EULER;
             cgt += log(st.cg_tolerance);
         }
         if (r.failed) break;
         memcpy(r.samples + (size_t)k * 3 * n, cloth_positions(c), 3 * (size_t)n * sizeof(double));
         sq += msd(cloth_positions(c), ref + (size_t)k * 3 * n, n);
+        gsq += st.global_estimate * st.global_estimate;
     }
     double cpu = bench_cpu_now() - t0;
     r.fail_time = frames * h;
@@ -289,6 +307,8 @@ static run_result run_adaptive(const config *cf, int scene, double tol, const do
     r.error = r.failed ? NAN : sqrt(sq / cf->nsamp);
     r.mean_substeps = frames ? sub / frames : 0.0;
     r.mean_cg_tol = frames ? exp(cgt / frames) : 0.0;
+    r.explicit_frames = frames ? (double)sym / frames : 0.0;
+    r.estimate = r.failed ? NAN : sqrt(gsq / cf->nsamp);
     cloth_adaptive_destroy(ctl);
     cloth_destroy(c);
     return r;
@@ -406,6 +426,39 @@ typedef struct series {
     const double *hz; /* 0-terminated */
 } series;
 
+/* The fixed-step runs of a scene, for the frontier: error and cost of each
+ * (error NaN if blown up), series by series in order of h. */
+#define MAXPTS 16
+typedef struct frontier {
+    int nseries, npts[8];
+    double err[8][MAXPTS], cpu[8][MAXPTS];
+    const char *best; /* the series of the last frontier_cost */
+} frontier;
+
+/* The cheapest cost at which a fixed-step series reaches error e: on each
+ * series, log-log interpolation between consecutive step sizes whose errors
+ * bracket e (or a point at or below e); the least over the series. HUGE_VAL
+ * if none reaches it. */
+static double frontier_cost(frontier *F, const char *const *labels, double e)
+{
+    double best = HUGE_VAL;
+    F->best = "none";
+    for (int s = 0; s < F->nseries; s++)
+        for (int k = 0; k < F->npts[s]; k++) {
+            double e1 = F->err[s][k], c1 = F->cpu[s][k], c = HUGE_VAL;
+            if (!(e1 == e1)) continue;
+            if (e1 <= e) c = c1;
+            if (k > 0 && F->err[s][k - 1] == F->err[s][k - 1] && F->err[s][k - 1] > e && e1 <= e) {
+                double e0 = F->err[s][k - 1], c0 = F->cpu[s][k - 1];
+                c = exp(log(c0) + (log(c1) - log(c0)) * (log(e) - log(e0)) / (log(e1) - log(e0)));
+            }
+            if (c < best) {
+                best = c;
+                F->best = labels[s];
+            }
+        }
+    return best;
+}
 
 static const char usage[] =
     "usage: bench_workprecision [--out DIR] [--grid N] [--scene swing|sphere] [--sphere-seconds T]\n"
@@ -416,7 +469,8 @@ static const char usage[] =
     "Writes DIR/bench_workprecision.csv and .png (default DIR out/bench).\n"
     "--sphere-seconds T: the sphere scene's duration (a multiple of 0.25 s, default 0.25).\n"
     "--fast: 11x11, swing only, 1 s. --check: exit 1 unless BE order 1 and BDF2\n"
-    "order 2 (within 10%) and the controller within 2x of its requested error.";
+    "order 2 (within 10%), the controller within 2x of its requested error and its\n"
+    "global estimate within [0.5, 2] of its true error.";
 
 int main(int argc, char **argv)
 {
@@ -472,7 +526,7 @@ int main(int argc, char **argv)
         {"bdf2_1e-5", CLOTH_BDF2, 1e-5, hi},
     };
     const int nseries = (int)(sizeof S / sizeof S[0]);
-    static const double tols_full[] = {1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 0}, tols_fast[] = {3e-2, 3e-3, 0};
+    static const double tols_full[] = {1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 0}, tols_fast[] = {3e-2, 3e-3, 1e-3, 0};
     const double *tols = fast ? tols_fast : tols_full;
     const double hz_ref = fast ? 4096 : 12288;
     int bad = 0;
@@ -493,6 +547,10 @@ int main(int argc, char **argv)
                 sc == SPHERE ? 2 * hz_ref : hz_ref, R.change,
                 R.cpu_per_s, R.cg_per_step, cf.T);
         double min_err = HUGE_VAL;
+        frontier F = {0};
+        F.nseries = nseries;
+        const char *labels[8];
+        for (int k = 0; k < nseries; k++) labels[k] = S[k].label;
         printf("%-18s %8s %12s %14s %8s  %s\n", "series", "h", "error m", "CPU s / sim s", "CG it", "");
         for (int s = 0; s < nseries; s++) {
             double prev_e = NAN, prev_hz = 0.0;
@@ -508,6 +566,10 @@ int main(int argc, char **argv)
                 fprintf(csv, "%s,%s,%.0f,%g,,%.6g,%.6g,%.3f,%d,%g,%s,,\n", scene_name[sc], S[s].label, *hz,
                         S[s].cg_tol, r.error, r.cpu_per_s, r.cg_per_step, r.failed, r.fail_time, r.why);
                 if (!r.failed && r.error < min_err) min_err = r.error;
+                if (F.npts[s] < MAXPTS) {
+                    F.err[s][F.npts[s]] = r.failed ? NAN : r.error;
+                    F.cpu[s][F.npts[s]++] = r.cpu_per_s;
+                }
                 prev_e = r.failed ? NAN : r.error;
                 prev_hz = *hz;
                 free(r.samples);
@@ -517,18 +579,25 @@ int main(int argc, char **argv)
                min_err, R.change, R.change / min_err);
         for (const double *t = tols; *t > 0; t++) {
             run_result r = run_adaptive(&cf, sc, *t, R.x);
-            double req = requested_error(&cf, *t);
-            printf("%-18s tol %-6.0e %10.4g %14.4g %8.1f  requested %.3g m (ratio %.2f), %.2f substeps/frame, "
-                   "CG tol %.2g%s%s\n",
+            double req = requested_error(&cf, *t), fc = frontier_cost(&F, labels, r.error);
+            printf("%-18s tol %-6.0e %10.4g %14.4g %8.1f  requested %.3g m (ratio %.2f), %.2f substeps/frame "
+                   "(%.0f%% symplectic), CG tol %.2g; global estimate %.3g m (%.2f of the error); frontier at this "
+                   "error %.3g CPU s/s (%s: %.1fx)%s%s\n",
                    "controller", *t, r.error, r.cpu_per_s, r.cg_per_step, req, r.error / req, r.mean_substeps,
-                   r.mean_cg_tol, r.failed ? " FAILED: " : "", r.why);
-            fprintf(csv, "%s,controller,60,,%.6g,%.6g,%.6g,%.3f,%d,%g,%s,%.3f,%.3g\n", scene_name[sc], req,
-                    r.error, r.cpu_per_s, r.cg_per_step, r.failed, r.fail_time, r.why, r.mean_substeps,
-                    r.mean_cg_tol);
-            if (check && sc == SWING) {
+                   100 * r.explicit_frames, r.mean_cg_tol, r.estimate, r.estimate / r.error, fc, F.best,
+                   r.cpu_per_s / fc, r.failed ? " FAILED: " : "", r.why);
+            fprintf(csv, "%s,controller,60,%g,%.6g,%.6g,%.6g,%.3f,%d,%g,%s,%.3f,%.3g,%.3f,%.6g,%.6g\n", scene_name[sc],
+                    *t, req, r.error, r.cpu_per_s, r.cg_per_step, r.failed, r.fail_time, r.why, r.mean_substeps,
+                    r.mean_cg_tol, r.explicit_frames, r.estimate, fc);
+            if (check) {
                 int ok = !r.failed && r.error <= 2.0 * req;
-                printf("check: controller tol %g m/s: error %.3g <= 2 x requested %.3g: %s\n", *t, r.error, req,
-                       ok ? "ok" : "FAILED");
+                printf("check: %s controller tol %g m/s: error %.3g <= 2 x requested %.3g: %s\n", scene_name[sc], *t,
+                       r.error, req, ok ? "ok" : "FAILED");
+                bad |= !ok;
+                double q = r.estimate / r.error;
+                ok = q >= 0.5 && q <= 2.0;
+                printf("check: %s controller tol %g m/s: global estimate / error %.2f in [0.5, 2]: %s\n",
+                       scene_name[sc], *t, q, ok ? "ok" : "FAILED");
                 bad |= !ok;
             }
             free(r.samples);
