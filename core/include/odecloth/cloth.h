@@ -418,10 +418,10 @@ cloth_status cloth_state_read_file(cloth_state *s, FILE *f, cloth_error *err);
  *
  * At max_substeps an over-budget frame is kept and flagged. The CG
  * tolerance: the solver's relative residual acts as a relative force error
- * that moves the positions by cg |a| t^2 / 2 over the simulated time t so
- * far, held to a tenth of tolerance * t: cg = 0.2 tolerance / (|a| t), t at
+ * that moves the positions by at most cg |a| t^2 / 2 over the simulated time
+ * t so far, held to half of tolerance * t: cg = tolerance / (|a| t), t at
  * least velocity_weight (the shadow does not see this error: it makes the
- * same). The first frame takes at least two substeps and CG tolerance 1e-6.
+ * same; the bound is pessimistic, see core/src/adaptive.c). The first frame takes at least two substeps and CG tolerance 1e-6.
  * The cloth's own solver settings are restored after each frame, and after
  * a failed frame its state and constraint forces are as before it. */
 typedef struct cloth_adaptive_desc {
