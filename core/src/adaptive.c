@@ -58,6 +58,13 @@ static const double AIM = 0.5;      /* the global estimate's aim, a fraction of 
 static const double KMEM = 0.5;     /* s, how long a large k is remembered */
 static const double SYM_FRAC = 0.4; /* symplectic Euler's h, a fraction of its stable step */
 static const double CGF = 1.0;      /* CG tolerance factor, above */
+/* At the first frame symplectic Euler is chosen when its substeps cost less
+ * than SYM_PREFER times backward Euler's: backward Euler's first-frame k
+ * understates its need (on the swing k grew 0.45 -> 1 within three frames,
+ * and at 3e-3 fixed steps need 10-20x the substeps that frame asked for),
+ * and three such frames left an error the motion amplified to 6.8 mm by
+ * 2 s (ratio 0.82) against 0.5 mm with symplectic Euler from the start. */
+static const double SYM_PREFER = 2.0;
 
 struct cloth_adaptive {
     const cloth *owner;
@@ -74,6 +81,7 @@ struct cloth_adaptive {
     /* the global estimate: a shadow cloth run alongside at twice the step */
     cloth *shadow;         /* NULL: no global estimate (bodies, or no memory) */
     cloth_state *shadow_snap;
+    cloth_state *alt, *alt_shadow; /* the first frame's backward Euler solution while symplectic Euler is tried */
     int shadow_synced;     /* 1 once the shadow has been started from the cloth */
     double global;         /* m, RMS |x - x_shadow| after the last accepted frame */
     double h_int;          /* s^2, integral of the substep size over the shadow's run */
@@ -141,7 +149,8 @@ cloth_status cloth_adaptive_create(const cloth *c, const cloth_adaptive_desc *d,
         /* the shadow: the same cloth (the masses copied, as cloth_set_material
          * keeps the ones made at creation) */
         cloth_desc sd = cloth_get_desc(c);
-        ok = cloth_create(&sd, &a->shadow, NULL) == CLOTH_OK && (a->shadow_snap = cloth_state_create(a->shadow));
+        ok = cloth_create(&sd, &a->shadow, NULL) == CLOTH_OK && (a->shadow_snap = cloth_state_create(a->shadow)) &&
+             (a->alt = cloth_state_create(c)) && (a->alt_shadow = cloth_state_create(a->shadow));
         if (ok) memcpy(a->shadow->mass, c->mass, (size_t)a->n * sizeof *c->mass);
     }
     if (!ok) {
@@ -173,6 +182,8 @@ void cloth_adaptive_destroy(cloth_adaptive *a)
     if (!a) return;
     cloth_state_destroy(a->snap);
     cloth_state_destroy(a->shadow_snap);
+    cloth_state_destroy(a->alt);
+    cloth_state_destroy(a->alt_shadow);
     cloth_destroy(a->shadow);
     free(a->v0);
     free(a);
@@ -365,6 +376,18 @@ static void resync(cloth_adaptive *a)
     a->global = a->h_int = a->k_err = 0.0;
 }
 
+/* A change of method: the shadow restarted from the cloth (k is measured
+ * afresh for the new method; the estimate so far is carried, no longer
+ * propagated: tried the other way, keeping the shadow on, the error the
+ * motion amplified after a switch counted as the new method's k and drove
+ * symplectic Euler to 1024 substeps and back to backward Euler, 11.5 mm at
+ * 2 s on the swing at 3e-3 instead of 6.8) */
+static void new_method(cloth_adaptive *a, cloth_method m)
+{
+    a->method = m;
+    resync(a);
+}
+
 /* CPU cost of a backward Euler substep in symplectic Euler substeps (one
  * force evaluation and update each): measured on the 21x21 cloth with block
  * Jacobi, 0.33 ms + 0.02 ms per CG iteration against 0.133 ms. */
@@ -396,12 +419,14 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
     const double budget = a->d.tolerance * frame_dt, t_end = a->elapsed + frame_dt;
     int n = clamp_substeps(a, a->n_next, global);
     cloth_method method = CLOTH_BACKWARD_EULER;
+    int synced_now = 0;
     if (global) {
         shadow_inputs(a, c);
         if (!a->shadow_synced) { /* (re)started from the cloth: no difference yet */
             a->global = 0.0;
             resync(a);
             a->shadow_synced = 1;
+            synced_now = 1;
         }
         cloth_save(a->shadow, a->shadow_snap);
         /* the method: symplectic Euler where it is cheaper (its step is
@@ -422,13 +447,13 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
                     method = CLOTH_SYMPLECTIC_EULER;
                     a->k_be = a->k_err;
                     n = ns;
-                } else if (a->method == CLOTH_SYMPLECTIC_EULER && (cost_be < 0.7 * n || ns >= a->d.max_substeps)) {
+                } else if (a->method == CLOTH_SYMPLECTIC_EULER && (cost_be < 0.35 * n || ns >= a->d.max_substeps)) {
                     method = CLOTH_BACKWARD_EULER;
                     n = clamp_substeps(a, nb, 1);
                 }
                 if (method != a->method) {
-                    resync(a);
-                    a->method = method;
+                    new_method(a, method);
+                    synced_now = 1;
                 }
             }
         }
@@ -447,7 +472,7 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
     attempt t;
     double g_est = 0.0;
     int shadow_failed = 0;
-    const int fresh = global && a->h_int == 0.0; /* the shadow starts with the cloth this frame */
+    const int fresh = global && synced_now; /* the shadow starts with the cloth this frame */
     int tried_explicit = 0;
     for (;;) {
         cloth_solver sv = user;
@@ -470,29 +495,62 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
             shadow_failed = run_shadow(a, n, st.h, &st.steps, &st.cg_iterations);
             if (!shadow_failed) g_est = rms_diff(cloth_positions(c), cloth_positions(a->shadow), a->n);
         }
-        /* the first frame, once solved by backward Euler, tells what that
-         * costs at the tolerance; if symplectic Euler is cheaper the frame is
-         * solved again with it (backward Euler's coarse first steps damp
-         * the stiff modes the motion starts with: an error the shadow at
-         * 2 h, damping them too, does not see, and the motion amplifies) */
+        /* the first frame, once solved by backward Euler, is solved again by
+         * symplectic Euler (when its stable step fits max_substeps), and the
+         * cheaper at the tolerance kept. Backward Euler's error there is the
+         * larger of its shadow's difference and its distance to the
+         * symplectic solution: its coarse steps damp stiff modes the motion
+         * starts with, which its shadow, damping them too, does not see
+         * (measured on the swing at 3e-3: three such frames left 0.5 mm at
+         * 0.25 s, grown to 6.8 mm by 2 s, while the estimate said 0.16) */
         if (ok && global && !shadow_failed && fresh && !a->have_prev_start && method == CLOTH_BACKWARD_EULER &&
             a->d.allow_explicit && !tried_explicit) {
             tried_explicit = 1;
-            double k0 = g_est / (st.h * frame_dt), its = t.steps ? (double)t.iterations / t.steps : 0.0;
-            double cost_be = fmax(frame_dt * k0 / (AIM * a->d.tolerance), 2.0) * be_cost(its);
             a->h_stab = stable_step(a, c, 40);
             double hs = SYM_FRAC * a->h_scale * a->h_stab;
             int ns = hs > 0.0 ? clamp_substeps(a, frame_dt / hs, 1) : a->d.max_substeps;
-            if (ns < a->d.max_substeps && ns < cost_be) {
+            if (ns < a->d.max_substeps) {
+                const attempt tb = t;
+                const double gb = g_est, hb = st.h, its = t.steps ? (double)t.iterations / t.steps : 0.0;
+                const int nbe = n;
+                cloth_save(c, a->alt);
+                cloth_save(a->shadow, a->alt_shadow);
                 cloth_restore(c, a->snap);
                 cloth_restore(a->shadow, a->shadow_snap);
                 memcpy(a->acc_prev, a->acc_prev_start, n3 * sizeof *a->acc_prev);
                 a->have_prev = a->have_prev_start;
+                sv.method = CLOTH_SYMPLECTIC_EULER;
+                cloth_set_solver(c, &sv);
+                a->shadow->desc.solver = sv;
+                attempt ts = run_substeps(a, c, ns, frame_dt / ns);
+                st.attempts++;
+                st.steps += ts.steps;
+                int sok = ts.failure == CLOTH_FAIL_NONE && !ts.callback_failed &&
+                          !run_shadow(a, ns, frame_dt / ns, &st.steps, &st.cg_iterations);
+                double d = sok ? rms_diff(cloth_positions(c), a->alt->x, a->n) : 0.0;
+                double k0 = fmax(gb, d) / (hb * frame_dt);
+                double cost_be = fmax(frame_dt * k0 / (AIM * a->d.tolerance), 2.0) * be_cost(its);
                 a->k_be = k0;
                 a->it_be = its;
-                method = a->method = CLOTH_SYMPLECTIC_EULER;
-                n = ns;
-                continue;
+                if (sok && ns < SYM_PREFER * cost_be) {
+                    method = a->method = CLOTH_SYMPLECTIC_EULER;
+                    t = ts;
+                    n = ns;
+                    st.substeps = n;
+                    st.h = frame_dt / n;
+                    st.method = method;
+                    st.error_estimate = t.ex + a->d.velocity_weight * t.ev;
+                    g_est = rms_diff(cloth_positions(c), cloth_positions(a->shadow), a->n);
+                } else { /* backward Euler's frame back, with what its shadow missed carried */
+                    cloth_restore(c, a->alt);
+                    cloth_restore(a->shadow, a->alt_shadow);
+                    sv.method = CLOTH_BACKWARD_EULER;
+                    cloth_set_solver(c, &sv);
+                    a->shadow->desc.solver = sv;
+                    t = tb;
+                    n = nbe;
+                    a->carried += fmax(0.0, d - gb);
+                }
             }
         }
         /* with the global estimate a frame is solved again only when the
@@ -503,6 +561,8 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
             if (!fresh || st.attempts > 1 || g_est <= 2.0 * budget || a->carried + g_est <= a->d.tolerance * t_end ||
                 n >= a->d.max_substeps - 1)
                 break;
+        } else if (ok && global && method == CLOTH_BACKWARD_EULER) {
+            break; /* the shadow failed at 2 h where the cloth did not: kept, the shadow restarted next frame */
         } else if (ok && !global && (st.error_estimate <= 2.0 * budget || n >= a->d.max_substeps)) {
             break;
         }
@@ -533,8 +593,8 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
             if (ns > n && ns < cost_be) {
                 n = ns;
             } else {
-                method = a->method = CLOTH_BACKWARD_EULER;
-                resync(a);
+                method = CLOTH_BACKWARD_EULER;
+                new_method(a, method);
                 n = clamp_substeps(a, frame_dt * a->k_be / (AIM * a->d.tolerance), 1);
             }
             continue;
@@ -544,10 +604,8 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
         if (!ok) {
             n = clamp_substeps(a, 2.0 * n, global);
             cg = clampd(0.1 * cg, a->d.cg_tolerance_min, a->d.cg_tolerance_max);
-        } else if (global && !shadow_failed) {
-            n = clamp_substeps(a, n * g_est / (AIM * budget), 1);
         } else if (global) {
-            n = clamp_substeps(a, 2.0 * n, global); /* the shadow failed at 2 h */
+            n = clamp_substeps(a, n * g_est / (AIM * budget), 1);
         } else {
             n = clamp_substeps(a, fmax(2.0 * n, n * st.error_estimate / (0.7 * budget)), global);
         }
