@@ -404,18 +404,22 @@ cloth_status cloth_state_read_file(cloth_state *s, FILE *f, cloth_error *err);
  * h^2 k' + 2 h c' < 4 for the stiffest mode (k', c' the largest eigenvalues
  * of M^-1 K and M^-1 C, by power iteration on finite differences of the
  * forces at the cloth's state, the constraints filtered out: 40 iterations
- * at first, then 6 a frame from the last vector); it steps at
- * 0.4 of that (the shadow's 2 h at 0.8) or smaller if its estimate asks. It
- * is chosen when its substeps cost less than backward Euler's (a backward
- * Euler substep costs 2.5 + 0.15 CG iterations symplectic ones), and left
- * when backward Euler at its last k would cost under 0.7 of it. After the
- * first frame the choice is made from that frame's estimate, and the frame
- * is solved again with symplectic Euler if chosen (backward Euler's coarse
- * first steps damp stiff modes the motion starts with, an error its shadow,
- * damping them too, does not see). A failed symplectic frame (a link
- * reaching the elongation limit's stiffness within it) is solved again with
- * the explicit step halved from then on, or with backward Euler once that
- * is cheaper.
+ * at first, then 6 a frame from the last vector); it steps at 0.4 of that
+ * (the shadow's 2 h at 0.8), or smaller if its estimate asks. A backward
+ * Euler substep is costed as 2.5 + 0.15 CG iterations symplectic ones (21x21,
+ * block Jacobi). The first frame is solved by both, backward Euler's error
+ * taken as the larger of its shadow's difference and its distance to the
+ * symplectic solution, and symplectic Euler kept when its substeps cost
+ * less than twice backward Euler's at the tolerance (backward Euler's
+ * first-frame k understates what it needs later; its coarse steps damp
+ * stiff modes that its shadow, damping them too, does not see). Later
+ * frames switch to symplectic Euler when it is cheaper, and back when
+ * backward Euler would cost under 0.35 of it or the stable step no longer
+ * fits max_substeps (a link at the elongation limit's stiffness). A change
+ * of method restarts the shadow from the cloth: the estimate so far is
+ * carried (added, no longer propagated). A failed symplectic frame (NaN,
+ * strain) is solved again with the explicit step halved from then on, or
+ * with backward Euler once that is cheaper.
  *
  * The local estimate (global_estimate 0, or bodies): each frame is n
  * backward Euler substeps; what it adds is estimated from the local
