@@ -14,7 +14,8 @@
 
 /* workspace per body, in doubles: M ginv (36 each), rhs u r p q s (6 each),
  * com (3), then for the elongation limit minv (36), F and D (6 each) */
-enum { WS_PER_BODY = 2 * 36 + 6 * 6 + 3 + 36 + 12 + 6 }; /* + U (6): the substep retry's sum of du */
+enum { WS_PER_BODY = 2 * 36 + 6 * 6 + 3 + 36 + 12 + 6 + 6 }; /* + U (6): the substep retry's sum of du;
+                                                                + the Newton iterations' first du (6) */
 
 /* P_i = I - S_i applied to a 3-vector */
 static void con_project(const double *S, const double *a, double *o)
@@ -469,4 +470,39 @@ void bodies_retry_finish(cloth *c)
     if (!c->nbody || !c->body_dev) return;
     size_t nb = (size_t)c->nbody;
     memcpy(c->body_ws + 78 * nb, body_U(c), 6 * nb * sizeof(double));
+}
+
+/* ------------------------------------------------- Newton iterations */
+
+/* A Newton correction of the step (step.c) solves the bodies' rows on their
+ * residual: M ddu = rhs - M du1 - sum J^T P (A ddv - b), so the body's
+ * right-hand side loses M du1 while the solve runs, and du1 is added back
+ * to its result after. */
+static double *body_u1(const cloth *c) { return bw(c, 0) + 57 * (size_t)c->nbody; }
+
+void bodies_newton_begin(cloth *c)
+{
+    size_t nb = (size_t)c->nbody;
+    double *M = c->body_ws, *rhs = c->body_ws + 72 * nb, *u = rhs + 6 * nb, *u1 = body_u1(c);
+    for (size_t g = 0; g < nb; g++)
+        for (int a = 0; a < 6; a++) {
+            double s = 0.0;
+            for (int b = 0; b < 6; b++) s += M[36 * g + 6 * a + b] * u[6 * g + b];
+            rhs[6 * g + a] -= s;
+        }
+    memcpy(u1, u, 6 * nb * sizeof *u1);
+    memset(u, 0, 6 * nb * sizeof *u);
+}
+
+void bodies_newton_end(cloth *c)
+{
+    size_t nb = (size_t)c->nbody;
+    double *M = c->body_ws, *rhs = c->body_ws + 72 * nb, *u = rhs + 6 * nb, *u1 = body_u1(c);
+    for (size_t g = 0; g < nb; g++)
+        for (int a = 0; a < 6; a++) {
+            double s = 0.0;
+            for (int b = 0; b < 6; b++) s += M[36 * g + 6 * a + b] * u1[6 * g + b];
+            rhs[6 * g + a] += s;
+        }
+    for (size_t k = 0; k < 6 * nb; k++) u[k] += u1[k];
 }

@@ -108,6 +108,7 @@ struct cloth {
     double *K_seq, *K_int;     /* per-link 3x3 df_i/dx_j (for K v products) */
     double *work;              /* one allocation behind the vectors below */
     double *f, *b, *dv, *z, *y, *x_new, *v_new; /* 3n each */
+    double *ddv;               /* 3n: a Newton correction of dv */
     double *cg;                /* 6 * 3n: MPCG workspace */
     double *jac;               /* 3n: scalar Jacobi inverse diagonal */
     unsigned char *cflag;      /* n: vertex constrained (filter needed) */
@@ -163,6 +164,9 @@ void bodies_retry_reset(cloth *c);
 void bodies_retry_target(const cloth *c, int i, double hs, double tg[3]);
 void bodies_retry_commit(cloth *c, double hs);
 void bodies_retry_finish(cloth *c);
+/* Newton corrections of a step: the bodies' rows on their residual */
+void bodies_newton_begin(cloth *c);
+void bodies_newton_end(cloth *c);
 
 /* state.c */
 int state_alloc(struct cloth_state *s, int n, int n_int);

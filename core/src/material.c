@@ -96,5 +96,7 @@ cloth_status cloth_solver_validate(const cloth_solver *s, cloth_error *err)
     if (s->max_substep_halvings < 0 || s->max_substep_halvings > 16)
         return error_set(err, CLOTH_EINVAL, "solver.max_substep_halvings = %d must be in [0, 16]",
                          s->max_substep_halvings);
+    if (s->newton_iterations < 0 || s->newton_iterations > 64)
+        return error_set(err, CLOTH_EINVAL, "solver.newton_iterations = %d must be in [0, 64]", s->newton_iterations);
     return CLOTH_OK;
 }

@@ -120,6 +120,8 @@ int dcloth_find_contacts(dClothID c, double h);
 /* contacts.c: the broadphase alone, reaching `reach` m further: c->cand,
  * c->ncand (and vc_new cleared); the count or -1 as above. */
 int dcloth_find_candidates(dClothID c, double h, double reach);
+/* an upper bound of the speed of any point of geom g (0 without a body) */
+double dcloth_geom_speed(dGeomID g);
 
 /* A sleeping cloth watches this far around it (m): a body moving toward it
  * faster than this per step may reach it before it wakes. */

@@ -112,6 +112,14 @@ typedef struct cloth_solver {
                                      h/2, h/4, ... h/2^this (0 = no retry;
                                      in [0, 16], default 4); see
                                      cloth_step */
+    int newton_iterations;        /* with rigid bodies solved with the cloth
+                                     (cloth_body; implicit methods): at most
+                                     this many Newton corrections of a step
+                                     in which a sequential link went from
+                                     within its limit to past 1 + 1.25 delta
+                                     (the first linearisation, about the
+                                     step's start, did not see the link
+                                     stiffen); in [0, 64], default 8, 0 = off */
 } cloth_solver;
 
 cloth_status cloth_solver_validate(const cloth_solver *s, cloth_error *err);
@@ -306,6 +314,8 @@ typedef struct cloth_step_stats {
                               per substep size that failed             */
     cloth_failure first_failure; /* why the whole step failed before the
                               retries (NONE if it did not)             */
+    int newton;            /* Newton corrections taken (solver.
+                              newton_iterations), over every attempt  */
 } cloth_step_stats;
 
 /* Advance by h seconds. An h that is not finite and > 0 is a bad argument:
