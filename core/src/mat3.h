@@ -185,6 +185,7 @@ static inline int mat3_avx(void) { return __builtin_cpu_supports("avx"); }
                                                            const double *x, double acc[3])                  \
     {                                                                                                        \
         __m256d ac = _mm256_set_pd(0.0, acc[2], acc[1], acc[0]);                                             \
+        MAT3_UNROLL                                                                                          \
         for (int k = a; k < z; k++) {                                                                        \
             const double *B = val + 9 * (size_t)k, *xj = x + 3 * (size_t)col[k];                             \
             __m256d t = _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(B), _mm256_broadcast_sd(xj)),            \

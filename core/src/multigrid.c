@@ -226,6 +226,18 @@ static inline void add_scaled_block(double *D, double w, const double *B)
     D[8] += w * B[8];
 }
 
+#if MAT3_HAVE_AVX
+/* add_scaled_block with 256-bit vectors (mat3.h): the same operations on
+ * each element, so the same bits */
+static inline __attribute__((target("avx"))) void add_scaled_block_avx(double *D, double w, const double *B)
+{
+    __m256d wv = _mm256_set1_pd(w);
+    _mm256_storeu_pd(D, _mm256_add_pd(_mm256_loadu_pd(D), _mm256_mul_pd(wv, _mm256_loadu_pd(B))));
+    _mm256_storeu_pd(D + 4, _mm256_add_pd(_mm256_loadu_pd(D + 4), _mm256_mul_pd(wv, _mm256_loadu_pd(B + 4))));
+    D[8] += w * B[8];
+}
+#endif
+
 /* Add w_I w_J B to coarse block (I, J) for every parent I of fine node i and
  * J of fine node j. (Element by element, D[k] += w B[k]: with SSE2 two
  * elements at a time, the same operations, so the same bits.) */
@@ -251,7 +263,8 @@ static void galerkin_block(const mg_level *F, mg_level *K, int i, int j, const d
  * row are found once per I. Each coarse block gets its contributions in the
  * same order as block by block: those from row i to a block (I, J) share
  * the parent I of i, and each fine block k gives one, k ascending. */
-static void galerkin_row(const mg_level *F, mg_level *K, int i, const double *val, const int *col, int lo, int hi)
+MAT3_INLINE void galerkin_row_k(int avx, const mg_level *F, mg_level *K, int i, const double *val, const int *col,
+                                int lo, int hi)
 {
     const int *pi = F->par + 4 * i;
     const double *wi_ = F->w + 4 * i;
@@ -267,10 +280,45 @@ static void galerkin_row(const mg_level *F, mg_level *K, int i, const double *va
             const double *wj = F->w + 4 * col[k];
             for (int b = 0; b < 4 && pj[b] >= 0; b++) {
                 const int *rcJ = K->rc + 2 * pj[b];
-                add_scaled_block(K->M.val + 9 * (size_t)slot[rcJ[0] * 5 + rcJ[1]], wi * wj[b], B);
+                double *D = K->M.val + 9 * (size_t)slot[rcJ[0] * 5 + rcJ[1]];
+#if MAT3_HAVE_AVX
+                if (avx) {
+                    add_scaled_block_avx(D, wi * wj[b], B);
+                    continue;
+                }
+#endif
+                add_scaled_block(D, wi * wj[b], B);
             }
         }
     }
+}
+
+static void galerkin_row_plain(const mg_level *F, mg_level *K, int i, const double *val, const int *col, int lo,
+                               int hi)
+{
+    galerkin_row_k(0, F, K, i, val, col, lo, hi);
+}
+
+#if MAT3_HAVE_AVX
+MAT3_AVX_FN static void galerkin_row_avx(const mg_level *F, mg_level *K, int i, const double *val, const int *col,
+                                         int lo, int hi)
+{
+    galerkin_row_k(1, F, K, i, val, col, lo, hi);
+}
+#endif
+
+/* avx: mat3_avx() */
+static void galerkin_row(int avx, const mg_level *F, mg_level *K, int i, const double *val, const int *col, int lo,
+                         int hi)
+{
+#if MAT3_HAVE_AVX
+    if (avx) {
+        galerkin_row_avx(F, K, i, val, col, lo, hi);
+        return;
+    }
+#endif
+    (void)avx;
+    galerkin_row_plain(F, K, i, val, col, lo, hi);
 }
 
 /* Cholesky of the coarsest level's dense matrix, in place (lower). A pivot
@@ -324,6 +372,7 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
     mg->constrained = constrained;
     mg->lev[0].Dinv = Dinv0;
     double B[9];
+    int avx = mat3_avx();
     /* level 0 -> 1 from the BSR matrix, filtered */
     if (mg->nlev > 1) {
         mg_level *F = &mg->lev[0], *K = &mg->lev[1];
@@ -336,7 +385,7 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
             }
             F->symrow[i] = (unsigned char)sym;
             if (!filt) {
-                galerkin_row(F, K, i, A->val, A->col, A->row_ptr[i], A->row_ptr[i + 1]);
+                galerkin_row(avx, F, K, i, A->val, A->col, A->row_ptr[i], A->row_ptr[i + 1]);
                 continue;
             }
             for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++) {
@@ -361,7 +410,7 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
             int sym = mat3_is_sym(L->Dinv + 9 * (size_t)i);
             for (int k = M->row_ptr[i]; k < M->row_ptr[i + 1]; k++) sym = sym && mat3_is_sym(M->val + 9 * (size_t)k);
             L->symrow[i] = (unsigned char)sym;
-            galerkin_row(L, K, i, M->val, M->col, M->row_ptr[i], M->row_ptr[i + 1]);
+            galerkin_row(avx, L, K, i, M->val, M->col, M->row_ptr[i], M->row_ptr[i + 1]);
         }
     }
     /* coarsest level: dense, factored */
