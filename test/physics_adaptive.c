@@ -1,7 +1,8 @@
 /* Physics: the accuracy-driven controller (cloth_adaptive_*, core/src/adaptive.c).
  *
  * 1. Bad input: every invalid descriptor field (tolerance, substep range, CG
- *    range, velocity weight: zero, negative, NaN, inf, crossed ranges) and
+ *    range, velocity weight: zero, negative, NaN, inf, crossed ranges; the
+ *    global_estimate and allow_explicit flags other than 0 and 1) and
  *    NULL arguments are refused by cloth_adaptive_create with CLOTH_EINVAL, a
  *    message, and *out NULL; cloth_adaptive_frame refuses a bad frame time
  *    and another cloth with the state unchanged (cloth_state_diff == 0).
@@ -15,8 +16,14 @@
  *    v_k). From the substeps the controller reports, that sum predicts the
  *    cloth's position to 1e-9 m; the frame's estimate is n h^2 g / 2 exactly
  *    (no change of acceleration); and the error after 1 s lies between 0.25
- *    and 2 times the requested tolerance * 1 s (it aims at 0.7 of the budget
- *    and changes the substeps by whole numbers), for tolerances 1e-1 .. 1e-3.
+ *    and 2 times the requested tolerance * 1 s (it aims at 0.7 of the budget,
+ *    or with the global estimate 0.5 of the request, and changes the
+ *    substeps by whole numbers), for tolerances 1e-1 .. 1e-3, with the local
+ *    estimate and with the global one. The global estimate is exact here:
+ *    the shadow at 2 h lags twice as far, so x_2h - x_h is the lag itself;
+ *    it must equal it to 1e-9 m after every frame (explicit steps off).
+ * 4. The global estimate against an independent fine-step run (see
+ *    global_estimate_against_reference below).
  */
 #include <math.h>
 #include <stdlib.h>
