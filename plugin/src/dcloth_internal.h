@@ -122,6 +122,8 @@ int dcloth_find_contacts(dClothID c, double h);
 int dcloth_find_candidates(dClothID c, double h, double reach);
 /* an upper bound of the speed of any point of geom g (0 without a body) */
 double dcloth_geom_speed(dGeomID g);
+/* the speed of a vertex (x, v) relative to body b's point at x (b 0: |v|) */
+double dcloth_relative_speed(dBodyID b, const double *x, const double *v);
 
 /* A sleeping cloth watches this far around it (m): a body moving toward it
  * faster than this per step may reach it before it wakes. */

@@ -181,7 +181,7 @@ int dcloth_triangle_contacts(dClothID c, dGeomID g, double h)
     fine.epa_tolerance = EPA_FINE * t;
     double shell_r = t * (1.0 + DCLOTH_CONTACT_MARGIN); /* the triangle grown by thickness and margin */
     dBodyID body = dGeomGetBody(g);
-    double vg = dcloth_geom_speed(g); /* the geom's own approach counts too */
+    int moving = body && dcloth_geom_speed(g) > 0.0;
     int hits = 0;
     for (int k = 0; k < c->ntri; k++) {
         const int *p = c->tri + 3 * k;
@@ -189,13 +189,11 @@ int dcloth_triangle_contacts(dClothID c, dGeomID g, double h)
          * contact starts before the geom is inside the triangle (at 81x81 a
          * box corner otherwise entered a triangle ~1 cm in one step, and
          * pushing it out in one step stretched links 70%) */
-        double sweep = 0.0;
+        double sweep = 0.0; /* the fastest vertex relative to the body */
         for (int a = 0; a < 3; a++) {
-            const double *va = v + 3 * p[a];
-            double s2 = sqrt(va[0] * va[0] + va[1] * va[1] + va[2] * va[2]);
+            double s2 = dcloth_relative_speed(body, x + 3 * p[a], v + 3 * p[a]);
             if (s2 > sweep) sweep = s2;
         }
-        sweep += vg;
         /* a sweep beyond the geom's own size sees nothing more (and an
          * overflowing one, |v| = inf, crashed libccd: found by
          * plugin_fuzz_api) */
@@ -239,7 +237,7 @@ int dcloth_triangle_contacts(dClothID c, dGeomID g, double h)
          * so let go (it stays apart) could fall through the plane with its
          * triangle in the same step (plugin_colliders: a box's and a
          * cylinder's edge through a triangle at impact, measured). */
-        int clear = (!swept || vg > 0.0) && depth < ts.radius;
+        int clear = (!swept || moving) && depth < ts.radius;
         if (swept) {
             tri_shape shell = ts;
             shell.radius = shell_r;
