@@ -21,6 +21,8 @@
  *     0.072 kg, its edges hanging 0.1 m, has about 0.07 J of potential
  *     energy to release and 1e-3 J of centrifugal; a blow-up would pass it
  *     by orders of magnitude;
+ *   - the elongation limit holds while the cloth sticks: at most 0.5% of
+ *     the steps end over strain 0.035 and none over 0.06 (delta 0.03);
  *   - memory flat: the resident set (/proc/self/statm) after the last step
  *     is within 64 KiB of that at a fifth of the run (the heap settles in
  *     the first ~20,000 steps as contact counts reach their range: measured
@@ -149,7 +151,7 @@ int main(void)
             ke_max = fmax(ke_max, ke);
             double sm = dClothGetStats(cl)->core.max_strain;
             strain_max = fmax(strain_max, sm);
-            strain_over += sm > 0.035; /* reported, not asserted: a known gap (README) */
+            strain_over += sm > 0.035;
             if (s < 11000) ke_early = fmax(ke_early, ke);
             if (s >= steps - 10000) ke_late = fmax(ke_late, ke);
             com_max = fmax(com_max, hypot(cm[0] / m, cm[1] / m));
@@ -171,6 +173,13 @@ int main(void)
     CHECK(ke_max < 0.01, "kinetic energy in the table's frame: %.3g J over steps 1000-11000, %.3g J over the last "
           "10000, max %.3g J", ke_early, ke_late, ke_max);
     CHECK(com_max < 0.05, "the cloth's centre of mass went %.3g m from the axis", com_max);
+    /* no creep past the elongation limit while the cloth sticks to the
+     * turning table: measured 63 of 100,000 steps over 0.035, max 0.044
+     * (before contacts were judged by the speed relative to the table,
+     * 8396 steps and 0.186) */
+    CHECK(strain_over <= steps / 200 && strain_max <= 2.0 * 0.03,
+          "strain: %ld of %ld steps over 0.035 (at most 0.5%% allowed), max %.4f (at most 0.06)", strain_over, steps,
+          strain_max);
 #if defined(__SANITIZE_ADDRESS__)
     /* AddressSanitizer keeps freed blocks in quarantine (256 MB by default),
      * so every malloc/free per step (libccd's EPA, ODE's step) shows as
