@@ -40,11 +40,22 @@ void forces_eval(const cloth *c, const double *x, const double *v, int with_grav
 
 /* spring_energy (springs.c), the same arithmetic, inlined: the step's
  * statistics evaluate it for every link of every step */
-static inline double link_energy(const double xi[3], const double xj[3], spring_law s)
+static inline double link_energy_d(double d, spring_law s)
+{
+    double e = d - s.rest, el = d > s.lim ? d - s.lim : 0.0;
+    return 0.5 * (e >= 0.0 ? s.k_hi : s.k_lo) * e * e + 0.5 * s.k_lim * el * el;
+}
+
+/* the length of link (xi, xj), as every pass over the links computes it */
+static inline double link_length(const double xi[3], const double xj[3])
 {
     double u0 = xj[0] - xi[0], u1 = xj[1] - xi[1], u2 = xj[2] - xi[2];
-    double d = sqrt(u0 * u0 + u1 * u1 + u2 * u2), e = d - s.rest, el = d > s.lim ? d - s.lim : 0.0;
-    return 0.5 * (e >= 0.0 ? s.k_hi : s.k_lo) * e * e + 0.5 * s.k_lim * el * el;
+    return sqrt(u0 * u0 + u1 * u1 + u2 * u2);
+}
+
+static inline double link_energy(const double xi[3], const double xj[3], spring_law s)
+{
+    return link_energy_d(link_length(xi, xj), s);
 }
 
 double elastic_energy(const cloth *c, const double *x)
@@ -59,11 +70,19 @@ double elastic_energy(const cloth *c, const double *x)
     return E;
 }
 
+cloth_energy energies_with_elastic(const cloth *c, double elastic);
+
 cloth_energy cloth_energies(const cloth *c)
 {
     cloth_energy en = {0.0, 0.0, 0.0};
     if (!c) return en;
-    en.elastic = elastic_energy(c, c->st.x);
+    return energies_with_elastic(c, elastic_energy(c, c->st.x));
+}
+
+cloth_energy energies_with_elastic(const cloth *c, double elastic)
+{
+    cloth_energy en = {0.0, 0.0, 0.0};
+    en.elastic = elastic;
     const double *x = c->st.x, *v = c->st.v, *g = c->desc.gravity;
     for (int i = 0; i < c->n; i++) {
         const double *vi = v + 3 * i, *xi = x + 3 * i;
@@ -91,6 +110,45 @@ double max_strain_of(const cloth *c, const double *x)
         if (s > m || s != s) m = s;
     }
     return m;
+}
+
+/* The step's passes over the links after a step, each length computed once
+ * (step.c): max_strain_of, with the sequential links' part of
+ * elastic_energy in the same pass (*e_seq: its first terms, from 0, in its
+ * order); then, on the committed state, cloth_update_plastic with the
+ * interlaced links' energy added to *elastic in the same pass (the rest of
+ * elastic_energy's sum, each link's term with its updated plastic state).
+ * Bit for bit the three functions' results. */
+double max_strain_seq_energy(const cloth *c, const double *x, double *e_seq)
+{
+    const cloth_material *m = &c->desc.material;
+    double mx = -INFINITY, E = 0.0;
+    for (int e = 0; e < c->n_seq; e++) {
+        double d = link_length(x + 3 * c->seq[e].i, x + 3 * c->seq[e].j);
+        double s = (d - c->seq[e].rest) / c->seq[e].rest;
+        if (s > mx || s != s) mx = s;
+        E += link_energy_d(d, seq_law(m, c->seq[e].rest));
+    }
+    *e_seq = E;
+    return mx;
+}
+
+int update_plastic_energy(cloth *c, double *elastic)
+{
+    const cloth_material *m = &c->desc.material;
+    const double *x = c->st.x;
+    double E = *elastic;
+    int count = 0;
+    for (int e = 0; e < c->n_int; e++) {
+        double d = link_length(x + 3 * c->lint[e].i, x + 3 * c->lint[e].j);
+        int p = c->st.plastic[e];
+        plastic_rule(m->alpha, c->lint[e].rest, d, &p, &c->st.l1[e]);
+        c->st.plastic[e] = (unsigned char)p;
+        count += p;
+        E += link_energy_d(d, int_law(m, c->lint[e].rest, p, c->st.l1[e]));
+    }
+    *elastic = E;
+    return count;
 }
 
 double cloth_max_strain(const cloth *c) { return c ? max_strain_of(c, c->st.x) : 0.0; }

@@ -35,6 +35,21 @@ int workspace_alloc(cloth *c)
 
 static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
 
+/* forces.c: the passes over the links after a step, each link's length
+ * computed once (their prototypes belong in internal.h) */
+double max_strain_seq_energy(const cloth *c, const double *x, double *e_seq);
+int update_plastic_energy(cloth *c, double *elastic);
+cloth_energy energies_with_elastic(const cloth *c, double elastic);
+
+/* What a step measured of its new state on the way, so that its statistics
+ * need not pass over the links again: the max strain and the sequential
+ * links' energy (attempt), then the elastic energy and the plastic links
+ * (commit). */
+typedef struct measured {
+    double max_strain, elastic;
+    int plastic;
+} measured;
+
 /* The filter S_i (projector onto the free directions) of each vertex, and
  * z_i = (I - S_i)(v_target - v0): the velocity change that lands the vertex's
  * constrained components on the target, given x_new = a + cfac v_new. A
@@ -364,12 +379,19 @@ static cloth_failure explicit_step(cloth *c, double h, int symplectic, const dou
     return CLOTH_FAIL_NONE;
 }
 
-/* Stats of the current state; max_strain already measured, or NAN to measure. */
-static void fill_stats(cloth *c, cloth_step_stats *st, double max_strain)
+/* Stats of the current state: as measured by the step (ms), or measured
+ * here (ms NULL). */
+static void fill_stats(cloth *c, cloth_step_stats *st, const measured *ms)
 {
-    st->energy = cloth_energies(c);
-    st->max_strain = max_strain == max_strain ? max_strain : cloth_max_strain(c);
     st->constrained = c->n_con;
+    if (ms) {
+        st->energy = energies_with_elastic(c, ms->elastic);
+        st->max_strain = ms->max_strain;
+        st->plastic_links = ms->plastic;
+        return;
+    }
+    st->energy = cloth_energies(c);
+    st->max_strain = cloth_max_strain(c);
     int p = 0;
     for (int e = 0; e < c->n_int; e++) p += c->st.plastic[e];
     st->plastic_links = p;
@@ -384,9 +406,9 @@ static cloth_status finish(cloth *c, cloth_step_stats *st, cloth_step_stats *out
 
 /* One step of size h from the current state into x_new, v_new, dv and
  * con_new, the state untouched; constraints aimed at frac of the way from xs
- * (see build_constraints). Adds iterations and corrected links to st; *ms is
- * the new max strain. */
-static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, cloth_step_stats *st, double *ms)
+ * (see build_constraints). Adds iterations and corrected links to st; ms gets
+ * the new max strain and the sequential links' energy. */
+static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, cloth_step_stats *st, measured *ms)
 {
     size_t n3 = 3 * (size_t)c->n;
     const cloth_solver *sv = &c->desc.solver;
@@ -409,14 +431,15 @@ static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, 
     /* the constraint forces too: A dv - b can overflow while x and v do not */
     if (fail == CLOTH_FAIL_NONE && !all_finite(c->con_new, n3)) fail = CLOTH_FAIL_NAN;
     if (fail == CLOTH_FAIL_NONE) {
-        *ms = max_strain_of(c, c->x_new);
-        if (!(*ms <= sv->strain_fail)) fail = *ms != *ms ? CLOTH_FAIL_NAN : CLOTH_FAIL_STRAIN;
+        double m = ms->max_strain = max_strain_seq_energy(c, c->x_new, &ms->elastic);
+        if (!(m <= sv->strain_fail)) fail = m != m ? CLOTH_FAIL_NAN : CLOTH_FAIL_STRAIN;
     }
     return fail;
 }
 
-/* Make the attempt of size h the state (constraint forces apart). */
-static void commit(cloth *c, double h)
+/* Make the attempt of size h the state (constraint forces apart); ms, from
+ * the attempt, gets the elastic energy and the plastic links. */
+static void commit(cloth *c, double h, measured *ms)
 {
     size_t n3 = 3 * (size_t)c->n;
     struct cloth_state *s = &c->st;
@@ -428,7 +451,7 @@ static void commit(cloth *c, double h)
     s->has_prev = 1;
     cloth_method m = c->desc.solver.method;
     if (m == CLOTH_BACKWARD_EULER || m == CLOTH_BDF2) memcpy(s->dv_prev, c->dv, n3 * sizeof *c->dv);
-    cloth_update_plastic(c);
+    ms->plastic = update_plastic_energy(c, &ms->elastic); /* cloth_update_plastic */
 }
 
 /* The retry after the whole step failed: the step again from its start as
@@ -442,7 +465,7 @@ static void commit(cloth *c, double h)
  * returned. Its workspace is the cloth's (retry_bk, retry_xs, retry_fsum),
  * sized at creation. */
 static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failure fail, cloth_step_stats *st,
-                                   double *ms)
+                                   measured *ms)
 {
     size_t n3 = 3 * (size_t)c->n;
     struct cloth_state *bk = &c->retry_bk;
@@ -465,7 +488,7 @@ static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failu
         for (k = 0; k < parts; k++) {
             fail = attempt(c, hs, xs, (double)(k + 1) / (double)parts, st, ms);
             if (fail != CLOTH_FAIL_NONE) break;
-            commit(c, hs);
+            commit(c, hs, ms);
             bodies_retry_commit(c, hs);
             for (size_t q = 0; q < n3; q++) fsum[q] += c->con_new[q] / (double)parts;
         }
@@ -492,14 +515,14 @@ cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
     st.substeps = 1;
     if (!(h > 0.0) || !isfinite(h)) {
         st.failure = CLOTH_FAIL_BAD_STEP;
-        fill_stats(c, &st, NAN);
+        fill_stats(c, &st, NULL);
         finish(c, &st, out, CLOTH_EINVAL);
         return cloth_fail(c, CLOTH_EINVAL, "cloth_step: h = %g must be finite and > 0", h);
     }
-    double ms = 0.0;
+    measured ms = {0.0, 0.0, 0};
     cloth_failure fail = attempt(c, h, NULL, 1.0, &st, &ms);
     if (fail == CLOTH_FAIL_NONE) {
-        commit(c, h);
+        commit(c, h, &ms);
         memcpy(c->con_force, c->con_new, 3 * (size_t)c->n * sizeof *c->con_force);
     } else {
         st.first_failure = fail;
@@ -508,14 +531,14 @@ cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
     }
     if (fail != CLOTH_FAIL_NONE) {
         st.failure = fail;
-        fill_stats(c, &st, NAN); /* the unchanged state */
+        fill_stats(c, &st, NULL); /* the unchanged state */
         finish(c, &st, out, CLOTH_ESTEP);
         if (st.halvings > 0)
             return cloth_fail(c, CLOTH_ESTEP, "cloth_step: %s, also in substeps of h/%ld (state unchanged)",
                               cloth_failure_string(fail), 1L << st.halvings);
         return cloth_fail(c, CLOTH_ESTEP, "cloth_step: %s (state unchanged)", cloth_failure_string(fail));
     }
-    fill_stats(c, &st, ms); /* the committed positions are x_new */
+    fill_stats(c, &st, &ms); /* the committed positions are x_new */
     return finish(c, &st, out, CLOTH_OK);
 }
 
