@@ -477,7 +477,7 @@ void bodies_retry_finish(cloth *c)
 /* A Newton correction of the step (step.c) solves the bodies' rows on their
  * residual: M ddu = rhs - M du1 - sum J^T P (A ddv - b), so the body's
  * right-hand side loses M du1 while the solve runs, and du1 is added back
- * to its result after. */
+ * to its result after (keep), or is the result again (a failed correction). */
 static double *body_u1(const cloth *c) { return bw(c, 0) + 57 * (size_t)c->nbody; }
 
 void bodies_newton_begin(cloth *c)
@@ -494,7 +494,7 @@ void bodies_newton_begin(cloth *c)
     memset(u, 0, 6 * nb * sizeof *u);
 }
 
-void bodies_newton_end(cloth *c)
+void bodies_newton_end(cloth *c, int keep)
 {
     size_t nb = (size_t)c->nbody;
     double *M = c->body_ws, *rhs = c->body_ws + 72 * nb, *u = rhs + 6 * nb, *u1 = body_u1(c);
@@ -504,5 +504,5 @@ void bodies_newton_end(cloth *c)
             for (int b = 0; b < 6; b++) s += M[36 * g + 6 * a + b] * u1[6 * g + b];
             rhs[6 * g + a] += s;
         }
-    for (size_t k = 0; k < 6 * nb; k++) u[k] += u1[k];
+    for (size_t k = 0; k < 6 * nb; k++) u[k] = keep ? u[k] + u1[k] : u1[k];
 }

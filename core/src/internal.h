@@ -166,7 +166,7 @@ void bodies_retry_commit(cloth *c, double hs);
 void bodies_retry_finish(cloth *c);
 /* Newton corrections of a step: the bodies' rows on their residual */
 void bodies_newton_begin(cloth *c);
-void bodies_newton_end(cloth *c);
+void bodies_newton_end(cloth *c, int keep);
 
 /* state.c */
 int state_alloc(struct cloth_state *s, int n, int n_int);

@@ -204,18 +204,23 @@ static void constraint_forces(cloth *c, const double *dv, const double *b, doubl
 
 /* 1 if a sequential link within its limit at x0 is past it at x1 by more
  * than a quarter of delta: its linearisation missed the stiffening. A link
- * between two fully held vertices is left out: its length is their targets'
- * (two vertices sticking to one box stay 7% apart through any number of
- * corrections, measured). (Corrections from 2 delta: the trampoline's
+ * between two vertices held in full by the same thing (the world, or one
+ * body) is left out: its length is their targets' (two vertices sticking to
+ * one box stay 7% apart through any number of corrections, measured). (Corrections from 2 delta: the trampoline's
  * strain 0.043-0.055 over grids 17-25 and 60 or 90 steps per second, against
  * 0.040-0.045 from 1.25 delta.) */
 #define NEWTON_CROSS 1.25
+
+/* the body solved with the cloth holding vertex i, or -1 */
+static int held_by(const cloth *c, int i) { return c->body_held && c->vbody && c->vbody[i] >= 0 ? c->vbody[i] : -1; }
+
 static int crossed_limit(const cloth *c, const double *x0, const double *x1)
 {
     double lim = 1.0 + c->desc.material.delta, lim1 = 1.0 + NEWTON_CROSS * c->desc.material.delta;
     for (int e = 0; e < c->n_seq; e++) {
         const link_topo *L = &c->seq[e];
-        if (c->con[L->i].ndof == 3 && c->con[L->j].ndof == 3) continue; /* its length is the targets' */
+        if (c->con[L->i].ndof == 3 && c->con[L->j].ndof == 3 && held_by(c, L->i) == held_by(c, L->j))
+            continue; /* its length is the targets' */
         double l1 = lim1 * L->rest, d1 = 0.0, d0 = 0.0;
         for (int r = 0; r < 3; r++) {
             double w1 = x1[3 * L->j + r] - x1[3 * L->i + r], w0 = x0[3 * L->j + r] - x0[3 * L->i + r];
@@ -314,7 +319,7 @@ static cloth_failure implicit_step(cloth *c, double h, int bdf2, const double *x
      * corrections changed no test but moved a box resting on a plane under
      * a dropped cloth by 0.9 mm (plugin_colliders' dynamic case). */
     int newton = P.bodies && sv->newton_iterations > 0 && crossed_limit(c, x0, c->x_new);
-    double ref = newton ? free_norm(c, b) : 0.0;
+    double ref = 0.0;
     for (int it = 0; newton && it < sv->newton_iterations; it++) {
         double *ddv = c->ddv;
         assemble(c, c->x_new, c->v_new, beta * h, beta * beta * h * h, c->f);
@@ -323,10 +328,9 @@ static cloth_failure implicit_step(cloth *c, double h, int bdf2, const double *x
             b[k] = beta * h * c->f[k] + extra - c->mass[k / 3] * c->dv[k];
         }
         /* converged: the residual of the free rows within the solver's
-         * tolerance of the first solve's right-hand side or of the first
-         * correction's (the larger: from rest, the first is about 0) */
+         * tolerance of the one the uncorrected step left */
         double rn = free_norm(c, b);
-        if (it == 0 && rn > ref) ref = rn;
+        if (it == 0) ref = rn;
         if (rn <= sv->cg_tolerance * ref) break;
         memset(c->z, 0, n3 * sizeof *c->z);
         memset(ddv, 0, n3 * sizeof *ddv);
@@ -335,10 +339,14 @@ static cloth_failure implicit_step(cloth *c, double h, int bdf2, const double *x
         if (sv->precond == CLOTH_PRECOND_MULTIGRID) mg_setup(&c->mg, &c->A, c->S, c->cflag, c->pre);
         mpcg_result r2 = sv->precond == CLOTH_PRECOND_SSOR ? ssor_run(&P, c->cflag, c->Ah, ddv, c->cg)
                                                            : mpcg_run(&P, ddv, c->cg);
-        bodies_newton_end(c);
+        bodies_newton_end(c, r2.failure == CLOTH_FAIL_NONE);
         st->iterations += r2.iterations;
         st->newton++;
-        if (r2.failure != CLOTH_FAIL_NONE) return r2.failure;
+        /* a correction that fails (CG capped on the stiffer matrix, or
+         * indefinite without the definiteness rule) leaves the step as the
+         * last one that succeeded; only NaN fails it */
+        if (r2.failure == CLOTH_FAIL_NAN) return r2.failure;
+        if (r2.failure != CLOTH_FAIL_NONE) break;
         for (size_t k = 0; k < n3; k++) {
             a[k] = bdf2 ? x0[k] + (x0[k] - S0->x_prev[k]) / 3.0 : x0[k];
             c->dv[k] += ddv[k];

@@ -173,14 +173,28 @@ static int heightfield_query(dClothID c, dGeomID g, const double *x, double reac
     return 1;
 }
 
+/* A body's velocity, or 0 if it has none or it is not finite (a body whose
+ * velocity is NaN or inf is treated as static here: every vertex's reach
+ * infinite gave every vertex a contact and a NaN target; found in review) */
+static int body_velocity(dBodyID b, const dReal **v, const dReal **w)
+{
+    if (!b) return 0;
+    *v = dBodyGetLinearVel(b);
+    *w = dBodyGetAngularVel(b);
+    for (int k = 0; k < 3; k++)
+        if (!isfinite((*v)[k]) || !isfinite((*w)[k])) return 0;
+    return 1;
+}
+
 /* An upper bound of the speed of any point of geom g (0 if it has no
  * body): |v| + |w| (distance from the body's centre to the AABB's centre +
- * the AABB's half diagonal). */
+ * the AABB's half diagonal); |v| alone where that distance is not finite. */
 double dcloth_geom_speed(dGeomID g)
 {
     dBodyID b = dGeomGetBody(g);
-    if (!b) return 0.0;
-    const dReal *v = dBodyGetLinearVel(b), *w = dBodyGetAngularVel(b), *o = dBodyGetPosition(b);
+    const dReal *v, *w;
+    if (!body_velocity(b, &v, &w)) return 0.0;
+    const dReal *o = dBodyGetPosition(b);
     dReal aabb[6];
     dGeomGetAABB(g, aabb);
     double cen[3], half = 0.0, arm = 0.0;
@@ -190,9 +204,9 @@ double dcloth_geom_speed(dGeomID g)
         half += e * e;
         arm += cen[k] * cen[k];
     }
-    double s = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) +
-               sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) * (sqrt(arm) + sqrt(half));
-    return isfinite(s) ? s : 0.0;
+    double lin = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), wn = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    double ang = wn > 0.0 ? wn * (sqrt(arm) + sqrt(half)) : 0.0;
+    return isfinite(ang) ? lin + ang : lin;
 }
 
 /* |v - the velocity of the body's point at x|: how fast a vertex at x with
@@ -200,8 +214,9 @@ double dcloth_geom_speed(dGeomID g)
 double dcloth_relative_speed(dBodyID b, const double *x, const double *v)
 {
     double r[3] = {v[0], v[1], v[2]};
-    if (b) {
-        const dReal *l = dBodyGetLinearVel(b), *w = dBodyGetAngularVel(b), *o = dBodyGetPosition(b);
+    const dReal *l, *w;
+    if (body_velocity(b, &l, &w)) {
+        const dReal *o = dBodyGetPosition(b);
         double d[3] = {x[0] - o[0], x[1] - o[1], x[2] - o[2]};
         r[0] -= l[0] + w[1] * d[2] - w[2] * d[1];
         r[1] -= l[1] + w[2] * d[0] - w[0] * d[2];
@@ -211,12 +226,17 @@ double dcloth_relative_speed(dBodyID b, const double *x, const double *v)
     return isfinite(s) ? s : INFINITY;
 }
 
-/* the fastest geom of a space (nested spaces entered), by dcloth_geom_speed */
+/* the fastest geom of a space (nested spaces entered), by dcloth_geom_speed.
+ * ODE's quadtree space cannot hand out its geoms (dSpaceGetGeom is not
+ * implemented there: it aborts), so a quadtree counts nothing: bodies in it
+ * are found as they arrive, not before */
 static double space_speed(dSpaceID s)
 {
+    if (dSpaceGetClass(s) == dQuadTreeSpaceClass) return 0.0;
     double m = 0.0;
     for (int k = 0, n = dSpaceGetNumGeoms(s); k < n; k++) {
         dGeomID g = dSpaceGetGeom(s, k);
+        if (!g) continue;
         double v = dGeomIsSpace(g) ? space_speed((dSpaceID)g) : dcloth_geom_speed(g);
         if (v > m) m = v;
     }

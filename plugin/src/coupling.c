@@ -91,14 +91,15 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
     for (int r = 0; r < 3; r++) F[r] = -mass * vt[r] / h - fo[r];
     double Fs = sqrt(dcloth_dot3(F, F)), limit = c->mu * fn;
     /* A contact made ahead of a moving body (the vertex still apart, the
-     * body reaching it within the step) does not stick: its vertex slides
+     * body approaching along the normal) does not stick: its vertex slides
      * onto the body, with kinetic friction. Held in all directions it was
      * carried with the body's point before touching, and two such vertices
      * of one box, one touching and one 2 cm under it, were pulled 12% apart
      * (trampoline, measured). On a static geom a sticking vertex is only
      * stopped, and keeps doing so (made to slide there too, a cloth landing
      * on a sphere ended at strain 0.0307, drape_sphere alpha 1). */
-    int ahead = nw->gap > CONTACT_SLOP * c->thickness && dcloth_dot3(nw->vbody, nw->vbody) > 0.0;
+    int ahead = nw->gap > CONTACT_SLOP * c->thickness &&
+                h * dcloth_dot3(nw->vbody, n) > 0.1 * CONTACT_SLOP * c->thickness; /* the body approaching */
     int stick = c->mu > 0.0 && Fs <= limit && !ahead;
     /* end-of-step position: moved with the body's point, the penetration
      * (negative gap) removed along the normal (paper eq. 22) */
@@ -280,8 +281,10 @@ cloth_status dClothStep(dClothID c, dReal h)
             if (!nw->geom || c->pin[i].active) continue;
             cloth_constraint k;
             if (!contact_rule(c, i, h, mass[i], cd.gravity, nw, &c->vc[i], &k, &st, nw->forced)) continue;
+            /* a target the core refuses (not finite: a body's velocity
+             * NaN) leaves the vertex free */
+            if (cloth_set_constraint(core, &k) != CLOTH_OK) continue;
             nw->active = 1;
-            cloth_set_constraint(core, &k);
             memcpy(c->fext + 3 * i, nw->friction, sizeof nw->friction);
             st.contacts++;
             st.sticking += nw->sticking;

@@ -181,7 +181,7 @@ int dcloth_triangle_contacts(dClothID c, dGeomID g, double h)
     fine.epa_tolerance = EPA_FINE * t;
     double shell_r = t * (1.0 + DCLOTH_CONTACT_MARGIN); /* the triangle grown by thickness and margin */
     dBodyID body = dGeomGetBody(g);
-    int moving = body && dcloth_geom_speed(g) > 0.0;
+    int moving = dcloth_geom_speed(g) * h > SWEEP_NEGLIGIBLE * t; /* not ODE's jitter of a body at rest */
     int hits = 0;
     for (int k = 0; k < c->ntri; k++) {
         const int *p = c->tri + 3 * k;
