@@ -70,8 +70,6 @@ double elastic_energy(const cloth *c, const double *x)
     return E;
 }
 
-cloth_energy energies_with_elastic(const cloth *c, double elastic);
-
 cloth_energy cloth_energies(const cloth *c)
 {
     cloth_energy en = {0.0, 0.0, 0.0};

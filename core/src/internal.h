@@ -181,6 +181,14 @@ void forces_eval(const cloth *c, const double *x, const double *v, int with_grav
 double elastic_energy(const cloth *c, const double *x);
 /* Largest (d - l0) / l0 over sequential links at positions x (NaN if any is). */
 double max_strain_of(const cloth *c, const double *x);
+/* The passes over the links after a step, each link's length computed once
+ * (forces.c; bit for bit max_strain_of, cloth_update_plastic and
+ * cloth_energies): the largest sequential strain at x and the sequential
+ * links' energy; the plastic update with the interlaced links' energy
+ * added to *elastic; the energies given the elastic part. */
+double max_strain_seq_energy(const cloth *c, const double *x, double *e_seq);
+int update_plastic_energy(cloth *c, double *elastic);
+cloth_energy energies_with_elastic(const cloth *c, double elastic);
 
 /* small vector helpers */
 static inline int finite3(const double a[3]) {

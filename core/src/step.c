@@ -35,12 +35,6 @@ int workspace_alloc(cloth *c)
 
 static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
 
-/* forces.c: the passes over the links after a step, each link's length
- * computed once (their prototypes belong in internal.h) */
-double max_strain_seq_energy(const cloth *c, const double *x, double *e_seq);
-int update_plastic_energy(cloth *c, double *elastic);
-cloth_energy energies_with_elastic(const cloth *c, double elastic);
-
 /* What a step measured of its new state on the way, so that its statistics
  * need not pass over the links again: the max strain and the sequential
  * links' energy (attempt), then the elastic energy and the plastic links
