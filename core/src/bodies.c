@@ -480,16 +480,25 @@ void bodies_retry_finish(cloth *c)
  * to its result after (keep), or is the result again (a failed correction). */
 static double *body_u1(const cloth *c) { return bw(c, 0) + 57 * (size_t)c->nbody; }
 
+/* rhs_g += s M_g v_g for every body */
+static void add_mass_times(cloth *c, const double *v, double s)
+{
+    size_t nb = (size_t)c->nbody;
+    const double *M = c->body_ws;
+    double *rhs = c->body_ws + 72 * nb;
+    for (size_t g = 0; g < nb; g++)
+        for (int a = 0; a < 6; a++) {
+            double t = 0.0;
+            for (int b = 0; b < 6; b++) t += M[36 * g + 6 * a + b] * v[6 * g + b];
+            rhs[6 * g + a] += s * t;
+        }
+}
+
 void bodies_newton_begin(cloth *c)
 {
     size_t nb = (size_t)c->nbody;
-    double *M = c->body_ws, *rhs = c->body_ws + 72 * nb, *u = rhs + 6 * nb, *u1 = body_u1(c);
-    for (size_t g = 0; g < nb; g++)
-        for (int a = 0; a < 6; a++) {
-            double s = 0.0;
-            for (int b = 0; b < 6; b++) s += M[36 * g + 6 * a + b] * u[6 * g + b];
-            rhs[6 * g + a] -= s;
-        }
+    double *u = c->body_ws + 78 * nb, *u1 = body_u1(c);
+    add_mass_times(c, u, -1.0);
     memcpy(u1, u, 6 * nb * sizeof *u1);
     memset(u, 0, 6 * nb * sizeof *u);
 }
@@ -497,12 +506,7 @@ void bodies_newton_begin(cloth *c)
 void bodies_newton_end(cloth *c, int keep)
 {
     size_t nb = (size_t)c->nbody;
-    double *M = c->body_ws, *rhs = c->body_ws + 72 * nb, *u = rhs + 6 * nb, *u1 = body_u1(c);
-    for (size_t g = 0; g < nb; g++)
-        for (int a = 0; a < 6; a++) {
-            double s = 0.0;
-            for (int b = 0; b < 6; b++) s += M[36 * g + 6 * a + b] * u1[6 * g + b];
-            rhs[6 * g + a] += s;
-        }
+    double *u = c->body_ws + 78 * nb, *u1 = body_u1(c);
+    add_mass_times(c, u1, 1.0);
     for (size_t k = 0; k < 6 * nb; k++) u[k] = keep ? u[k] + u1[k] : u1[k];
 }
