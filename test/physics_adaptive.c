@@ -146,6 +146,12 @@ static void rollback(void)
     for (int kind = 0; kind < 2; kind++) {
         cloth *c = make_cloth(1);
         if (!c) return;
+        /* one ordinary step first, so that the pins carry constraint forces
+         * the failed frame must give back */
+        CHECK(cloth_step(c, 1.0 / 240, NULL) == CLOTH_OK, "first step: %s", cloth_last_error(c));
+        double f0[6], f1[6];
+        cloth_constraint_force(c, 0, f0);
+        cloth_constraint_force(c, 8, f0 + 3);
         cloth_desc desc = cloth_get_desc(c);
         cloth_solver user = desc.solver;
         user.method = CLOTH_BDF2; /* the controller steps backward Euler, then gives this back */
@@ -170,6 +176,11 @@ static void rollback(void)
               cloth_state_diff(before, after));
         cloth_solver now = cloth_get_desc(c).solver;
         CHECK(same_solver(&now, &user), "kind %d: the user's solver was not given back", kind);
+        cloth_constraint_force(c, 0, f1);
+        cloth_constraint_force(c, 8, f1 + 3);
+        CHECK(f0[2] != 0.0 && !memcmp(f0, f1, sizeof f0),
+              "kind %d: the pins' constraint forces were not given back (z %g, %g before; %g, %g after)", kind, f0[2],
+              f0[5], f1[2], f1[5]);
         if (kind == 1) {
             CHECK(st.failure == CLOTH_FAIL_CG_MAX_ITER, "failure %d (%s), expected CG_MAX_ITER", (int)st.failure,
                   cloth_failure_string(st.failure));
@@ -379,10 +390,47 @@ static void global_estimate_against_reference(void)
     free(ref2);
 }
 
+/* Found in review: (1) the shadow's solver set by hand skipped the
+ * multigrid levels cloth_set_solver builds, so a cloth switched to multigrid
+ * after the controller was made crashed it; (2) rounding the substeps even
+ * for the shadow left the user's range (min = max = 3 ran 2 and 4). */
+static void review_cases(void)
+{
+    cloth *c = make_cloth(1);
+    if (!c) return;
+    cloth_adaptive *a = NULL;
+    cloth_error err;
+    cloth_adaptive_desc d = cloth_adaptive_default_desc();
+    if (CHECK(cloth_adaptive_create(c, &d, &a, &err) == CLOTH_OK, "create: %s", err.message)) {
+        cloth_solver sv = cloth_get_desc(c).solver;
+        sv.precond = CLOTH_PRECOND_MULTIGRID;
+        CHECK(cloth_set_solver(c, &sv) == CLOTH_OK, "set_solver: %s", cloth_last_error(c));
+        cloth_adaptive_stats st;
+        for (int f = 0; f < 3; f++)
+            CHECK(cloth_adaptive_frame(a, c, 1.0 / 60, &st) == CLOTH_OK, "multigrid frame %d: %s", f,
+                  cloth_last_error(c));
+        cloth_adaptive_destroy(a);
+    }
+    d.min_substeps = d.max_substeps = 3;
+    a = NULL;
+    if (CHECK(cloth_adaptive_create(c, &d, &a, &err) == CLOTH_OK, "create 3..3: %s", err.message)) {
+        for (int f = 0; f < 4; f++) {
+            cloth_adaptive_stats st;
+            if (!CHECK(cloth_adaptive_frame(a, c, 1.0 / 60, &st) == CLOTH_OK, "3..3 frame %d: %s", f,
+                       cloth_last_error(c)))
+                break;
+            CHECK(st.substeps == 3, "substeps 3..3: frame %d took %d", f, st.substeps);
+        }
+        cloth_adaptive_destroy(a);
+    }
+    cloth_destroy(c);
+}
+
 int main(void)
 {
     bad_descriptors();
     rollback();
+    review_cases();
     free_fall();
     global_estimate_against_reference();
     return check_summary();

@@ -145,7 +145,9 @@ cloth_status cloth_adaptive_create(const cloth *c, const cloth_adaptive_desc *d,
     a->snap = cloth_state_create(c);
     a->v0 = calloc(10 * n3, sizeof *a->v0);
     int ok = a->snap && a->v0;
-    if (ok && d->global_estimate && d->max_substeps >= 2) {
+    /* the shadow needs an even substep count in the user's range (with
+     * min = max = 3 frames ran 2 and 4 substeps: found in review) */
+    if (ok && d->global_estimate && d->min_substeps + (d->min_substeps & 1) <= d->max_substeps - (d->max_substeps & 1)) {
         /* the shadow: the same cloth (the masses copied, as cloth_set_material
          * keeps the ones made at creation) */
         cloth_desc sd = cloth_get_desc(c);
@@ -191,15 +193,16 @@ void cloth_adaptive_destroy(cloth_adaptive *a)
 
 static double clampd(double x, double lo, double hi) { return x < lo ? lo : x > hi ? hi : x; }
 
+/* the most substeps a frame may take: the user's bound, made even with a
+ * shadow (it takes n / 2) */
+static int n_top(const cloth_adaptive *a, int even) { return a->d.max_substeps - (even ? a->d.max_substeps & 1 : 0); }
+
 /* n substeps, rounded up (even with a shadow: it takes n / 2), within the
- * user's range */
+ * user's range (made even, never empty: cloth_adaptive_create keeps the
+ * shadow only when an even count fits) */
 static int clamp_substeps(const cloth_adaptive *a, double n, int even)
 {
-    int lo = a->d.min_substeps, hi = a->d.max_substeps;
-    if (even) {
-        lo += lo & 1;
-        hi -= hi & 1;
-    }
+    int lo = a->d.min_substeps + (even ? a->d.min_substeps & 1 : 0), hi = n_top(a, even);
     if (!(n >= lo)) return lo; /* also NaN */
     if (n >= hi) return hi;
     int k = (int)ceil(n);
@@ -268,14 +271,14 @@ static attempt run_substeps(cloth_adaptive *a, cloth *c, int n, double h)
     return t;
 }
 
-/* The shadow's inputs made the cloth's: material, solver, gravity, external
- * forces and constraints (the cloth's as the frame starts; before_substep
- * then sets the shadow's own for each of its substeps). */
+/* The shadow's inputs made the cloth's: material, gravity, external
+ * forces and constraints (the cloth's as the frame starts; its solver is
+ * set before each of its runs, and before_substep then sets its own
+ * constraints for each of its substeps). */
 static void shadow_inputs(cloth_adaptive *a, const cloth *c)
 {
     cloth *s = a->shadow;
     s->desc.material = c->desc.material;
-    s->desc.solver = c->desc.solver;
     memcpy(s->desc.gravity, c->desc.gravity, sizeof s->desc.gravity);
     memcpy(s->f_ext, c->f_ext, 3 * (size_t)a->n * sizeof *c->f_ext);
     for (int i = 0; i < a->n; i++) {
@@ -441,13 +444,13 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
                 frame_dt / (SYM_FRAC * a->h_scale * a->h_stab) < 2.0 * cost_be) {
                 a->h_stab = stable_step(a, c, a->h_stab > 0.0 ? 6 : 40);
                 double hs = SYM_FRAC * a->h_scale * a->h_stab;
-                int ns = hs > 0.0 ? clamp_substeps(a, frame_dt / hs, 1) : a->d.max_substeps;
+                int ns = hs > 0.0 ? clamp_substeps(a, frame_dt / hs, 1) : n_top(a, 1);
                 if (a->method == CLOTH_SYMPLECTIC_EULER && n < ns) n = ns;
-                if (a->method == CLOTH_BACKWARD_EULER && ns < a->d.max_substeps && ns < cost_be) {
+                if (a->method == CLOTH_BACKWARD_EULER && ns < n_top(a, 1) && ns < cost_be) {
                     method = CLOTH_SYMPLECTIC_EULER;
                     a->k_be = a->k_err;
                     n = ns;
-                } else if (a->method == CLOTH_SYMPLECTIC_EULER && (cost_be < 0.35 * n || ns >= a->d.max_substeps)) {
+                } else if (a->method == CLOTH_SYMPLECTIC_EULER && (cost_be < 0.35 * n || ns >= n_top(a, 1))) {
                     method = CLOTH_BACKWARD_EULER;
                     n = clamp_substeps(a, nb, 1);
                 }
@@ -491,7 +494,7 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
         int ok = t.failure == CLOTH_FAIL_NONE && !t.callback_failed;
         shadow_failed = 0;
         if (ok && global) {
-            a->shadow->desc.solver = sv;
+            cloth_set_solver(a->shadow, &sv); /* builds its multigrid levels when first chosen */
             shadow_failed = run_shadow(a, n, st.h, &st.steps, &st.cg_iterations);
             if (!shadow_failed) g_est = rms_diff(cloth_positions(c), cloth_positions(a->shadow), a->n);
         }
@@ -508,8 +511,8 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
             tried_explicit = 1;
             a->h_stab = stable_step(a, c, 40);
             double hs = SYM_FRAC * a->h_scale * a->h_stab;
-            int ns = hs > 0.0 ? clamp_substeps(a, frame_dt / hs, 1) : a->d.max_substeps;
-            if (ns < a->d.max_substeps) {
+            int ns = hs > 0.0 ? clamp_substeps(a, frame_dt / hs, 1) : n_top(a, 1);
+            if (ns < n_top(a, 1)) {
                 const attempt tb = t;
                 const double gb = g_est, hb = st.h, its = t.steps ? (double)t.iterations / t.steps : 0.0;
                 const int nbe = n;
@@ -521,7 +524,7 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
                 a->have_prev = a->have_prev_start;
                 sv.method = CLOTH_SYMPLECTIC_EULER;
                 cloth_set_solver(c, &sv);
-                a->shadow->desc.solver = sv;
+                cloth_set_solver(a->shadow, &sv); /* builds its multigrid levels when first chosen */
                 attempt ts = run_substeps(a, c, ns, frame_dt / ns);
                 st.attempts++;
                 st.steps += ts.steps;
@@ -546,7 +549,7 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
                     cloth_restore(a->shadow, a->alt_shadow);
                     sv.method = CLOTH_BACKWARD_EULER;
                     cloth_set_solver(c, &sv);
-                    a->shadow->desc.solver = sv;
+                    cloth_set_solver(a->shadow, &sv); /* builds its multigrid levels when first chosen */
                     t = tb;
                     n = nbe;
                     a->carried += fmax(0.0, d - gb);
@@ -559,7 +562,7 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
          * motion does to the difference so far */
         if (ok && global && !shadow_failed) {
             if (!fresh || st.attempts > 1 || g_est <= 2.0 * budget || a->carried + g_est <= a->d.tolerance * t_end ||
-                n >= a->d.max_substeps - 1)
+                n >= n_top(a, 1))
                 break;
         } else if (ok && global && method == CLOTH_BACKWARD_EULER) {
             break; /* the shadow failed at 2 h where the cloth did not: kept, the shadow restarted next frame */
@@ -571,7 +574,7 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
         if (global) cloth_restore(a->shadow, a->shadow_snap);
         memcpy(a->acc_prev, a->acc_prev_start, n3 * sizeof *a->acc_prev);
         a->have_prev = a->have_prev_start;
-        if (!ok && (t.callback_failed || (n >= a->d.max_substeps - (global ? 1 : 0) &&
+        if (!ok && (t.callback_failed || (n >= n_top(a, global) &&
                                           method == CLOTH_BACKWARD_EULER))) {
             cloth_set_solver(c, &user);
             memcpy(c->con_force, a->cf0, n3 * sizeof *a->cf0);
