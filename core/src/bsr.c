@@ -72,7 +72,7 @@ int bsr_build(bsr *A, int n, int nedges, const int *ei, const int *ej, int *blk)
     }
     A->row_ptr[n] = out;
     A->nnzb = out;
-    A->val = calloc(9 * (size_t)out, sizeof *A->val);
+    A->val = calloc(9 * (size_t)out + 1, sizeof *A->val); /* + the AVX rows' padding double (mat3.h) */
     A->sym = calloc(2 * (size_t)n, 1);
     if (!A->val || !A->sym) goto fail;
     for (int i = 0; i < n; i++) A->diag[i] = find_block(A, i, i);

@@ -263,7 +263,7 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
     if (!c->con || !c->con_force || !c->seq_blk || !c->int_blk || !c->K_seq || !c->K_int) goto nomem;
     if (links_to_blocks(&c->A, n, c->seq, c->n_seq, c->lint, c->n_int, c->seq_blk, c->int_blk) != 0) goto nomem;
     if (workspace_alloc(c) != 0) goto nomem;
-    c->Ah = malloc(9 * (size_t)c->A.nnzb * sizeof *c->Ah);
+    c->Ah = calloc(9 * (size_t)c->A.nnzb + 1, sizeof *c->Ah); /* + the AVX rows' padding double (mat3.h) */
     if (!c->Ah) goto nomem;
     c->cflag = calloc((size_t)n, 1);
     c->clist = calloc((size_t)n, sizeof *c->clist);

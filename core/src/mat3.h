@@ -159,9 +159,9 @@ MAT3_INLINE void mat3vec_sym(const double *M, const double *x, double *y)
  * of a block product go as one triple. For a symmetric block the column
  * triples (B0, B3, B6), (B1, B4, B7), (B2, B5, B8) are (B0, B1, B2),
  * (B3, B4, B5), (B6, B7, B8), each contiguous; the fourth lane is unused
- * (it reads one double past the block: every array these loops read has a
- * padding double after its last block, or the loop never reaches its last
- * block, as the callers note). Each lane does the scalar operations in the
+ * (it reads one double past the block: the block matrices, bsr.c's A,
+ * cloth.c's Ah and multigrid.c's levels, are allocated with a padding
+ * double after their last block, and the callers also never reach it). Each lane does the scalar operations in the
  * scalar order and no FMA is used (target "avx" only: multiply and add stay
  * separate roundings), so every path gives the same bits.
  *

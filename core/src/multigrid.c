@@ -101,7 +101,7 @@ static int level_pattern(mg_level *L)
     M->row_ptr = malloc(((size_t)L->n + 1) * sizeof *M->row_ptr);
     M->col = malloc((size_t)nnzb * sizeof *M->col);
     M->diag = malloc((size_t)L->n * sizeof *M->diag);
-    M->val = calloc(9 * (size_t)nnzb, sizeof *M->val);
+    M->val = calloc(9 * (size_t)nnzb + 1, sizeof *M->val); /* + the AVX rows' padding double (mat3.h) */
     L->slot = malloc(NSTEN * (size_t)L->n * sizeof *L->slot);
     if (!M->row_ptr || !M->col || !M->diag || !M->val || !L->slot) return -1;
     int b = 0;
@@ -266,6 +266,7 @@ static void galerkin_block(const mg_level *F, mg_level *K, int i, int j, const d
 MAT3_INLINE void galerkin_row_k(int avx, const mg_level *F, mg_level *K, int i, const double *val, const int *col,
                                 int lo, int hi)
 {
+    (void)avx; /* used only where the build has AVX */
     const int *pi = F->par + 4 * i;
     const double *wi_ = F->w + 4 * i;
     for (int a = 0; a < 4 && pi[a] >= 0; a++) {
