@@ -12,6 +12,10 @@
  *
  * ctest: demo drape_table --check --short --no-images --alpha 0,0.5,0.8,1
  *
+ * The same with ODE's box geom as the table (vertex and libccd triangle
+ * contacts), lifted off over its edges:
+ * ctest: demo drape_table_box --box-table --check --short --no-images --alpha 0,1
+ *
  * The metrics themselves, against closed forms on a folded cloth:
  * ctest: demo metrics --selftest
  */

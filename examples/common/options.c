@@ -25,7 +25,7 @@ static const char common_usage[] =
     "  --trace                print every step's statistics (and --phases)\n"
     "  --box-table            drape_table, fabrics, crumple: tables and plates as ODE's box\n"
     "                         geom (vertex and libccd triangle contacts) instead of a\n"
-    "                         triangle mesh (the removal and the press then fail: README)\n"
+    "                         triangle mesh (the press then fails: README)\n"
     "  --sleep                let a cloth at rest sleep (dClothSetAutoSleep: RMS speed under\n"
     "                         1 cm/s for 10 steps); drape_table, drape_sphere print the saving\n"
     "  --view                 watch the run in a window (GLFW + OpenGL) when there is a display:\n"

@@ -334,6 +334,7 @@ int dcloth_find_contacts(dClothID c, double h)
                 vc->point[k] = xi[k] - nrm[k] * dist;
             }
             vc->gap = gap;
+            vc->weight = 1.0;
             if (body) {
                 dVector3 pv;
                 dBodyGetPointVel(body, vc->point[0], vc->point[1], vc->point[2], pv);

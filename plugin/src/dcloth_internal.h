@@ -20,8 +20,12 @@ typedef struct vcontact {
     int anchored;        /* 1: sticking to a kinematic body at anchor       */
     double anchor[3];    /* body frame: where the sticking vertex is held    */
     int from_triangle;   /* 1: set by a triangle test (triangles.c)         */
+    double weight;       /* the contact point's barycentric weight on the
+                            vertex (triangle contacts; 1 for a vertex's own)  */
     int active;          /* 1: a constraint in this step's solve            */
     int forced;          /* 1: a re-solve found the vertex inside its shell  */
+    int let_go;          /* 1: a triangle's contact that pulled in a solve of
+                            this step; free in the step's next solve        */
     double friction[3];  /* N, sliding friction force applied on the vertex */
     double slip[3];      /* m/s, tangential velocity relative to the body at
                             the step's start                               */

@@ -296,6 +296,7 @@ int dcloth_triangle_contacts(dClothID c, dGeomID g, double h)
                 for (int q = 0; q < 3; q++) vc->vbody[q] = pv[q];
             }
             vc->from_triangle = 1;
+            vc->weight = w[a];
             hits++;
         }
     }
