@@ -52,6 +52,7 @@ int main(int argc, char **argv)
     for (int i = 0; i < 2; i++) {
         v[i].material = cloth_material_preset(i == COTTON ? CLOTH_COTTON : CLOTH_WOOL);
         if (o.nalpha) v[i].material.alpha = o.alphas[0];
+        if (o.k_b > 0.0) v[i].material.k_b = o.k_b;
         snprintf(v[i].label, sizeof v[i].label, "%s (alpha %g)", names[i], v[i].material.alpha);
         snprintf(v[i].tag, sizeof v[i].tag, "%s", names[i]);
     }

@@ -101,9 +101,15 @@ static int run_step(runner *R)
 
 static void phase_done(runner *R, const char *name)
 {
-    if (R->o->trace || R->o->phases)
-        printf("  phase %-7s to step %5d: max strain %.4f, max penetration %.2f mm\n", name, R->step,
-               R->phase.max_strain, 1e3 * R->phase.max_penetration);
+    if (R->o->trace || R->o->phases) {
+        int plastic = 0;
+        const cloth *core = dClothGetCore(R->c);
+        cloth_link l;
+        for (int i = 0; core && cloth_get_link(core, CLOTH_INTERLACED, i, &l) == CLOTH_OK; i++) plastic += l.plastic;
+        printf("  phase %-7s to step %5d: max strain %.4f, max penetration %.2f mm, deepest bend %.3f, "
+               "plastic links %d\n",
+               name, R->step, R->phase.max_strain, 1e3 * R->phase.max_penetration, R->phase.min_bend, plastic);
+    }
     memset(&R->phase, 0, sizeof R->phase);
 }
 
@@ -353,6 +359,7 @@ int drape_alpha_main(int argc, char **argv, const char *prog, const char *usage,
     for (int i = 0; i < n; i++) {
         v[i].material = cloth_material_preset(o.material);
         v[i].material.alpha = alphas[i];
+        if (o.k_b > 0.0) v[i].material.k_b = o.k_b;
         snprintf(v[i].label, sizeof v[i].label, "alpha %g", alphas[i]);
         snprintf(v[i].tag, sizeof v[i].tag, "alpha%g", alphas[i]);
     }
@@ -371,6 +378,7 @@ int drape_material_variants(const demo_opts *o, drape_variant *v)
     for (int i = 0; i < n; i++) {
         v[i].material = cloth_material_preset(o->material);
         if (o->nalpha) v[i].material.alpha = o->alphas[i];
+        if (o->k_b > 0.0) v[i].material.k_b = o->k_b;
         snprintf(v[i].label, sizeof v[i].label, "%s, alpha %g", o->material_name, v[i].material.alpha);
         snprintf(v[i].tag, sizeof v[i].tag, "alpha%g", v[i].material.alpha);
     }
