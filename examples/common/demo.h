@@ -26,6 +26,8 @@ typedef struct demo_opts {
     int material_set;             /* --material given                      */
     cloth_preset material;
     const char *material_name;
+    double self_thickness;        /* --self-collision T: m, cloth against itself
+                                     (odecloth/selfcollision.h); 0 = off       */
     double k_b;                   /* --bending K: N/m, replaces the preset's
                                      interlaced stiffness k_b (0: the preset's) */
     int grid;                     /* nodes per side (--grid N)             */

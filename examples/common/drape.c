@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "drape.h"
+#include "odecloth/selfcollision.h"
 #include "view.h"
 
 #define FLOOR_Z 0.0
@@ -85,11 +86,22 @@ typedef struct runner {
     demo_metrics run, phase; /* over the whole run, over the current phase */
     int step, total, next_frame, slept;
     demo_box_mesh table;
+    cloth_self_collision *self; /* --self-collision, else NULL */
 } runner;
 
 static int run_step(runner *R)
 {
     if (demo_step(R->o, R->world, &R->c, 1, 1.0 / R->o->hz, R->step)) return -1;
+    if (R->self) {
+        cloth_self_collision_stats sst;
+        if (cloth_self_collision_apply(R->self, dClothGetCore(R->c), &sst) != CLOTH_OK) {
+            fprintf(stderr, "%s: step %d: %s\n", R->o->prog, R->step, cloth_last_error(dClothGetCore(R->c)));
+            return -1;
+        }
+        if (R->o->trace && sst.pairs)
+            printf("  self-collision: %d pairs separated (%d crossed), closest %.2f mm\n", sst.pairs, sst.crossings,
+                   1e3 * sst.closest);
+    }
     R->slept += dClothGetStats(R->c)->sleeping;
     demo_track_step(R->c, &R->run);
     demo_track_step(R->c, &R->phase);
@@ -185,6 +197,11 @@ int drape_run(const demo_opts *o, const demo_scene *scene, const drape_variant *
         goto done;
     }
     if (o->sleep) dClothSetAutoSleep(R.c, 1, 0.01, 10);
+    if (o->self_thickness > 0.0 &&
+        cloth_self_collision_create(dClothGetCore(R.c), o->self_thickness, &R.self, &err) != CLOTH_OK) {
+        fprintf(stderr, "%s: %s\n", o->prog, err.message);
+        goto done;
+    }
     const int C = o->grid, corner[4] = {0, C - 1, (C - 1) * C, C * C - 1};
     const double off[4][2] = {{-0.5, -0.5}, {0.5, -0.5}, {-0.5, 0.5}, {0.5, 0.5}};
     demo_camera cam_draped, cam_after;
@@ -226,6 +243,7 @@ int drape_run(const demo_opts *o, const demo_scene *scene, const drape_variant *
                100.0 * R.slept / (R.step > 0 ? R.step : 1), demo_now() - t0);
 done:
     if (rc) phase_done(&R, "FAILED");
+    cloth_self_collision_destroy(R.self);
     dClothDestroy(R.c);
     demo_box_mesh_destroy(&R.table);
     dSpaceDestroy(R.space);

@@ -15,6 +15,8 @@ static const char common_usage[] =
     "  --bending K            interlaced (bending) stiffness k_b in N/m, (0, 10000], in place\n"
     "                         of the preset's (cotton 20, wool 10); drapes, press, fabrics,\n"
     "                         curtain, trampoline\n"
+    "  --self-collision T     drape_table, drape_sphere: keep the cloth's vertices T m (0, 0.1]\n"
+    "                         from its own triangles after each step (off by default)\n"
     "  --grid N               nodes per side, 3..161 (default 21)\n"
     "  --steps-per-second F   steps per simulated second, 10..10000 (default 60; curtain 240)\n"
     "  --out DIR              where pictures and OBJ files go (default out/<demo>)\n"
@@ -138,6 +140,9 @@ int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char
             else if (!strcmp(v, "wool")) o->material = CLOTH_WOOL;
             else if (!strcmp(v, "elastic")) o->material = CLOTH_ELASTIC;
             else return bad(o, opt, v, "want cotton, wool or elastic");
+        } else if (!strcmp(opt, "--self-collision")) {
+            if (parse_double(v, &o->self_thickness) || !(o->self_thickness > 0.0) || o->self_thickness > 0.1)
+                return bad(o, opt, v, "want a thickness in (0, 0.1] m");
         } else if (!strcmp(opt, "--bending")) {
             if (parse_double(v, &o->k_b) || !(o->k_b > 0.0) || o->k_b > 1e4)
                 return bad(o, opt, v, "want a number in (0, 10000]");
