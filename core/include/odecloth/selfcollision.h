@@ -22,7 +22,10 @@
  *   cloth_self_collision_destroy(sc);
  *
  * The first apply only records the positions (the sides). Workspaces are
- * sized at creation; apply allocates nothing.
+ * sized at creation; apply allocates nothing. An apply that moves vertices
+ * writes them with cloth_set_positions / cloth_set_velocities, so BDF2
+ * restarts from backward Euler after it (as after any such call); the
+ * layers slide on each other without friction.
  */
 #ifndef ODECLOTH_SELFCOLLISION_H
 #define ODECLOTH_SELFCOLLISION_H
