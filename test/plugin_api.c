@@ -856,6 +856,69 @@ static void test_mesh(void)
     check_mesh("7 x 11, 2 x 1.2 m, tilted 30 deg", &t, n);
 }
 
+/* dClothSetTriangleTests: a 21x21 cloth dropped across a box's edge gets
+ * contacts from its triangle tests (dClothStepStats.triangle_contacts)
+ * with them on (the default), none with them off; bad input refused. */
+static int drop_across_edge(int tests, int *tri_contacts)
+{
+    dWorldID w = dWorldCreate();
+    dWorldSetGravity(w, 0, 0, -9.81);
+    dSpaceID sp = dHashSpaceCreate(0);
+    dGeomID box = dCreateBox(sp, 0.4, 0.4, 0.4);
+    dGeomSetPosition(box, 0.3, 0, 0.2); /* its edge x = 0.1 under the cloth */
+    dClothDesc d = dClothDefaultDesc();
+    d.cloth.origin[2] = 0.45;
+    dClothID c = NULL;
+    cloth_error err;
+    int ok = CHECK(dClothCreate(w, sp, &d, &c, &err) == CLOTH_OK, "triangle tests: dClothCreate: %s", err.message);
+    if (ok) {
+        CHECK(dClothGetTriangleTests(c, box) == 1, "triangle tests: on by default");
+        if (!tests) CHECK(dClothSetTriangleTests(c, box, 0) == CLOTH_OK, "triangle tests off: %s", dClothGetLastError(c));
+        CHECK(dClothGetTriangleTests(c, box) == tests, "triangle tests: read back %d, set %d",
+              dClothGetTriangleTests(c, box), tests);
+        *tri_contacts = 0;
+        for (int s = 0; s < 30 && ok; s++) {
+            ok = CHECK(dClothWorldStep(w, &c, 1, H, 0) == CLOTH_OK, "triangle tests %d: step %d: %s", tests, s,
+                       dClothGetLastError(c));
+            *tri_contacts += dClothGetStats(c)->triangle_contacts;
+        }
+        dClothDestroy(c);
+    }
+    dSpaceDestroy(sp);
+    dWorldDestroy(w);
+    return ok;
+}
+
+static void test_triangle_tests(void)
+{
+    int on = 0, off = 0;
+    if (drop_across_edge(1, &on) && drop_across_edge(0, &off)) {
+        printf("triangle tests: %d triangle contacts over 30 steps on, %d off\n", on, off);
+        CHECK(on > 0 && off == 0, "triangle tests: %d triangle contacts on, %d off", on, off);
+    }
+    dWorldID w = dWorldCreate();
+    dSpaceID sp = dHashSpaceCreate(0);
+    dGeomID box = dCreateBox(sp, 1, 1, 1);
+    dClothDesc d = dClothDefaultDesc();
+    dClothID c = NULL;
+    cloth_error err;
+    if (CHECK(dClothCreate(w, sp, &d, &c, &err) == CLOTH_OK, "dClothCreate: %s", err.message)) {
+        CHECK(dClothSetTriangleTests(c, 0, 0) == CLOTH_EINVAL && strstr(dClothGetLastError(c), "geom is 0"),
+              "triangle tests: geom 0 refused with a message (%s)", dClothGetLastError(c));
+        CHECK(dClothSetTriangleTests(NULL, box, 0) == CLOTH_EINVAL, "triangle tests: NULL cloth refused");
+        CHECK(dClothGetTriangleTests(NULL, box) == 0 && dClothGetTriangleTests(c, 0) == 0,
+              "triangle tests: read with NULL gives 0");
+        CHECK(dClothSetTriangleTests(c, box, 0) == CLOTH_OK && dClothSetTriangleTests(c, box, 0) == CLOTH_OK &&
+                  dClothGetTriangleTests(c, box) == 0,
+              "triangle tests: off twice");
+        CHECK(dClothSetTriangleTests(c, box, 1) == CLOTH_OK && dClothGetTriangleTests(c, box) == 1,
+              "triangle tests: on again (forgotten)");
+        dClothDestroy(c);
+    }
+    dSpaceDestroy(sp);
+    dWorldDestroy(w);
+}
+
 /* dClothSetConvexPoints: bad input refused with a message; a good call
  * taken, replaced and forgotten. (Its effect, triangle tests against the
  * convex, is measured in plugin_colliders.) */
@@ -958,6 +1021,7 @@ int main(void)
 {
     dInitODE2(0);
     test_convex_points();
+    test_triangle_tests();
     test_world_step_undo();
     double t0 = now();
     test_filtering();

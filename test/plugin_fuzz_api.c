@@ -277,6 +277,11 @@ static void walk(scene *s)
             st = dClothSetConvexPoints(c, gg, rng_u64(&g) % 6 ? pts : NULL, rng_u64(&g) % 3 ? 4 : xi(&g));
             break;
         }
+        case 17: { /* triangle tests off and on, for any geom or none */
+            dGeomID gg = rng_u64(&g) % 4 == 0 ? 0 : rng_u64(&g) % 2 ? s->box : s->sph;
+            st = dClothSetTriangleTests(c, gg, (int)(rng_u64(&g) % 3));
+            break;
+        }
         case 16: { /* save, then restore into itself (nothing changes) or the other cloth (another size) */
             dClothState *ds = dClothStateCreate(c);
             if (!CHECK(ds != NULL, "dClothStateCreate")) break;

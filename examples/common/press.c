@@ -54,6 +54,7 @@ static int press_run(const demo_opts *o, const demo_scene *sc, const drape_varia
     dSpaceID space = dHashSpaceCreate(0);
     /* 0 top, 1 bottom (horizontal); 2 at -y, 3 at +y (upright) */
     dBodyID plate[4];
+    dGeomID pg[4];
     demo_box_mesh mesh[4];
     memset(mesh, 0, sizeof mesh);
     const double size[4][3] = {{PLATE_W, PLATE_D, PLATE_T}, {PLATE_W, PLATE_D, PLATE_T},
@@ -64,6 +65,7 @@ static int press_run(const demo_opts *o, const demo_scene *sc, const drape_varia
         dGeomID g = o->box_table ? dCreateBox(space, size[k][0], size[k][1], size[k][2])
                                  : demo_box_mesh_create(&mesh[k], space, size[k][0], size[k][1], size[k][2]);
         dGeomSetBody(g, plate[k]);
+        pg[k] = g;
         /* the plate between the camera and the cloth is not drawn */
         dGeomSetData(g, (void *)(k < 2 ? plate_rgb : k == 2 ? demo_geom_hidden : side_rgb));
     }
@@ -93,6 +95,11 @@ static int press_run(const demo_opts *o, const demo_scene *sc, const drape_varia
         fprintf(stderr, "%s: %s\n", o->prog, err.message);
         goto done;
     }
+    /* The mesh plates give vertex contacts only: with their triangle tests
+     * on, as with ODE's box plates (--box-table), the cloth squashed between
+     * them fails a step (step 261, strain past 0.4: a vertex pinched between
+     * two plates keeps one contact; README, known gaps) */
+    for (int k = 0; k < 4 && !o->box_table; k++) dClothSetTriangleTests(c, pg[k], 0);
     /* a small out-of-plane ripple (3 half waves down the cloth, 1 cm), so
      * the squeezed cloth buckles into an accordion rather than folding
      * flat in its own plane */

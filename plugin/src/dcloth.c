@@ -130,6 +130,16 @@ void dClothDestroy(dClothID c)
     free(c->sleep_ids);
     for (int k = 0; k < c->ncvx; k++) free(c->cvx[k].p);
     free(c->cvx);
+    free(c->tri_off);
+    free(c->mesh_v);
+    free(c->mesh_convex);
+    free(c->mesh_edges);
+    free(c->grid_box);
+    free(c->grid_stamp);
+    free(c->grid_head);
+    free(c->grid_next);
+    free(c->grid_tri);
+    free(c->grid_key);
     free(c);
 }
 
@@ -295,6 +305,36 @@ void dClothSetSpace(dClothID c, dSpaceID space)
     if (!c) return;
     c->space = space;
     dClothWake(c);
+}
+
+cloth_status dClothSetTriangleTests(dClothID c, dGeomID g, int enable)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!g) return dcloth_fail(c, CLOTH_EINVAL, "dClothSetTriangleTests: geom is 0");
+    int at = 0;
+    while (at < c->ntri_off && c->tri_off[at] != g) at++;
+    if (enable) {
+        if (at < c->ntri_off) c->tri_off[at] = c->tri_off[--c->ntri_off];
+    } else if (at == c->ntri_off) {
+        if (c->ntri_off == c->tri_off_cap) {
+            int cap = c->tri_off_cap ? 2 * c->tri_off_cap : 4;
+            dGeomID *p = realloc(c->tri_off, (size_t)cap * sizeof *p);
+            if (!p) return dcloth_fail(c, CLOTH_ENOMEM, "dClothSetTriangleTests: out of memory");
+            c->tri_off = p;
+            c->tri_off_cap = cap;
+        }
+        c->tri_off[c->ntri_off++] = g;
+    }
+    dClothWake(c);
+    return CLOTH_OK;
+}
+
+int dClothGetTriangleTests(dClothID c, dGeomID g)
+{
+    if (!c || !g) return 0;
+    for (int k = 0; k < c->ntri_off; k++)
+        if (c->tri_off[k] == g) return 0;
+    return 1;
 }
 
 cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dReal *points, int count)

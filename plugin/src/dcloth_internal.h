@@ -74,6 +74,26 @@ struct dxCloth {
         double *p;       /* 3n, the geom's frame */
     } *cvx;
     int ncvx;
+    /* geoms whose triangle tests are off (dClothSetTriangleTests) */
+    dGeomID *tri_off;
+    int ntri_off, tri_off_cap;
+    /* a trimesh's triangles this step (triangles.c): 9 world coordinates
+     * and 3 edge flags (1: the surface turns convexly there, or ends) each,
+     * and the edges for matching neighbours */
+    double *mesh_v;
+    unsigned char *mesh_convex;
+    struct mesh_edge {
+        double a[3], b[3]; /* the ends, a before b (lexicographic)         */
+        int tri, e;        /* triangle j, edge e (from corner e to e + 1)  */
+    } *mesh_edges;
+    int mesh_cap;
+    /* the cloth's triangles in a hash grid, for a mesh's (triangles.c) */
+    double *grid_box;    /* 6 per cloth triangle: its box, grown          */
+    int *grid_stamp;     /* per cloth triangle: the last mesh triangle + 1 */
+    int *grid_head;      /* per bucket: its first entry, -1 if none       */
+    int *grid_next, *grid_tri;
+    long long *grid_key;
+    int grid_nbuck, grid_cap;
     /* the bodies this step touched, each as it was before (world.c) */
     struct body_rec {
         dBodyID b;

@@ -174,6 +174,16 @@ void dClothSetSpace(dClothID c, dSpaceID space);
  * before destroying it. */
 cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dReal *points, int count);
 
+/* Triangle tests (libccd) for geom g on (enable nonzero, the default) or
+ * off. They keep a box's, capsule's, cylinder's, convex's or trimesh's edges
+ * and corners from passing between the cloth's vertices; off, g gets vertex
+ * contacts only, which is cheaper (a 1000-triangle trimesh under an 81x81
+ * cloth: README) and enough where no edge meets the cloth. Other classes
+ * have vertex contacts only either way. Forget a geom (enable it) before
+ * destroying it. */
+cloth_status dClothSetTriangleTests(dClothID c, dGeomID g, int enable);
+int dClothGetTriangleTests(dClothID c, dGeomID g);
+
 /* ---------------------------------------------------------- save/restore */
 
 /* All a cloth carries from one step to the next: the core's state
