@@ -14,8 +14,9 @@
 
 /* workspace per body, in doubles: M ginv (36 each), rhs u r p q s (6 each),
  * com (3), then for the elongation limit minv (36), F and D (6 each) */
-enum { WS_PER_BODY = 2 * 36 + 6 * 6 + 3 + 36 + 12 + 6 + 6 }; /* + U (6): the substep retry's sum of du;
-                                                                + the Newton iterations' first du (6) */
+enum { WS_PER_BODY = 2 * 36 + 6 * 6 + 3 + 36 + 12 + 6 + 6 + 6 }; /* + U (6): the substep retry's sum of du;
+                                                                    + the Newton iterations' first du (6);
+                                                                    + their saved du (6) */
 
 /* P_i = I - S_i applied to a 3-vector */
 static void con_project(const double *S, const double *a, double *o)
@@ -179,32 +180,9 @@ const mpcg_bodies *bodies_prepare(cloth *c, double h, double cfac, mpcg_bodies *
             com[3 * g + r] = b->com[r];
         }
     }
-    /* For the elongation limit: the inverse of the body's mass with its held
-     * vertices' (which move with it): M + sum m_i J_i^T P_i J_i. */
-    double *minv = com + 3 * nb;
-    for (size_t g = 0; g < nb; g++) {
-        const cloth_body *b = &c->body[g];
-        double *Mg = minv + 36 * g;
-        memset(Mg, 0, 36 * sizeof *Mg);
-        for (int r = 0; r < 3; r++) {
-            Mg[7 * r] = b->mass;
-            for (int q = 0; q < 3; q++) Mg[6 * (r + 3) + q + 3] = b->inertia[3 * r + q];
-        }
-    }
-    for (int i = 0; i < c->n; i++) {
-        if (c->vbody[i] < 0 || !c->con[i].ndof) continue;
-        double *Mg = minv + 36 * (size_t)c->vbody[i], r[3];
-        for (int a = 0; a < 3; a++) r[a] = c->st.x[3 * i + a] - com[3 * c->vbody[i] + a];
-        double PJ[18];
-        pj_matrix(c->S + 9 * (size_t)i, r, PJ);
-        for (int a = 0; a < 6; a++)
-            for (int e = 0; e < 6; e++)
-                Mg[6 * a + e] += c->mass[i] * (PJ[a] * PJ[e] + PJ[6 + a] * PJ[6 + e] + PJ[12 + a] * PJ[12 + e]);
-    }
-    for (size_t g = 0; g < nb; g++) {
-        double inv[36];
-        if (spd6_inverse(minv + 36 * g, inv) == 0) memcpy(minv + 36 * g, inv, sizeof inv);
-    }
+    /* for the elongation limit (levers from the step's start; its
+     * projection sets them again from the positions it works on) */
+    body_limit_begin(c);
     memset(com + 3 * nb + 36 * nb, 0, 12 * nb * sizeof *com);
     return B;
 }
@@ -223,11 +201,41 @@ static double *bw(const cloth *c, int part) /* 0 com, 1 minv, 2 F, 3 D */
 
 static void lever_of(const cloth *c, int i, double r[3])
 {
-    const double *com = bw(c, 0) + 3 * c->vbody[i];
-    for (int a = 0; a < 3; a++) r[a] = c->st.x[3 * i + a] - com[a];
+    const double *com = bw(c, 0) + 3 * c->vbody[i], *x = c->sl_x ? c->sl_x : c->st.x;
+    for (int a = 0; a < 3; a++) r[a] = x[3 * i + a] - com[a];
 }
 
 int body_holds(const cloth *c, int i) { return c->body_held && c->vbody[i] >= 0 && c->con[i].ndof; }
+
+/* The inverse of each body's mass with its held vertices' (which move with
+ * it), M + sum m_i J_i^T P_i J_i, at the levers lever_of gives. */
+void body_limit_begin(cloth *c)
+{
+    size_t nb = (size_t)c->nbody;
+    double *minv = bw(c, 1);
+    for (size_t g = 0; g < nb; g++) {
+        const cloth_body *b = &c->body[g];
+        double *Mg = minv + 36 * g;
+        memset(Mg, 0, 36 * sizeof *Mg);
+        for (int r = 0; r < 3; r++) {
+            Mg[7 * r] = b->mass;
+            for (int q = 0; q < 3; q++) Mg[6 * (r + 3) + q + 3] = b->inertia[3 * r + q];
+        }
+    }
+    for (int i = 0; i < c->n; i++) {
+        if (c->vbody[i] < 0 || !c->con[i].ndof) continue;
+        double *Mg = minv + 36 * (size_t)c->vbody[i], r[3], PJ[18];
+        lever_of(c, i, r);
+        pj_matrix(c->S + 9 * (size_t)i, r, PJ);
+        for (int a = 0; a < 6; a++)
+            for (int e = 0; e < 6; e++)
+                Mg[6 * a + e] += c->mass[i] * (PJ[a] * PJ[e] + PJ[6 + a] * PJ[6 + e] + PJ[12 + a] * PJ[12 + e]);
+    }
+    for (size_t g = 0; g < nb; g++) {
+        double inv[36];
+        if (spd6_inverse(minv + 36 * g, inv) == 0) memcpy(minv + 36 * g, inv, sizeof inv);
+    }
+}
 
 /* J^T P f for held vertex i */
 static void jtp(const cloth *c, const double *S, int i, const double f[3], double o[6])
@@ -509,4 +517,21 @@ void bodies_newton_end(cloth *c, int keep)
     double *u = c->body_ws + 78 * nb, *u1 = body_u1(c);
     add_mass_times(c, u1, 1.0);
     for (size_t k = 0; k < 6 * nb; k++) u[k] = keep ? u[k] + u1[k] : u1[k];
+}
+
+/* The step's du as it was when the Newton corrections converged last
+ * (step.c keeps that step if the elongation limit's later corrections do
+ * not converge in the budget) */
+static double *body_saved(const cloth *c) { return bw(c, 0) + 63 * (size_t)c->nbody; }
+
+void bodies_newton_save(cloth *c)
+{
+    size_t nb = (size_t)c->nbody;
+    memcpy(body_saved(c), c->body_ws + 78 * nb, 6 * nb * sizeof(double));
+}
+
+void bodies_newton_restore(cloth *c)
+{
+    size_t nb = (size_t)c->nbody;
+    memcpy(c->body_ws + 78 * nb, body_saved(c), 6 * nb * sizeof(double));
 }

@@ -122,6 +122,11 @@ struct cloth {
     int *sl_act;               /* n_seq: its active links */
     unsigned char *sl_held;    /* n_seq: links held at the limit this step; then n marks */
     double *sl_vtx;            /* 3n: its per-vertex scratch, kept zeroed */
+    double *sl_x0;             /* 3n: the positions it started from (the held vertices' levers) */
+    const double *sl_x;        /* sl_x0 while it runs, else NULL (bodies.c's levers from the step's start) */
+    double *lim_shift;         /* n_seq, m: the Newton corrections' multipliers of the elongation
+                                  limit, as shifts of each link's limit length (step.c) */
+    double *dv_saved, *con_saved; /* 3n each: dv and con_new when the corrections last converged */
 
     cloth_step_stats stats;
     char err[256];
@@ -151,6 +156,9 @@ const struct mpcg_bodies *bodies_prepare(cloth *c, double h, double cfac, struct
  * D = Minv F (F zeroed); q_i += s P J D; the bodies' velocity changes +=
  * s D. */
 int body_holds(const cloth *c, int i);
+/* the bodies' inverse mass with their held vertices, at the levers of the
+ * positions the projection works on (c->sl_x; the step's start if NULL) */
+void body_limit_begin(cloth *c);
 double body_wnorm(const cloth *c, const double *S, int i, const double u[3]);
 void body_push(cloth *c, const double *S, int i, const double u[3], double s);
 void body_solve(cloth *c);
@@ -167,6 +175,9 @@ void bodies_retry_finish(cloth *c);
 /* Newton corrections of a step: the bodies' rows on their residual */
 void bodies_newton_begin(cloth *c);
 void bodies_newton_end(cloth *c, int keep);
+/* the bodies' du saved, and restored (step.c's elongation limit) */
+void bodies_newton_save(cloth *c);
+void bodies_newton_restore(cloth *c);
 
 /* state.c */
 int state_alloc(struct cloth_state *s, int n, int n_int);

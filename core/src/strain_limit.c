@@ -53,7 +53,21 @@
 /* Vertices held by a rigid body solved with the cloth (cloth_body) move, in
  * their constrained directions, with the body: W_i then also has the body's
  * part P J Minv J^T P, applied through the body's summed impulse (bodies.c),
- * and the body's velocity change takes the correction too. */
+ * and the body's velocity change takes the correction too. Two things make
+ * that a consistent linear model:
+ * - the levers J turns the body about are the held vertices' positions at
+ *   the projection's start, not the step's start (a vertex that a contact
+ *   took hold of in this step moved centimetres since: a turn of the body
+ *   then changed the length of a link between two of its held vertices at
+ *   first order, so steps the model predicted to shorten links lengthened
+ *   them, and every step was refused: the trampoline's projection stalled
+ *   at strain 0.033-0.046 with mu at its cap), and Minv is made again with
+ *   them (with the old levers momentum was not conserved);
+ * - a link between two vertices held in full by the same body (rigid_pair)
+ *   is left out: no step changes its length, yet its row's diagonal (the
+ *   body's share) is positive, so its damped equation mu diag lambda = C
+ *   gave multipliers C / (mu diag), 1e8 times the others, which no CG
+ *   iteration count resolved. */
 static int bodies_on(const cloth *c)
 {
     cloth_method m = c->desc.solver.method;
@@ -168,12 +182,22 @@ static void apply_step(const cloth *c, const double *S, int m, const int *act, d
     for (int a = 0; a < m; a++) touched[c->seq[act[a]].i] = touched[c->seq[act[a]].j] = 0;
 }
 
+/* Do i and j move as one rigid piece in the projection (both held in full
+ * by the same body)? Then no step changes the link's length. */
+static int rigid_pair(const cloth *c, int i, int j)
+{
+    if (c->con[i].ndof != 3 || c->con[j].ndof != 3) return 0;
+    int bi = bodies_on(c) && body_holds(c, i), bj = bodies_on(c) && body_holds(c, j);
+    return bi && bj && c->vbody[i] == c->vbody[j];
+}
+
 /* Fill row a of the link system for link e at positions x: u, C = d - lmax,
  * and the inverse of its (damped) diagonal. 0 if neither end can move. */
 static int link_row(const cloth *c, const double *S, const double *x, int e, double limit, double mu,
                     double *ua, double *Ca, double *dinva)
 {
     int i = c->seq[e].i, j = c->seq[e].j;
+    if (rigid_pair(c, i, j)) return 0;
     const double *xi = x + 3 * i, *xj = x + 3 * j;
     double w[3] = {xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]};
     double d = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
@@ -250,6 +274,11 @@ int strain_limit(cloth *c, double *x, double *v, const double *S, double cfac, i
     double *u = c->sl, *C = u + 3 * (size_t)c->n_seq, *lam = C + c->n_seq, *r = lam + c->n_seq;
     double *p = r + c->n_seq, *y = p + c->n_seq, *dinv = y + c->n_seq, *q = c->sl_vtx;
     int first;
+    if (bodies_on(c)) { /* the held vertices' levers from where they are now */
+        memcpy(c->sl_x0, x, 3 * (size_t)c->n * sizeof *x);
+        c->sl_x = c->sl_x0;
+        body_limit_begin(c);
+    }
     double merit = violation(c, x, limit, &first), mu = SL_MU_MIN;
     int over = first;
     for (int it = 0; it < iterations && over > 0 && mu <= SL_MU_MAX; it++) {
@@ -339,5 +368,6 @@ int strain_limit(cloth *c, double *x, double *v, const double *S, double cfac, i
         }
         clear_step(c, m, act, q);
     }
+    c->sl_x = NULL;
     return first;
 }
