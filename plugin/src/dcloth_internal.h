@@ -26,6 +26,8 @@ typedef struct vcontact {
     int forced;          /* 1: a re-solve found the vertex inside its shell  */
     int let_go;          /* 1: a triangle's contact that pulled in a solve of
                             this step; free in the step's next solve        */
+    int slides;          /* 1: held on a link past the elongation limit in a
+                            solve of this step; slides in the next          */
     double friction[3];  /* N, sliding friction force applied on the vertex */
     double slip[3];      /* m/s, tangential velocity relative to the body at
                             the step's start                               */
