@@ -26,19 +26,22 @@ static double wall(void)
 #define RESOLVE_PASSES 4
 
 /* A triangle's contact lets go of a vertex it pulls onto the body harder
- * than this many times the vertex's weight, within the step: the vertex is
- * left free and the step solved again (one of the RESOLVE_PASSES; a vertex
- * let go that then ends inside its shell is held again, forced). Never let
- * go (as it was), they held a cloth lifted off a box table by its corners
- * until its links tore (drape_table --box-table: strain 0.46, step 367).
- * Not at any pull: a cloth lying over an edge is bent there, and the rim
- * vertices' contacts hold them down against the bending (up to 22 m g at
- * rest on that table). Measured (lift's strain; plugin_coupling's 0.5 kg box
- * resting on a pinned cloth, bounds 2% and 1 mm/s): 20 m g: 0.024, 0.92%,
- * 0.91 mm/s; 50: 0.0300, 0.24%, 0.52; 100: 0.0300, 0.18%, 0.57; 200:
- * 0.0300, 0.31%, 0.55; 400: 0.038. Vertex contacts keep their rule
- * (contact_rule: let go the step after they pulled). */
-#define LETGO_PULL 100.0
+ * than LETGO_PULL of the tension of a link at the elongation limit (k_t
+ * delta l0, l0 the grid spacing), within the step: the vertex is left free
+ * and the step solved again (one of the RESOLVE_PASSES; a vertex let go
+ * that then ends inside its shell is held again, forced). Never let go (as
+ * it was), they held a cloth lifted off a box table by its corners until
+ * its links tore (drape_table --box-table: strain 0.46, step 367). Not at
+ * any pull: a cloth lying over an edge is bent there, and the rim vertices'
+ * contacts hold them down against the bending. Measured at 0.15 (cotton
+ * 21x21: 0.45 N, about 100 vertex weights): the 21x21 lift at the limit,
+ * 0.0300; plugin_coupling's 0.5 kg box on a pinned cloth 0.19%, 0.14 mm/s;
+ * an 81x81 cloth at rest on a box 56 ms a step (53 never letting go). A
+ * threshold of 100 vertex weights instead (the first form) re-solved most
+ * 81x81 steps (116 ms) and, with no gravity, let go at any pull and failed
+ * a step. The 41x41 lift reaches 0.054 (open). Vertex contacts keep their
+ * rule (contact_rule: let go the step after they pulled). */
+#define LETGO_PULL 0.15
 
 /* A triangle's contact held over from the last step sticks (static
  * friction) only on vertices that carry at least this barycentric weight of
@@ -296,7 +299,8 @@ cloth_status dClothStep(dClothID c, dReal h)
     memcpy(c->x0, cloth_positions(core), 3 * (size_t)c->n * sizeof *c->x0);
     memcpy(c->v0, cloth_velocities(core), 3 * (size_t)c->n * sizeof *c->v0);
     cloth_save(core, c->save);
-    double gnorm = sqrt(dcloth_dot3(cd.gravity, cd.gravity));
+    double spacing = fmin(cd.width / (cd.cols - 1), cd.height / (cd.rows - 1));
+    double letgo_t = cd.material.k_t * cd.material.delta * spacing;
     cloth_status s = CLOTH_OK;
     int passes = 0;
     for (;;) {
@@ -360,7 +364,7 @@ cloth_status dClothStep(dClothID c, dReal h)
             if (!nw->active || !nw->from_triangle || nw->forced) continue;
             double f[3];
             cloth_constraint_force(core, i, f);
-            if (dcloth_dot3(f, nw->normal) < -LETGO_PULL * mass[i] * gnorm) {
+            if (dcloth_dot3(f, nw->normal) < -LETGO_PULL * letgo_t) {
                 nw->let_go = 1;
                 more++;
             }
