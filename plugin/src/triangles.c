@@ -492,6 +492,7 @@ static int grid_build(dClothID c, const convex_query *q, double h, double geom_s
     /* at most ~1e6 cells a side: a larger span (a cloth flung far) uses
      * larger cells */
     for (int a = 0; a < 3; a++) side = fmax(side, (hi[a] - lo[a]) * 1e-6);
+    if (!isfinite(side)) return -1; /* coordinates near overflow */
     *s = side;
     for (int a = 0; a < 3; a++) dim[a] = (long long)((hi[a] - lo[a]) / side) + 1;
     for (int b = 0; b < c->grid_nbuck; b++) c->grid_head[b] = -1;
@@ -507,6 +508,7 @@ static int grid_build(dClothID c, const convex_query *q, double h, double geom_s
         for (i[2] = i0[2]; i[2] <= i1[2]; i[2]++)
             for (i[1] = i0[1]; i[1] <= i1[1]; i[1]++)
                 for (i[0] = i0[0]; i[0] <= i1[0]; i[0]++) {
+                    if (n == c->grid_cap) return -1; /* rounding gave a box 3 cells: never seen */
                     long long key = cell_key(i, dim);
                     int bk = bucket(key, c->grid_nbuck);
                     c->grid_key[n] = key;
@@ -600,8 +602,9 @@ static int mesh_contacts(dClothID c, convex_query *q, double h, ccd_t *ccd, ccd_
         }
         long long i0[3], i1[3], i[3];
         for (int a = 0; a < 3; a++) {
-            i0[a] = (long long)fmax(0.0, floor((q->aabb[2 * a] - lo[a]) / s));
-            i1[a] = (long long)fmin((double)(dim[a] - 1), floor((q->aabb[2 * a + 1] - lo[a]) / s));
+            double top = (double)(dim[a] - 1);
+            i0[a] = (long long)fmin(top, fmax(0.0, floor((q->aabb[2 * a] - lo[a]) / s)));
+            i1[a] = (long long)fmin(top, fmax(-1.0, floor((q->aabb[2 * a + 1] - lo[a]) / s)));
         }
         for (i[2] = i0[2]; i[2] <= i1[2]; i[2]++)
             for (i[1] = i0[1]; i[1] <= i1[1]; i[1]++)
