@@ -209,11 +209,11 @@ double dcloth_geom_speed(dGeomID g)
     return isfinite(ang) ? lin + ang : lin;
 }
 
-/* |v - the velocity of the body's point at x|: how fast a vertex at x with
- * velocity v closes on (or leaves) a geom of body b (0: static) */
-double dcloth_relative_speed(dBodyID b, const double *x, const double *v)
+/* r = v - the velocity of the body's point at x: how a vertex at x with
+ * velocity v moves against a geom of body b (0: static) */
+void dcloth_relative_velocity(dBodyID b, const double *x, const double *v, double r[3])
 {
-    double r[3] = {v[0], v[1], v[2]};
+    for (int k = 0; k < 3; k++) r[k] = v[k];
     const dReal *l, *w;
     if (body_velocity(b, &l, &w)) {
         const dReal *o = dBodyGetPosition(b);
@@ -222,6 +222,13 @@ double dcloth_relative_speed(dBodyID b, const double *x, const double *v)
         r[1] -= l[1] + w[2] * d[0] - w[0] * d[2];
         r[2] -= l[2] + w[0] * d[1] - w[1] * d[0];
     }
+}
+
+/* |dcloth_relative_velocity|, inf if not finite */
+double dcloth_relative_speed(dBodyID b, const double *x, const double *v)
+{
+    double r[3];
+    dcloth_relative_velocity(b, x, v, r);
     double s = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
     return isfinite(s) ? s : INFINITY;
 }

@@ -130,6 +130,11 @@ struct dxCloth {
  * last step put on its shell reads a gap of about -1e-17 m. */
 #define DCLOTH_TOUCH 1e-6
 
+/* A vertex within this fraction of the thickness of touching at the end of
+ * the step (predicted) is held on the surface, so a resting vertex stays in
+ * contact instead of falling free every other step (coupling.c). */
+#define DCLOTH_CONTACT_SLOP 0.1
+
 static inline double dcloth_dot3(const double *a, const double *b)
 {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
@@ -149,6 +154,7 @@ int dcloth_find_candidates(dClothID c, double h, double reach);
 /* an upper bound of the speed of any point of geom g (0 without a body) */
 double dcloth_geom_speed(dGeomID g);
 /* the speed of a vertex (x, v) relative to body b's point at x (b 0: |v|) */
+void dcloth_relative_velocity(dBodyID b, const double *x, const double *v, double r[3]);
 double dcloth_relative_speed(dBodyID b, const double *x, const double *v);
 
 /* A sleeping cloth watches this far around it (m): a body moving toward it

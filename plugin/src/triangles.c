@@ -145,18 +145,22 @@ static void barycentric(const double *const v[3], const double *p, double w[3])
  * point out of the face, and at a convex edge of a closed mesh the two
  * faces' prisms meet as the solid would. */
 /* A mesh triangle's prism gives a contact along directions within
- * acos(MESH_FACE_COS) = 60 degrees of its face's normal, and beyond only
+ * acos(MESH_FACE_COS) = 8 degrees of its face's normal, and beyond only
  * across an edge where the surface turns convexly or ends, never into the
  * face (EPA's direction for a swept triangle barely touching a top face's
  * prism pointed down, through it, and held the cloth on the mesh table as
- * it was lifted: strain 0.051). Its side walls
- * stand inside the mesh wherever a neighbour continues the surface, and a
- * cloth triangle barely over such an edge (the diagonal of a box's face)
- * was pushed sideways out of them (drape_table on the mesh table: strain
- * 0.0331 at the drop, 0.0300 on the box geom). Without the convex edges'
- * directions a falling cloth's triangles took the box's top edges through
- * them (plugin_colliders, trimesh). */
-#define MESH_FACE_COS 0.5
+ * it was lifted: strain 0.051). Across a flat edge the surface goes on as
+ * the face: a direction leaning over it comes from the prism's side wall,
+ * which stands inside the mesh. A cloth triangle barely over such an edge
+ * (the diagonal of a box's face) was pushed sideways out of it (drape_table
+ * on the mesh table: strain 0.0331 at the drop), and a direction 54
+ * degrees off the normal (accepted while this was 60 degrees) replaced
+ * vertices' own contacts with the face and let a cloth thrown at 4-6 m/s
+ * through a flat 2-triangle mesh by up to 6.4 mm (review of session 6;
+ * plugin_mesh_impact). Without the convex edges' directions a falling
+ * cloth's triangles took the box's top edges through them
+ * (plugin_colliders, trimesh). */
+#define MESH_FACE_COS 0.99
 
 typedef struct prism_shape {
     double p[6][3]; /* world frame */
@@ -204,7 +208,63 @@ typedef struct convex_query {
     dGeomID g;
     dBodyID body;
     int moving;       /* the geom moves more than SWEEP_NEGLIGIBLE per step */
+    int cls;          /* the geom's class (dTriMeshClass: face is set) */
 } convex_query;
+
+/* A triangle ahead of a geom takes the plane of the face it faces as each
+ * vertex's (triangle_query), where its normal is within acos(AHEAD_PARALLEL)
+ * = 8 degrees of the contact direction and the geom has a flat face there
+ * (a box's, a cylinder's cap, a mesh triangle; a convex's, where the
+ * tightly converged direction is taken as the face's). The face's own
+ * normal, not the direction found: a plane through a support along a
+ * direction off a 2 m face's normal by 3 degrees passes 5 cm above it at
+ * the face's centre (plugin_mesh_impact, measured). Not on a round
+ * surface: there the plane is a tangent, and vertices held on it stop
+ * short of the surface by up to l^2 / (2 rho); a cloth dropped on a
+ * capsule landed buckled and rested 5 mm higher (plugin_colliders,
+ * measured). Returns 0 where there is no such face. */
+#define AHEAD_PARALLEL 0.99
+
+static int flat_face(const convex_query *q, const double n[3], double face[3])
+{
+    const dReal *R = dGeomGetRotation(q->g);
+    int axis = -1;
+    if (q->cls == dTriMeshClass) {
+        if (dcloth_dot3(q->face, n) < AHEAD_PARALLEL) return 0;
+        for (int r = 0; r < 3; r++) face[r] = q->face[r];
+        return 1;
+    } else if (q->cls == dConvexClass) {
+        for (int r = 0; r < 3; r++) face[r] = n[r];
+        return 1;
+    } else if (q->cls == dCylinderClass) {
+        axis = 2; /* its caps: local z */
+    } else if (q->cls == dBoxClass) {
+        double best = -1.0;
+        for (int k = 0; k < 3; k++) {
+            double e = fabs(R[k] * n[0] + R[4 + k] * n[1] + R[8 + k] * n[2]);
+            if (e > best) best = e, axis = k;
+        }
+    } else {
+        return 0; /* capsule */
+    }
+    double c[3] = {R[axis], R[4 + axis], R[8 + axis]}, e = dcloth_dot3(c, n);
+    if (fabs(e) < AHEAD_PARALLEL) return 0;
+    for (int r = 0; r < 3; r++) face[r] = e > 0.0 ? c[r] : -c[r];
+    return 1;
+}
+
+/* Whether cloth triangle ts lies within acos(AHEAD_PARALLEL) of parallel
+ * to a flat face of the shape that direction n finds (flat_face's, in face). */
+static int facing(const convex_query *q, const tri_shape *ts, const double n[3], double face[3])
+{
+    double e1[3], e2[3], nt[3];
+    for (int r = 0; r < 3; r++) e1[r] = ts->v[1][r] - ts->v[0][r], e2[r] = ts->v[2][r] - ts->v[0][r];
+    nt[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    nt[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    nt[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    double ntl = sqrt(dcloth_dot3(nt, nt));
+    return ntl > 0.0 && fabs(dcloth_dot3(nt, n)) >= AHEAD_PARALLEL * ntl && flat_face(q, n, face);
+}
 
 /* Cloth triangle k against the shape: sets its vertices' contacts where
  * deeper than what they have; returns how many it set. */
@@ -264,7 +324,7 @@ static int triangle_query(dClothID c, const convex_query *q, int k, double h, cc
      * so let go (it stays apart) could fall through the plane with its
      * triangle in the same step (plugin_colliders: a box's and a
      * cylinder's edge through a triangle at impact, measured). */
-    int clear = (!swept || q->moving) && depth < ts.radius;
+    int clear = (!swept || q->moving) && depth < ts.radius, shell_hit = 0;
     if (swept) {
         tri_shape shell = ts;
         shell.radius = shell_r;
@@ -275,37 +335,83 @@ static int triangle_query(dClothID c, const convex_query *q, int k, double h, cc
             dir = dir2;
             pos = pos2;
             clear = d2 < shell_r;
+            shell_hit = 1;
+        } else if (!q->moving) {
+            /* still apart from a static geom: the geometry converged
+             * tightly. The loose EPA's direction leaned by up to 0.2
+             * degrees on a 2 m face, the support jumped to its far corner
+             * and the plane dropped 4 mm (plugin_mesh_impact); with it, a
+             * box's edges came within 0.18 mm of a falling cloth's
+             * triangles, with this 3.4 mm (plugin_colliders) */
+            ccd_real_t d2;
+            ccd_vec3_t dir2, pos2;
+            if (ccdGJKPenetration(q->shape, &ts, fine, &d2, &dir2, &pos2) == 0 && d2 > 0.0 && isfinite(d2)) {
+                lift = d2 - (ts.radius - t);
+                dir = dir2;
+                pos = pos2;
+                depth = d2;
+            }
         }
     }
     double nl = sqrt(dir.v[0] * dir.v[0] + dir.v[1] * dir.v[1] + dir.v[2] * dir.v[2]);
     if (!(nl > 0.0)) return 0;
     double n[3] = {dir.v[0] / nl, dir.v[1] / nl, dir.v[2] / nl}, support = 0.0;
     if (q->face && !mesh_direction(q, n)) return 0;
-    if (clear) {
-        ccd_vec3_t nd = {{n[0], n[1], n[2]}}, sp;
-        q->support(q->shape, &nd, &sp);
-        support = n[0] * sp.v[0] + n[1] * sp.v[1] + n[2] * sp.v[2];
-    }
     /* barycentric weights of the contact point, projected on the
      * triangle and clamped into it */
     double w[3];
     barycentric(ts.v, pos.v, w);
     double w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+    /* ahead: a triangle approaching a static geom, still apart (the swept
+     * query's predictive geometry). When every vertex the contact point
+     * weighs reaches the separating plane within the step at its present
+     * velocity, each is given its own height above the plane as its gap:
+     * the contact point's height is their weighted sum, so it ends on the
+     * plane as the shares below would put it, and the triangle lands as
+     * it lies. Why: on faces that are parallel EPA's contact point is any
+     * point of the overlap, and the shares from an uneven one stopped some
+     * vertices a centimetre short; a cloth thrown flat at 4-6 m/s onto a
+     * box crumpled, its middle resting 1-6 cm up (plugin_mesh_impact,
+     * measured). When a vertex would not reach it (the triangle leaning
+     * away), the shares hold it: left free, it could fall through the
+     * plane with the triangle in the same step (the edges of a box and a
+     * cylinder through a triangle at impact, plugin_colliders, measured). */
+    double face[3];
+    int ahead = swept && !shell_hit && !q->moving && depth < ts.radius && facing(q, &ts, n, face);
+    if (ahead) memcpy(n, face, sizeof face);
+    double above[3] = {0.0, 0.0, 0.0};
+    int reaches[3] = {0, 0, 0};
+    if (clear || ahead) {
+        ccd_vec3_t nd = {{n[0], n[1], n[2]}}, sp;
+        q->support(q->shape, &nd, &sp);
+        support = n[0] * sp.v[0] + n[1] * sp.v[1] + n[2] * sp.v[2];
+        for (int a = 0; a < 3; a++) {
+            const double *xa = ts.v[a];
+            double rv[3];
+            above[a] = n[0] * xa[0] + n[1] * xa[1] + n[2] * xa[2] - support - t;
+            dcloth_relative_velocity(q->body, xa, v + 3 * p[a], rv);
+            reaches[a] = above[a] + h * dcloth_dot3(rv, n) <= DCLOTH_CONTACT_SLOP * t;
+            if (ahead && w[a] > 0.0 && !reaches[a]) ahead = 0;
+        }
+    }
     int hits = 0;
     for (int a = 0; a < 3; a++) {
         vcontact *vc = &c->vc_new[p[a]];
-        if (!(w[a] > 0.0)) continue;
-        double gap = -lift * w[a] / w2;
+        double gap;
+        if (w[a] > 0.0) {
+            gap = -lift * w[a] / w2;
+        } else if (ahead && reaches[a]) {
+            gap = above[a];
+        } else {
+            continue;
+        }
         /* A vertex never gets a smaller gap than its height above the
          * separating plane allows. A triangle lying flat on a face
          * touches it everywhere, the tight EPA returns any point of the
          * face, and the lift shared from there held a vertex 1.5 mm
          * above its place (plugin_api, measured) */
-        if (clear) {
-            const double *xa = ts.v[a];
-            double above = n[0] * xa[0] + n[1] * xa[1] + n[2] * xa[2] - support - t;
-            if (above > gap) gap = above;
-        }
+        if (clear && above[a] > gap) gap = above[a];
+        if (ahead) gap = above[a];
         /* only deeper than the vertex's own contact. (Requiring "deeper
          * beyond rounding" instead, so that ties at 1e-17 keep the
          * vertex's own, made an 81x81 cloth on a box fail at step 425 of
@@ -664,6 +770,7 @@ int dcloth_triangle_contacts(dClothID c, dGeomID g, double h)
     fine.epa_tolerance = EPA_FINE * t;
     convex_query q = {.shape = &gs, .support = geom_support, .center = geom_center, .g = g, .body = dGeomGetBody(g)};
     q.moving = dcloth_geom_speed(g) * h > SWEEP_NEGLIGIBLE * t; /* not ODE's jitter of a body at rest */
+    q.cls = gs.cls;
     if (gs.cls == dTriMeshClass) return mesh_contacts(c, &q, h, &ccd, &fine);
     dReal aabb[6];
     dGeomGetAABB(g, aabb);
