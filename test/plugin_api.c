@@ -856,15 +856,30 @@ static void test_mesh(void)
     check_mesh("7 x 11, 2 x 1.2 m, tilted 30 deg", &t, n);
 }
 
-/* dClothSetTriangleTests: a 21x21 cloth dropped across a box's edge gets
- * contacts from its triangle tests (dClothStepStats.triangle_contacts)
- * with them on (the default), none with them off; bad input refused. */
-static int drop_across_edge(int tests, int *tri_contacts)
+/* dClothSetTriangleTests: a 21x21 cloth dropped across the edge of a box,
+ * ODE's geom or the same box as 12 triangles, gets contacts from its
+ * triangle tests (dClothStepStats.triangle_contacts) with them on (the
+ * default), none with them off; bad input refused. */
+static const dReal edge_box_v[24] = {-0.2, -0.2, -0.2, 0.2, -0.2, -0.2, -0.2, 0.2, -0.2, 0.2, 0.2, -0.2,
+                                     -0.2, -0.2, 0.2,  0.2, -0.2, 0.2,  -0.2, 0.2, 0.2,  0.2, 0.2, 0.2};
+/* vertex i at bit 0 x, bit 1 y, bit 2 z; faces counter-clockwise from outside */
+static const dTriIndex edge_box_t[36] = {1, 3, 7, 1, 7, 5, 0, 4, 6, 0, 6, 2, 2, 6, 7, 2, 7, 3,
+                                         0, 1, 5, 0, 5, 4, 4, 5, 7, 4, 7, 6, 0, 2, 3, 0, 3, 1};
+
+static int drop_across_edge(int mesh, int tests, int *tri_contacts)
 {
     dWorldID w = dWorldCreate();
     dWorldSetGravity(w, 0, 0, -9.81);
     dSpaceID sp = dHashSpaceCreate(0);
-    dGeomID box = dCreateBox(sp, 0.4, 0.4, 0.4);
+    dTriMeshDataID data = 0;
+    dGeomID box;
+    if (mesh) {
+        data = dGeomTriMeshDataCreate();
+        dGeomTriMeshDataBuildDouble(data, edge_box_v, 3 * sizeof(dReal), 8, edge_box_t, 36, 3 * sizeof(dTriIndex));
+        box = dCreateTriMesh(sp, data, 0, 0, 0);
+    } else {
+        box = dCreateBox(sp, 0.4, 0.4, 0.4);
+    }
     dGeomSetPosition(box, 0.3, 0, 0.2); /* its edge x = 0.1 under the cloth */
     dClothDesc d = dClothDefaultDesc();
     d.cloth.origin[2] = 0.45;
@@ -885,16 +900,21 @@ static int drop_across_edge(int tests, int *tri_contacts)
         dClothDestroy(c);
     }
     dSpaceDestroy(sp);
+    if (data) dGeomTriMeshDataDestroy(data);
     dWorldDestroy(w);
     return ok;
 }
 
 static void test_triangle_tests(void)
 {
-    int on = 0, off = 0;
-    if (drop_across_edge(1, &on) && drop_across_edge(0, &off)) {
-        printf("triangle tests: %d triangle contacts over 30 steps on, %d off\n", on, off);
-        CHECK(on > 0 && off == 0, "triangle tests: %d triangle contacts on, %d off", on, off);
+    for (int mesh = 0; mesh < 2; mesh++) {
+        int on = 0, off = 0;
+        if (drop_across_edge(mesh, 1, &on) && drop_across_edge(mesh, 0, &off)) {
+            printf("triangle tests, %s: %d triangle contacts over 30 steps on, %d off\n", mesh ? "box mesh" : "box",
+                   on, off);
+            CHECK(on > 0 && off == 0, "triangle tests, %s: %d triangle contacts on, %d off", mesh ? "box mesh" : "box",
+                  on, off);
+        }
     }
     dWorldID w = dWorldCreate();
     dSpaceID sp = dHashSpaceCreate(0);

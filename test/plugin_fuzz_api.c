@@ -277,8 +277,9 @@ static void walk(scene *s)
             st = dClothSetConvexPoints(c, gg, rng_u64(&g) % 6 ? pts : NULL, rng_u64(&g) % 3 ? 4 : xi(&g));
             break;
         }
-        case 17: { /* triangle tests off and on, for any geom or none */
-            dGeomID gg = rng_u64(&g) % 4 == 0 ? 0 : rng_u64(&g) % 2 ? s->box : s->sph;
+        case 17: { /* triangle tests off and on, for a box, a mesh, a sphere or none */
+            unsigned k = (unsigned)(rng_u64(&g) % 4);
+            dGeomID gg = k == 0 ? 0 : k == 1 ? s->box : k == 2 ? s->mesh : s->sph;
             st = dClothSetTriangleTests(c, gg, (int)(rng_u64(&g) % 3));
             break;
         }

@@ -477,17 +477,24 @@ static int mesh_fetch(dClothID c, dGeomID g, int nt)
         if (!e) return -1;
         c->mesh_cap = nt;
     }
+    int ne = 0;
     for (int j = 0; j < nt; j++) {
         dVector3 a, b, e;
         dGeomTriMeshGetTriangle(g, j, &a, &b, &e);
         double *t = c->mesh_v + 9 * j;
+        int finite = 1;
         for (int r = 0; r < 3; r++) {
             t[r] = a[r];
             t[3 + r] = b[r];
             t[6 + r] = e[r];
+            finite = finite && isfinite(a[r]) && isfinite(b[r]) && isfinite(e[r]);
         }
+        for (int k = 0; k < 3; k++) c->mesh_convex[3 * j + k] = 1; /* open until a neighbour is found */
+        /* a triangle with a coordinate not finite (mesh_contacts skips it)
+         * is not sorted: NaN makes the order inconsistent */
+        if (!finite) continue;
         for (int k = 0; k < 3; k++) {
-            struct mesh_edge *m = c->mesh_edges + 3 * j + k;
+            struct mesh_edge *m = c->mesh_edges + ne++;
             const double *p0 = t + 3 * k, *p1 = t + 3 * ((k + 1) % 3);
             int swap = 0;
             for (int r = 0; r < 3; r++)
@@ -499,11 +506,10 @@ static int mesh_fetch(dClothID c, dGeomID g, int nt)
             memcpy(m->b, swap ? p0 : p1, sizeof m->b);
             m->tri = j;
             m->e = k;
-            c->mesh_convex[3 * j + k] = 1; /* open until a neighbour is found */
         }
     }
-    qsort(c->mesh_edges, 3 * (size_t)nt, sizeof *c->mesh_edges, edge_order);
-    for (int i = 0; i + 1 < 3 * nt; i++) {
+    qsort(c->mesh_edges, (size_t)ne, sizeof *c->mesh_edges, edge_order);
+    for (int i = 0; i + 1 < ne; i++) {
         struct mesh_edge *m = c->mesh_edges + i, *o = m + 1;
         if (edge_order(m, o) != 0) continue;
         /* m's triangle against o's far corner, and o's against m's */
