@@ -288,6 +288,32 @@ int dcloth_find_candidates(dClothID c, double h, double reach)
     return c->ncand;
 }
 
+void dcloth_offer_opposite(vcontact *vc, dGeomID g, dBodyID body, const double n[3], double gap,
+                           const double point[3])
+{
+    if (!vc->geom || vc->geom == g || dcloth_dot3(vc->normal, n) > -DCLOTH_PINCH_COS) return;
+    if (gap < vc->gap) { /* the candidate replaces vc's contact, which becomes the opposite */
+        if (vc->opp_geom && vc->opp_gap <= vc->gap && vc->opp_geom != g) return;
+        vc->opp_geom = vc->geom;
+        vc->opp_body = vc->body;
+        vc->opp_gap = vc->gap;
+        memcpy(vc->opp_normal, vc->normal, sizeof vc->opp_normal);
+        memcpy(vc->opp_vbody, vc->vbody, sizeof vc->opp_vbody);
+        return;
+    }
+    if (vc->opp_geom && vc->opp_gap <= gap) return;
+    vc->opp_geom = g;
+    vc->opp_body = body;
+    vc->opp_gap = gap;
+    memcpy(vc->opp_normal, n, sizeof vc->opp_normal);
+    memset(vc->opp_vbody, 0, sizeof vc->opp_vbody);
+    if (body) {
+        dVector3 pv;
+        dBodyGetPointVel(body, point[0], point[1], point[2], pv);
+        for (int k = 0; k < 3; k++) vc->opp_vbody[k] = pv[k];
+    }
+}
+
 int dcloth_find_contacts(dClothID c, double h)
 {
     if (dcloth_find_candidates(c, h, 0.0) < 0) return -1;
@@ -331,8 +357,10 @@ int dcloth_find_contacts(dClothID c, double h)
                 dist = reach - cg[best].depth;
             }
             if (!(dist < reach)) continue;
-            double gap = dist - c->thickness;
+            double gap = dist - c->thickness, point[3];
             vcontact *vc = &c->vc_new[i];
+            for (int k = 0; k < 3; k++) point[k] = xi[k] - nrm[k] * dist;
+            dcloth_offer_opposite(vc, g, body, nrm, gap, point);
             if (vc->geom && vc->gap <= gap) continue; /* a deeper one is kept */
             vc->geom = g;
             vc->body = body;
@@ -342,6 +370,7 @@ int dcloth_find_contacts(dClothID c, double h)
             }
             vc->gap = gap;
             vc->weight = 1.0;
+            memset(vc->vbody, 0, sizeof vc->vbody); /* a static geom's (it replaced a moving one's: stale) */
             if (body) {
                 dVector3 pv;
                 dBodyGetPointVel(body, vc->point[0], vc->point[1], vc->point[2], pv);

@@ -32,7 +32,24 @@ typedef struct vcontact {
     double slip[3];      /* m/s, tangential velocity relative to the body at
                             the step's start                               */
     double force[3];     /* N, total contact force on the vertex (after the step) */
+    /* the nearest contact found with another geom whose normal opposes
+     * this one's (dcloth_offer_opposite): the vertex lies between two
+     * bodies, and where the two targets cannot both be met (the gap
+     * between the surfaces under two thicknesses), contact_rule aims
+     * midway (pinched) */
+    dGeomID opp_geom;    /* 0: none                                         */
+    dBodyID opp_body;
+    double opp_normal[3], opp_gap, opp_vbody[3];
+    int pinched;         /* 1: this step's target is the midway one         */
 } vcontact;
+
+/* contacts.c: before contact (g, body, n, gap at point) is offered to
+ * vertex contact vc (kept if deeper), note it, or vc's present contact if
+ * it is to be replaced, as vc's opposite when the two geoms differ and
+ * their normals oppose (DCLOTH_PINCH_COS) */
+#define DCLOTH_PINCH_COS 0.5
+void dcloth_offer_opposite(vcontact *vc, dGeomID g, dBodyID body, const double n[3], double gap,
+                           const double point[3]);
 
 typedef struct vpin {
     int active;

@@ -416,6 +416,7 @@ static int triangle_query(dClothID c, const convex_query *q, int k, double h, cc
          * beyond rounding" instead, so that ties at 1e-17 keep the
          * vertex's own, made an 81x81 cloth on a box fail at step 425 of
          * bench_contact: measured, and reverted.) */
+        dcloth_offer_opposite(vc, q->g, q->body, n, gap, pos.v);
         if (vc->geom && vc->gap <= gap) continue;
         vc->geom = q->g;
         vc->body = q->body;
