@@ -24,8 +24,7 @@ static double wall(void)
 #define RESOLVE_DEPTH 0.1
 #define RESOLVE_PASSES 8
 /* a let-go spreads along the links (below) from the PEEL_AFTER-th solve
- * of a step, over at most PEEL_SWEEPS links */
-#define PEEL_SWEEPS 4
+ * of a step */
 #define PEEL_AFTER 3
 
 /* A triangle's contact lets go of a vertex it pulls onto the body harder
@@ -398,16 +397,17 @@ cloth_status dClothStep(dClothID c, dReal h)
         }
         /* From the step's third solve on (a peel under way), with it the
          * triangle contacts on the same geom that pull at all, reached from
-         * it along sequential links (PEEL_SWEEPS links): the strip a lift
+         * it along sequential links through such contacts: the strip a lift
          * peels off. One at a time, each vertex let go made the next pull
          * in the next solve, and lifting a cloth off a box over its edges
          * took up to 23 solves in a step (drape_table --box-table --grid
          * 41, alpha 1: the budget of 8 ran out at strain 0.078; with this,
-         * 5 solves at most and 0.0301). Not from the first: a box resting
+         * 8 at most and 0.03015, the same with a budget of 12). Not from
+         * the first: a box resting
          * on a pinned cloth, whose contacts now and then let go of one
          * vertex, jittered at 3 mm/s with its neighbours let go too
          * (plugin_coupling; bound 1 mm/s; measured 0.14 mm/s without) */
-        for (int sweep = 0; peel && passes >= PEEL_AFTER && sweep < PEEL_SWEEPS; sweep++) {
+        while (peel && passes >= PEEL_AFTER) {
             peel = 0;
             int nl = cloth_link_count(core, CLOTH_SEQUENTIAL);
             for (int e = 0; e < nl; e++) {
@@ -416,18 +416,22 @@ cloth_status dClothStep(dClothID c, dReal h)
                 for (int end = 0; end < 2; end++) {
                     int a = end ? L.j : L.i, b = end ? L.i : L.j;
                     vcontact *va = &c->vc_new[a], *vb = &c->vc_new[b];
-                    if (!va->let_go || !va->active || vb->let_go || !vb->active || !vb->from_triangle ||
+                    /* from those let go after this solve (still active),
+                     * not in this sweep (2): a sweep goes one link */
+                    if (va->let_go != 1 || !va->active || vb->let_go || !vb->active || !vb->from_triangle ||
                         vb->forced || vb->pinched || vb->geom != va->geom)
                         continue;
                     double f[3];
                     cloth_constraint_force(core, b, f);
                     if (dcloth_dot3(f, vb->normal) < 0.0) {
-                        vb->let_go = 1;
+                        vb->let_go = 2;
                         more++;
                         peel++;
                     }
                 }
             }
+            for (int i = 0; i < c->n; i++)
+                if (c->vc_new[i].let_go == 2) c->vc_new[i].let_go = 1;
         }
         /* a sticking vertex on a sequential link that ended the solve past
          * the elongation limit (beyond SLIP_STRAIN): it slides in the next
@@ -563,7 +567,7 @@ cloth_status dClothStep(dClothID c, dReal h)
             at = nw->point;
             /* pinched and pushed toward this contact's body: the push came
              * from the opposite body, which takes the reaction */
-            if (nw->pinched && dcloth_dot3(f, nw->normal) < 0.0) {
+            if (nw->pinched && dcloth_dot3(f, nw->normal) < 0.0 && !held_by_coupled(c, i)) {
                 b = nw->opp_body;
                 at = cloth_positions(core) + 3 * i;
             }
