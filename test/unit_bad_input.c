@@ -7,7 +7,7 @@
  *   - rows or cols < 3; rows * cols overflowing int (100000 x 100000 must be an
  *     error, quickly, not a giant allocation or a crash);
  *   - width, height, density <= 0; negative stiffnesses or damping;
- *     alpha outside [0, 1]; delta <= 0; k_delta < 0 (k_delta 0 is valid: no
+ *     alpha outside [0, 1]; plastic_memory not 0 or 1; delta <= 0; k_delta < 0 (k_delta 0 is valid: no
  *     stiffening); axis_u or axis_v zero, or parallel
  *     (or antiparallel); cg_tolerance outside (0, 1); cg_max_iterations < 1;
  *     unknown method/precond; negative strain_limit_iterations;
@@ -103,7 +103,10 @@ static void check_create(void)
     const char *nf_name[3] = {"NaN", "inf", "-inf"};
 
     /* sanity: the table covers every double of the desc, and the default is valid */
-    CHECK(sizeof(cloth_material) == NMATERIAL_DOUBLES * sizeof(double), "cloth_material has fields this test misses");
+    /* the doubles, then the one int plastic_memory (checked by BAD below) */
+    CHECK(offsetof(cloth_material, plastic_memory) == NMATERIAL_DOUBLES * sizeof(double) &&
+              sizeof(cloth_material) <= NMATERIAL_DOUBLES * sizeof(double) + sizeof(double),
+          "cloth_material has fields this test misses");
     CHECK(strcmp(desc_doubles[MATERIAL_FIRST].name, "material.k_t") == 0 &&
               strcmp(desc_doubles[MATERIAL_FIRST + NMATERIAL_DOUBLES - 1].name, "material.density") == 0 &&
               strcmp(desc_doubles[MATERIAL_FIRST + NMATERIAL_DOUBLES].name, "solver.cg_tolerance") == 0,
@@ -165,6 +168,9 @@ static void check_create(void)
     BAD(d.material.c_b = -1, "c_b -1");
     BAD(d.material.alpha = -0.01, "alpha -0.01");
     BAD(d.material.alpha = 1.01, "alpha 1.01");
+    BAD(d.material.plastic_memory = -1, "plastic_memory -1");
+    BAD(d.material.plastic_memory = 2, "plastic_memory 2");
+    BAD(d.material.plastic_memory = INT_MAX, "plastic_memory INT_MAX");
     BAD(d.material.delta = 0, "delta 0");
     BAD(d.material.delta = -0.1, "delta -0.1");
     BAD(d.material.k_delta = -1, "k_delta -1");

@@ -140,7 +140,7 @@ int update_plastic_energy(cloth *c, double *elastic)
     for (int e = 0; e < c->n_int; e++) {
         double d = link_length(x + 3 * c->lint[e].i, x + 3 * c->lint[e].j);
         int p = c->st.plastic[e];
-        plastic_rule(m->alpha, c->lint[e].rest, d, &p, &c->st.l1[e]);
+        plastic_rule_memory(m->alpha, m->plastic_memory, c->lint[e].rest, d, &p, &c->st.l1[e]);
         c->st.plastic[e] = (unsigned char)p;
         count += p;
         E += link_energy_d(d, int_law(m, c->lint[e].rest, p, c->st.l1[e]));

@@ -57,6 +57,8 @@ spring_law int_law(const cloth_material *m, double rest, int plastic, double l1)
 /* The plastic rule for one interlaced link of current length d: updates
  * *plastic and *l1 (paper eq. 8-12). */
 void plastic_rule(double alpha, double rest, double d, int *plastic, double *l1);
+/* The same with the opt-in memory (material.plastic_memory; plastic.c). */
+void plastic_rule_memory(double alpha, int memory, double rest, double d, int *plastic, double *l1);
 
 /* ------------------------------------------------------------------ state */
 

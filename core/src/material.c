@@ -74,6 +74,8 @@ cloth_status cloth_material_validate(const cloth_material *m, cloth_error *err)
     }
     if (m->alpha > 1.0)
         return error_set(err, CLOTH_EINVAL, "material.alpha = %g must be in [0, 1]", m->alpha);
+    if (m->plastic_memory != 0 && m->plastic_memory != 1)
+        return error_set(err, CLOTH_EINVAL, "material.plastic_memory = %d must be 0 or 1", m->plastic_memory);
     return CLOTH_OK;
 }
 

@@ -24,12 +24,29 @@ spring_law int_law(const cloth_material *m, double rest, int plastic, double l1)
 }
 
 /* Where the region is decided: by the current ratio d / l0 against alpha,
- * every time the rule runs (after each step). A link pulled back above
- * alpha l0 is elastic again, and its l1 is set anew on its next entry. */
-void plastic_rule(double alpha, double rest, double d, int *plastic, double *l1)
+ * every time the rule runs (after each step), and, with memory, by the
+ * link's own history.
+ *
+ * Paper rule (memory = 0, the default): a link with d <= alpha l0 is
+ * plastic; entering, l1 = d; while plastic, l1 = min(l1, d) (a deeper bend
+ * ratchets the crease, storing no bending energy). A link pulled back above
+ * alpha l0 is elastic again (rest l0, k_b both ways) and its l1 is set anew
+ * on its next entry.
+ *
+ * Memory rule (memory = 1, opt-in; material.plastic_memory): entry and
+ * ratchet as above, but a plastic link stays plastic whatever d becomes:
+ * opened above alpha l0 (even past l0) it keeps its l1 and its law (k_s
+ * against unbending, d > l1; k_b below l1), so at d = l0 it pulls with
+ * k_s (l0 - l1) toward l1 and a crease spread flat re-forms when the cloth
+ * is let go. Bent again deeper than l1 it ratchets, l1 = min(l1, d), as in
+ * the paper's rule; it is never reset (alpha <= 0 never enters). */
+void plastic_rule_memory(double alpha, int memory, double rest, double d, int *plastic, double *l1)
 {
-    if (alpha <= 0.0 || d > alpha * rest) {
-        *plastic = 0;          /* elastic region, rest length l0 */
+    if (alpha <= 0.0) {
+        *plastic = 0;          /* elastic material: never plastic */
+    } else if (d > alpha * rest) {
+        if (!memory) *plastic = 0; /* paper: elastic region, rest length l0 */
+        /* memory: a plastic link keeps plastic and l1 (an elastic one stays elastic) */
     } else if (!*plastic) {
         *plastic = 1;          /* entry: l1 = the length at entry (<= alpha l0) */
         *l1 = d;
@@ -38,18 +55,24 @@ void plastic_rule(double alpha, double rest, double d, int *plastic, double *l1)
     }
 }
 
+void plastic_rule(double alpha, double rest, double d, int *plastic, double *l1)
+{
+    plastic_rule_memory(alpha, 0, rest, d, plastic, l1);
+}
+
 int cloth_update_plastic(cloth *c)
 {
     if (!c) return 0;
     const double *x = c->st.x;
     double alpha = c->desc.material.alpha;
+    int memory = c->desc.material.plastic_memory;
     int count = 0;
     for (int e = 0; e < c->n_int; e++) {
         const double *xi = x + 3 * c->lint[e].i, *xj = x + 3 * c->lint[e].j;
         double dx = xj[0] - xi[0], dy = xj[1] - xi[1], dz = xj[2] - xi[2];
         double d = sqrt(dx * dx + dy * dy + dz * dz);
         int p = c->st.plastic[e];
-        plastic_rule(alpha, c->lint[e].rest, d, &p, &c->st.l1[e]);
+        plastic_rule_memory(alpha, memory, c->lint[e].rest, d, &p, &c->st.l1[e]);
         c->st.plastic[e] = (unsigned char)p;
         count += p;
     }

@@ -69,6 +69,15 @@ typedef struct cloth_material {
     double c_t;      /* N s/m   damping along sequential links                     */
     double c_b;      /* N s/m   damping along interlaced links                     */
     double density;  /* kg/m^2  areal density                                      */
+    int plastic_memory; /* 0 (default, the paper's per-step rule, paper eq. 8-12):
+                           a link pulled back above alpha l0 is elastic again,
+                           rest l0. 1 (opt-in, ours): a link once plastic stays
+                           plastic with its l1 however far it is opened (its
+                           unbending still resisted by k_s toward l1), so a
+                           crease spread flat re-forms when let go; bent
+                           deeper than l1 it still ratchets (l1 = min d).
+                           Decided in plastic_rule_memory (core/src/plastic.c).
+                           Must be 0 or 1. */
 } cloth_material;
 
 /* A preset's values; an unknown preset gives cotton. */
