@@ -110,7 +110,7 @@ done:
     return rc;
 }
 
-static const demo_scene scene = {"curtain", {"struck", "after"}, {"struck", "after"}, DRAPE_TABLE, run};
+static const demo_scene scene = {"curtain", {"struck", "after"}, {"struck", "after"}, DRAPE_TABLE, run, 0.0, 0, 0};
 
 int main(int argc, char **argv)
 {

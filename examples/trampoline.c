@@ -142,7 +142,7 @@ done:
     return rc;
 }
 
-static const demo_scene scene = {"trampoline", {"impact", "at rest"}, {"impact", "rest"}, DRAPE_TABLE, run};
+static const demo_scene scene = {"trampoline", {"impact", "at rest"}, {"impact", "rest"}, DRAPE_TABLE, run, 0.0, 0, 0};
 
 int main(int argc, char **argv)
 {

@@ -30,6 +30,8 @@ typedef struct demo_opts {
                                      (odecloth/selfcollision.h); 0 = off       */
     double k_b;                   /* --bending K: N/m, replaces the preset's
                                      interlaced stiffness k_b (0: the preset's) */
+    int memory;                   /* --memory 0|1: material.plastic_memory
+                                     (-1: the demo's default)               */
     int grid;                     /* nodes per side (--grid N)             */
     double hz;                    /* steps per second                      */
     int hz_set;                   /* --steps-per-second given              */

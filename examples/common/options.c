@@ -13,8 +13,12 @@ static const char common_usage[] =
     "  --alpha A[,B...]       plastic yield ratio(s) in [0, 1], one run each\n"
     "  --material NAME        cotton | wool | elastic (Table 1 presets; default cotton)\n"
     "  --bending K            interlaced (bending) stiffness k_b in N/m, (0, 10000], in place\n"
-    "                         of the preset's (cotton 20, wool 10); drapes, press, fabrics,\n"
+    "                         of the preset's (cotton 20, wool 10; drape_table and\n"
+    "                         drape_sphere default to 0.05); drapes, press, fabrics,\n"
     "                         curtain, trampoline\n"
+    "  --memory 0|1           plastic memory (material.plastic_memory): 1 keeps an opened\n"
+    "                         link plastic with its l1 (drape_table, drape_sphere: 1 by\n"
+    "                         default; crumple, curtain, trampoline: 0)\n"
     "  --self-collision T     drape_table, drape_sphere: keep the cloth's vertices T m (0, 0.1]\n"
     "                         from its own triangles after each step (off by default)\n"
     "  --grid N               nodes per side, 3..161 (default 21)\n"
@@ -97,6 +101,7 @@ int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char
 {
     static char out_default[256];
     memset(o, 0, sizeof *o);
+    o->memory = -1;
     o->prog = prog;
     o->material = CLOTH_COTTON;
     o->material_name = "cotton";
@@ -143,6 +148,10 @@ int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char
         } else if (!strcmp(opt, "--self-collision")) {
             if (parse_double(v, &o->self_thickness) || !(o->self_thickness > 0.0) || o->self_thickness > 0.1)
                 return bad(o, opt, v, "want a thickness in (0, 0.1] m");
+        } else if (!strcmp(opt, "--memory")) {
+            if (!strcmp(v, "0")) o->memory = 0;
+            else if (!strcmp(v, "1")) o->memory = 1;
+            else return bad(o, opt, v, "want 0 or 1");
         } else if (!strcmp(opt, "--bending")) {
             if (parse_double(v, &o->k_b) || !(o->k_b > 0.0) || o->k_b > 1e4)
                 return bad(o, opt, v, "want a number in (0, 10000]");

@@ -162,4 +162,5 @@ done:
     return rc;
 }
 
-const demo_scene press_scene = {"plates", {"pressed", "released"}, {"pressed", "released"}, DRAPE_TABLE, press_run};
+const demo_scene press_scene = {"plates", {"pressed", "released"}, {"pressed", "released"}, DRAPE_TABLE, press_run,
+                               0.0, 0, 0};
