@@ -1,7 +1,10 @@
 /* fabrics: cotton against wool (paper Table 1), each with its own alpha,
  * delta and k_s, through two experiments: the table drape and removal of
- * drape_table, and the press and release of crumple. Sheets fabrics_table.png
- * and fabrics_press.png in --out (columns: the fabrics).
+ * drape_table (with its bending k_b and plastic memory, common/drape.h),
+ * and the press and release of crumple (the presets). Sheets
+ * fabrics_table.png and fabrics_press.png in --out (columns: the fabrics).
+ * Measured (full runs): table, cotton 31.92 deg and 427 plastic links after
+ * removal, wool 0.00 and 0; press, cotton 4.11 deg and 59, wool 0.42 and 0.
  *
  * --check: penetration < thickness and strain <= each fabric's delta in
  * every run; wool (alpha 0.1, k_s 0.1: "gentle folds, spreads back out")
@@ -47,14 +50,21 @@ int main(int argc, char **argv)
         fprintf(stderr, "fabrics: give one --alpha at most\n");
         return 2;
     }
-    drape_variant v[2];
+    /* the table as drape_table runs it (its bending and plastic memory,
+     * examples/common/drape.h), the press as crumple does (the presets);
+     * --bending and --memory override both */
+    drape_variant v[2], vt[2];
     const char *names[2] = {"cotton", "wool"};
     for (int i = 0; i < 2; i++) {
         v[i].material = cloth_material_preset(i == COTTON ? CLOTH_COTTON : CLOTH_WOOL);
         if (o.nalpha) v[i].material.alpha = o.alphas[0];
         if (o.k_b > 0.0) v[i].material.k_b = o.k_b;
+        if (o.memory >= 0) v[i].material.plastic_memory = o.memory;
         snprintf(v[i].label, sizeof v[i].label, "%s (alpha %g)", names[i], v[i].material.alpha);
         snprintf(v[i].tag, sizeof v[i].tag, "%s", names[i]);
+        vt[i] = v[i];
+        vt[i].material.k_b = o.k_b > 0.0 ? o.k_b : drape_table_scene.k_b;
+        vt[i].material.plastic_memory = o.memory >= 0 ? o.memory : drape_table_scene.memory;
     }
     drape_result table[2], press[2];
     const char *out = o.out;
@@ -63,14 +73,14 @@ int main(int argc, char **argv)
     snprintf(dir[0], sizeof dir[0], "%s/table", out);
     snprintf(dir[1], sizeof dir[1], "%s/press", out);
     o.out = dir[0];
-    if (drape_run_all(&o, &drape_table_scene, v, 2, table, "fabrics_table", "cotton and wool over a table"))
+    if (drape_run_all(&o, &drape_table_scene, vt, 2, table, "fabrics_table", "cotton and wool over a table"))
         return 1;
     o.out = dir[1];
     if (drape_run_all(&o, &press_scene, v, 2, press, "fabrics_press", "cotton and wool pressed")) return 1;
     if (!o.check) return 0;
     int failed = 0;
     for (int i = 0; i < 2; i++) {
-        failed += drape_check_common(&o, &v[i], &table[i]);
+        failed += drape_check_common(&o, &vt[i], &table[i]);
         failed += drape_check_common(&o, &v[i], &press[i]);
     }
     failed += check_fabrics("table", table);
