@@ -511,16 +511,87 @@ void bodies_newton_begin(cloth *c)
     memset(u, 0, 6 * nb * sizeof *u);
 }
 
-void bodies_newton_end(cloth *c, int keep)
+/* ---------------------------------- the bodies' share of the potential */
+
+/* 1/2 w^T M w - rhs^T w for body g's rows, w = u1 + t du, rhs = rhs_mod + M u1 */
+static double body_quad(const double *M, const double *rhs, const double *u1, const double *du, double t)
+{
+    double w[6], E = 0.0;
+    for (int a = 0; a < 6; a++) w[a] = u1[a] + t * du[a];
+    for (int a = 0; a < 6; a++) {
+        double Mw = 0.0, Mu1 = 0.0;
+        for (int b = 0; b < 6; b++) {
+            Mw += M[6 * a + b] * w[b];
+            Mu1 += M[6 * a + b] * u1[b];
+        }
+        E += 0.5 * w[a] * Mw - (rhs[a] + Mu1) * w[a];
+    }
+    return E;
+}
+
+double bodies_newton_energy(const cloth *c, double t)
+{
+    size_t nb = (size_t)c->nbody;
+    const double *M = c->body_ws, *rhs = c->body_ws + 72 * nb, *du = c->body_ws + 78 * nb, *u1 = body_u1(c);
+    double E = 0.0;
+    for (size_t g = 0; g < nb; g++) E += body_quad(M + 36 * g, rhs + 6 * g, u1 + 6 * g, du + 6 * g, t);
+    return E;
+}
+
+double bodies_energy(const cloth *c)
+{
+    size_t nb = (size_t)c->nbody;
+    const double *M = c->body_ws, *rhs = c->body_ws + 72 * nb, *u = c->body_ws + 78 * nb;
+    static const double zero[6] = {0, 0, 0, 0, 0, 0};
+    double E = 0.0;
+    for (size_t g = 0; g < nb; g++) E += body_quad(M + 36 * g, rhs + 6 * g, u + 6 * g, zero, 0.0);
+    return E;
+}
+
+double bodies_newton_slope(const cloth *c)
+{
+    size_t nb = (size_t)c->nbody;
+    const double *rhs = c->body_ws + 72 * nb, *du = c->body_ws + 78 * nb;
+    double s = 0.0;
+    for (size_t k = 0; k < 6 * nb; k++) s -= rhs[k] * du[k];
+    return s;
+}
+
+void bodies_newton_take(cloth *c, double t)
 {
     size_t nb = (size_t)c->nbody;
     double *u = c->body_ws + 78 * nb, *u1 = body_u1(c);
     add_mass_times(c, u1, 1.0);
-    for (size_t k = 0; k < 6 * nb; k++) u[k] = keep ? u[k] + u1[k] : u1[k];
+    for (size_t k = 0; k < 6 * nb; k++) u[k] = u1[k] + t * u[k];
 }
 
+double bodies_residual_energy(const mpcg_problem *P, const double *b)
+{
+    const mpcg_bodies *B = P->bodies;
+    bodies_reduce(P, b, B->u, -1.0, B->r); /* -M u + sum J^T P b */
+    double s = 0.0;
+    for (int g = 0; g < B->nb; g++) {
+        double r[6], Mi[36];
+        for (int a = 0; a < 6; a++) r[a] = B->r[6 * g + a] + B->rhs[6 * g + a];
+        if (spd6_inverse(B->M + 36 * (size_t)g, Mi)) continue;
+        for (int a = 0; a < 6; a++)
+            for (int k = 0; k < 6; k++) s += r[a] * Mi[6 * a + k] * r[k];
+    }
+    return s;
+}
+
+double bodies_step_energy(const cloth *c)
+{
+    size_t nb = (size_t)c->nbody;
+    const double *M = c->body_ws, *du = c->body_ws + 78 * nb;
+    double s = 0.0;
+    for (size_t g = 0; g < nb; g++)
+        for (int a = 0; a < 6; a++)
+            for (int b = 0; b < 6; b++) s += du[6 * g + a] * M[36 * g + 6 * a + b] * du[6 * g + b];
+    return s;
+}
 /* The step's du as it was when the Newton corrections converged last
- * (step.c keeps that step if the elongation limit's later corrections do
+ * (linearized.c keeps that step if the elongation limit's later corrections do
  * not converge in the budget) */
 static double *body_saved(const cloth *c) { return bw(c, 0) + 63 * (size_t)c->nbody; }
 

@@ -35,6 +35,8 @@ cloth_desc cloth_default_desc(void)
     d.solver.strain_fail = 0.5;
     d.solver.max_substep_halvings = 4; /* a failed step is tried again as 2, 4, 8, 16 substeps */
     d.solver.newton_iterations = 8;
+    d.solver.newton_tolerance = 1e-2;
+    d.solver.limit_tolerance = 1e-4;
     return d;
 }
 
@@ -180,6 +182,7 @@ void cloth_destroy(cloth *c)
     bsr_free(&c->A);
     free(c->seq_blk);
     free(c->int_blk);
+    free(c->lim_shift);
     free(c->K_seq);
     free(c->K_int);
     free(c->work);
@@ -216,7 +219,7 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
 
     c->mass = malloc((size_t)n * sizeof *c->mass);
     double *x0 = malloc(n3 * sizeof *x0);
-    if (!c->mass || !x0 || state_alloc(&c->st, n, 0) != 0) goto nomem;
+    if (!c->mass || !x0 || state_alloc(&c->st, n, 0, 0) != 0) goto nomem;
 
     /* rest positions and lumped masses: each node carries the area of the
      * cells around it (a quarter cell per adjacent cell) */
@@ -241,9 +244,9 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
 
     /* the state has the interlaced links' plastic state: allocate it now */
     state_free(&c->st);
-    if (state_alloc(&c->st, n, c->n_int) != 0) goto nomem;
+    if (state_alloc(&c->st, n, c->n_int, c->n_seq) != 0) goto nomem;
     /* the substep retry's workspace: a hard step allocates nothing either */
-    if (state_alloc(&c->retry_bk, n, c->n_int) != 0) goto nomem;
+    if (state_alloc(&c->retry_bk, n, c->n_int, c->n_seq) != 0) goto nomem;
     c->retry_xs = malloc(n3 * sizeof *c->retry_xs);
     c->retry_fsum = malloc(n3 * sizeof *c->retry_fsum);
     if (!c->retry_xs || !c->retry_fsum) goto nomem;
@@ -258,9 +261,11 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
     if (!c->f_ext) goto nomem;
     c->seq_blk = malloc(2 * (size_t)c->n_seq * sizeof *c->seq_blk);
     c->int_blk = malloc(2 * (size_t)c->n_int * sizeof *c->int_blk);
+    c->lim_shift = calloc((size_t)c->n_seq + 1, sizeof *c->lim_shift);
     c->K_seq = malloc(9 * (size_t)c->n_seq * sizeof *c->K_seq);
     c->K_int = malloc(9 * (size_t)c->n_int * sizeof *c->K_int);
-    if (!c->con || !c->con_force || !c->seq_blk || !c->int_blk || !c->K_seq || !c->K_int) goto nomem;
+    if (!c->con || !c->con_force || !c->seq_blk || !c->int_blk || !c->lim_shift || !c->K_seq || !c->K_int)
+        goto nomem;
     if (links_to_blocks(&c->A, n, c->seq, c->n_seq, c->lint, c->n_int, c->seq_blk, c->int_blk) != 0) goto nomem;
     if (workspace_alloc(c) != 0) goto nomem;
     c->Ah = calloc(9 * (size_t)c->A.nnzb + 1, sizeof *c->Ah); /* + the AVX rows' padding double (mat3.h) */
@@ -315,6 +320,7 @@ static void forget_history(cloth *c)
 {
     c->st.has_prev = 0;
     memset(c->st.dv_prev, 0, 3 * (size_t)c->n * sizeof *c->st.dv_prev);
+    memset(c->st.lim_shift, 0, (size_t)c->n_seq * sizeof *c->st.lim_shift);
 }
 
 cloth_status cloth_set_positions(cloth *c, const double *x)

@@ -92,3 +92,41 @@ cloth_status cloth_constraint_force(const cloth *c, int vertex, double f[3])
     memcpy(f, c->con_force + 3 * vertex, 3 * sizeof(double));
     return CLOTH_OK;
 }
+
+static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+
+/* The filter S_i (projector onto the free directions) of each vertex, and
+ * z_i = (I - S_i)(v_target - v0): the velocity change that lands the vertex's
+ * constrained components on the target, given x_new = a + cfac v_new. A
+ * substep aims at the fraction frac of the way from xs (the positions when
+ * the whole step began) to the target; frac 1 (or xs NULL) is the target. */
+void constraints_build(cloth *c, const double *a, const double *v0, double cfac, const double *xs,
+                              double frac)
+{
+    int m = 0;
+    for (int i = 0; i < c->n; i++)
+        if (c->con[i].ndof) c->clist[m++] = i;
+    for (int i = 0; i < c->n; i++) {
+        double *S = c->S + 9 * (size_t)i, *z = c->z + 3 * (size_t)i;
+        const cloth_constraint *k = &c->con[i];
+        c->cflag[i] = k->ndof != 0;
+        memcpy(S, I3, sizeof I3);
+        z[0] = z[1] = z[2] = 0.0;
+        if (k->ndof == 0) continue;
+        const double *n = k->axis;
+        for (int r = 0; r < 3; r++)
+            for (int s = 0; s < 3; s++) {
+                double nn = n[r] * n[s];
+                if (k->ndof == 3) S[3 * r + s] = 0.0;
+                else if (k->ndof == 1) S[3 * r + s] -= nn; /* plane: normal constrained */
+                else S[3 * r + s] = nn;                   /* line: only the axis free  */
+            }
+        double dvt[3], tg[3];
+        for (int r = 0; r < 3; r++)
+            tg[r] = xs && frac != 1.0 ? xs[3 * i + r] + frac * (k->target[r] - xs[3 * i + r]) : k->target[r];
+        if (c->body_retry) bodies_retry_target(c, i, c->body_hs, tg);
+        for (int r = 0; r < 3; r++) dvt[r] = (tg[r] - a[3 * i + r]) / cfac - v0[3 * i + r];
+        for (int r = 0; r < 3; r++)
+            z[r] = dvt[r] - (S[3 * r] * dvt[0] + S[3 * r + 1] * dvt[1] + S[3 * r + 2] * dvt[2]);
+    }
+}

@@ -73,6 +73,10 @@ struct cloth_state {
     double h_prev;
     int has_prev;
     double *dv_prev;         /* 3n, warm start */
+    int n_seq;
+    double *lim_shift;       /* n_seq: the elongation limit's multipliers, as
+                                shifts of each link's limit length (newton.c),
+                                the next step's start */
 };
 
 /* ------------------------------------------------------------------ cloth */
@@ -107,10 +111,13 @@ struct cloth {
     /* step workspace, sized at creation: the step allocates nothing */
     bsr A;                     /* pattern: diagonal + one block pair per link */
     int *seq_blk, *int_blk;    /* 2 per link: blocks (i,j) and (j,i) in A */
-    double *K_seq, *K_int;     /* per-link 3x3 df_i/dx_j (for K v products) */
     double *work;              /* one allocation behind the vectors below */
     double *f, *b, *dv, *z, *y, *x_new, *v_new; /* 3n each */
     double *ddv;               /* 3n: a Newton correction of dv */
+    double *na;                /* 3n: x_new = na + cfac v_new (potential.c) */
+    double *dvt, *xt, *vt;     /* 3n each: the line search's trial point */
+    double *ut;                /* 3 per link (sequential, then interlaced): the
+                                  damping directions of the step */
     double *cg;                /* 6 * 3n: MPCG workspace */
     double *jac;               /* 3n: scalar Jacobi inverse diagonal */
     unsigned char *cflag;      /* n: vertex constrained (filter needed) */
@@ -126,9 +133,12 @@ struct cloth {
     double *sl_vtx;            /* 3n: its per-vertex scratch, kept zeroed */
     double *sl_x0;             /* 3n: the positions it started from (the held vertices' levers) */
     const double *sl_x;        /* sl_x0 while it runs, else NULL (bodies.c's levers from the step's start) */
-    double *lim_shift;         /* n_seq, m: the Newton corrections' multipliers of the elongation
-                                  limit, as shifts of each link's limit length (step.c) */
-    double *dv_saved, *con_saved; /* 3n each: dv and con_new when the corrections last converged */
+    double *lim_shift;         /* n_seq: the step's multipliers of the elongation limit
+                                  (newton.c: from st.lim_shift, committed with the step;
+                                  linearized.c: from 0) */
+    double *dv_saved, *con_saved; /* 3n each (linearized.c): dv and con_new when the
+                                  corrections last converged */
+    double *K_seq, *K_int;     /* per-link 3x3 df_i/dx_j (linearized.c's K v products) */
 
     cloth_step_stats stats;
     char err[256];
@@ -174,15 +184,36 @@ void bodies_retry_reset(cloth *c);
 void bodies_retry_target(const cloth *c, int i, double hs, double tg[3]);
 void bodies_retry_commit(cloth *c, double hs);
 void bodies_retry_finish(cloth *c);
-/* Newton corrections of a step: the bodies' rows on their residual */
-void bodies_newton_begin(cloth *c);
-void bodies_newton_end(cloth *c, int keep);
-/* the bodies' du saved, and restored (step.c's elongation limit) */
+/* linearized.c's corrections: the du when they last converged saved, and
+ * restored */
 void bodies_newton_save(cloth *c);
 void bodies_newton_restore(cloth *c);
+/* linearized.c: the step linearised about its start (see its comment) */
+cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, double frac, cloth_step_stats *st);
+/* A Newton iteration (newton.c): the bodies' rows on their residual while
+ * the correction du is solved (begin); their share of the potential at
+ * u + t du, its slope along du; then u += t du (take; t 0: unchanged). */
+void bodies_newton_begin(cloth *c);
+double bodies_newton_energy(const cloth *c, double t);
+double bodies_newton_slope(const cloth *c);
+void bodies_newton_take(cloth *c, double t);
+/* du^T M du over the bodies (M as scaled for the solve), during an
+ * iteration: the bodies' share of the Newton step's size */
+double bodies_step_energy(const cloth *c);
+/* the bodies' share of the potential at u, outside an iteration */
+double bodies_energy(const cloth *c);
+/* sum of R_g^T M_g^-1 R_g over the bodies' rows, b = -R the cloth's */
+struct mpcg_problem;
+double bodies_residual_energy(const struct mpcg_problem *P, const double *b);
+
+/* constraints.c: the filter S_i of each vertex and z_i = (I - S_i)(v_target
+ * - v0), given x_new = a + cfac v_new; a substep aims at frac of the way
+ * from xs (the whole step's start) to the target (frac 1 or xs NULL: the
+ * target). */
+void constraints_build(cloth *c, const double *a, const double *v0, double cfac, const double *xs, double frac);
 
 /* state.c */
-int state_alloc(struct cloth_state *s, int n, int n_int);
+int state_alloc(struct cloth_state *s, int n, int n_int, int n_seq);
 void state_free(struct cloth_state *s);
 void state_copy(struct cloth_state *dst, const struct cloth_state *src);
 

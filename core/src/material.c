@@ -98,7 +98,18 @@ cloth_status cloth_solver_validate(const cloth_solver *s, cloth_error *err)
     if (s->max_substep_halvings < 0 || s->max_substep_halvings > 16)
         return error_set(err, CLOTH_EINVAL, "solver.max_substep_halvings = %d must be in [0, 16]",
                          s->max_substep_halvings);
-    if (s->newton_iterations < 0 || s->newton_iterations > 64)
-        return error_set(err, CLOTH_EINVAL, "solver.newton_iterations = %d must be in [0, 64]", s->newton_iterations);
+    if ((int)s->nonlinear < CLOTH_LINEARIZED || (int)s->nonlinear > CLOTH_NEWTON)
+        return error_set(err, CLOTH_EINVAL, "solver.nonlinear = %d is not a cloth_nonlinear", (int)s->nonlinear);
+    if (s->newton_iterations < 0 || s->newton_iterations > 256)
+        return error_set(err, CLOTH_EINVAL, "solver.newton_iterations = %d must be in [0, 256]",
+                         s->newton_iterations);
+    if (s->nonlinear == CLOTH_NEWTON && s->newton_iterations < 1)
+        return error_set(err, CLOTH_EINVAL, "solver.newton_iterations = %d must be >= 1 with CLOTH_NEWTON",
+                         s->newton_iterations);
+    if (!(s->newton_tolerance > 0.0) || bad(s->newton_tolerance))
+        return error_set(err, CLOTH_EINVAL, "solver.newton_tolerance = %g must be finite and > 0",
+                         s->newton_tolerance);
+    if (!(s->limit_tolerance > 0.0 && s->limit_tolerance < 1.0))
+        return error_set(err, CLOTH_EINVAL, "solver.limit_tolerance = %g must be in (0, 1)", s->limit_tolerance);
     return CLOTH_OK;
 }

@@ -7,7 +7,7 @@
 #include <string.h>
 #include "internal.h"
 
-int state_alloc(struct cloth_state *s, int n, int n_int)
+int state_alloc(struct cloth_state *s, int n, int n_int, int n_seq)
 {
     memset(s, 0, sizeof *s);
     size_t n3 = 3 * (size_t)n;
@@ -20,7 +20,9 @@ int state_alloc(struct cloth_state *s, int n, int n_int)
     s->dv_prev = calloc(n3, sizeof *s->dv_prev);
     s->plastic = calloc((size_t)n_int + 1, sizeof *s->plastic);
     s->l1 = calloc((size_t)n_int + 1, sizeof *s->l1);
-    if (!s->x || !s->v || !s->x_prev || !s->v_prev || !s->dv_prev || !s->plastic || !s->l1) {
+    s->n_seq = n_seq;
+    s->lim_shift = calloc((size_t)n_seq + 1, sizeof *s->lim_shift);
+    if (!s->x || !s->v || !s->x_prev || !s->v_prev || !s->dv_prev || !s->plastic || !s->l1 || !s->lim_shift) {
         state_free(s);
         return -1;
     }
@@ -36,6 +38,7 @@ void state_free(struct cloth_state *s)
     free(s->dv_prev);
     free(s->plastic);
     free(s->l1);
+    free(s->lim_shift);
     memset(s, 0, sizeof *s);
 }
 
@@ -49,6 +52,7 @@ void state_copy(struct cloth_state *dst, const struct cloth_state *src)
     memcpy(dst->dv_prev, src->dv_prev, n3);
     memcpy(dst->plastic, src->plastic, (size_t)src->n_int * sizeof *src->plastic);
     memcpy(dst->l1, src->l1, (size_t)src->n_int * sizeof *src->l1);
+    memcpy(dst->lim_shift, src->lim_shift, (size_t)src->n_seq * sizeof *src->lim_shift);
     dst->h_prev = src->h_prev;
     dst->has_prev = src->has_prev;
 }
@@ -58,7 +62,7 @@ cloth_state *cloth_state_create(const cloth *c)
     if (!c) return NULL;
     cloth_state *s = malloc(sizeof *s);
     if (!s) return NULL;
-    if (state_alloc(s, c->n, c->n_int) != 0) {
+    if (state_alloc(s, c->n, c->n_int, c->n_seq) != 0) {
         free(s);
         return NULL;
     }
@@ -291,6 +295,8 @@ cloth_status cloth_state_read(cloth_state *s, const void *buf, size_t len, cloth
         for (size_t i = 0; i < 3 * n; i++, q += 8) a[k][i] = get_f64(q);
     for (size_t e = 0; e < m; e++, q += 8) s->l1[e] = get_f64(q);
     for (size_t e = 0; e < m; e++) s->plastic[e] = *q++;
+    /* the limit's multipliers are a warm start the file does not keep */
+    memset(s->lim_shift, 0, (size_t)s->n_seq * sizeof *s->lim_shift);
     return CLOTH_OK;
 }
 

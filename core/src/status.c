@@ -25,6 +25,7 @@ const char *cloth_failure_string(cloth_failure f)
     case CLOTH_FAIL_CG_INDEFINITE: return "CG met non-positive curvature (matrix not positive definite)";
     case CLOTH_FAIL_STRAIN: return "strain far past the elongation limit";
     case CLOTH_FAIL_BAD_STEP: return "step size not finite and positive";
+    case CLOTH_FAIL_NEWTON: return "Newton's method did not converge within solver.newton_iterations";
     }
     return "unknown failure";
 }

@@ -1,44 +1,33 @@
-/* One time step: backward Euler (paper eq. 15-21) or BDF2 solved by the
- * modified PCG, or explicit / symplectic Euler for comparison; then the
- * elongation limit and the plastic update. A step that fails leaves the state
- * untouched: everything is computed into workspace and committed at the end. */
+/* One time step: backward Euler (paper eq. 15-21) or BDF2 by Newton's
+ * method (newton.c), or explicit / symplectic Euler for comparison; then the
+ * plastic update. A step that fails leaves the state untouched: everything
+ * is computed into workspace and committed at the end. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include "internal.h"
 #include "mat3.h"
 #include "mpcg.h"
-#include "ssor.h"
+#include "newton.h"
 
 int workspace_alloc(cloth *c)
 {
-    size_t n3 = 3 * (size_t)c->n;
-    /* f b dv z y x_new v_new con_new jac (9) + cg (6) vectors of 3n; pre, S of
-     * 9n; lim_shift of n_seq; dv_saved, con_saved, sl_x0, ddv of 3n */
-    c->work = calloc(19 * n3 + 6 * n3 + (size_t)c->n_seq, sizeof *c->work);
+    size_t n3 = 3 * (size_t)c->n, nl = 3 * ((size_t)c->n_seq + (size_t)c->n_int);
+    /* f b dv z y x_new v_new con_new jac na dvt xt vt sl_x0 ddv dv_saved
+     * con_saved (17) + cg (6) vectors of 3n; pre, S of 9n; ut of 3 per link */
+    c->work = calloc(29 * n3 + nl, sizeof *c->work);
     if (!c->work) return -1;
     double *w = c->work;
-    c->f = w; w += n3;
-    c->b = w; w += n3;
-    c->dv = w; w += n3;
-    c->z = w; w += n3;
-    c->y = w; w += n3;
-    c->x_new = w; w += n3;
-    c->v_new = w; w += n3;
-    c->con_new = w; w += n3;
-    c->jac = w; w += n3;
+    double **v3[] = {&c->f, &c->b, &c->dv, &c->z, &c->y, &c->x_new, &c->v_new, &c->con_new,
+                     &c->jac, &c->na, &c->dvt, &c->xt, &c->vt, &c->sl_x0, &c->ddv, &c->dv_saved,
+                     &c->con_saved};
+    for (size_t k = 0; k < sizeof v3 / sizeof *v3; k++, w += n3) *v3[k] = w;
     c->cg = w; w += 6 * n3;
     c->pre = w; w += 3 * n3;
     c->S = w; w += 3 * n3;
-    c->lim_shift = w; w += c->n_seq;
-    c->dv_saved = w; w += n3;
-    c->con_saved = w; w += n3;
-    c->sl_x0 = w; w += n3;
-    c->ddv = w;
+    c->ut = w;
     return 0;
 }
-
-static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
 
 /* What a step measured of its new state on the way, so that its statistics
  * need not pass over the links again: the max strain and the sequential
@@ -49,396 +38,6 @@ typedef struct measured {
     int plastic;
 } measured;
 
-/* The filter S_i (projector onto the free directions) of each vertex, and
- * z_i = (I - S_i)(v_target - v0): the velocity change that lands the vertex's
- * constrained components on the target, given x_new = a + cfac v_new. A
- * substep aims at the fraction frac of the way from xs (the positions when
- * the whole step began) to the target; frac 1 (or xs NULL) is the target. */
-static void build_constraints(cloth *c, const double *a, const double *v0, double cfac, const double *xs,
-                              double frac)
-{
-    int m = 0;
-    for (int i = 0; i < c->n; i++)
-        if (c->con[i].ndof) c->clist[m++] = i;
-    for (int i = 0; i < c->n; i++) {
-        double *S = c->S + 9 * (size_t)i, *z = c->z + 3 * (size_t)i;
-        const cloth_constraint *k = &c->con[i];
-        c->cflag[i] = k->ndof != 0;
-        memcpy(S, I3, sizeof I3);
-        z[0] = z[1] = z[2] = 0.0;
-        if (k->ndof == 0) continue;
-        const double *n = k->axis;
-        for (int r = 0; r < 3; r++)
-            for (int s = 0; s < 3; s++) {
-                double nn = n[r] * n[s];
-                if (k->ndof == 3) S[3 * r + s] = 0.0;
-                else if (k->ndof == 1) S[3 * r + s] -= nn; /* plane: normal constrained */
-                else S[3 * r + s] = nn;                   /* line: only the axis free  */
-            }
-        double dvt[3], tg[3];
-        for (int r = 0; r < 3; r++)
-            tg[r] = xs && frac != 1.0 ? xs[3 * i + r] + frac * (k->target[r] - xs[3 * i + r]) : k->target[r];
-        if (c->body_retry) bodies_retry_target(c, i, c->body_hs, tg);
-        for (int r = 0; r < 3; r++) dvt[r] = (tg[r] - a[3 * i + r]) / cfac - v0[3 * i + r];
-        for (int r = 0; r < 3; r++)
-            z[r] = dvt[r] - (S[3 * r] * dvt[0] + S[3 * r + 1] * dvt[1] + S[3 * r + 2] * dvt[2]);
-    }
-}
-
-static void add_blk(double *A, const double *B, double s) { mat3_axpy(A, B, s); }
-
-/* A = M - beta h df/dv - gamma h^2 df/dx (eq. 21 for beta = gamma = 1),
- * keeping each link's K = df_i/dx_j for the right-hand side, and in the same
- * pass f = the total force at (x, v) (springs, damping, gravity). */
-static void assemble(cloth *c, const double *x, const double *v, double beta_h, double gamma_h2, double *fout)
-{
-    const cloth_material *m = &c->desc.material;
-    int defin = c->desc.solver.definiteness_rule;
-    bsr *A = &c->A;
-    bsr_zero(A);
-    for (int i = 0; i < c->n; i++) {
-        double *B = A->val + 9 * (size_t)A->diag[i];
-        B[0] = B[4] = B[8] = c->mass[i];
-        for (int r = 0; r < 3; r++) fout[3 * i + r] = c->mass[i] * c->desc.gravity[r] + c->f_ext[3 * i + r];
-    }
-    double f[3], D[9], blk[9];
-    for (int t = 0; t < 2; t++) {
-        int ne = t ? c->n_int : c->n_seq;
-        const link_topo *L = t ? c->lint : c->seq;
-        const int *bl = t ? c->int_blk : c->seq_blk;
-        double *Ks = t ? c->K_int : c->K_seq;
-        double damp = t ? m->c_b : m->c_t;
-        for (int e = 0; e < ne; e++) {
-            int i = L[e].i, j = L[e].j;
-            spring_law s = t ? int_law(m, L[e].rest, c->st.plastic[e], c->st.l1[e]) : seq_law(m, L[e].rest);
-            if (!t) s.lim -= c->lim_shift[e];
-            double *K = Ks + 9 * (size_t)e;
-            link_eval(x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, s, damp, defin, f, K, D);
-            for (int r = 0; r < 3; r++) {
-                fout[3 * i + r] += f[r];
-                fout[3 * j + r] -= f[r];
-            }
-            for (int k = 0; k < 9; k++) blk[k] = gamma_h2 * K[k] + beta_h * D[k];
-            add_blk(A->val + 9 * (size_t)A->diag[i], blk, 1.0);
-            add_blk(A->val + 9 * (size_t)A->diag[j], blk, 1.0);
-            add_blk(A->val + 9 * (size_t)bl[2 * e], blk, -1.0);
-            add_blk(A->val + 9 * (size_t)bl[2 * e + 1], blk, -1.0);
-        }
-    }
-}
-
-/* out += (df/dx) w, link by link: link (i, j) adds K (w_j - w_i) to i and
- * subtracts it from j. */
-static void add_Kw(const cloth *c, const double *w, double *out)
-{
-    for (int t = 0; t < 2; t++) {
-        int ne = t ? c->n_int : c->n_seq;
-        const link_topo *L = t ? c->lint : c->seq;
-        const double *Ks = t ? c->K_int : c->K_seq;
-        for (int e = 0; e < ne; e++) {
-            const double *K = Ks + 9 * (size_t)e, *wi = w + 3 * L[e].i, *wj = w + 3 * L[e].j;
-            double d0 = wj[0] - wi[0], d1 = wj[1] - wi[1], d2 = wj[2] - wi[2];
-            double *oi = out + 3 * L[e].i, *oj = out + 3 * L[e].j;
-            for (int r = 0; r < 3; r++) {
-                double y = K[3 * r] * d0 + K[3 * r + 1] * d1 + K[3 * r + 2] * d2;
-                oi[r] += y;
-                oj[r] -= y;
-            }
-        }
-    }
-}
-
-/* Per-vertex inverse diagonal blocks of the filtered matrix, S A_ii S +
- * (I - S): the weight of the stopping norm, the block-Jacobi preconditioner
- * and the multigrid smoother (a vertex sliding on a plane gets its own 2x2
- * free block). Also the scalar Jacobi inverse (Baraff-Witkin's choice). */
-static void build_preconditioner(cloth *c)
-{
-    for (int i = 0; i < c->n; i++) {
-        const double *Aii = c->A.val + 9 * (size_t)c->A.diag[i], *S = c->S + 9 * (size_t)i;
-        double *P = c->pre + 9 * (size_t)i;
-        for (int r = 0; r < 3; r++) c->jac[3 * i + r] = Aii[4 * r] > 0.0 ? 1.0 / Aii[4 * r] : 1.0;
-        double SA[9], SAS[9];
-        mat3mul(S, Aii, SA);
-        mat3mul(SA, S, SAS);
-        for (int k = 0; k < 9; k++) SAS[k] += I3[k] - S[k];
-        double det = mat3inv(SAS, P);
-        if (det != 0.0 && isfinite(det)) continue;
-        /* singular block (only without the definiteness rule, or zero mass) */
-        memset(P, 0, 9 * sizeof *P);
-        for (int r = 0; r < 3; r++) P[4 * r] = Aii[4 * r] > 0.0 ? 1.0 / Aii[4 * r] : 1.0;
-    }
-}
-
-typedef struct jacobi_ctx {
-    int n;
-    const double *d;
-} jacobi_ctx;
-
-static void jacobi_apply(void *ctx, const double *r, double *s)
-{
-    const jacobi_ctx *j = ctx;
-    for (size_t k = 0; k < 3 * (size_t)j->n; k++) s[k] = j->d[k] * r[k];
-}
-
-/* Constraint forces (Baraff-Witkin sec. 5.3): the part of A dv - b the
- * filter removed is the impulse the constraints applied, (beta h) f_c:
- * con_new = that of (A dv - b) / cfac. After a Newton correction ddv of
- * dv1, with b then the residual at dv1, A ddv - b is the residual at
- * dv1 + ddv, and its filtered part the impulse, the same way. */
-static void constraint_forces(cloth *c, const double *dv, const double *b, double cfac)
-{
-    size_t n3 = 3 * (size_t)c->n;
-    memset(c->con_new, 0, n3 * sizeof *c->con_new);
-    if (c->n_con == 0) return;
-    bsr_mul_rows(&c->A, dv, c->clist, c->n_con, c->y); /* only the constrained rows are read */
-    for (int i = 0; i < c->n; i++) {
-        if (c->con[i].ndof == 0) continue;
-        const double *Si = c->S + 9 * (size_t)i;
-        double e[3];
-        for (int r2 = 0; r2 < 3; r2++) e[r2] = (c->y[3 * i + r2] - b[3 * i + r2]) / cfac;
-        for (int r2 = 0; r2 < 3; r2++)
-            c->con_new[3 * i + r2] = e[r2] - (Si[3 * r2] * e[0] + Si[3 * r2 + 1] * e[1] + Si[3 * r2 + 2] * e[2]);
-    }
-}
-
-/* 1 if a sequential link within its limit at x0 is past it at x1 by more
- * than a quarter of delta: its linearisation missed the stiffening. A link
- * between two vertices held in full by the same thing (the world, or one
- * body) is left out: its length is their targets' (two vertices sticking to
- * one box stay 7% apart through any number of corrections, measured). */
-#define NEWTON_CROSS 1.25
-
-/* the body solved with the cloth holding vertex i, or -1 */
-static int held_by(const cloth *c, int i) { return c->body_held && c->vbody && c->vbody[i] >= 0 ? c->vbody[i] : -1; }
-
-/* both ends held in full by the same thing (the world, or one body): the
- * link's length is their targets' */
-static int held_together(const cloth *c, const link_topo *L)
-{
-    return c->con[L->i].ndof == 3 && c->con[L->j].ndof == 3 && held_by(c, L->i) == held_by(c, L->j);
-}
-
-static int crossed_limit(const cloth *c, const double *x0, const double *x1)
-{
-    double lim = 1.0 + c->desc.material.delta, lim1 = 1.0 + NEWTON_CROSS * c->desc.material.delta;
-    for (int e = 0; e < c->n_seq; e++) {
-        const link_topo *L = &c->seq[e];
-        if (held_together(c, L)) continue; /* its length is the targets' */
-        double l1 = lim1 * L->rest, d1 = 0.0, d0 = 0.0;
-        for (int r = 0; r < 3; r++) {
-            double w1 = x1[3 * L->j + r] - x1[3 * L->i + r], w0 = x0[3 * L->j + r] - x0[3 * L->i + r];
-            d1 += w1 * w1;
-            d0 += w0 * w0;
-        }
-        if (d1 > l1 * l1 && d0 <= lim * L->rest * lim * L->rest) return 1;
-    }
-    return 0;
-}
-
-/* The elongation limit as a constraint of the corrected step (augmented
- * Lagrangian): past (1 + delta) l0 a link's force gains
- * max(0, lambda + k_lim (d - lmax)), its multiplier lambda kept as a shift
- * s = lambda / k_lim of the limit length (the k_lim law with lim - s).
- * Once the corrections have converged for the multipliers, each is updated,
- * s = max(0, s + d - lmax); 1 if any changed by more than LIMIT_TOL lmax
- * (the step is then corrected again). k_lim = 0: no limit to hold. */
-#define LIMIT_TOL 1e-6
-static int limit_update(cloth *c, const double *x)
-{
-    const cloth_material *m = &c->desc.material;
-    if (!(m->k_delta > 0.0) || !(m->k_t > 0.0)) return 0;
-    double lim = 1.0 + m->delta;
-    int changed = 0;
-    for (int e = 0; e < c->n_seq; e++) {
-        const link_topo *L = &c->seq[e];
-        if (held_together(c, L)) continue;
-        double d2 = 0.0, lmax = lim * L->rest;
-        for (int r = 0; r < 3; r++) {
-            double w = x[3 * L->j + r] - x[3 * L->i + r];
-            d2 += w * w;
-        }
-        double s0 = c->lim_shift[e], s1 = s0 + sqrt(d2) - lmax;
-        if (s1 < 0.0) s1 = 0.0;
-        if (fabs(s1 - s0) > LIMIT_TOL * lmax) changed = 1;
-        c->lim_shift[e] = s1;
-    }
-    return changed;
-}
-
-/* |S b|: the free components' part of a vector (S the constraint filter) */
-static double free_norm(const cloth *c, const double *b)
-{
-    double s = 0.0;
-    for (int i = 0; i < c->n; i++) {
-        const double *Si = c->S + 9 * (size_t)i, *bi = b + 3 * (size_t)i;
-        for (int r = 0; r < 3; r++) {
-            double e = c->con[i].ndof ? Si[3 * r] * bi[0] + Si[3 * r + 1] * bi[1] + Si[3 * r + 2] * bi[2] : bi[r];
-            s += e * e;
-        }
-    }
-    return sqrt(s);
-}
-
-/* Backward Euler (bdf2 = 0) or BDF2 (Choi-Ko 2002) with the same linear
- * solve. With a = the part of x_new known before the solve and
- * x_new = a + cfac v_new:
- *   BE:   (M - h D - h^2 K) dv = h f0 + K (h^2 v0),                  a = x0
- *   BDF2: (M - 2/3 h D - 4/9 h^2 K) dv = 2/3 h f0 + 1/3 M (v0 - v_-1)
- *            + K (2/9 h (x0 - x_-1) + 4/9 h^2 v0),      a = x0 + (x0 - x_-1)/3
- * (linearising f about (x0, v0); K = df/dx, D = df/dv). */
-static cloth_failure implicit_step(cloth *c, double h, int bdf2, const double *xs, double frac,
-                                   cloth_step_stats *st)
-{
-    const struct cloth_state *S0 = &c->st;
-    const double *x0 = S0->x, *v0 = S0->v;
-    size_t n3 = 3 * (size_t)c->n;
-    double beta = bdf2 ? 2.0 / 3.0 : 1.0, cfac = beta * h;
-    double *a = c->x_new, *w = c->y, *b = c->b;
-
-    for (size_t k = 0; k < n3; k++) {
-        a[k] = bdf2 ? x0[k] + (x0[k] - S0->x_prev[k]) / 3.0 : x0[k];
-        w[k] = bdf2 ? (2.0 / 9.0) * h * (x0[k] - S0->x_prev[k]) + (4.0 / 9.0) * h * h * v0[k] : h * h * v0[k];
-    }
-    memset(c->lim_shift, 0, (size_t)c->n_seq * sizeof *c->lim_shift);
-    assemble(c, x0, v0, beta * h, beta * beta * h * h, c->f);
-    for (size_t k = 0; k < n3; k++) b[k] = beta * h * c->f[k];
-    if (bdf2)
-        for (size_t k = 0; k < n3; k++) b[k] += c->mass[k / 3] * (v0[k] - S0->v_prev[k]) / 3.0;
-    add_Kw(c, w, b);
-
-    build_constraints(c, a, v0, cfac, xs, frac);
-    build_preconditioner(c);
-    const cloth_solver *sv = &c->desc.solver;
-    if (sv->warm_start) memcpy(c->dv, S0->dv_prev, n3 * sizeof *c->dv);
-    else memset(c->dv, 0, n3 * sizeof *c->dv);
-    jacobi_ctx jctx = {c->n, c->jac};
-    mpcg_problem P = {&c->A, b, c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL,
-                      sv->cg_tolerance, sv->cg_max_iterations, NULL};
-    mpcg_bodies bodies;
-    P.bodies = bodies_prepare(c, h, cfac, &bodies);
-    if (sv->precond == CLOTH_PRECOND_MULTIGRID) {
-        mg_setup(&c->mg, &c->A, c->S, c->cflag, c->pre);
-        P.pc = mg_apply;
-        P.ctx = &c->mg;
-    } else if (sv->precond == CLOTH_PRECOND_JACOBI) {
-        P.pc = jacobi_apply;
-        P.ctx = &jctx;
-    }
-    mpcg_result r = sv->precond == CLOTH_PRECOND_SSOR ? ssor_run(&P, c->cflag, c->Ah, c->dv, c->cg)
-                                                      : mpcg_run(&P, c->dv, c->cg);
-    st->iterations += r.iterations;
-    if (!(st->residual >= r.residual)) st->residual = r.residual;
-    if (r.failure != CLOTH_FAIL_NONE) return r.failure;
-
-    for (size_t k = 0; k < n3; k++) {
-        c->v_new[k] = v0[k] + c->dv[k];
-        c->x_new[k] = a[k] + cfac * c->v_new[k];
-    }
-    constraint_forces(c, c->dv, b, cfac);
-
-    /* Newton corrections, when rigid bodies are solved with the cloth: the
-     * step above is linearised about x0, where a sequential link still
-     * short of its limit has the tension stiffness alone; if the step
-     * carries it well past the limit, the k_delta stiffening was not seen,
-     * and a body's momentum stretches the cloth freely (a 3 kg box landing
-     * at 2.4 m/s in a hammock: strain 0.22-0.34 after the step, which the
-     * elongation limit's projection, stalling with ~1000 links at the limit
-     * and a body 7000 times heavier than a vertex, did not undo). Linearise
-     * again about the result and solve for the correction,
-     *   A(x1, v1) ddv = beta h f(x1, v1) + extra - M dv1,
-     * the constrained components held (ddv = 0 there, or moving with their
-     * body), the bodies' rows on their residual likewise (bodies.c). A
-     * cloth without bodies takes at most the cloth's own momentum past the
-     * limit, which the stiffening holds from the next step: measured, the
-     * corrections changed no test but moved a box resting on a plane under
-     * a dropped cloth by 0.9 mm (plugin_colliders' dynamic case).
-     * The converged step still leaves links about 1% past the limit (k_delta
-     * 100 allows that under the load that stops the body), and the
-     * projection after the step must then remove it against the body's
-     * inertia, where its linearisation is poor (a taut chain from a pin to
-     * the body is straightened rather than the body moved). So the limit is
-     * also held here as a constraint, by an augmented Lagrangian on the
-     * k_delta law (limit_update): once the corrections converge, the links'
-     * multipliers are updated and the step corrected again, until they
-     * settle (the trampoline over 15 grids and rates: strain after the
-     * projection 0.038-0.046 before, 0.030-0.034 with newton_iterations 32,
-     * the rest on links between vertices held by the box). Each update
-     * takes 2-3 corrections; if the budget ends before they converge again,
-     * the step converged last is kept. */
-    int newton = P.bodies && sv->newton_iterations > 0 && crossed_limit(c, x0, c->x_new);
-    double ref = 0.0;
-    int saved = 0, pending = 0; /* a converged step saved; corrected since its multipliers changed */
-    for (int it = 0; newton; it++) {
-        double *ddv = c->ddv;
-        /* converged: the residual of the free rows within the solver's
-         * tolerance of the one the uncorrected step left; then the limit's
-         * multipliers are updated, and the step corrected again if they
-         * changed (the converged step saved, to be kept if the budget
-         * ends before the corrections converge again) */
-        int done = 0;
-        for (int pass = 0; pass < 2; pass++) {
-            assemble(c, c->x_new, c->v_new, beta * h, beta * beta * h * h, c->f);
-            for (size_t k = 0; k < n3; k++) {
-                double extra = bdf2 ? c->mass[k / 3] * (v0[k] - S0->v_prev[k]) / 3.0 : 0.0;
-                b[k] = beta * h * c->f[k] + extra - c->mass[k / 3] * c->dv[k];
-            }
-            double rn = free_norm(c, b);
-            if (it == 0 && pass == 0) ref = rn;
-            if (pass == 1 || rn > sv->cg_tolerance * ref) break;
-            pending = 0;
-            if (it >= sv->newton_iterations) { /* no budget left to correct for new multipliers */
-                done = 1;
-                break;
-            }
-            memcpy(c->dv_saved, c->dv, n3 * sizeof *c->dv);
-            memcpy(c->con_saved, c->con_new, n3 * sizeof *c->con_new);
-            bodies_newton_save(c);
-            saved = 1;
-            if (!limit_update(c, c->x_new)) {
-                done = 1;
-                break;
-            }
-            pending = 1;
-        }
-        if (done) break;
-        if (it >= sv->newton_iterations) break;
-        memset(c->z, 0, n3 * sizeof *c->z);
-        memset(ddv, 0, n3 * sizeof *ddv);
-        build_preconditioner(c);
-        bodies_newton_begin(c);
-        if (sv->precond == CLOTH_PRECOND_MULTIGRID) mg_setup(&c->mg, &c->A, c->S, c->cflag, c->pre);
-        mpcg_result r2 = sv->precond == CLOTH_PRECOND_SSOR ? ssor_run(&P, c->cflag, c->Ah, ddv, c->cg)
-                                                           : mpcg_run(&P, ddv, c->cg);
-        bodies_newton_end(c, r2.failure == CLOTH_FAIL_NONE);
-        st->iterations += r2.iterations;
-        st->newton++;
-        /* a correction that fails (CG capped on the stiffer matrix, or
-         * indefinite without the definiteness rule) leaves the step as the
-         * last one that succeeded; only NaN fails it */
-        if (r2.failure == CLOTH_FAIL_NAN) return r2.failure;
-        if (r2.failure != CLOTH_FAIL_NONE) break;
-        for (size_t k = 0; k < n3; k++) { /* x_new = a + cfac v_new, a as above */
-            double ak = bdf2 ? x0[k] + (x0[k] - S0->x_prev[k]) / 3.0 : x0[k];
-            c->dv[k] += ddv[k];
-            c->v_new[k] = v0[k] + c->dv[k];
-            c->x_new[k] = ak + cfac * c->v_new[k];
-        }
-        constraint_forces(c, ddv, b, cfac);
-    }
-    if (pending && saved) { /* the corrections for the last multipliers did not converge */
-        memcpy(c->dv, c->dv_saved, n3 * sizeof *c->dv);
-        memcpy(c->con_new, c->con_saved, n3 * sizeof *c->con_new);
-        bodies_newton_restore(c);
-        for (size_t k = 0; k < n3; k++) {
-            double ak = bdf2 ? x0[k] + (x0[k] - S0->x_prev[k]) / 3.0 : x0[k];
-            c->v_new[k] = v0[k] + c->dv[k];
-            c->x_new[k] = ak + cfac * c->v_new[k];
-        }
-    }
-    return CLOTH_FAIL_NONE;
-}
-
 /* Explicit (forward) Euler: x1 = x0 + h v0, v1 = v0 + h a0. Symplectic
  * (semi-implicit) Euler: v1 = v0 + h a0, x1 = x0 + h v1. Constrained
  * components go to their targets in both, v1 = (target - x0) / h. */
@@ -446,7 +45,7 @@ static cloth_failure explicit_step(cloth *c, double h, int symplectic, const dou
 {
     const double *x0 = c->st.x, *v0 = c->st.v;
     forces_eval(c, x0, v0, 1, c->f);
-    build_constraints(c, x0, v0, h, xs, frac);
+    constraints_build(c, x0, v0, h, xs, frac);
     memset(c->con_new, 0, 3 * (size_t)c->n * sizeof *c->con_new);
     for (int i = 0; i < c->n; i++) {
         const double *Si = c->S + 9 * (size_t)i, *z = c->z + 3 * (size_t)i;
@@ -495,7 +94,7 @@ static cloth_status finish(cloth *c, cloth_step_stats *st, cloth_step_stats *out
 
 /* One step of size h from the current state into x_new, v_new, dv and
  * con_new, the state untouched; constraints aimed at frac of the way from xs
- * (see build_constraints). Adds iterations and corrected links to st; ms gets
+ * (see constraints_build). Adds iterations and corrected links to st; ms gets
  * the new max strain and the sequential links' energy. */
 static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, cloth_step_stats *st, measured *ms)
 {
@@ -504,17 +103,19 @@ static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, 
     int bdf2 = sv->method == CLOTH_BDF2 && c->st.has_prev && fabs(c->st.h_prev - h) <= 1e-12 * h;
     double cfac = h;
     cloth_failure fail;
+    int held = 0; /* the limit held by the step itself: no projection */
     switch (sv->method) {
     case CLOTH_EXPLICIT_EULER: fail = explicit_step(c, h, 0, xs, frac); break;
     case CLOTH_SYMPLECTIC_EULER: fail = explicit_step(c, h, 1, xs, frac); break;
     default:
         /* BDF2's first step, or a step after h changed, is backward Euler */
-        fail = implicit_step(c, h, bdf2, xs, frac, st);
+        if (sv->nonlinear == CLOTH_NEWTON) fail = newton_step(c, h, bdf2, xs, frac, st, &held);
+        else fail = linearized_step(c, h, bdf2, xs, frac, st);
         if (bdf2) cfac = 2.0 * h / 3.0;
         break;
     }
     if (fail == CLOTH_FAIL_NONE && !(all_finite(c->x_new, n3) && all_finite(c->v_new, n3))) fail = CLOTH_FAIL_NAN;
-    if (fail == CLOTH_FAIL_NONE && sv->strain_limit_iterations > 0)
+    if (fail == CLOTH_FAIL_NONE && !held && sv->strain_limit_iterations > 0)
         st->strain_limited += strain_limit(c, c->x_new, c->v_new, c->S, cfac, sv->strain_limit_iterations);
     if (fail == CLOTH_FAIL_NONE && !(all_finite(c->x_new, n3) && all_finite(c->v_new, n3))) fail = CLOTH_FAIL_NAN;
     /* the constraint forces too: A dv - b can overflow while x and v do not */
@@ -539,7 +140,10 @@ static void commit(cloth *c, double h, measured *ms)
     s->h_prev = h;
     s->has_prev = 1;
     cloth_method m = c->desc.solver.method;
-    if (m == CLOTH_BACKWARD_EULER || m == CLOTH_BDF2) memcpy(s->dv_prev, c->dv, n3 * sizeof *c->dv);
+    if (m == CLOTH_BACKWARD_EULER || m == CLOTH_BDF2) {
+        memcpy(s->dv_prev, c->dv, n3 * sizeof *c->dv);
+        memcpy(s->lim_shift, c->lim_shift, (size_t)c->n_seq * sizeof *c->lim_shift);
+    }
     ms->plastic = update_plastic_energy(c, &ms->elastic); /* cloth_update_plastic */
 }
 

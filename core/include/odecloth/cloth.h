@@ -102,6 +102,11 @@ typedef enum cloth_precond {
                                        trick (about one matrix pass per iteration) */
 } cloth_precond;
 
+typedef enum cloth_nonlinear {
+    CLOTH_LINEARIZED = 0, /* one linear solve per step (default)         */
+    CLOTH_NEWTON          /* Newton on the step's incremental potential   */
+} cloth_nonlinear;
+
 typedef struct cloth_solver {
     cloth_method method;
     cloth_precond precond;
@@ -114,21 +119,42 @@ typedef struct cloth_solver {
     int definiteness_rule;        /* 1: compressed links keep only k uu^T (paper sec. 3.2) */
     int warm_start;               /* 1: start CG from last step's dv in free directions */
     int strain_limit_iterations;  /* elongation-limit projection (Newton)
-                                     steps after a step; 0 = off          */
+                                     steps after a step: the explicit
+                                     methods' limit, and the implicit
+                                     ones' safety net where their own
+                                     multipliers did not converge; 0 = off */
     double strain_fail;           /* 1, a step whose max sequential strain
                                      exceeds this after limiting fails    */
     int max_substep_halvings;     /* a failed step is retried in substeps
                                      h/2, h/4, ... h/2^this (0 = no retry;
                                      in [0, 16], default 4); see
                                      cloth_step */
-    int newton_iterations;        /* with rigid bodies solved with the cloth
-                                     (cloth_body; implicit methods): at most
-                                     this many Newton corrections of a step
-                                     in which a sequential link went from
-                                     within its limit to past 1 + 1.25 delta
-                                     (the first linearisation, about the
-                                     step's start, did not see the link
-                                     stiffen); in [0, 64], default 8, 0 = off */
+    int newton_iterations;        /* in [0, 256], default 8. CLOTH_LINEARIZED:
+                                     with rigid bodies solved with the cloth
+                                     (cloth_body), at most this many Newton
+                                     corrections of a step in which a
+                                     sequential link went from within its
+                                     limit to past 1 + 1.25 delta (0 = off).
+                                     CLOTH_NEWTON: the iterations a step may
+                                     take (>= 1); not converged then, the
+                                     step fails (CLOTH_FAIL_NEWTON) and is
+                                     retried in substeps                  */
+    /* How the implicit methods solve a step's nonlinear equations.
+     * CLOTH_LINEARIZED (default): linearised once about the step's start
+     * (Baraff-Witkin), the elongation limit by the projection after it.
+     * CLOTH_NEWTON: Newton's method on the step's incremental potential,
+     * a line search keeping every iteration a descent, the definiteness
+     * rule choosing the Newton matrix (not the equations); damping along
+     * the links' directions at x0 + h v0. A step ends when the Newton
+     * step's size sqrt(ddv^T M ddv / cloth mass) (+ the bodies'; an RMS
+     * velocity correction) is within newton_tolerance, and no sequential
+     * link is past its limit (1 + delta) l0 by more than limit_tolerance
+     * of it: the limit is a constraint held by multipliers (augmented
+     * Lagrangian on the k_delta law) carried from step to step, the
+     * projection above acting only where they did not converge. */
+    cloth_nonlinear nonlinear;
+    double newton_tolerance;      /* m/s, > 0 (default 1e-2)              */
+    double limit_tolerance;       /* 1, in (0, 1) (default 1e-4)          */
 } cloth_solver;
 
 cloth_status cloth_solver_validate(const cloth_solver *s, cloth_error *err);
@@ -296,7 +322,8 @@ typedef enum cloth_failure {
     CLOTH_FAIL_CG_MAX_ITER,    /* CG hit its iteration cap unconverged     */
     CLOTH_FAIL_CG_INDEFINITE,  /* CG met p^T A p <= 0 (non-positive curvature) */
     CLOTH_FAIL_STRAIN,         /* strain past solver.strain_fail           */
-    CLOTH_FAIL_BAD_STEP        /* h not finite or <= 0                     */
+    CLOTH_FAIL_BAD_STEP,       /* h not finite or <= 0                     */
+    CLOTH_FAIL_NEWTON          /* Newton not converged in newton_iterations */
 } cloth_failure;
 
 const char *cloth_failure_string(cloth_failure f);
@@ -323,8 +350,13 @@ typedef struct cloth_step_stats {
                               per substep size that failed             */
     cloth_failure first_failure; /* why the whole step failed before the
                               retries (NONE if it did not)             */
-    int newton;            /* Newton corrections taken (solver.
-                              newton_iterations), over every attempt  */
+    int newton;            /* Newton iterations, over every attempt    */
+    double newton_residual;/* m/s, the last attempt's final residual
+                              size (solver.newton_tolerance's norm)   */
+    int limit_updates;     /* updates of the elongation limit's
+                              multipliers, over every attempt          */
+    int line_search_cuts;  /* Newton iterations whose full step the
+                              line search shortened                   */
 } cloth_step_stats;
 
 /* Advance by h seconds. An h that is not finite and > 0 is a bad argument:

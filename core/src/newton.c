@@ -1,0 +1,242 @@
+/* Newton's method on the implicit step's incremental potential (potential.h):
+ * each iteration solves the positive-definite Newton matrix by the modified
+ * PCG, the constrained components held, and a backtracking line search on
+ * the potential keeps every iteration a descent. The elongation limit is a
+ * constraint of the same potential (augmented Lagrangian, below). */
+#include <math.h>
+#include <string.h>
+#include "newton.h"
+#include "linsolve.h"
+#include "potential.h"
+#include "mat3.h"
+#include "mpcg.h"
+
+/* Solve the Newton matrix in c->A for ddv (cold start), rhs P->b, the
+ * constrained components held at P->z. */
+static mpcg_result linear_solve(cloth *c, mpcg_problem *P, double *ddv)
+{
+    memset(ddv, 0, 3 * (size_t)c->n * sizeof *ddv);
+    if (P->bodies) bodies_newton_begin(c);
+    return linsolve_run(c, P, ddv);
+}
+
+/* The residual's size: sqrt((|S R|^2_{M^-1} + the bodies' |R_g|^2_{M_g^-1})
+ * / cloth mass), an RMS velocity (m/s); b = -R. */
+static double residual_norm(cloth *c, const mpcg_problem *P, const double *b)
+{
+    double s = 0.0, mt = 0.0;
+    for (int i = 0; i < c->n; i++) {
+        const double *Si = c->S + 9 * (size_t)i, *bi = b + 3 * (size_t)i;
+        mt += c->mass[i];
+        for (int r = 0; r < 3; r++) {
+            double e = c->con[i].ndof ? Si[3 * r] * bi[0] + Si[3 * r + 1] * bi[1] + Si[3 * r + 2] * bi[2] : bi[r];
+            s += e * e / c->mass[i];
+        }
+    }
+    if (P->bodies) s += bodies_residual_energy(P, b);
+    return sqrt(s / mt);
+}
+
+/* both ends held in full by the same thing (the world, or one body): the
+ * link's length is their targets', no multiplier can change it */
+static int held_together(const cloth *c, const link_topo *L)
+{
+    if (c->con[L->i].ndof != 3 || c->con[L->j].ndof != 3) return 0;
+    int bi = c->body_held && c->vbody ? c->vbody[L->i] : -1, bj = c->body_held && c->vbody ? c->vbody[L->j] : -1;
+    return bi == bj;
+}
+
+/* The elongation limit's multipliers (augmented Lagrangian on the k_delta
+ * law: a link's force past its limit is max(0, lambda + k_lim (d - lmax)),
+ * lambda kept as the shift s = lambda / k_lim of its limit length): each
+ * updated, s = max(0, s + d - lmax); returns the largest change / lmax. */
+static double limit_update(cloth *c, const double *x)
+{
+    const cloth_material *m = &c->desc.material;
+    if (!(m->k_delta > 0.0) || !(m->k_t > 0.0)) return 0.0;
+    double lim = 1.0 + m->delta, worst = 0.0;
+    for (int e = 0; e < c->n_seq; e++) {
+        const link_topo *L = &c->seq[e];
+        if (held_together(c, L)) {
+            c->lim_shift[e] = 0.0;
+            continue;
+        }
+        double d2 = 0.0, lmax = lim * L->rest;
+        for (int r = 0; r < 3; r++) {
+            double w = x[3 * L->j + r] - x[3 * L->i + r];
+            d2 += w * w;
+        }
+        double s0 = c->lim_shift[e], s1 = fmax(0.0, s0 + sqrt(d2) - lmax);
+        worst = fmax(worst, fabs(s1 - s0) / lmax);
+        c->lim_shift[e] = s1;
+    }
+    return worst;
+}
+
+/* Backtracking (Armijo) along ddv from dv: the step t taken. phi0 is the
+ * potential at dv (with the bodies'), slope its derivative along ddv; on
+ * return *phi is the potential at the step taken. */
+static double line_search(cloth *c, const step_eq *q, const double *dv, const double *ddv, int bodies,
+                          double phi0, double slope, double *phi)
+{
+    size_t n3 = 3 * (size_t)c->n;
+    double t = 1.0;
+    for (int k = 0; k < 16; k++, t *= 0.5) {
+        for (size_t j = 0; j < n3; j++) c->dvt[j] = dv[j] + t * ddv[j];
+        *phi = potential_value(c, q, c->dvt, c->xt, c->vt) + (bodies ? bodies_newton_energy(c, t) : 0.0);
+        if (!(slope < 0.0)) break; /* not a descent direction (CG cut short): the full step */
+        if (*phi <= phi0 + 1e-4 * t * slope) break;
+        /* the change is within the potential's rounding: nothing to decide */
+        if (fabs(t * slope) <= 1e-13 * (fabs(phi0) + fabs(*phi))) break;
+    }
+    return t;
+}
+
+/* Constraint forces at the solution, R = -b + t A ddv there (the linear
+ * model of the last step t ddv; t 0: none): the constrained components of
+ * R are the impulse the constraints applied, cfac f_c. */
+static void constraint_forces(cloth *c, const double *b, const double *ddv, double t, double cfac)
+{
+    if (t != 0.0 && c->n_con) bsr_mul_rows(&c->A, ddv, c->clist, c->n_con, c->y);
+    for (int i = 0; i < c->n; i++) {
+        double *f = c->con_new + 3 * (size_t)i, R[3];
+        f[0] = f[1] = f[2] = 0.0;
+        if (c->con[i].ndof == 0) continue;
+        const double *Si = c->S + 9 * (size_t)i;
+        for (int r = 0; r < 3; r++) R[r] = -b[3 * i + r] + (t != 0.0 ? t * c->y[3 * i + r] : 0.0);
+        for (int r = 0; r < 3; r++)
+            f[r] = (R[r] - (Si[3 * r] * R[0] + Si[3 * r + 1] * R[1] + Si[3 * r + 2] * R[2])) / cfac;
+    }
+}
+
+/* The start: dv the warm start (or 0), and z what the first iteration must
+ * add to its constrained components to land them on their targets; 1 if
+ * that is nothing. */
+static int newton_start(cloth *c, double *dv)
+{
+    size_t n3 = 3 * (size_t)c->n;
+    if (c->desc.solver.warm_start) memcpy(dv, c->st.dv_prev, n3 * sizeof *dv);
+    else memset(dv, 0, n3 * sizeof *dv);
+    int none = 1;
+    for (int i = 0; i < c->n; i++) {
+        if (!c->con[i].ndof) continue;
+        double *d = dv + 3 * (size_t)i, *z = c->z + 3 * (size_t)i, s[3];
+        mat3vec(c->S + 9 * (size_t)i, d, s);
+        for (int r = 0; r < 3; r++) {
+            z[r] -= d[r] - s[r];
+            none = none && z[r] == 0.0;
+        }
+    }
+    return none;
+}
+
+/* The Newton step's size, sqrt(ddv^T M ddv (+ the bodies') / cloth mass):
+ * the velocity correction the residual calls for (m/s, RMS). */
+static double step_norm(const cloth *c, const mpcg_problem *P, const double *ddv)
+{
+    double s = 0.0, mt = 0.0;
+    for (int i = 0; i < c->n; i++) {
+        const double *d = ddv + 3 * (size_t)i;
+        mt += c->mass[i];
+        s += c->mass[i] * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    }
+    if (P->bodies) s += bodies_step_energy(c);
+    return sqrt(s / mt);
+}
+
+/* One Newton iteration from dv (b = -R there, assembled with the rule
+ * defin): solve, search (not on the first, which lands the constraints),
+ * take. *size gets the full step's size; returns the CG's failure (NONE,
+ * or a solve cut short whose direction was still used). */
+static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *P, double *dv, double *phi,
+                                      int defin, int first, double *t_out, double *size, cloth_step_stats *st)
+{
+    size_t n3 = 3 * (size_t)c->n;
+    double *ddv = c->ddv;
+    *t_out = 0.0;
+    mpcg_result r = linear_solve(c, P, ddv);
+    if (r.failure == CLOTH_FAIL_CG_INDEFINITE && !defin) {
+        /* the exact Hessian is not definite here: the rule's matrix instead */
+        if (P->bodies) bodies_newton_take(c, 0.0);
+        potential_assemble(c, q, dv, 1, c->b);
+        st->iterations += r.iterations;
+        r = linear_solve(c, P, ddv);
+    }
+    st->iterations += r.iterations;
+    if (!(st->residual >= r.residual)) st->residual = r.residual;
+    if (r.failure == CLOTH_FAIL_NAN || r.failure == CLOTH_FAIL_CG_INDEFINITE || !all_finite(ddv, n3)) {
+        if (P->bodies) bodies_newton_take(c, 0.0);
+        return r.failure == CLOTH_FAIL_NONE ? CLOTH_FAIL_NAN : r.failure;
+    }
+    *size = step_norm(c, P, ddv);
+    double t = 1.0;
+    if (!first) {
+        double slope = 0.0, phi1;
+        for (size_t k = 0; k < n3; k++) slope -= c->b[k] * ddv[k];
+        if (P->bodies) slope += bodies_newton_slope(c);
+        t = line_search(c, q, dv, ddv, P->bodies != NULL, *phi, slope, &phi1);
+        if (t < 1.0) st->line_search_cuts++;
+        *phi = phi1;
+    } else {
+        *phi = NAN;
+    }
+    for (size_t k = 0; k < n3; k++) dv[k] += t * ddv[k];
+    if (P->bodies) bodies_newton_take(c, t);
+    *t_out = t;
+    return r.failure;
+}
+
+cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double frac, cloth_step_stats *st,
+                          int *limit_held)
+{
+    const cloth_solver *sv = &c->desc.solver;
+    step_eq q;
+    potential_begin(c, h, bdf2, &q);
+    constraints_build(c, q.a, c->st.v, q.cfac, xs, frac);
+    double *dv = c->dv, *b = c->b;
+    int landed = newton_start(c, dv);
+    memcpy(c->lim_shift, c->st.lim_shift, (size_t)c->n_seq * sizeof *c->lim_shift);
+    mpcg_problem P = {&c->A, b, c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL,
+                      sv->cg_tolerance, sv->cg_max_iterations, NULL};
+    mpcg_bodies bodies;
+    P.bodies = bodies_prepare(c, h, q.cfac, &bodies);
+    int defin = sv->definiteness_rule, it = 0, rounds = 0, assembled = 0;
+    double phi = NAN, size = INFINITY, t = 0.0;
+    *limit_held = 0;
+    potential_state(c, &q, dv);
+    for (;;) {
+        if (!assembled) potential_assemble(c, &q, dv, defin, b);
+        assembled = 1;
+        if (it == 0 && landed) size = residual_norm(c, &P, b); /* bounds the step's size */
+        if (size != size) return CLOTH_FAIL_NAN;
+        if (size <= sv->newton_tolerance) {
+            potential_state(c, &q, dv);
+            if (rounds++ >= sv->newton_iterations) break; /* the limit left to the projection */
+            if (limit_update(c, c->x_new) <= sv->limit_tolerance) {
+                *limit_held = 1;
+                break;
+            }
+            st->limit_updates++;
+            phi = NAN; /* the potential changed with the multipliers */
+            assembled = 0;
+            size = INFINITY;
+            continue;
+        }
+        if (it >= sv->newton_iterations) break;
+        if (phi != phi && it > 0)
+            phi = potential_value(c, &q, dv, c->xt, c->vt) + (P.bodies ? bodies_energy(c) : 0.0);
+        cloth_failure f = newton_iteration(c, &q, &P, dv, &phi, defin, it == 0, &t, &size, st);
+        if (it == 0) memset(c->z, 0, 3 * (size_t)c->n * sizeof *c->z); /* the constraints landed */
+        it++;
+        if (f == CLOTH_FAIL_NAN || f == CLOTH_FAIL_CG_INDEFINITE) return f;
+        if (size > sv->newton_tolerance) {
+            potential_state(c, &q, dv);
+            assembled = 0;
+        }
+    }
+    st->newton += it;
+    st->newton_residual = size;
+    if (!(size <= sv->newton_tolerance)) return size != size ? CLOTH_FAIL_NAN : CLOTH_FAIL_NEWTON;
+    constraint_forces(c, b, c->ddv, it > 0 && assembled ? t : 0.0, q.cfac);
+    return CLOTH_FAIL_NONE;
+}

@@ -1,0 +1,16 @@
+/* The implicit step (backward Euler or BDF2) by Newton's method on its
+ * incremental potential (newton.c, potential.h). */
+#ifndef ODECLOTH_NEWTON_H
+#define ODECLOTH_NEWTON_H
+
+#include "internal.h"
+
+/* One implicit step of h into c->x_new, v_new, dv, con_new, the state
+ * untouched; constraints aimed at frac of the way from xs (constraints.c).
+ * Adds its iterations to st. *limit_held: 1 if every sequential link ended
+ * within the elongation limit's tolerance (else the caller's projection is
+ * the safety net). */
+cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double frac, cloth_step_stats *st,
+                          int *limit_held);
+
+#endif

@@ -1,0 +1,161 @@
+/* The implicit step's incremental potential (potential.h): its value, its
+ * gradient (the residual) and the positive-definite Newton matrix. */
+#include <math.h>
+#include <string.h>
+#include "potential.h"
+#include "mat3.h"
+
+void potential_begin(cloth *c, double h, int bdf2, step_eq *q)
+{
+    const struct cloth_state *s = &c->st;
+    size_t n3 = 3 * (size_t)c->n;
+    q->h = h;
+    q->bdf2 = bdf2;
+    q->beta = bdf2 ? 2.0 / 3.0 : 1.0;
+    q->cfac = q->beta * h;
+    for (size_t k = 0; k < n3; k++) c->na[k] = bdf2 ? s->x[k] + (s->x[k] - s->x_prev[k]) / 3.0 : s->x[k];
+    q->a = c->na;
+    /* the damping directions at x~ = x0 + h v0 */
+    for (int t = 0; t < 2; t++) {
+        int ne = t ? c->n_int : c->n_seq;
+        const link_topo *L = t ? c->lint : c->seq;
+        double *ut = c->ut + (t ? 3 * (size_t)c->n_seq : 0);
+        for (int e = 0; e < ne; e++) {
+            const double *xi = s->x + 3 * L[e].i, *xj = s->x + 3 * L[e].j;
+            const double *vi = s->v + 3 * L[e].i, *vj = s->v + 3 * L[e].j;
+            double w[3], d2 = 0.0;
+            for (int r = 0; r < 3; r++) {
+                w[r] = xj[r] - xi[r] + h * (vj[r] - vi[r]);
+                d2 += w[r] * w[r];
+            }
+            double inv = d2 > 1e-24 ? 1.0 / sqrt(d2) : 0.0;
+            for (int r = 0; r < 3; r++) ut[3 * e + r] = w[r] * inv;
+        }
+    }
+}
+
+void potential_state(cloth *c, const step_eq *q, const double *dv)
+{
+    const double *v0 = c->st.v;
+    for (size_t k = 0; k < 3 * (size_t)c->n; k++) {
+        c->v_new[k] = v0[k] + dv[k];
+        c->x_new[k] = q->a[k] + q->cfac * c->v_new[k];
+    }
+}
+
+/* BDF2's constant term e_k = m (v0 - v_-1) / 3 */
+static double bdf2_extra(const cloth *c, const step_eq *q, size_t k)
+{
+    return q->bdf2 ? c->mass[k / 3] * (c->st.v[k] - c->st.v_prev[k]) / 3.0 : 0.0;
+}
+
+/* the law of link e of type t as the step uses it (the limit shifted by
+ * its multiplier) */
+static spring_law law_of(const cloth *c, int t, int e)
+{
+    const cloth_material *m = &c->desc.material;
+    if (t) return int_law(m, c->lint[e].rest, c->st.plastic[e], c->st.l1[e]);
+    spring_law s = seq_law(m, c->seq[e].rest);
+    s.lim -= c->lim_shift[e];
+    return s;
+}
+
+/* a spring's force on i (fi) and K = dfi/dxj at (xi, xj) */
+static void spring_fk(const double *xi, const double *xj, spring_law s, int defin, double fi[3], double K[9])
+{
+    double u[3] = {xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]};
+    double d = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    if (!(d > 1e-12)) {
+        memset(fi, 0, 3 * sizeof *fi);
+        memset(K, 0, 9 * sizeof *K);
+        return;
+    }
+    for (int r = 0; r < 3; r++) u[r] /= d;
+    double k = d >= s.rest ? s.k_hi : s.k_lo, fe = k * (d - s.rest);
+    if (d > s.lim) {
+        fe += s.k_lim * (d - s.lim);
+        k += s.k_lim;
+    }
+    double kt = (defin && d < s.rest) ? 0.0 : fe / d;
+    for (int a = 0; a < 3; a++) {
+        fi[a] = fe * u[a];
+        for (int b = 0; b < 3; b++) K[3 * a + b] = (k - kt) * u[a] * u[b] + (a == b ? kt : 0.0);
+    }
+}
+
+void potential_assemble(cloth *c, const step_eq *q, const double *dv, int defin, double *b)
+{
+    const cloth_material *m = &c->desc.material;
+    const double *x = c->x_new, *v = c->v_new;
+    double cf = q->cfac, cf2 = cf * cf;
+    bsr *A = &c->A;
+    bsr_zero(A);
+    for (int i = 0; i < c->n; i++) {
+        double *B = A->val + 9 * (size_t)A->diag[i];
+        B[0] = B[4] = B[8] = c->mass[i];
+        for (int r = 0; r < 3; r++) {
+            size_t k = 3 * (size_t)i + (size_t)r;
+            double fc = c->mass[i] * c->desc.gravity[r] + c->f_ext[k];
+            b[k] = cf * fc + bdf2_extra(c, q, k) - c->mass[i] * dv[k];
+        }
+    }
+    double f[3], K[9], blk[9];
+    for (int t = 0; t < 2; t++) {
+        int ne = t ? c->n_int : c->n_seq;
+        const link_topo *L = t ? c->lint : c->seq;
+        const int *bl = t ? c->int_blk : c->seq_blk;
+        const double *ut = c->ut + (t ? 3 * (size_t)c->n_seq : 0);
+        double damp = t ? m->c_b : m->c_t;
+        for (int e = 0; e < ne; e++) {
+            int i = L[e].i, j = L[e].j;
+            spring_fk(x + 3 * i, x + 3 * j, law_of(c, t, e), defin, f, K);
+            const double *u = ut + 3 * (size_t)e, *vi = v + 3 * i, *vj = v + 3 * j;
+            double rate = damp * ((vj[0] - vi[0]) * u[0] + (vj[1] - vi[1]) * u[1] + (vj[2] - vi[2]) * u[2]);
+            for (int r = 0; r < 3; r++) {
+                double fr = cf * (f[r] + rate * u[r]);
+                b[3 * i + r] += fr;
+                b[3 * j + r] -= fr;
+                for (int s = 0; s < 3; s++) blk[3 * r + s] = cf2 * K[3 * r + s] + cf * damp * u[r] * u[s];
+            }
+            mat3_axpy(A->val + 9 * (size_t)A->diag[i], blk, 1.0);
+            mat3_axpy(A->val + 9 * (size_t)A->diag[j], blk, 1.0);
+            mat3_axpy(A->val + 9 * (size_t)bl[2 * e], blk, -1.0);
+            mat3_axpy(A->val + 9 * (size_t)bl[2 * e + 1], blk, -1.0);
+        }
+    }
+}
+
+static double spring_energy_at(const double *xi, const double *xj, spring_law s)
+{
+    double w0 = xj[0] - xi[0], w1 = xj[1] - xi[1], w2 = xj[2] - xi[2];
+    double d = sqrt(w0 * w0 + w1 * w1 + w2 * w2), e = d - s.rest, el = d > s.lim ? d - s.lim : 0.0;
+    return 0.5 * (e >= 0.0 ? s.k_hi : s.k_lo) * e * e + 0.5 * s.k_lim * el * el;
+}
+
+double potential_value(const cloth *c, const step_eq *q, const double *dv, double *x, double *v)
+{
+    const cloth_material *m = &c->desc.material;
+    double cf = q->cfac, P = 0.0;
+    for (int i = 0; i < c->n; i++)
+        for (int r = 0; r < 3; r++) {
+            size_t k = 3 * (size_t)i + (size_t)r;
+            v[k] = c->st.v[k] + dv[k];
+            x[k] = q->a[k] + cf * v[k];
+            double fc = c->mass[i] * c->desc.gravity[r] + c->f_ext[k];
+            P += (0.5 * c->mass[i] * dv[k] - bdf2_extra(c, q, k)) * dv[k] - cf * fc * v[k];
+        }
+    for (int t = 0; t < 2; t++) {
+        int ne = t ? c->n_int : c->n_seq;
+        const link_topo *L = t ? c->lint : c->seq;
+        const double *ut = c->ut + (t ? 3 * (size_t)c->n_seq : 0);
+        double damp = 0.5 * cf * (t ? m->c_b : m->c_t);
+        for (int e = 0; e < ne; e++) {
+            int i = L[e].i, j = L[e].j;
+            const double *u = ut + 3 * (size_t)e;
+            double rate = (v[3 * j] - v[3 * i]) * u[0] + (v[3 * j + 1] - v[3 * i + 1]) * u[1] +
+                          (v[3 * j + 2] - v[3 * i + 2]) * u[2];
+            P += spring_energy_at(x + 3 * i, x + 3 * j, law_of(c, t, e)) + damp * rate * rate;
+        }
+    }
+    return P;
+}

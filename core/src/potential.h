@@ -1,0 +1,37 @@
+/* The implicit step's nonlinear equations as a potential (potential.c).
+ * With x = a + cfac v and v = v0 + dv, backward Euler (beta 1) and BDF2
+ * (beta 2/3, cfac = beta h) ask for the stationary point of
+ *   Phi(dv) = 1/2 dv^T M dv - e^T dv + U(x) - cfac f_c^T v + cfac/2 v^T C v,
+ * U the springs' energy, f_c gravity and external forces, e BDF2's
+ * M (v0 - v_-1) / 3 (0 for backward Euler), C the links' damping along their
+ * directions at x~ = x0 + h v0 (frozen over the step, so that damping has a
+ * potential; x~ is within O(h^2) of x, which keeps BDF2 second order).
+ * The residual R = grad Phi = M dv - e - cfac f(x, v) is an impulse. */
+#ifndef ODECLOTH_POTENTIAL_H
+#define ODECLOTH_POTENTIAL_H
+
+#include "internal.h"
+
+typedef struct step_eq {
+    double h, beta, cfac; /* cfac = beta h = dx/dv */
+    int bdf2;
+    const double *a;      /* 3n: x = a + cfac v */
+} step_eq;
+
+/* The step's equations: a (into c->na) and the damping directions at x~
+ * (into c->ut), for a step of h from the current state. */
+void potential_begin(cloth *c, double h, int bdf2, step_eq *q);
+
+/* x = a + cfac (v0 + dv) and v = v0 + dv into c->x_new, c->v_new. */
+void potential_state(cloth *c, const step_eq *q, const double *dv);
+
+/* At c->x_new, c->v_new (potential_state first): b = -R, and the Newton
+ * matrix M + cfac C + cfac^2 K into c->A, K the springs' stiffness with
+ * the definiteness rule if defin (positive definite then). */
+void potential_assemble(cloth *c, const step_eq *q, const double *dv, int defin, double *b);
+
+/* Phi at dv (the bodies' share apart), its positions and velocities
+ * computed into x and v (3n each). */
+double potential_value(const cloth *c, const step_eq *q, const double *dv, double *x, double *v);
+
+#endif
