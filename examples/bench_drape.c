@@ -1,4 +1,4 @@
-/* bench_drape: impacts and fine cloths (issue 17's benchmark).
+/* bench_drape: impacts and fine cloths at the sizes users run.
  *
  * Every scene is a 1 m square cotton cloth (cloth_material_preset(CLOTH_COTTON),
  * 0.2 kg, N x N nodes) at the library's default solver, 2 s simulated at
@@ -12,9 +12,11 @@
  *            own near callback making their contact joints, dClothWorldStep
  *            with dWorldStep (variant step) or dWorldQuickStep (quick); N = 41, 81;
  *   hammock  pinned at its 4 corners, a 1 kg ball (r 0.1 m) thrown down into
- *            it at 5 m/s; dClothWorldStep; N = 25, 41, 81.
+ *            it at 5 m/s; dClothWorldStep; N = 25, 41, 81;
+ *   each with the implicit steps linearised and by Newton (--solver; the
+ *   variant names the solver: linearized, newton, step-newton, ...).
  * Columns: wall and CPU seconds of the steps, failed and substepped steps,
- * Newton corrections and CG iterations per step (the core's counts; the
+ * Newton iterations and CG iterations per step (the core's counts; the
  * plugin reports its last solve's), strain over the sequential links at the
  * end (p99, max) and over the run, the deepest vertex inside the sphere (the
  * pile: any geom; the hammock: the ball), mean vertex speed over the last
@@ -24,7 +26,7 @@
  * Writes DIR/bench_drape.csv and, with gnuplot, DIR/bench_drape.png.
  *
  *   bench_drape [--out DIR] [--scene drape,pinned,pile,hammock] [--grid N]
- *               [--max-wall S] [--fast] [--check]
+ *               [--solver linearized|newton|both] [--max-wall S] [--fast] [--check]
  *
  * ctest: bench drape --fast --out out/bench_fast
  */
@@ -48,14 +50,14 @@
 #define BALL_R 0.1
 #define BALL_MASS 1.0
 #define BALL_SPEED 5.0
-#define ENERGY_TARGET 1e-3 /* J, issue 17: the largest gain a hammock step may show */
+#define ENERGY_TARGET 1e-3 /* J, the largest gain a hammock step may show */
 #define DEPTH_TARGET 1e-4  /* m, "no vertex inside the sphere" read with this slack */
 
 enum { DRAPE, PINNED, PILE, HAMMOCK, NSCENES };
 static const char *scene_name[NSCENES] = {"drape", "pinned", "pile", "hammock"};
 
-/* Quoted from issue 17: Blender 3.4's drape (one core, quiet machine) and
- * the issue's targets, both wall seconds for 2 s simulated. */
+/* Blender 3.4's cloth on the same drape (one core of this machine, quiet),
+ * and our targets, both wall seconds for 2 s simulated. */
 static const int blender_n[4] = {21, 41, 81, 161};
 static const double blender_s[4] = {2.95, 8.16, 38.1, 143};
 static const int target_n[3] = {41, 81, 161};
@@ -569,9 +571,9 @@ static void write_chart(const bench_opts *o, double seconds, double delta)
             "&& strcol(20) ne 'timeout' ? $4 : 1/0) with linespoints pt 7 lw 2 title 'odecloth, '.sv, "
             "f every ::1 using 3:(strcol(1) eq 'drape' && strcol(20) eq 'timeout' ? $4 : 1/0) "
             "with points pt 8 ps 1.6 lc rgb '#c01010' title 'odecloth, timed out (at least)', "
-            "$target using 1:2 with linespoints pt 2 ps 1.5 dt 2 lc rgb '#109010' title 'target (issue 17)', "
+            "$target using 1:2 with linespoints pt 2 ps 1.5 dt 2 lc rgb '#109010' title 'target', "
             "$blender using 1:2 with linespoints pt 4 dt 3 lc rgb '#606060' "
-            "title 'Blender 3.4 (issue 17, quiet machine)'\n"
+            "title 'Blender 3.4 (quiet machine)'\n"
             "unset logscale y\nset ylabel 'p99 strain, sequential links'\n"
             "set title 'p99 strain at the end (a timed-out run: at its last step)'\n"
             "set yrange [0:*]\n"
@@ -594,7 +596,7 @@ static int miss(const row *r, const char *what, double value, double limit)
     return 1;
 }
 
-/* Issue 17's quality targets for the row's scene (the pinned scene has
+/* The quality targets for the row's scene (the pinned scene has
  * none); the number missed. A timed-out row misses: it never got there. */
 static int check_row(const row *r)
 {
@@ -622,7 +624,7 @@ static int check_row(const row *r)
 static const char usage[] =
     "usage: bench_drape [--out DIR] [--scene NAME[,NAME...]] [--grid N] [--solver S] [--max-wall S] [--fast]\n"
     "                   [--check]\n"
-    "Issue 17's benchmark: a 1 m cotton cloth, 2 s at h = 1/60, library defaults, in four scenes:\n"
+    "The drape benchmark: a 1 m cotton cloth, 2 s at h = 1/60, library defaults, in four scenes:\n"
     "  drape    over a static sphere (r 0.25 m), N = 21, 41, 81, 161\n"
     "  pinned   pinned at two corners, core only (bench_step's scene), N = 21, 41, 81\n"
     "  pile     dropped 0.5 m onto six ODE bodies, dWorldStep and dWorldQuickStep, N = 41, 81\n"
@@ -634,7 +636,7 @@ static const char usage[] =
     "--max-wall S  wall-clock budget per run in seconds (default 120; --fast 3): a run\n"
     "           past it stops with status timeout and its figures so far\n"
     "--fast     N <= 41 only, 0.5 s simulated (a smoke test)\n"
-    "--check    exit 1 if a drape, pile or hammock row misses issue 17's quality targets:\n"
+    "--check    exit 1 if a drape, pile or hammock row misses the quality targets:\n"
     "           all: finished, no failed step; drape: p99 strain <= delta + 0.002, max strain\n"
     "           <= 2 delta, no vertex over 1e-4 m inside the sphere, mean speed <= 0.02 m/s;\n"
     "           pile: no vertex deeper in a geom than the thickness, strain over the run\n"
@@ -720,7 +722,7 @@ static void print_load(void)
     printf("machine load (/proc/loadavg): %s\n", line);
 }
 
-/* The grids of a scene: issue 17's, those up to 41 with --fast, or --grid. */
+/* The grids of a scene: all, those up to 41 with --fast, or --grid. */
 static int scene_grids(int kind, const options *o, int *grids)
 {
     static const int all[NSCENES][4] = {{21, 41, 81, 161}, {21, 41, 81}, {41, 81}, {25, 41, 81}};

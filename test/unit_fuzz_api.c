@@ -60,7 +60,7 @@ static int finite_all(const double *a, size_t n)
 
 static int status_ok(cloth_status s) { return s == CLOTH_OK || s == CLOTH_EINVAL || s == CLOTH_ENOMEM || s == CLOTH_ESTEP; }
 
-/* Set field f (0..33) of d to an extreme value. Small grids only where the
+/* Set field f (0..NFIELDS-1) of d to an extreme value. Small grids only where the
  * value is accepted, so nothing allocates gigabytes. */
 static void perturb(rng *g, cloth_desc *d, int f)
 {
@@ -69,7 +69,7 @@ static void perturb(rng *g, cloth_desc *d, int f)
                      &d->gravity[1], &d->gravity[2], &d->material.k_t, &d->material.k_c, &d->material.k_b,
                      &d->material.k_s, &d->material.alpha, &d->material.delta, &d->material.k_delta,
                      &d->material.c_t, &d->material.c_b, &d->material.density, &d->solver.cg_tolerance,
-                     &d->solver.strain_fail};
+                     &d->solver.strain_fail, &d->solver.newton_tolerance, &d->solver.limit_tolerance};
     int nd = (int)(sizeof dbl / sizeof dbl[0]);
     if (f < nd) {
         *dbl[f] = xd(g);
@@ -86,10 +86,12 @@ static void perturb(rng *g, cloth_desc *d, int f)
     case 4: d->solver.cg_max_iterations = v > 2000 ? 2000 : v; break;
     case 5: d->solver.strain_limit_iterations = v > 50 ? 50 : v; break;
     case 6: d->solver.max_substep_halvings = v > 4 && v <= 16 ? 3 : v; break;
+    case 7: d->solver.nonlinear = (cloth_nonlinear)v; break;
+    case 8: d->solver.newton_iterations = v > 32 && v <= 256 ? 32 : v; break;
     default: d->solver.definiteness_rule = v; break;
     }
 }
-#define NFIELDS 34
+#define NFIELDS 38
 
 /* The created cloth is sound: masses, positions, rest lengths. */
 static void check_model(const cloth *c, const char *what)
@@ -287,7 +289,8 @@ static void walk(void)
         }
         case 4: {
             cloth_desc e = d0;
-            perturb(&g, &e, rng_u64(&g) % 2 ? 24 + (int)(rng_u64(&g) % 2) : 28 + (int)(rng_u64(&g) % 6));
+            if (rng_u64(&g) % 2) e.solver.nonlinear = CLOTH_NEWTON; /* both steps, then one field off */
+            perturb(&g, &e, rng_u64(&g) % 2 ? 24 + (int)(rng_u64(&g) % 4) : 30 + (int)(rng_u64(&g) % 8));
             if (e.solver.cg_max_iterations > 300) e.solver.cg_max_iterations = 300;
             s = cloth_set_solver(c, rng_u64(&g) % 10 ? &e.solver : NULL);
             break;
@@ -487,7 +490,7 @@ static void walk(void)
            "frames: %ld of %ld)\n",
            tot, tf, sf, sc, fails[24], calls[24], fails[27], calls[27]);
     printf("step outcomes:");
-    for (int k = 0; k <= CLOTH_FAIL_BAD_STEP; k++) printf(" %s %ld;", cloth_failure_string((cloth_failure)k), fail_why[k]);
+    for (int k = 0; k <= CLOTH_FAIL_NEWTON; k++) printf(" %s %ld;", cloth_failure_string((cloth_failure)k), fail_why[k]);
     printf("\n");
     CHECK(fail_why[CLOTH_FAIL_NONE] > 100, "only %ld steps succeeded: the walk tests failures only",
           fail_why[CLOTH_FAIL_NONE]);

@@ -206,6 +206,13 @@ double bodies_energy(const cloth *c);
 struct mpcg_problem;
 double bodies_residual_energy(const struct mpcg_problem *P, const double *b);
 
+/* limit_multipliers.c: both ends of a link held in full by the same thing
+ * (the world, or one body): its length is their targets', no multiplier
+ * can change it; and the multipliers' update at positions x, s = max(0,
+ * s + d - lmax) for each link, returning the largest change / lmax. */
+int link_held_together(const cloth *c, const link_topo *L);
+double limit_multipliers_update(cloth *c, const double *x);
+
 /* constraints.c: the filter S_i of each vertex and z_i = (I - S_i)(v_target
  * - v0), given x_new = a + cfac v_new; a substep aims at frac of the way
  * from xs (the whole step's start) to the target (frac 1 or xs NULL: the

@@ -100,22 +100,12 @@ static void constraint_forces(cloth *c, const double *dv, const double *b, doubl
  * one box stay 7% apart through any number of corrections, measured). */
 #define NEWTON_CROSS 1.25
 
-/* the body solved with the cloth holding vertex i, or -1 */
-static int held_by(const cloth *c, int i) { return c->body_held && c->vbody && c->vbody[i] >= 0 ? c->vbody[i] : -1; }
-
-/* both ends held in full by the same thing (the world, or one body): the
- * link's length is their targets' */
-static int held_together(const cloth *c, const link_topo *L)
-{
-    return c->con[L->i].ndof == 3 && c->con[L->j].ndof == 3 && held_by(c, L->i) == held_by(c, L->j);
-}
-
 static int crossed_limit(const cloth *c, const double *x0, const double *x1)
 {
     double lim = 1.0 + c->desc.material.delta, lim1 = 1.0 + NEWTON_CROSS * c->desc.material.delta;
     for (int e = 0; e < c->n_seq; e++) {
         const link_topo *L = &c->seq[e];
-        if (held_together(c, L)) continue; /* its length is the targets' */
+        if (link_held_together(c, L)) continue; /* its length is the targets' */
         double l1 = lim1 * L->rest, d1 = 0.0, d0 = 0.0;
         for (int r = 0; r < 3; r++) {
             double w1 = x1[3 * L->j + r] - x1[3 * L->i + r], w0 = x0[3 * L->j + r] - x0[3 * L->i + r];
@@ -127,35 +117,10 @@ static int crossed_limit(const cloth *c, const double *x0, const double *x1)
     return 0;
 }
 
-/* The elongation limit as a constraint of the corrected step (augmented
- * Lagrangian): past (1 + delta) l0 a link's force gains
- * max(0, lambda + k_lim (d - lmax)), its multiplier lambda kept as a shift
- * s = lambda / k_lim of the limit length (the k_lim law with lim - s).
- * Once the corrections have converged for the multipliers, each is updated,
- * s = max(0, s + d - lmax); 1 if any changed by more than LIMIT_TOL lmax
- * (the step is then corrected again). k_lim = 0: no limit to hold. */
+/* Once the corrections have converged, the elongation limit's multipliers
+ * are updated (limit_multipliers.c) and the step corrected again while any
+ * changed by more than LIMIT_TOL of its limit length. */
 #define LIMIT_TOL 1e-6
-static int limit_update(cloth *c, const double *x)
-{
-    const cloth_material *m = &c->desc.material;
-    if (!(m->k_delta > 0.0) || !(m->k_t > 0.0)) return 0;
-    double lim = 1.0 + m->delta;
-    int changed = 0;
-    for (int e = 0; e < c->n_seq; e++) {
-        const link_topo *L = &c->seq[e];
-        if (held_together(c, L)) continue;
-        double d2 = 0.0, lmax = lim * L->rest;
-        for (int r = 0; r < 3; r++) {
-            double w = x[3 * L->j + r] - x[3 * L->i + r];
-            d2 += w * w;
-        }
-        double s0 = c->lim_shift[e], s1 = s0 + sqrt(d2) - lmax;
-        if (s1 < 0.0) s1 = 0.0;
-        if (fabs(s1 - s0) > LIMIT_TOL * lmax) changed = 1;
-        c->lim_shift[e] = s1;
-    }
-    return changed;
-}
 
 /* |S b|: the free components' part of a vector (S the constraint filter) */
 static double free_norm(const cloth *c, const double *b)
@@ -239,7 +204,7 @@ cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, do
      * inertia, where its linearisation is poor (a taut chain from a pin to
      * the body is straightened rather than the body moved). So the limit is
      * also held here as a constraint, by an augmented Lagrangian on the
-     * k_delta law (limit_update): once the corrections converge, the links'
+     * k_delta law (limit_multipliers.c): once the corrections converge, the links'
      * multipliers are updated and the step corrected again, until they
      * settle (the trampoline over 15 grids and rates: strain after the
      * projection 0.038-0.046 before, 0.030-0.034 with newton_iterations 32,
@@ -275,7 +240,7 @@ cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, do
             memcpy(c->con_saved, c->con_new, n3 * sizeof *c->con_new);
             bodies_newton_save(c);
             saved = 1;
-            if (!limit_update(c, c->x_new)) {
+            if (limit_multipliers_update(c, c->x_new) <= LIMIT_TOL) {
                 done = 1;
                 break;
             }

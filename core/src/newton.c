@@ -37,42 +37,6 @@ static double residual_norm(cloth *c, const mpcg_problem *P, const double *b)
     return sqrt(s / mt);
 }
 
-/* both ends held in full by the same thing (the world, or one body): the
- * link's length is their targets', no multiplier can change it */
-static int held_together(const cloth *c, const link_topo *L)
-{
-    if (c->con[L->i].ndof != 3 || c->con[L->j].ndof != 3) return 0;
-    int bi = c->body_held && c->vbody ? c->vbody[L->i] : -1, bj = c->body_held && c->vbody ? c->vbody[L->j] : -1;
-    return bi == bj;
-}
-
-/* The elongation limit's multipliers (augmented Lagrangian on the k_delta
- * law: a link's force past its limit is max(0, lambda + k_lim (d - lmax)),
- * lambda kept as the shift s = lambda / k_lim of its limit length): each
- * updated, s = max(0, s + d - lmax); returns the largest change / lmax. */
-static double limit_update(cloth *c, const double *x)
-{
-    const cloth_material *m = &c->desc.material;
-    if (!(m->k_delta > 0.0) || !(m->k_t > 0.0)) return 0.0;
-    double lim = 1.0 + m->delta, worst = 0.0;
-    for (int e = 0; e < c->n_seq; e++) {
-        const link_topo *L = &c->seq[e];
-        if (held_together(c, L)) {
-            c->lim_shift[e] = 0.0;
-            continue;
-        }
-        double d2 = 0.0, lmax = lim * L->rest;
-        for (int r = 0; r < 3; r++) {
-            double w = x[3 * L->j + r] - x[3 * L->i + r];
-            d2 += w * w;
-        }
-        double s0 = c->lim_shift[e], s1 = fmax(0.0, s0 + sqrt(d2) - lmax);
-        worst = fmax(worst, fabs(s1 - s0) / lmax);
-        c->lim_shift[e] = s1;
-    }
-    return worst;
-}
-
 /* Backtracking (Armijo) along ddv from dv: the step t taken. phi0 is the
  * potential at dv (with the bodies'), slope its derivative along ddv; on
  * return *phi is the potential at the step taken. */
@@ -212,7 +176,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         if (size <= sv->newton_tolerance) {
             potential_state(c, &q, dv);
             if (rounds++ >= sv->newton_iterations) break; /* the limit left to the projection */
-            if (limit_update(c, c->x_new) <= sv->limit_tolerance) {
+            if (limit_multipliers_update(c, c->x_new) <= sv->limit_tolerance) {
                 *limit_held = 1;
                 break;
             }

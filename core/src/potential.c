@@ -60,29 +60,6 @@ static spring_law law_of(const cloth *c, int t, int e)
     return s;
 }
 
-/* a spring's force on i (fi) and K = dfi/dxj at (xi, xj) */
-static void spring_fk(const double *xi, const double *xj, spring_law s, int defin, double fi[3], double K[9])
-{
-    double u[3] = {xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]};
-    double d = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    if (!(d > 1e-12)) {
-        memset(fi, 0, 3 * sizeof *fi);
-        memset(K, 0, 9 * sizeof *K);
-        return;
-    }
-    for (int r = 0; r < 3; r++) u[r] /= d;
-    double k = d >= s.rest ? s.k_hi : s.k_lo, fe = k * (d - s.rest);
-    if (d > s.lim) {
-        fe += s.k_lim * (d - s.lim);
-        k += s.k_lim;
-    }
-    double kt = (defin && d < s.rest) ? 0.0 : fe / d;
-    for (int a = 0; a < 3; a++) {
-        fi[a] = fe * u[a];
-        for (int b = 0; b < 3; b++) K[3 * a + b] = (k - kt) * u[a] * u[b] + (a == b ? kt : 0.0);
-    }
-}
-
 void potential_assemble(cloth *c, const step_eq *q, const double *dv, int defin, double *b)
 {
     const cloth_material *m = &c->desc.material;
@@ -108,7 +85,7 @@ void potential_assemble(cloth *c, const step_eq *q, const double *dv, int defin,
         double damp = t ? m->c_b : m->c_t;
         for (int e = 0; e < ne; e++) {
             int i = L[e].i, j = L[e].j;
-            spring_fk(x + 3 * i, x + 3 * j, law_of(c, t, e), defin, f, K);
+            spring_eval(x + 3 * i, x + 3 * j, law_of(c, t, e), defin, f, K);
             const double *u = ut + 3 * (size_t)e, *vi = v + 3 * i, *vj = v + 3 * j;
             double rate = damp * ((vj[0] - vi[0]) * u[0] + (vj[1] - vi[1]) * u[1] + (vj[2] - vi[2]) * u[2]);
             for (int r = 0; r < 3; r++) {
@@ -123,13 +100,6 @@ void potential_assemble(cloth *c, const step_eq *q, const double *dv, int defin,
             mat3_axpy(A->val + 9 * (size_t)bl[2 * e + 1], blk, -1.0);
         }
     }
-}
-
-static double spring_energy_at(const double *xi, const double *xj, spring_law s)
-{
-    double w0 = xj[0] - xi[0], w1 = xj[1] - xi[1], w2 = xj[2] - xi[2];
-    double d = sqrt(w0 * w0 + w1 * w1 + w2 * w2), e = d - s.rest, el = d > s.lim ? d - s.lim : 0.0;
-    return 0.5 * (e >= 0.0 ? s.k_hi : s.k_lo) * e * e + 0.5 * s.k_lim * el * el;
 }
 
 double potential_value(const cloth *c, const step_eq *q, const double *dv, double *x, double *v)
@@ -154,7 +124,7 @@ double potential_value(const cloth *c, const step_eq *q, const double *dv, doubl
             const double *u = ut + 3 * (size_t)e;
             double rate = (v[3 * j] - v[3 * i]) * u[0] + (v[3 * j + 1] - v[3 * i + 1]) * u[1] +
                           (v[3 * j + 2] - v[3 * i + 2]) * u[2];
-            P += spring_energy_at(x + 3 * i, x + 3 * j, law_of(c, t, e)) + damp * rate * rate;
+            P += spring_energy(x + 3 * i, x + 3 * j, law_of(c, t, e)) + damp * rate * rate;
         }
     }
     return P;
