@@ -158,7 +158,7 @@ static void bad_input(void)
     }
     s.newton_iterations = 0;
     CHECK(cloth_solver_validate(&s, &err) == CLOTH_OK, "newton_iterations 0 refused: %s", err.message);
-    CHECK(cloth_default_desc().solver.newton_iterations == 8, "default newton_iterations %d",
+    CHECK(cloth_default_desc().solver.newton_iterations == 16, "default newton_iterations %d",
           cloth_default_desc().solver.newton_iterations);
 }
 

@@ -129,7 +129,7 @@ typedef struct cloth_solver {
                                      h/2, h/4, ... h/2^this (0 = no retry;
                                      in [0, 16], default 4); see
                                      cloth_step */
-    int newton_iterations;        /* in [0, 256], default 8. CLOTH_LINEARIZED:
+    int newton_iterations;        /* in [0, 256], default 16. CLOTH_LINEARIZED:
                                      with rigid bodies solved with the cloth
                                      (cloth_body), at most this many Newton
                                      corrections of a step in which a
@@ -151,7 +151,8 @@ typedef struct cloth_solver {
      * link is past its limit (1 + delta) l0 by more than limit_tolerance
      * of it: the limit is a constraint held by multipliers (augmented
      * Lagrangian on the k_delta law) carried from step to step, the
-     * projection above acting only where they did not converge. */
+     * projection above acting only where they did not converge. Design
+     * and measurements: docs/newton.md. */
     cloth_nonlinear nonlinear;
     double newton_tolerance;      /* m/s, > 0 (default 1e-2)              */
     double limit_tolerance;       /* 1, in (0, 1) (default 1e-4)          */
