@@ -482,10 +482,10 @@ void bodies_retry_finish(cloth *c)
 
 /* ------------------------------------------------- Newton iterations */
 
-/* A Newton correction of the step (step.c) solves the bodies' rows on their
- * residual: M ddu = rhs - M du1 - sum J^T P (A ddv - b), so the body's
- * right-hand side loses M du1 while the solve runs, and du1 is added back
- * to its result after (keep), or is the result again (a failed correction). */
+/* A Newton iteration (newton.c, linearized.c) solves the bodies' rows on
+ * their residual: M ddu = rhs - M du1 - sum J^T P (A ddv - b), the body's
+ * right-hand side short of M du1 while it runs; bodies_newton_take then
+ * sets du = du1 + t ddu. */
 static double *body_u1(const cloth *c) { return bw(c, 0) + 57 * (size_t)c->nbody; }
 
 /* rhs_g += s M_g v_g for every body */
