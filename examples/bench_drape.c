@@ -16,6 +16,7 @@
  *   each with the implicit steps linearised and by Newton (--solver; the
  *   variant names the solver: linearized, newton, step-newton, ...).
  * Columns: wall and CPU seconds of the steps, failed and substepped steps,
+ * steps that kept an unconverged Newton iterate (unc; last in the CSV),
  * Newton iterations and CG iterations per step (the core's counts; the
  * plugin reports its last solve's), strain over the sequential links at the
  * end (p99, max) and over the run, the deepest vertex inside the sphere (the
@@ -382,6 +383,7 @@ typedef struct row {
     const char *variant, *status;
     double wall_s, cpu_s;
     int steps, failed, substepped;
+    int unconverged;                    /* steps that kept an unconverged Newton iterate */
     double newton, cg;                  /* per step */
     double p99, max_strain, max_seen;   /* sequential links */
     double depth_mm, mean_speed, max_ms, median_ms;
@@ -466,6 +468,7 @@ static void run_loop(scene *s, double seconds, double max_wall, row *r)
         r->steps = k + 1;
         r->failed += rc != CLOTH_OK;
         r->substepped += rc == CLOTH_OK && st.substeps > 1;
+        r->unconverged += rc == CLOTH_OK && st.unconverged > 0;
         newton += st.newton;
         cg += st.iterations;
         const double *x = cloth_positions(s->core);
@@ -515,8 +518,8 @@ static row run_one(int kind, int quick, int N, double seconds, double max_wall)
 
 static void print_header(void)
 {
-    printf("%-8s %-7s %4s %8s %8s %5s %4s %4s %6s %7s %7s %7s %7s %8s %8s %8s %8s %9s %4s %s\n", "scene",
-           "variant", "N", "wall s", "cpu s", "steps", "fail", "sub", "newton", "CG", "p99", "max", "seen",
+    printf("%-8s %-7s %4s %8s %8s %5s %4s %4s %4s %6s %7s %7s %7s %7s %8s %8s %8s %8s %9s %4s %s\n", "scene",
+           "variant", "N", "wall s", "cpu s", "steps", "fail", "sub", "unc", "newton", "CG", "p99", "max", "seen",
            "depth mm", "speed", "max ms", "med ms", "dE J", "thru", "status");
 }
 
@@ -524,27 +527,27 @@ static void print_row(const row *r)
 {
     char thru[8];
     snprintf(thru, sizeof thru, r->passed < 0 ? "-" : "%d", r->passed);
-    printf("%-8s %-7s %4d %8.2f %8.2f %5d %4d %4d %6.2f %7.1f %7.4f %7.4f %7.4f %8.3f %8.4f %8.1f %8.1f %9.2e "
-           "%4s %s\n",
+    printf("%-8s %-7s %4d %8.2f %8.2f %5d %4d %4d %4d %6.2f %7.1f %7.4f %7.4f %7.4f %8.3f %8.4f %8.1f %8.1f "
+           "%9.2e %4s %s\n",
            scene_name[r->scene], r->variant, r->N, r->wall_s, r->cpu_s, r->steps, r->failed, r->substepped,
-           r->newton, r->cg, r->p99, r->max_strain, r->max_seen, r->depth_mm, r->mean_speed, r->max_ms,
-           r->median_ms, r->energy_gain, thru, r->status);
+           r->unconverged, r->newton, r->cg, r->p99, r->max_strain, r->max_seen, r->depth_mm, r->mean_speed,
+           r->max_ms, r->median_ms, r->energy_gain, thru, r->status);
     fflush(stdout);
 }
 
 static const char csv_header[] =
     "scene,variant,N,wall_s,cpu_s,steps,failed_steps,substepped_steps,newton_per_step,cg_per_step,"
     "p99_strain,max_strain,max_strain_seen,depth_in_sphere_mm,mean_speed,max_step_ms,median_step_ms,"
-    "energy_gain_J,passed_through,status\n";
+    "energy_gain_J,passed_through,status,unconverged_steps\n";
 
 static void csv_row(FILE *f, const row *r)
 {
     char thru[8];
     snprintf(thru, sizeof thru, r->passed < 0 ? "nan" : "%d", r->passed);
-    fprintf(f, "%s,%s,%d,%.4f,%.4f,%d,%d,%d,%.3f,%.2f,%.6f,%.6f,%.6f,%.4f,%.6f,%.3f,%.3f,%.6g,%s,%s\n",
+    fprintf(f, "%s,%s,%d,%.4f,%.4f,%d,%d,%d,%.3f,%.2f,%.6f,%.6f,%.6f,%.4f,%.6f,%.3f,%.3f,%.6g,%s,%s,%d\n",
             scene_name[r->scene], r->variant, r->N, r->wall_s, r->cpu_s, r->steps, r->failed, r->substepped,
             r->newton, r->cg, r->p99, r->max_strain, r->max_seen, r->depth_mm, r->mean_speed, r->max_ms,
-            r->median_ms, r->energy_gain, thru, r->status);
+            r->median_ms, r->energy_gain, thru, r->status, r->unconverged);
     fflush(f);
 }
 

@@ -544,7 +544,7 @@ double bodies_energy(const cloth *c)
     const double *M = c->body_ws, *rhs = c->body_ws + 72 * nb, *u = c->body_ws + 78 * nb;
     static const double zero[6] = {0, 0, 0, 0, 0, 0};
     double E = 0.0;
-    for (size_t g = 0; g < nb; g++) E += body_quad(M + 36 * g, rhs + 6 * g, u + 6 * g, zero, 0.0);
+    for (size_t g = 0; g < nb; g++) E += body_quad(M + 36 * g, rhs + 6 * g, zero, u + 6 * g, 1.0); /* rhs unshifted */
     return E;
 }
 

@@ -200,7 +200,11 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     }
     st->newton += it;
     st->newton_residual = size;
-    if (!(size <= sv->newton_tolerance)) return size != size ? CLOTH_FAIL_NAN : CLOTH_FAIL_NEWTON;
+    if (size != size) return CLOTH_FAIL_NAN;
+    if (!(size <= sv->newton_tolerance)) {
+        constraint_forces(c, b, c->ddv, 0.0, q.cfac); /* b is assembled at the last iterate */
+        return CLOTH_FAIL_NEWTON;
+    }
     constraint_forces(c, b, c->ddv, it > 0 && assembled ? t : 0.0, q.cfac);
     return CLOTH_FAIL_NONE;
 }

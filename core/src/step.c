@@ -95,8 +95,10 @@ static cloth_status finish(cloth *c, cloth_step_stats *st, cloth_step_stats *out
 /* One step of size h from the current state into x_new, v_new, dv and
  * con_new, the state untouched; constraints aimed at frac of the way from xs
  * (see constraints_build). Adds iterations and corrected links to st; ms gets
- * the new max strain and the sequential links' energy. */
-static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, cloth_step_stats *st, measured *ms)
+ * the new max strain and the sequential links' energy. last: no smaller
+ * substep follows, so Newton's unconverged iterate is kept (and counted). */
+static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, int last, cloth_step_stats *st,
+                             measured *ms)
 {
     size_t n3 = 3 * (size_t)c->n;
     const cloth_solver *sv = &c->desc.solver;
@@ -111,6 +113,10 @@ static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, 
         /* BDF2's first step, or a step after h changed, is backward Euler */
         if (sv->nonlinear == CLOTH_NEWTON) fail = newton_step(c, h, bdf2, xs, frac, st, &held);
         else fail = linearized_step(c, h, bdf2, xs, frac, st);
+        if (fail == CLOTH_FAIL_NEWTON && last) {
+            fail = CLOTH_FAIL_NONE;
+            st->unconverged++;
+        }
         if (bdf2) cfac = 2.0 * h / 3.0;
         break;
     }
@@ -179,7 +185,7 @@ static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failu
         c->body_retry = 1;
         c->body_hs = hs;
         for (k = 0; k < parts; k++) {
-            fail = attempt(c, hs, xs, (double)(k + 1) / (double)parts, st, ms);
+            fail = attempt(c, hs, xs, (double)(k + 1) / (double)parts, d == halvings, st, ms);
             if (fail != CLOTH_FAIL_NONE) break;
             commit(c, hs, ms);
             bodies_retry_commit(c, hs);
@@ -213,7 +219,7 @@ cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
         return cloth_fail(c, CLOTH_EINVAL, "cloth_step: h = %g must be finite and > 0", h);
     }
     measured ms = {0.0, 0.0, 0};
-    cloth_failure fail = attempt(c, h, NULL, 1.0, &st, &ms);
+    cloth_failure fail = attempt(c, h, NULL, 1.0, sv->max_substep_halvings == 0, &st, &ms);
     if (fail == CLOTH_FAIL_NONE) {
         commit(c, h, &ms);
         memcpy(c->con_force, c->con_new, 3 * (size_t)c->n * sizeof *c->con_force);

@@ -137,8 +137,9 @@ typedef struct cloth_solver {
                                      limit to past 1 + 1.25 delta (0 = off).
                                      CLOTH_NEWTON: the iterations a step may
                                      take (>= 1); not converged then, the
-                                     step fails (CLOTH_FAIL_NEWTON) and is
-                                     retried in substeps                  */
+                                     step is retried in substeps, and the
+                                     smallest keeps its last iterate (see
+                                     cloth_step)                          */
     /* How the implicit methods solve a step's nonlinear equations.
      * CLOTH_LINEARIZED (default): linearised once about the step's start
      * (Baraff-Witkin), the elongation limit by the projection after it.
@@ -358,13 +359,22 @@ typedef struct cloth_step_stats {
                               multipliers, over every attempt          */
     int line_search_cuts;  /* Newton iterations whose full step the
                               line search shortened                   */
+    int unconverged;       /* Newton solves kept unconverged: solves of
+                              the smallest substep (see cloth_step) that
+                              ran out of newton_iterations            */
 } cloth_step_stats;
 
 /* Advance by h seconds. An h that is not finite and > 0 is a bad argument:
  * CLOTH_EINVAL, failure BAD_STEP, state unchanged.
  *
  * A step fails on NaN/inf, CG not converging (or meeting non-positive
- * curvature) or strain past solver.strain_fail. A failed step is taken again
+ * curvature), strain past solver.strain_fail, or (CLOTH_NEWTON) Newton not
+ * converging in newton_iterations. The last is not final at the smallest
+ * substep size (the whole step when max_substep_halvings is 0): there the
+ * last Newton iterate, which lowered the step's potential, is kept if it
+ * passes the other checks, and stats->unconverged counts it, with
+ * newton_residual saying how far it is from converged. So the scene goes
+ * on, less accurately, where Newton cannot converge. A failed step is taken again
  * from its start as 2 equal substeps of h/2, then (if one of those fails) 4
  * of h/4, ... down to 2^max_substep_halvings substeps; each failed depth is
  * rolled back whole, so no substep of a failed depth is kept (an unstable
