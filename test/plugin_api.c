@@ -369,6 +369,22 @@ static void test_create_bad_input(void)
         CHECK(s == CLOTH_EINVAL && c == NULL, "dClothCreate with %s and err NULL: status %d, out %p", bad[i].name, s,
               (void *)c);
     }
+    /* a geom that is not a space, where a space belongs */
+    dSpaceID sp = dHashSpaceCreate(0);
+    dGeomID ball = dCreateSphere(sp, 0.1);
+    c = sentinel;
+    cloth_status s = dClothCreate(w, (dSpaceID)ball, &good, &c, &err);
+    CHECK(s == CLOTH_EINVAL && c == NULL && strstr(err.message, "space") != NULL,
+          "dClothCreate with a sphere as the space: status %d, out %p, message '%s'", s, (void *)c, err.message);
+    if (CHECK(dClothCreate(w, sp, &good, &c, &err) == CLOTH_OK, "create: %s", err.message)) {
+        s = dClothSetSpace(c, (dSpaceID)ball);
+        CHECK(s == CLOTH_EINVAL && strstr(dClothGetLastError(c), "space") != NULL,
+              "dClothSetSpace with a sphere: status %d, message '%s'", s, dClothGetLastError(c));
+        CHECK(dClothStep(c, H) == CLOTH_OK, "a step after the refused space: %s", dClothGetLastError(c));
+        CHECK(dClothSetSpace(c, 0) == CLOTH_OK && dClothSetSpace(c, sp) == CLOTH_OK, "setting spaces");
+        dClothDestroy(c);
+    }
+    dSpaceDestroy(sp);
     dWorldDestroy(w);
 }
 

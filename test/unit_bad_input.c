@@ -30,7 +30,9 @@
  *   a zero or NaN axis, NaN target, out-of-range vertex, NULL,
  *   release / get_constraint / constraint_force out of range,
  *   internal_forces into NULL, save into NULL, restore from NULL or from a
- *   state of another size, step with h = 0, < 0, NaN, inf.
+ *   state of another size, step with h = 0, < 0, NaN, inf,
+ *   get_link / get_constraint / constraint_force into NULL, set_vertex
+ *   with both x and v NULL.
  */
 #include <limits.h>
 #include <math.h>
@@ -549,6 +551,18 @@ static int bad_call(cloth *c, int k, char *what, size_t wn, cloth_status *want)
               what, (int)stats.failure, cloth_failure_string(stats.failure));
         return st;
     }
+    case 56:
+        snprintf(what, wn, "cloth_get_link(out NULL)");
+        return cloth_get_link(c, CLOTH_SEQUENTIAL, 0, NULL);
+    case 57:
+        snprintf(what, wn, "cloth_get_constraint(out NULL)");
+        return cloth_get_constraint(c, 0, NULL);
+    case 58:
+        snprintf(what, wn, "cloth_constraint_force(f NULL)");
+        return cloth_constraint_force(c, 0, NULL);
+    case 59:
+        snprintf(what, wn, "cloth_set_vertex(x and v NULL)");
+        return cloth_set_vertex(c, 5, NULL, NULL);
     default:
         return -1;
     }

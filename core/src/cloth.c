@@ -350,6 +350,7 @@ cloth_status cloth_set_vertex(cloth *c, int vertex, const double x[3], const dou
     if (!c) return CLOTH_EINVAL;
     if (vertex < 0 || vertex >= c->n)
         return cloth_fail(c, CLOTH_EINVAL, "cloth_set_vertex: vertex %d out of range [0, %d)", vertex, c->n);
+    if (!x && !v) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_vertex: x and v are both NULL: nothing to set");
     if ((x && !finite3(x)) || (v && !finite3(v)))
         return cloth_fail(c, CLOTH_EINVAL, "cloth_set_vertex: position and velocity must be finite");
     for (int k = 0; k < 3; k++) {
@@ -416,7 +417,8 @@ int cloth_link_count(const cloth *c, cloth_link_type t)
 
 cloth_status cloth_get_link(const cloth *c, cloth_link_type t, int index, cloth_link *out)
 {
-    if (!c || !out) return CLOTH_EINVAL;
+    if (!c) return CLOTH_EINVAL;
+    if (!out) return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_get_link: out is NULL");
     int m = cloth_link_count(c, t);
     if (t != CLOTH_SEQUENTIAL && t != CLOTH_INTERLACED)
         return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_get_link: unknown link type %d", (int)t);

@@ -72,7 +72,8 @@ void cloth_release_all(cloth *c)
 
 cloth_status cloth_get_constraint(const cloth *c, int vertex, cloth_constraint *out)
 {
-    if (!c || !out) return CLOTH_EINVAL;
+    if (!c) return CLOTH_EINVAL;
+    if (!out) return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_get_constraint: out is NULL");
     if (vertex < 0 || vertex >= c->n)
         return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_get_constraint: vertex %d out of range [0, %d)",
                           vertex, c->n);
@@ -85,7 +86,8 @@ int cloth_constraint_count(const cloth *c) { return c ? c->n_con : 0; }
 
 cloth_status cloth_constraint_force(const cloth *c, int vertex, double f[3])
 {
-    if (!c || !f) return CLOTH_EINVAL;
+    if (!c) return CLOTH_EINVAL;
+    if (!f) return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_constraint_force: f is NULL");
     if (vertex < 0 || vertex >= c->n)
         return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_constraint_force: vertex %d out of range [0, %d)",
                           vertex, c->n);

@@ -56,6 +56,8 @@ cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *d, d
     if (!d) return create_fail(err, CLOTH_EINVAL, "desc is NULL");
     if (!valid_thickness(d->thickness)) return create_fail(err, CLOTH_EINVAL, "thickness must be in [1e-6, 10] m");
     if (!valid_mu(d->mu)) return create_fail(err, CLOTH_EINVAL, "mu must be finite and >= 0");
+    if (space && !dGeomIsSpace((dGeomID)space))
+        return create_fail(err, CLOTH_EINVAL, "space is a geom that is not a space");
     dClothID c = calloc(1, sizeof *c);
     if (!c) return create_fail(err, CLOTH_ENOMEM, "out of memory");
     cloth_status s = cloth_create(&d->cloth, &c->core, err);
@@ -300,11 +302,14 @@ void dClothSetCollideBits(dClothID c, unsigned long bits)
 }
 unsigned long dClothGetCategoryBits(dClothID c) { return c ? c->category : 0; }
 unsigned long dClothGetCollideBits(dClothID c) { return c ? c->collide : 0; }
-void dClothSetSpace(dClothID c, dSpaceID space)
+cloth_status dClothSetSpace(dClothID c, dSpaceID space)
 {
-    if (!c) return;
+    if (!c) return CLOTH_EINVAL;
+    if (space && !dGeomIsSpace((dGeomID)space))
+        return dcloth_fail(c, CLOTH_EINVAL, "dClothSetSpace: the geom given is not a space");
     c->space = space;
     dClothWake(c);
+    return CLOTH_OK;
 }
 
 cloth_status dClothSetTriangleTests(dClothID c, dGeomID g, int enable)

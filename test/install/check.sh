@@ -2,7 +2,8 @@
 # Install odecloth into a scratch prefix (BUILD_DIR/_install) and prove that
 # a user can build against it both ways:
 #   1. CMake: find_package(odecloth), every imported target (CONSUMER_DIR),
-#   2. pkg-config: odecloth and odecloth-ode.
+#   2. pkg-config: odecloth and odecloth-ode,
+#   3. a program linked to the plugin alone, run without LD_LIBRARY_PATH.
 #
 # usage: check.sh CMAKE BUILD_DIR CONSUMER_DIR CC PKG_CONFIG
 # environment: ODECLOTH_CFLAGS  C flags of the build (sanitizers must match)
@@ -55,5 +56,12 @@ for exe in pc_consumer pc_consumer_ode; do
     echo "-- $exe"
     LD_LIBRARY_PATH=$libdir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} "$work/$exe"
 done
+
+echo "== the plugin alone, no LD_LIBRARY_PATH (its RUNPATH finds the core)"
+# shellcheck disable=SC2086
+"$cc" $cflags -Wall -Wextra -Werror -o "$work/plugin_only" "$src/consumer_plugin_only.c" \
+    -I"$("$pkgconfig" --variable=includedir odecloth)" $("$pkgconfig" --cflags ode) \
+    -L"$libdir" -lodecloth_ode $("$pkgconfig" --libs ode) -Wl,-rpath,"$libdir"
+env -u LD_LIBRARY_PATH "$work/plugin_only"
 
 echo "install_package: ok"

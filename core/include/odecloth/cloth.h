@@ -201,6 +201,8 @@ const double *cloth_masses(const cloth *c);     /* kg, one per vertex */
 /* Set all positions / velocities (3 * vertex_count doubles, all finite). */
 cloth_status cloth_set_positions(cloth *c, const double *x);
 cloth_status cloth_set_velocities(cloth *c, const double *v);
+/* One vertex's position x and velocity v; either may be NULL to keep it
+ * (both NULL: CLOTH_EINVAL). */
 cloth_status cloth_set_vertex(cloth *c, int vertex, const double x[3], const double v[3]);
 
 /* Change parameters after creation (the topology, rest lengths and masses stay). */

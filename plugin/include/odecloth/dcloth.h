@@ -70,7 +70,9 @@ typedef struct dClothDesc {
 dClothDesc dClothDefaultDesc(void);
 
 /* Create a cloth in `world` that collides with the geoms of `space` (may be
- * 0: no collisions). On error *out is NULL and err (may be NULL) says why. */
+ * 0: no collisions; a geom that is not a space is refused). On error *out
+ * is NULL and err (may be NULL) says why. The cloth keeps the space: before
+ * destroying the space, give the cloth another (dClothSetSpace(c, 0)). */
 cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *desc, dClothID *out,
                           cloth_error *err);
 void dClothDestroy(dClothID c);
@@ -163,8 +165,9 @@ void dClothSetCategoryBits(dClothID c, unsigned long bits);
 void dClothSetCollideBits(dClothID c, unsigned long bits);
 unsigned long dClothGetCategoryBits(dClothID c);
 unsigned long dClothGetCollideBits(dClothID c);
-/* Change the space the cloth collides with (0: none). */
-void dClothSetSpace(dClothID c, dSpaceID space);
+/* Change the space the cloth collides with (0: none). A geom that is not
+ * a space is refused (CLOTH_EINVAL, the space unchanged). */
+cloth_status dClothSetSpace(dClothID c, dSpaceID space);
 
 /* Hand the cloth a convex geom's points (the array given to
  * dGeomSetConvex, `count` points of 3 dReals in the geom's frame), copied,
