@@ -661,7 +661,8 @@ static void test_null_cloth(void)
     CHECK(dClothGetThickness(NULL) == 0.0, "dClothGetThickness(NULL) is not 0");
     dClothSetCategoryBits(NULL, 1);
     dClothSetCollideBits(NULL, 1);
-    dClothSetSpace(NULL, 0);
+    CHECK(dClothSetSpace(NULL, 0) == CLOTH_EINVAL, "dClothSetSpace(NULL) accepted");
+    CHECK(dClothAddVertexForce(NULL, 0, 1, 0, 0) == CLOTH_EINVAL, "dClothAddVertexForce(NULL) accepted");
     CHECK(dClothGetCategoryBits(NULL) == 0 && dClothGetCollideBits(NULL) == 0, "bits of NULL are not 0");
     dWorldDestroy(w);
 }

@@ -12,7 +12,8 @@
  * 3. A random walk of 1000 calls on two cloths in a world with a static
  *    plane, box and trimesh, a dynamic sphere and a kinematic capsule:
  *    pins to the world and to bodies (NULL body, a body of another world),
- *    releases, forces, normals, friction, thickness, bits, space changes,
+ *    releases, forces, normals, friction, thickness, bits, space changes
+ *    (a geom as the space included), vertex forces for the next step,
  *    dClothStep and dClothWorldStep with good and bad h and bad cloth
  *    arrays. After each call: a status of the enum; positions finite; after
  *    a failure the core state, the bodies' poses, velocities and forces
@@ -129,7 +130,8 @@ static void null_cloth(void)
     dClothSetCategoryBits(NULL, 1);
     dClothSetCollideBits(NULL, 1);
     CHECK(dClothGetCategoryBits(NULL) == 0 && dClothGetCollideBits(NULL) == 0, "bits of NULL");
-    dClothSetSpace(NULL, 0);
+    CHECK(dClothSetSpace(NULL, 0) == CLOTH_EINVAL, "dClothSetSpace(NULL) accepted");
+    CHECK(dClothAddVertexForce(NULL, 0, 1, 0, 0) == CLOTH_EINVAL, "dClothAddVertexForce(NULL) accepted");
     dClothDestroy(NULL);
 }
 
@@ -241,7 +243,11 @@ static void walk(scene *s)
         case 7: st = dClothSetThickness(c, rng_u64(&g) % 3 ? rng_range(&g, 0.001, 0.02) : thick(&g)); break;
         case 8: dClothSetCategoryBits(c, rng_u64(&g) % 2 ? ~0ul : (unsigned long)rng_u64(&g)); break;
         case 9: dClothSetCollideBits(c, rng_u64(&g) % 2 ? ~0ul : (unsigned long)rng_u64(&g)); break;
-        case 10: dClothSetSpace(c, rng_u64(&g) % 3 == 0 ? 0 : rng_u64(&g) % 2 ? s->space : s->space2); break;
+        case 10: { /* a space, none, or a geom that is not a space (refused) */
+            unsigned k = (unsigned)(rng_u64(&g) % 6);
+            st = dClothSetSpace(c, k == 0 ? 0 : k == 1 ? (dSpaceID)s->box : k % 2 ? s->space : s->space2);
+            break;
+        }
         case 11: {
             double *nrm = malloc(n3 * sizeof *nrm);
             st = dClothGetNormals(c, rng_u64(&g) % 8 ? nrm : NULL);
@@ -310,6 +316,10 @@ static void walk(scene *s)
             dClothStateDestroy(ds);
             break;
         }
+        case 18: /* forces for the next step: any vertex, extreme components */
+            st = dClothAddVertexForce(c, rng_u64(&g) % 6 ? vi : xi(&g), dval(&g, -0.05, 0.05), dval(&g, -0.05, 0.05),
+                                      dval(&g, -0.05, 0.05));
+            break;
         default: {
             double h = rng_u64(&g) % 5 ? rng_range(&g, 1e-3, 0.03) : xd(&g);
             if (h > 0.1 && isfinite(h)) h = 0.1;

@@ -396,6 +396,8 @@ cloth_status cloth_set_gravity(cloth *c, const double g[3])
     return CLOTH_OK;
 }
 
+const double *cloth_external_forces(const cloth *c) { return c ? c->f_ext : NULL; }
+
 cloth_status cloth_set_external_forces(cloth *c, const double *f)
 {
     if (!c) return CLOTH_EINVAL;

@@ -322,6 +322,7 @@ cloth_status dClothStep(dClothID c, dReal h)
     cloth_desc cd = cloth_get_desc(core);
     memcpy(c->x0, cloth_positions(core), 3 * (size_t)c->n * sizeof *c->x0);
     memcpy(c->v0, cloth_velocities(core), 3 * (size_t)c->n * sizeof *c->v0);
+    memcpy(c->fuser, cloth_external_forces(core), 3 * (size_t)c->n * sizeof *c->fuser);
     cloth_save(core, c->save);
     double spacing = fmin(cd.width / (cd.cols - 1), cd.height / (cd.rows - 1));
     double letgo_t = cd.material.k_t * cd.material.delta * spacing;
@@ -330,7 +331,7 @@ cloth_status dClothStep(dClothID c, dReal h)
     for (;;) {
         /* constraints of this pass: pins, then contacts */
         cloth_release_all(core);
-        memset(c->fext, 0, 3 * (size_t)c->n * sizeof *c->fext);
+        for (size_t q = 0; q < 3 * (size_t)c->n; q++) c->fext[q] = c->fuser[q] + c->fadd[q];
         st.pins = st.contacts = st.sticking = st.released = 0;
         st.max_penetration = 0.0;
         for (int i = 0; i < c->n; i++) {
@@ -355,7 +356,7 @@ cloth_status dClothStep(dClothID c, dReal h)
              * NaN) leaves the vertex free */
             if (cloth_set_constraint(core, &k) != CLOTH_OK) continue;
             nw->active = 1;
-            memcpy(c->fext + 3 * i, nw->friction, sizeof nw->friction);
+            for (int r = 0; r < 3; r++) c->fext[3 * i + r] += nw->friction[r];
             st.contacts++;
             st.sticking += nw->sticking;
             if (!nw->from_triangle && -nw->gap > st.max_penetration) st.max_penetration = -nw->gap;
@@ -462,6 +463,7 @@ cloth_status dClothStep(dClothID c, dReal h)
         cloth_restore(core, c->save);
     }
     st.resolves = passes - 1;
+    cloth_set_external_forces(core, c->fuser); /* the user's again: friction was this step's */
     if (s != CLOTH_OK) {
         cloth_restore(core, c->save);
         st.contacts = st.sticking = 0;
@@ -588,6 +590,7 @@ cloth_status dClothStep(dClothID c, dReal h)
     vcontact *t = c->vc;
     c->vc = c->vc_new;
     c->vc_new = t;
+    memset(c->fadd, 0, 3 * (size_t)c->n * sizeof *c->fadd); /* applied: cleared, as ODE clears a body's */
     st.seconds_total = wall() - t0;
     c->stats = st;
     dcloth_sleep_after(c);

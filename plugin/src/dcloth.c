@@ -80,13 +80,15 @@ cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *d, d
     c->vc_new = calloc((size_t)c->n, sizeof *c->vc_new);
     c->pin = calloc((size_t)c->n, sizeof *c->pin);
     c->fext = calloc(3 * (size_t)c->n, sizeof *c->fext);
+    c->fuser = calloc(3 * (size_t)c->n, sizeof *c->fuser);
+    c->fadd = calloc(3 * (size_t)c->n, sizeof *c->fadd);
     c->x0 = calloc(3 * (size_t)c->n, sizeof *c->x0);
     c->v0 = calloc(3 * (size_t)c->n, sizeof *c->v0);
     c->save = cloth_state_create(c->core);
     c->box = dCreateBox(0, 1, 1, 1);
     c->sphere = dCreateSphere(0, c->thickness);
     c->ray = dCreateRay(0, 1.0);
-    if (!c->tri || !c->vc || !c->vc_new || !c->pin || !c->fext || !c->x0 || !c->v0 || !c->save || !c->box || !c->sphere || !c->ray) {
+    if (!c->tri || !c->vc || !c->vc_new || !c->pin || !c->fext || !c->fuser || !c->fadd || !c->x0 || !c->v0 || !c->save || !c->box || !c->sphere || !c->ray) {
         dClothDestroy(c);
         return create_fail(err, CLOTH_ENOMEM, "out of memory");
     }
@@ -117,6 +119,8 @@ void dClothDestroy(dClothID c)
     free(c->vc_new);
     free(c->pin);
     free(c->fext);
+    free(c->fuser);
+    free(c->fadd);
     free(c->x0);
     free(c->v0);
     cloth_state_destroy(c->save);
@@ -264,6 +268,21 @@ cloth_status dClothGetContactForce(dClothID c, int vertex, dReal f[3])
 }
 
 /* ------------------------------------------------------------- parameters */
+
+cloth_status dClothAddVertexForce(dClothID c, int vertex, dReal fx, dReal fy, dReal fz)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (vertex < 0 || vertex >= c->n)
+        return dcloth_fail(c, CLOTH_EINVAL, "dClothAddVertexForce: vertex %d out of range [0, %d)", vertex, c->n);
+    double f[3] = {fx, fy, fz}, *a = c->fadd + 3 * (size_t)vertex;
+    for (int r = 0; r < 3; r++)
+        if (!isfinite(f[r]) || !isfinite(a[r] + f[r]))
+            return dcloth_fail(c, CLOTH_EINVAL, "dClothAddVertexForce: the force (%g, %g, %g) must be finite", fx, fy,
+                               fz);
+    for (int r = 0; r < 3; r++) a[r] += f[r];
+    dClothWake(c);
+    return CLOTH_OK;
+}
 
 cloth_status dClothSetFriction(dClothID c, dReal mu)
 {

@@ -72,7 +72,11 @@ struct dxCloth {
     int *tri;            /* 3 ntri                                          */
     vcontact *vc, *vc_new; /* n: committed and candidate contact states      */
     vpin *pin;           /* n                                               */
-    double *fext;        /* 3n: sliding friction, handed to the core        */
+    double *fext;        /* 3n: the user's forces plus sliding friction, handed
+                            to the core for the step                        */
+    double *fuser;       /* 3n: the core's own external forces (the user's),
+                            put back after each step                        */
+    double *fadd;        /* 3n: dClothAddVertexForce's, for the next step    */
     double *x0;          /* 3n: positions at the step's start               */
     double *v0;          /* 3n: velocities at the step's start              */
     cloth_state *save;   /* the core's state at the step's start (re-solves) */

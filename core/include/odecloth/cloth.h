@@ -213,6 +213,8 @@ cloth_status cloth_set_gravity(cloth *c, const double g[3]);
  * on until set again (friction, wind, a user's pull). NULL clears them. The
  * implicit step treats them as constant over the step. */
 cloth_status cloth_set_external_forces(cloth *c, const double *f);
+/* The forces set (3 * vertex_count doubles, read-only, zeros if none). */
+const double *cloth_external_forces(const cloth *c);
 
 /* ------------------------------------------------------------------ links */
 

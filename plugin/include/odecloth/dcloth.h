@@ -155,6 +155,13 @@ cloth_status dClothGetPinForce(dClothID c, int vertex, dReal force[3]);
  * and sliding friction together (zero if none). */
 cloth_status dClothGetContactForce(dClothID c, int vertex, dReal force[3]);
 
+/* Add a force (N) on a vertex for the next step, as dBodyAddForce does for
+ * a body: forces add up until the step that applies them, then clear.
+ * Forces that stay (wind) can be set on the core instead,
+ * cloth_set_external_forces(dClothGetCore(c), f): the plugin adds its
+ * friction to them and never overwrites them. Wakes the cloth. */
+cloth_status dClothAddVertexForce(dClothID c, int vertex, dReal fx, dReal fy, dReal fz);
+
 /* ------------------------------------------------------------ parameters */
 
 cloth_status dClothSetFriction(dClothID c, dReal mu);
