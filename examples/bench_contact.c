@@ -117,7 +117,7 @@ static result run(int N, int kind, double seconds, double hz, const mesh *sph)
         double *tc = malloc((size_t)steps * sizeof *tc), *ts = malloc((size_t)steps * sizeof *ts);
         long nc = 0, ntc = 0;
         for (int s = 0; s < steps && tc && ts; s++) {
-            if (dClothWorldStep(w, &c, 1, 1.0 / hz, 0) != CLOTH_OK) {
+            if (dClothWorldStep(w, &c, 1, 1.0 / hz, 0) != CLOTH_OK || dClothGetStats(c)->held) {
                 fprintf(stderr, "bench_contact: %dx%d step %d: %s\n", N, N, s, dClothGetLastError(c));
                 r.failed = 1;
                 break;

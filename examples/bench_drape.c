@@ -466,9 +466,10 @@ static void run_loop(scene *s, double seconds, double max_wall, row *r)
         r->wall_s += t.step_s[k];
         r->cpu_s += bench_cpu_now() - c0;
         r->steps = k + 1;
-        r->failed += rc != CLOTH_OK;
-        r->substepped += rc == CLOTH_OK && st.substeps > 1;
-        r->unconverged += rc == CLOTH_OK && st.unconverged > 0;
+        int ok = rc == CLOTH_OK && !(s->cl && dClothGetStats(s->cl)->held); /* a held cloth failed too */
+        r->failed += !ok;
+        r->substepped += ok && st.substeps > 1;
+        r->unconverged += ok && st.unconverged > 0;
         newton += st.newton;
         cg += st.iterations;
         const double *x = cloth_positions(s->core);

@@ -1020,6 +1020,7 @@ static void test_world_step_undo(void)
     for (int k = 0; k < 5; k++) CHECK(dClothWorldStep(w, both, 2, 1.0 / 60, 0) == CLOTH_OK, "warm-up step");
     double v0[3] = {1e4, 0, 0};
     CHECK(cloth_set_vertex(dClothGetCore(b), 0, dClothGetPositions(b), v0) == CLOTH_OK, "throw B's vertex");
+    CHECK(dClothSetFailureMode(b, DCLOTH_FAILURE_STOP) == CLOTH_OK, "B stops on failure");
     cloth_state *sa = cloth_state_create(dClothGetCore(a)), *sa2 = cloth_state_create(dClothGetCore(a));
     cloth_save(dClothGetCore(a), sa);
     body_state b0, b1;
@@ -1043,6 +1044,28 @@ static void test_world_step_undo(void)
     cloth_save(dClothGetCore(a), sa2);
     body_save(body, &b1);
     CHECK(cloth_state_diff(sa, sa2) == 0.0 && memcmp(&b0, &b1, sizeof b0) == 0, "nothing moved");
+    /* the default, DCLOTH_FAILURE_HOLD: B is held as it was, A and the
+     * world step on, every time B fails again */
+    CHECK(dClothSetFailureMode(b, DCLOTH_FAILURE_HOLD) == CLOTH_OK, "B holds on failure");
+    cloth_state *sb = cloth_state_create(dClothGetCore(b)), *sb2 = cloth_state_create(dClothGetCore(b));
+    cloth_save(dClothGetCore(b), sb);
+    for (int k = 0; k < 3; k++) {
+        s = dClothWorldStep(w, both, 2, 1.0 / 60, 0);
+        CHECK(s == CLOTH_OK && dClothGetStats(b)->held == 1 && dClothGetStats(b)->core.failure != CLOTH_FAIL_NONE &&
+                  dClothGetLastError(b)[0] != '\0',
+              "held step %d: status %d, held %d, failure %d, '%s'", k, s, dClothGetStats(b)->held,
+              (int)dClothGetStats(b)->core.failure, dClothGetLastError(b));
+        CHECK(dClothGetStats(a)->held == 0, "A held too");
+    }
+    cloth_save(dClothGetCore(b), sb2);
+    cloth_save(dClothGetCore(a), sa2);
+    body_save(body, &b1);
+    CHECK(cloth_state_diff(sb, sb2) == 0.0, "B moved while held (diff %g)", cloth_state_diff(sb, sb2));
+    CHECK(cloth_state_diff(sa, sa2) > 0.0 && memcmp(&b0, &b1, sizeof b0) != 0, "A or the world did not step on");
+    CHECK(dClothSetFailureMode(b, (dClothFailureMode)2) == CLOTH_EINVAL && dClothSetFailureMode(NULL, 0) == CLOTH_EINVAL,
+          "bad failure modes accepted");
+    cloth_state_destroy(sb);
+    cloth_state_destroy(sb2);
     cloth_state_destroy(sa);
     cloth_state_destroy(sa2);
 done:

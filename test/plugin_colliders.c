@@ -768,6 +768,7 @@ static void run_class(int k)
     cloth_error err;
     figures f = figures_for(k);
     if (CHECK(dClothCreate(w, sp, &d, &c, &err) == CLOTH_OK, "%s: dClothCreate: %s", kind_name[k], err.message)) {
+        dClothSetFailureMode(c, DCLOTH_FAILURE_STOP); /* a failed step is an error here */
         if (k == K_CONVEX)
             CHECK(dClothSetConvexPoints(c, g, cvx_points, 8) == CLOTH_OK, "convex points: %s", dClothGetLastError(c));
         double weight = 9.81 * cloth_mass(c);
@@ -882,6 +883,7 @@ static void run_dynamic(void)
     cloth_error err;
     figures f = figures_for(K_BODY);
     if (CHECK(dClothCreate(w, sp, &d, &c, &err) == CLOTH_OK, "%s: dClothCreate: %s", name, err.message)) {
+        dClothSetFailureMode(c, DCLOTH_FAILURE_STOP);
         double mc = cloth_mass(c), weight = 9.81 * mc;
         oc.fz_window = 0;
         hooks hk = {ode_collide, plane_force_window, &oc};
@@ -932,6 +934,7 @@ static void run_kinematic(void)
     dClothID c = NULL;
     cloth_error err;
     if (CHECK(dClothCreate(w, sp, &d, &c, &err) == CLOTH_OK, "%s: dClothCreate: %s", name, err.message)) {
+        dClothSetFailureMode(c, DCLOTH_FAILURE_STOP);
         int ctr = centre_vertex(&d), rest = (int)(3.0 / H + 0.5), ride = (int)(1.5 / H + 0.5);
         int window = (int)(RIDE_WINDOW / H + 0.5), bad_v = 0, bad_h = 0, worst_step = 0;
         double worst = INFINITY, vz_lo = INFINITY, vz_hi = -INFINITY, dz_worst = 0;

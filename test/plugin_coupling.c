@@ -74,6 +74,7 @@ static void box_on_cloth(void)
     dClothID c = NULL;
     cloth_error err;
     if (!CHECK(dClothCreate(w, sp, &d, &c, &err) == CLOTH_OK, "dClothCreate: %s", err.message)) return;
+    dClothSetFailureMode(c, DCLOTH_FAILURE_STOP); /* a failed step is an error here */
     int R = d.cloth.rows, C = d.cloth.cols, n = R * C, corner[4] = {0, C - 1, (R - 1) * C, R * C - 1};
     for (int k = 0; k < 4; k++)
         CHECK(dClothPinToWorld(c, corner[k], dClothGetPositions(c) + 3 * corner[k]) == CLOTH_OK, "pin: %s",
@@ -151,6 +152,7 @@ static void thrown(double mb)
         dWorldDestroy(w);
         return;
     }
+    dClothSetFailureMode(c, DCLOTH_FAILURE_STOP);
     const double *x = dClothGetPositions(c);
     dBodyID b = dBodyCreate(w);
     dMass m;
@@ -209,6 +211,7 @@ static void slider(void)
         dWorldDestroy(w);
         return;
     }
+    dClothSetFailureMode(c, DCLOTH_FAILURE_STOP);
     int C = d.cloth.cols, pins[2] = {0, C - 1};
     const double *x = dClothGetPositions(c);
     dBodyID b = dBodyCreate(w);

@@ -72,6 +72,7 @@ static int make(run *r)
     cloth_error err;
     if (!CHECK(dClothCreate(r->world, r->space, &d, &r->cloth, &err) == CLOTH_OK, "dClothCreate: %s", err.message))
         return -1;
+    dClothSetFailureMode(r->cloth, DCLOTH_FAILURE_STOP); /* a failed step is an error here */
     dReal p[3] = {-0.4, -0.4, 0.55};
     dClothPinToWorld(r->cloth, 0, p);
     return 0;

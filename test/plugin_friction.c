@@ -114,6 +114,7 @@ static dClothID make_cloth(dWorldID w, dSpaceID s, int n, double L, const double
     dClothID c = NULL;
     cloth_error err;
     if (!CHECK(dClothCreate(w, s, &d, &c, &err) == CLOTH_OK, "dClothCreate: %s", err.message)) return NULL;
+    dClothSetFailureMode(c, DCLOTH_FAILURE_STOP); /* a failed step is an error here */
     return c;
 }
 

@@ -14,6 +14,7 @@
  *    pins to the world and to bodies (NULL body, a body of another world),
  *    releases, forces, normals, friction, thickness, bits, space changes
  *    (a geom as the space included), vertex forces for the next step,
+ *    failure modes (valid and not),
  *    dClothStep and dClothWorldStep with good and bad h and bad cloth
  *    arrays. After each call: a status of the enum; positions finite; after
  *    a failure the core state, the bodies' poses, velocities and forces
@@ -132,6 +133,7 @@ static void null_cloth(void)
     CHECK(dClothGetCategoryBits(NULL) == 0 && dClothGetCollideBits(NULL) == 0, "bits of NULL");
     CHECK(dClothSetSpace(NULL, 0) == CLOTH_EINVAL, "dClothSetSpace(NULL) accepted");
     CHECK(dClothAddVertexForce(NULL, 0, 1, 0, 0) == CLOTH_EINVAL, "dClothAddVertexForce(NULL) accepted");
+    CHECK(dClothSetFailureMode(NULL, DCLOTH_FAILURE_STOP) == CLOTH_EINVAL, "dClothSetFailureMode(NULL) accepted");
     dClothDestroy(NULL);
 }
 
@@ -319,6 +321,9 @@ static void walk(scene *s)
         case 18: /* forces for the next step: any vertex, extreme components */
             st = dClothAddVertexForce(c, rng_u64(&g) % 6 ? vi : xi(&g), dval(&g, -0.05, 0.05), dval(&g, -0.05, 0.05),
                                       dval(&g, -0.05, 0.05));
+            break;
+        case 19: /* hold or stop on a failed step, or a mode that does not exist */
+            st = dClothSetFailureMode(c, (dClothFailureMode)(rng_u64(&g) % 4 ? (int)(rng_u64(&g) % 2) : xi(&g)));
             break;
         default: {
             double h = rng_u64(&g) % 5 ? rng_range(&g, 1e-3, 0.03) : xd(&g);

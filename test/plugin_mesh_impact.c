@@ -133,6 +133,7 @@ static result run(int kind, double speed)
         CHECK(0, "dClothCreate: %s", err.message);
         return r;
     }
+    dClothSetFailureMode(c, DCLOTH_FAILURE_STOP); /* a failed step is an error here */
     int n = dClothGetVertexCount(c);
     static double v0[3 * 441];
     CHECK(n <= 441, "the default cloth has %d vertices", n);

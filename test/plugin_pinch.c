@@ -100,6 +100,7 @@ static result run(int mesh)
     dClothID c = NULL;
     cloth_error err;
     if (!CHECK(dClothCreate(w, sp, &d, &c, &err) == CLOTH_OK, "dClothCreate: %s", err.message)) return r;
+    dClothSetFailureMode(c, DCLOTH_FAILURE_STOP); /* a failed step is an error here */
     const double h = 1.0 / 60.0;
     const int steps = 90;
     int n = dClothGetVertexCount(c);

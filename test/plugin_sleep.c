@@ -42,7 +42,9 @@ static int make(scene *s)
     d.cloth.origin[2] = 0.65;
     cloth_error err;
     s->c = NULL;
-    return CHECK(dClothCreate(s->w, s->sp, &d, &s->c, &err) == CLOTH_OK, "create: %s", err.message);
+    if (!CHECK(dClothCreate(s->w, s->sp, &d, &s->c, &err) == CLOTH_OK, "create: %s", err.message)) return 0;
+    dClothSetFailureMode(s->c, DCLOTH_FAILURE_STOP); /* a failed step is an error here */
+    return 1;
 }
 
 static void destroy(scene *s)
@@ -162,6 +164,7 @@ int main(void)
     dClothDesc d = dClothDefaultDesc();
     cloth_error err;
     if (CHECK(dClothCreate(hm.w, hm.sp, &d, &hm.c, &err) == CLOTH_OK, "create: %s", err.message)) {
+        dClothSetFailureMode(hm.c, DCLOTH_FAILURE_STOP);
         int R = d.cloth.rows, C = d.cloth.cols, corner[4] = {0, C - 1, (R - 1) * C, R * C - 1};
         for (int k = 0; k < 4; k++) dClothPinToWorld(hm.c, corner[k], dClothGetPositions(hm.c) + 3 * corner[k]);
         dClothSetAutoSleep(hm.c, 1, 1e-2, 10);

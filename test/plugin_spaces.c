@@ -29,7 +29,8 @@ static dClothID cloth_over_box(dWorldID w, dSpaceID sp, dSpaceID box_space)
     d.cloth.origin[2] = 0.65;
     cloth_error err;
     dClothID c = NULL;
-    CHECK(dClothCreate(w, sp, &d, &c, &err) == CLOTH_OK, "create: %s", err.message);
+    if (CHECK(dClothCreate(w, sp, &d, &c, &err) == CLOTH_OK, "create: %s", err.message))
+        dClothSetFailureMode(c, DCLOTH_FAILURE_STOP); /* a failed step is an error here */
     return c;
 }
 

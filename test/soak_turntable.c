@@ -85,6 +85,7 @@ int main(void)
     cloth_error err;
     if (!CHECK(dClothCreate(world, space, &d, &cl, &err) == CLOTH_OK, "create: %s", err.message))
         return check_summary();
+    dClothSetFailureMode(cl, DCLOTH_FAILURE_STOP); /* a failed step is an error here */
     int n = dClothGetVertexCount(cl), C = d.cloth.cols;
     const int pins[5] = {4 * C + 4, 3 * C + 4, 5 * C + 4, 4 * C + 3, 4 * C + 5};
     dReal local[5][3];

@@ -190,8 +190,9 @@ typedef struct demo_contacts {
 } demo_contacts;
 void demo_near_callback(void *ctx, dGeomID a, dGeomID b);
 
-/* One step of the world and its cloths; on failure prints the plugin's
- * message (with the demo's name and the step number) and returns -1. */
+/* One step of the world and its cloths; on failure (a cloth held after a
+ * failed solve included) prints the plugin's message (with the demo's name
+ * and the step number) and returns -1. */
 int demo_step(const demo_opts *o, dWorldID world, dClothID *cloths, int n, double h, int step);
 
 #endif

@@ -240,7 +240,10 @@ double demo_now(void)
 
 int demo_step(const demo_opts *o, dWorldID world, dClothID *cloths, int n, double h, int step)
 {
-    if (dClothWorldStep(world, cloths, n, h, 0) == CLOTH_OK) {
+    int held = 0;
+    cloth_status s = dClothWorldStep(world, cloths, n, h, 0);
+    for (int i = 0; s == CLOTH_OK && i < n; i++) held += dClothGetStats(cloths[i])->held;
+    if (s == CLOTH_OK && !held) {
         for (int i = 0; o->trace && i < n; i++) {
             const dClothStepStats *st = dClothGetStats(cloths[i]);
             printf("step %5d cloth %d: CG %3d  strain %.5f  limited %3d  contacts %3d (sticking %3d, "

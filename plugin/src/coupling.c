@@ -467,8 +467,11 @@ cloth_status dClothStep(dClothID c, dReal h)
     if (s != CLOTH_OK) {
         cloth_restore(core, c->save);
         st.contacts = st.sticking = 0;
+        st.held = s == CLOTH_ESTEP && c->on_failure == DCLOTH_FAILURE_HOLD;
+        st.seconds_total = wall() - t0;
         c->stats = st;
-        return dcloth_fail(c, s, "dClothStep: %s", cloth_last_error(core));
+        dcloth_fail(c, s, "dClothStep: %s%s", cloth_last_error(core), st.held ? " (the cloth held as it was)" : "");
+        return st.held ? CLOTH_OK : s;
     }
 
     /* the gap was closed (or the penetration removed) by moving the vertex

@@ -269,6 +269,16 @@ cloth_status dClothGetContactForce(dClothID c, int vertex, dReal f[3])
 
 /* ------------------------------------------------------------- parameters */
 
+cloth_status dClothSetFailureMode(dClothID c, dClothFailureMode mode)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (mode != DCLOTH_FAILURE_HOLD && mode != DCLOTH_FAILURE_STOP)
+        return dcloth_fail(c, CLOTH_EINVAL, "dClothSetFailureMode: mode %d is neither HOLD (0) nor STOP (1)",
+                           (int)mode);
+    c->on_failure = mode;
+    return CLOTH_OK;
+}
+
 cloth_status dClothAddVertexForce(dClothID c, int vertex, dReal fx, dReal fy, dReal fz)
 {
     if (!c) return CLOTH_EINVAL;

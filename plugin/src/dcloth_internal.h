@@ -85,6 +85,7 @@ struct dxCloth {
     int tri_hits;        /* vertex contacts set by triangle tests this step  */
     /* moving bodies solved with the cloth this step (coupling.c) */
     int implicit;        /* 1: couple dynamic bodies implicitly (default)   */
+    dClothFailureMode on_failure; /* what a failed solve gives (dcloth.h)   */
     dBodyID *bodies;
     cloth_body *bdesc;
     double *bforce;      /* 6 per body: the cloth's force and torque on it  */

@@ -90,14 +90,26 @@ const char *dClothGetLastError(dClothID c);
 /* One cloth step of h seconds (contacts, pins, implicit solve, reactions to
  * the bodies). Call before dWorldStep(world, h). On failure (CLOTH_EINVAL for
  * a bad h, CLOTH_ESTEP when the solve fails) the cloth and the bodies are as
- * they were. */
+ * they were. A failed solve is not an error under DCLOTH_FAILURE_HOLD, the
+ * default: see dClothSetFailureMode. */
 cloth_status dClothStep(dClothID c, dReal h);
+
+/* What a step whose solve fails (even in the core's substeps) gives you:
+ *  DCLOTH_FAILURE_HOLD (default): the cloth is held as it was for that step
+ *    (its state unchanged, no force on any body) and the call returns
+ *    CLOTH_OK, with dClothGetStats(c)->held set, stats.core.failure and
+ *    dClothGetLastError saying why. The world steps on, so the scene goes
+ *    on and the next step meets a changed scene.
+ *  DCLOTH_FAILURE_STOP: the call returns CLOTH_ESTEP, and dClothWorldStep
+ *    steps nothing (below). */
+typedef enum dClothFailureMode { DCLOTH_FAILURE_HOLD = 0, DCLOTH_FAILURE_STOP } dClothFailureMode;
+cloth_status dClothSetFailureMode(dClothID c, dClothFailureMode mode);
 
 /* Step n cloths (at most 64, each once, all of this world), then the world
  * (dWorldQuickStep if quick, else dWorldStep), by h. All or nothing: when a
- * cloth fails, the cloths before it are put back as they were, and so are
- * the force and torque accumulators and velocities of the bodies they
- * pushed, and the world is not stepped. */
+ * cloth's step returns an error, the cloths before it are put back as they
+ * were, and so are the force and torque accumulators and velocities of the
+ * bodies they pushed, and the world is not stepped. */
 cloth_status dClothWorldStep(dWorldID world, dClothID *cloths, int n, dReal h, int quick);
 
 typedef struct dClothStepStats {
@@ -120,6 +132,8 @@ typedef struct dClothStepStats {
                                 see dClothSetAutoSleep); the other fields are
                                 then those of the last step it was solved,
                                 but the timings                               */
+    int held;                /* 1: the solve failed and the cloth was held as
+                                it was (DCLOTH_FAILURE_HOLD)                  */
 } dClothStepStats;
 
 /* Stats of the last dClothStep. */
