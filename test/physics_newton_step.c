@@ -15,8 +15,9 @@
  *    horizontal, damping on, the rule on, for 0.2 s at h = 1/400 ... 1/3200
  *    against 1/25600: the observed order of the end positions' RMS error is
  *    0.95-1.05 for backward Euler and 1.9-2.1 for BDF2.
- * 3. A step whose Newton solve cannot converge (one iteration allowed)
- *    keeps its last iterate at the smallest substep: the scene goes on.
+ * 3. A step whose Newton solve cannot converge (one iteration allowed),
+ *    with keep_unconverged, keeps its last iterate at the smallest
+ *    substep: the scene goes on; without it the step fails, state unchanged.
  * 4. Bad parameters (nonlinear 99, newton_tolerance 0 / NaN, limit_tolerance
  *    0 / 1, newton_iterations 0 with CLOTH_NEWTON) are refused naming the
  *    field, the cloth's solver unchanged. */
@@ -208,7 +209,7 @@ static void orders(void)
 
 
 /* Newton given too few iterations to converge (one, at a tolerance no
- * step meets): the scene must go on. A cloth pinned at two corners falls
+ * step meets), keep_unconverged on: the scene must go on. A cloth pinned at two corners falls
  * for 30 steps: each returns OK with a finite state, keeps its unconverged
  * iterate (counted in stats.unconverged: 1 without halvings, 2^2 substeps
  * with two) and moves. How far such iterates are from the converged motion
@@ -223,6 +224,7 @@ static void goes_on(int halvings)
         return;
     d.solver.newton_iterations = 1;
     d.solver.newton_tolerance = 1e-12;
+    d.solver.keep_unconverged = 1;
     CHECK(cloth_set_solver(c, &d.solver) == CLOTH_OK, "set_solver: %s", cloth_last_error(c));
     const double *x = cloth_positions(c), *xr = cloth_positions(ref);
     for (int k = 0; k < 2; k++) {
@@ -237,6 +239,18 @@ static void goes_on(int halvings)
         counted += st.unconverged == (1 << halvings);
         cloth_step(ref, H, NULL);
     }
+    /* the same, keep_unconverged off: the step fails, the state as it was */
+    d.solver.keep_unconverged = 0;
+    cloth_set_solver(c, &d.solver);
+    cloth_state *before = cloth_state_create(c), *after = cloth_state_create(c);
+    cloth_save(c, before);
+    cloth_step_stats st;
+    CHECK(cloth_step(c, H, &st) == CLOTH_ESTEP && st.failure == CLOTH_FAIL_NEWTON && st.unconverged == 0,
+          "without keep_unconverged: failure %d, unconverged %d", (int)st.failure, st.unconverged);
+    cloth_save(c, after);
+    CHECK(cloth_state_diff(before, after) == 0.0, "a failed step changed the state");
+    cloth_state_destroy(before);
+    cloth_state_destroy(after);
     double z = x[3 * (n - 1) + 2], zr = xr[3 * (n - 1) + 2];
     printf("one Newton iteration a step, %d halvings: %d of 30 steps taken, %d counted unconverged; free corner "
            "fell %.4f m (converged: %.4f m)\n", halvings, ok, counted, z0 - z, z0 - zr);
@@ -254,9 +268,10 @@ static void bad_parameters(void)
     cloth_desc d = small_desc(5);
     cloth *c = NULL;
     if (!CHECK(cloth_create(&d, &c, NULL) == CLOTH_OK, "create")) return;
-    static const char *const field[6] = {"nonlinear",       "newton_tolerance", "newton_tolerance",
-                                         "limit_tolerance", "limit_tolerance",  "newton_iterations"};
-    for (int k = 0; k < 6; k++) {
+    static const char *const field[7] = {"nonlinear",       "newton_tolerance", "newton_tolerance",
+                                         "limit_tolerance", "limit_tolerance",  "newton_iterations",
+                                         "keep_unconverged"};
+    for (int k = 0; k < 7; k++) {
         cloth_solver s = d.solver;
         switch (k) {
         case 0: s.nonlinear = (cloth_nonlinear)99; break;
@@ -264,7 +279,8 @@ static void bad_parameters(void)
         case 2: s.newton_tolerance = NAN; break;
         case 3: s.limit_tolerance = 0.0; break;
         case 4: s.limit_tolerance = 1.0; break;
-        default: s.newton_iterations = 0; break;
+        case 5: s.newton_iterations = 0; break;
+        default: s.keep_unconverged = 2; break;
         }
         cloth_error err;
         CHECK(cloth_solver_validate(&s, &err) == CLOTH_EINVAL, "case %d accepted", k);

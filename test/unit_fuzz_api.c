@@ -88,10 +88,11 @@ static void perturb(rng *g, cloth_desc *d, int f)
     case 6: d->solver.max_substep_halvings = v > 4 && v <= 16 ? 3 : v; break;
     case 7: d->solver.nonlinear = (cloth_nonlinear)v; break;
     case 8: d->solver.newton_iterations = v > 32 && v <= 256 ? 32 : v; break;
+    case 9: d->solver.keep_unconverged = v; break;
     default: d->solver.definiteness_rule = v; break;
     }
 }
-#define NFIELDS 38
+#define NFIELDS 39
 
 /* The created cloth is sound: masses, positions, rest lengths. */
 static void check_model(const cloth *c, const char *what)

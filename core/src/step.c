@@ -96,7 +96,8 @@ static cloth_status finish(cloth *c, cloth_step_stats *st, cloth_step_stats *out
  * con_new, the state untouched; constraints aimed at frac of the way from xs
  * (see constraints_build). Adds iterations and corrected links to st; ms gets
  * the new max strain and the sequential links' energy. last: no smaller
- * substep follows, so Newton's unconverged iterate is kept (and counted). */
+ * substep follows, so with keep_unconverged Newton's unconverged iterate is
+ * kept (and counted). */
 static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, int last, cloth_step_stats *st,
                              measured *ms)
 {
@@ -113,7 +114,7 @@ static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, 
         /* BDF2's first step, or a step after h changed, is backward Euler */
         if (sv->nonlinear == CLOTH_NEWTON) fail = newton_step(c, h, bdf2, xs, frac, st, &held);
         else fail = linearized_step(c, h, bdf2, xs, frac, st);
-        if (fail == CLOTH_FAIL_NEWTON && last) {
+        if (fail == CLOTH_FAIL_NEWTON && last && sv->keep_unconverged) {
             fail = CLOTH_FAIL_NONE;
             st->unconverged++;
         }

@@ -468,6 +468,10 @@ cloth_status dClothStep(dClothID c, dReal h)
         cloth_restore(core, c->save);
         st.contacts = st.sticking = 0;
         st.held = s == CLOTH_ESTEP && c->on_failure == DCLOTH_FAILURE_HOLD;
+        if (st.held) { /* stopped where it was: the failed step's motion dropped, no energy added */
+            memset(c->v0, 0, 3 * (size_t)c->n * sizeof *c->v0);
+            cloth_set_velocities(core, c->v0);
+        }
         st.seconds_total = wall() - t0;
         c->stats = st;
         dcloth_fail(c, s, "dClothStep: %s%s", cloth_last_error(core), st.held ? " (the cloth held as it was)" : "");

@@ -137,9 +137,9 @@ typedef struct cloth_solver {
                                      limit to past 1 + 1.25 delta (0 = off).
                                      CLOTH_NEWTON: the iterations a step may
                                      take (>= 1); not converged then, the
-                                     step is retried in substeps, and the
-                                     smallest keeps its last iterate (see
-                                     cloth_step)                          */
+                                     step fails (CLOTH_FAIL_NEWTON) and is
+                                     retried in substeps (but see
+                                     keep_unconverged)                    */
     /* How the implicit methods solve a step's nonlinear equations.
      * CLOTH_LINEARIZED (default): linearised once about the step's start
      * (Baraff-Witkin), the elongation limit by the projection after it.
@@ -157,6 +157,12 @@ typedef struct cloth_solver {
     cloth_nonlinear nonlinear;
     double newton_tolerance;      /* m/s, > 0 (default 1e-2)              */
     double limit_tolerance;       /* 1, in (0, 1) (default 1e-4)          */
+    int keep_unconverged;         /* 0 (default) or 1. CLOTH_NEWTON: 1 keeps
+                                     the last iterate of a solve that runs
+                                     out of newton_iterations at the
+                                     smallest substep instead of failing
+                                     the step (stats.unconverged counts
+                                     it); such an iterate can add energy */
 } cloth_solver;
 
 cloth_status cloth_solver_validate(const cloth_solver *s, cloth_error *err);
@@ -373,12 +379,13 @@ typedef struct cloth_step_stats {
  *
  * A step fails on NaN/inf, CG not converging (or meeting non-positive
  * curvature), strain past solver.strain_fail, or (CLOTH_NEWTON) Newton not
- * converging in newton_iterations. The last is not final at the smallest
- * substep size (the whole step when max_substep_halvings is 0): there the
- * last Newton iterate, which lowered the step's potential, is kept if it
- * passes the other checks, and stats->unconverged counts it, with
- * newton_residual saying how far it is from converged. So the scene goes
- * on, less accurately, where Newton cannot converge. A failed step is taken again
+ * converging in newton_iterations. With solver.keep_unconverged the last is
+ * not final at the smallest substep size (the whole step when
+ * max_substep_halvings is 0): there the last Newton iterate is kept if it
+ * passes the other checks, stats->unconverged counts it and newton_residual
+ * says how far it is from converged. A failed step leaves the state as it
+ * was, so calling again meets the same problem: to go on, change the state
+ * (the plugin's DCLOTH_FAILURE_HOLD stops the cloth: velocities zero). A failed step is taken again
  * from its start as 2 equal substeps of h/2, then (if one of those fails) 4
  * of h/4, ... down to 2^max_substep_halvings substeps; each failed depth is
  * rolled back whole, so no substep of a failed depth is kept (an unstable

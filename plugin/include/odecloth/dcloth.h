@@ -95,11 +95,12 @@ const char *dClothGetLastError(dClothID c);
 cloth_status dClothStep(dClothID c, dReal h);
 
 /* What a step whose solve fails (even in the core's substeps) gives you:
- *  DCLOTH_FAILURE_HOLD (default): the cloth is held as it was for that step
- *    (its state unchanged, no force on any body) and the call returns
- *    CLOTH_OK, with dClothGetStats(c)->held set, stats.core.failure and
- *    dClothGetLastError saying why. The world steps on, so the scene goes
- *    on and the next step meets a changed scene.
+ *  DCLOTH_FAILURE_HOLD (default): the cloth is stopped where it was (its
+ *    positions kept, its velocities set to zero: the failed step's motion
+ *    dropped, as an inelastic stop, so no energy is added; no force on any
+ *    body) and the call returns CLOTH_OK, with dClothGetStats(c)->held set,
+ *    stats.core.failure and dClothGetLastError saying why. The world steps
+ *    on, and the next step starts the cloth from rest.
  *  DCLOTH_FAILURE_STOP: the call returns CLOTH_ESTEP, and dClothWorldStep
  *    steps nothing (below). */
 typedef enum dClothFailureMode { DCLOTH_FAILURE_HOLD = 0, DCLOTH_FAILURE_STOP } dClothFailureMode;
@@ -132,8 +133,8 @@ typedef struct dClothStepStats {
                                 see dClothSetAutoSleep); the other fields are
                                 then those of the last step it was solved,
                                 but the timings                               */
-    int held;                /* 1: the solve failed and the cloth was held as
-                                it was (DCLOTH_FAILURE_HOLD)                  */
+    int held;                /* 1: the solve failed and the cloth was stopped
+                                where it was (DCLOTH_FAILURE_HOLD)            */
 } dClothStepStats;
 
 /* Stats of the last dClothStep. */
