@@ -10,7 +10,7 @@
  * Adds its iterations to st. *limit_held: 1 if every sequential link ended
  * within the elongation limit's tolerance (else the caller's projection is
  * the safety net). On CLOTH_FAIL_NEWTON the outputs hold the last iterate
- * (it lowered the step's potential) and its constraint forces. */
+ * and its constraint forces. */
 cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double frac, cloth_step_stats *st,
                           int *limit_held);
 

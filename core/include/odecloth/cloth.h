@@ -385,9 +385,11 @@ typedef struct cloth_step_stats {
  * passes the other checks, stats->unconverged counts it and newton_residual
  * says how far it is from converged. A failed step leaves the state as it
  * was, so calling again meets the same problem: to go on, change the state
- * (the plugin's DCLOTH_FAILURE_HOLD stops the cloth: velocities zero). A failed step is taken again
- * from its start as 2 equal substeps of h/2, then (if one of those fails) 4
- * of h/4, ... down to 2^max_substep_halvings substeps; each failed depth is
+ * (the plugin's DCLOTH_FAILURE_HOLD zeroes the velocities).
+ *
+ * A failed step is taken again from its start as 2 equal substeps of h/2,
+ * then (if one of those fails) 4 of h/4, ... down to
+ * 2^max_substep_halvings substeps; each failed depth is
  * rolled back whole, so no substep of a failed depth is kept (an unstable
  * substep can pass its own checks). Constraint targets are the
  * positions at the end of the whole step: a substep ending at time t of the

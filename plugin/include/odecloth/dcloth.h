@@ -94,15 +94,11 @@ const char *dClothGetLastError(dClothID c);
  * default: see dClothSetFailureMode. */
 cloth_status dClothStep(dClothID c, dReal h);
 
-/* What a step whose solve fails (even in the core's substeps) gives you:
- *  DCLOTH_FAILURE_HOLD (default): the cloth is stopped where it was (its
- *    positions kept, its velocities set to zero: the failed step's motion
- *    dropped, as an inelastic stop, so no energy is added; no force on any
- *    body) and the call returns CLOTH_OK, with dClothGetStats(c)->held set,
- *    stats.core.failure and dClothGetLastError saying why. The world steps
- *    on, and the next step starts the cloth from rest.
- *  DCLOTH_FAILURE_STOP: the call returns CLOTH_ESTEP, and dClothWorldStep
- *    steps nothing (below). */
+/* A step whose solve fails even in the core's substeps:
+ *  DCLOTH_FAILURE_HOLD (default): the cloth stops where it was (velocities
+ *    zeroed: no energy added, no force on bodies); CLOTH_OK, with stats
+ *    held set and dClothGetLastError saying why; the world steps on.
+ *  DCLOTH_FAILURE_STOP: CLOTH_ESTEP, and dClothWorldStep steps nothing. */
 typedef enum dClothFailureMode { DCLOTH_FAILURE_HOLD = 0, DCLOTH_FAILURE_STOP } dClothFailureMode;
 cloth_status dClothSetFailureMode(dClothID c, dClothFailureMode mode);
 
