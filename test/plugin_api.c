@@ -996,6 +996,58 @@ static void test_convex_points(void)
  * fails on strain); A and the body are as before the call, bitwise, and the
  * world did not step. Then a bad h, a cloth twice, a cloth of another
  * world: refused before anything moves. */
+
+/* dClothGetVertexContact: a 21x21 cloth, 1 m, settles for 1 s over a
+ * static box covering x < 0 (top at z = 0.2) and the plane z = 0: a vertex
+ * well inside the box's top (x < -0.1) names the box, its point on the top
+ * and the normal +z; one well past the box's edge (x > 0.3) the plane, or
+ * nothing where the drape lifts it off.
+ * Before the first step no vertex touches anything. */
+static void test_vertex_contact(void)
+{
+    dWorldID w = dWorldCreate();
+    dWorldSetGravity(w, 0, 0, -9.81);
+    dSpaceID sp = dHashSpaceCreate(0);
+    dGeomID plane = dCreatePlane(sp, 0, 0, 1, 0), box = dCreateBox(sp, 0.8, 1.4, 0.2);
+    dGeomSetPosition(box, -0.4, 0, 0.1);
+    dClothDesc d = dClothDefaultDesc();
+    d.cloth.origin[0] = d.cloth.origin[1] = -0.5;
+    d.cloth.origin[2] = 0.25;
+    dClothID c = NULL;
+    cloth_error err;
+    if (!CHECK(dClothCreate(w, sp, &d, &c, &err) == CLOTH_OK, "create: %s", err.message)) return;
+    int n = dClothGetVertexCount(c), none = 0;
+    dGeomID g = box;
+    dReal p[3] = {1, 1, 1}, nrm[3];
+    for (int i = 0; i < n; i++) none += dClothGetVertexContact(c, i, &g, p, NULL) == CLOTH_OK && g == 0 && p[2] == 0;
+    CHECK(none == n, "before any step %d of %d vertices touch nothing", none, n);
+    for (int s = 0; s < 60; s++) dClothWorldStep(w, &c, 1, H, 0);
+    int on_box = 0, on_plane = 0, wrong = 0;
+    const dReal *x = dClothGetPositions(c);
+    for (int i = 0; i < n; i++) {
+        CHECK(dClothGetVertexContact(c, i, &g, p, nrm) == CLOTH_OK, "vertex %d: %s", i, dClothGetLastError(c));
+        if (x[3 * i] > -0.1 && x[3 * i] < 0.3) continue; /* near the box's edge: its sides and corners */
+        dGeomID want = x[3 * i] < 0 ? box : plane;
+        double top = want == box ? 0.2 : 0.0;
+        on_box += g == box;
+        on_plane += g == plane;
+        /* on the box's top every vertex rests; past its edge those the
+         * drape lifts off the plane touch nothing */
+        int bad = want == box ? g != box : g != plane && g != 0;
+        bad = bad || (g && (fabs(p[2] - top) > 1e-9 || fabs(nrm[2] - 1.0) > 1e-9));
+        wrong += bad;
+    }
+    printf("vertex contacts after 1 s: %d on the box, %d on the plane, %d wrong\n", on_box, on_plane, wrong);
+    CHECK(on_box > 50 && on_plane > 20 && wrong == 0, "contacts: %d box, %d plane, %d wrong", on_box, on_plane, wrong);
+    CHECK(dClothGetVertexContact(c, n, &g, NULL, NULL) == CLOTH_EINVAL && dClothGetLastError(c)[0],
+          "vertex n accepted");
+    CHECK(dClothGetVertexContact(c, 0, NULL, p, NULL) == CLOTH_EINVAL, "geom NULL accepted");
+    CHECK(dClothGetVertexContact(NULL, 0, &g, NULL, NULL) == CLOTH_EINVAL, "NULL cloth accepted");
+    dClothDestroy(c);
+    dSpaceDestroy(sp);
+    dWorldDestroy(w);
+}
+
 static void test_world_step_undo(void)
 {
     dWorldID w = dWorldCreate(), w2 = dWorldCreate();
@@ -1087,6 +1139,7 @@ int main(void)
     test_convex_points();
     test_triangle_tests();
     test_world_step_undo();
+    test_vertex_contact();
     double t0 = now();
     test_filtering();
     double t1 = now();

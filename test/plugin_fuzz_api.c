@@ -14,7 +14,7 @@
  *    pins to the world and to bodies (NULL body, a body of another world),
  *    releases, forces, normals, friction, thickness, bits, space changes
  *    (a geom as the space included), vertex forces for the next step,
- *    failure modes (valid and not),
+ *    failure modes (valid and not), vertex contact queries,
  *    dClothStep and dClothWorldStep with good and bad h and bad cloth
  *    arrays. After each call: a status of the enum; positions finite; after
  *    a failure the core state, the bodies' poses, velocities and forces
@@ -134,6 +134,7 @@ static void null_cloth(void)
     CHECK(dClothSetSpace(NULL, 0) == CLOTH_EINVAL, "dClothSetSpace(NULL) accepted");
     CHECK(dClothAddVertexForce(NULL, 0, 1, 0, 0) == CLOTH_EINVAL, "dClothAddVertexForce(NULL) accepted");
     CHECK(dClothSetFailureMode(NULL, DCLOTH_FAILURE_STOP) == CLOTH_EINVAL, "dClothSetFailureMode(NULL) accepted");
+    CHECK(dClothGetVertexContact(NULL, 0, NULL, NULL, NULL) == CLOTH_EINVAL, "dClothGetVertexContact(NULL) accepted");
     dClothDestroy(NULL);
 }
 
@@ -322,6 +323,13 @@ static void walk(scene *s)
             st = dClothAddVertexForce(c, rng_u64(&g) % 6 ? vi : xi(&g), dval(&g, -0.05, 0.05), dval(&g, -0.05, 0.05),
                                       dval(&g, -0.05, 0.05));
             break;
+        case 20: { /* which geom a vertex touches, any vertex, NULL outputs */
+            dGeomID gg;
+            dReal pt[3], nr[3];
+            st = dClothGetVertexContact(c, rng_u64(&g) % 6 ? vi : xi(&g), rng_u64(&g) % 8 ? &gg : NULL,
+                                        rng_u64(&g) % 2 ? pt : NULL, rng_u64(&g) % 2 ? nr : NULL);
+            break;
+        }
         case 19: /* hold or stop on a failed step, or a mode that does not exist */
             st = dClothSetFailureMode(c, (dClothFailureMode)(rng_u64(&g) % 4 ? (int)(rng_u64(&g) % 2) : xi(&g)));
             break;

@@ -267,6 +267,20 @@ cloth_status dClothGetContactForce(dClothID c, int vertex, dReal f[3])
     return CLOTH_OK;
 }
 
+cloth_status dClothGetVertexContact(dClothID c, int vertex, dGeomID *geom, dReal point[3], dReal normal[3])
+{
+    if (!c) return CLOTH_EINVAL;
+    if (check_vertex(c, "dClothGetVertexContact", vertex) != CLOTH_OK) return CLOTH_EINVAL;
+    if (!geom) return dcloth_fail(c, CLOTH_EINVAL, "dClothGetVertexContact: geom is NULL");
+    const vcontact *v = &c->vc[vertex];
+    *geom = v->geom;
+    for (int k = 0; k < 3; k++) {
+        if (point) point[k] = v->geom ? v->point[k] : 0.0;
+        if (normal) normal[k] = v->geom ? v->normal[k] : 0.0;
+    }
+    return CLOTH_OK;
+}
+
 /* ------------------------------------------------------------- parameters */
 
 cloth_status dClothSetFailureMode(dClothID c, dClothFailureMode mode)

@@ -165,6 +165,10 @@ cloth_status dClothGetPinForce(dClothID c, int vertex, dReal force[3]);
 /* Force (N) a contact applied to the vertex over the last step, constraint
  * and sliding friction together (zero if none). */
 cloth_status dClothGetContactForce(dClothID c, int vertex, dReal force[3]);
+/* Which geom the vertex's contact was with in the last step (*geom 0: none)
+ * and, where point and normal are not NULL, the surface point under the
+ * vertex and the unit normal out of the geom (zeros without a contact). */
+cloth_status dClothGetVertexContact(dClothID c, int vertex, dGeomID *geom, dReal point[3], dReal normal[3]);
 
 /* Add a force (N) on a vertex for the next step, as dBodyAddForce does for
  * a body: forces add up until the step that applies them, then clear.
