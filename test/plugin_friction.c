@@ -62,6 +62,10 @@
  *    Asserted: its mean horizontal velocity over the 3 s is below half the
  *    sphere's, and at the end it has no contact and lags the sphere by more
  *    than the sphere's radius.
+ *
+ * 4. Per-geom friction (dClothSetFrictionCallback): at 1.2 atan(0.3) the
+ *    plane's mu from the callback decides, not the cloth's: 0.8 stays put,
+ *    0.3 slides at g (sin - 0.3 cos) within 3%; a NaN from it is ignored.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -136,9 +140,17 @@ typedef struct slope_result {
     int ok;        /* every step succeeded */
 } slope_result;
 
+/* per-geom friction: the plane's mu from the test (dClothSetFrictionCallback) */
+static void plane_mu(void *data, dClothID c, dGeomID g, dReal *mu)
+{
+    (void)c, (void)g;
+    *mu = *(const double *)data;
+}
+
 /* The cloth at rest on a plane through the origin tilted by theta about y
- * (downhill is +x), for SLOPE_T seconds. */
-static slope_result slope_run(double mu, double theta)
+ * (downhill is +x), for SLOPE_T seconds; geom_mu not NaN: the plane's mu
+ * given by a friction callback, the cloth's own being mu. */
+static slope_result slope_run_geom(double mu, double theta, double geom_mu)
 {
     slope_result r = {0, 0, 0};
     dWorldID w = dWorldCreate();
@@ -147,6 +159,7 @@ static slope_result slope_run(double mu, double theta)
     dCreatePlane(s, n[0], n[1], n[2], 0);
     double centre[3] = {THICK * n[0], THICK * n[1], THICK * n[2]};
     dClothID c = make_cloth(w, s, 11, 0.3, centre, down, across, mu);
+    if (c && geom_mu == geom_mu) dClothSetFrictionCallback(c, plane_mu, &geom_mu);
     if (c) {
         double x0[3], x[3], v[3], v_half = 0;
         cloth_com(c, x0, v);
@@ -168,6 +181,28 @@ static slope_result slope_run(double mu, double theta)
     dSpaceDestroy(s);
     dWorldDestroy(w);
     return r;
+}
+
+static slope_result slope_run(double mu, double theta) { return slope_run_geom(mu, theta, NAN); }
+
+/* The callback's mu decides: at 1.2 atan(0.3) a cloth of mu 0.3 slides and
+ * one of mu 0.8 stays; swapped by the plane's mu from the callback, they
+ * must swap, the sliding one at g (sin - 0.3 cos) within 3%; a NaN from the
+ * callback is ignored (the cloth's mu 0.8: stays). */
+static void per_geom_friction(void)
+{
+    double theta = 1.2 * atan(0.3), want = G * (sin(theta) - 0.3 * cos(theta));
+    slope_result stays = slope_run_geom(0.3, theta, 0.8), slides = slope_run_geom(0.8, theta, 0.3),
+                 ignored = slope_run_geom(0.8, theta, -NAN);
+    printf("per-geom friction at %.2f deg: plane mu 0.8 (cloth 0.3) moved %.3g m; plane mu 0.3 (cloth 0.8) "
+           "moved %.3g m, acceleration %.4f (want %.4f); a NaN mu ignored: moved %.3g m\n",
+           theta * 180 / PI, stays.moved, slides.moved, slides.accel, want, ignored.moved);
+    CHECK(stays.ok && fabs(stays.moved) < STAY, "plane mu 0.8 from the callback: moved %.3g m", stays.moved);
+    CHECK(slides.ok && slides.moved > SLIDE && fabs(slides.accel - want) <= 0.03 * want,
+          "plane mu 0.3 from the callback: moved %.3g m, acceleration %.4f, want %.4f", slides.moved, slides.accel,
+          want);
+    CHECK(ignored.ok && fabs(ignored.moved) < STAY, "a NaN mu was not ignored: moved %.3g m", ignored.moved);
+    CHECK(dClothSetFrictionCallback(NULL, plane_mu, NULL) == CLOTH_EINVAL, "NULL cloth accepted");
 }
 
 static void slope_tests(double mu)
@@ -352,6 +387,7 @@ int main(void)
     dInitODE2(0);
     slope_tests(0.4);
     slope_tests(0.8);
+    per_geom_friction();
     slide_test(0.3, 2.0, 0.0, "(a) from the start");
     slide_test(0.3, 2.0, 0.2, "(b) after resting");
     drag_test(1.0);

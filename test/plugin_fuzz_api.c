@@ -14,7 +14,8 @@
  *    pins to the world and to bodies (NULL body, a body of another world),
  *    releases, forces, normals, friction, thickness, bits, space changes
  *    (a geom as the space included), vertex forces for the next step,
- *    failure modes (valid and not), vertex contact queries,
+ *    failure modes (valid and not), vertex contact queries, per-geom
+ *    friction callbacks answering any value,
  *    dClothStep and dClothWorldStep with good and bad h and bad cloth
  *    arrays. After each call: a status of the enum; positions finite; after
  *    a failure the core state, the bodies' poses, velocities and forces
@@ -39,6 +40,14 @@ static const int XI[] = {INT_MIN, -1, 0, 1, 2, 3, 4, 7, 64, 100000, INT_MAX};
 static double xd(rng *g) { return XD[rng_u64(g) % NXD]; }
 static int xi(rng *g) { return XI[rng_u64(g) % NXI]; }
 static double dval(rng *g, double lo, double hi) { return rng_u64(g) % 3 ? rng_range(g, lo, hi) : xd(g); }
+
+/* the friction callback's answer (NaN, negative and huge included) */
+static double fuzz_mu;
+static void fuzz_friction(void *data, dClothID c, dGeomID g, dReal *mu)
+{
+    (void)c, (void)g;
+    *mu = *(const double *)data;
+}
 static int index_of(rng *g, int n) { return rng_u64(g) % 2 ? (int)(rng_u64(g) % (uint64_t)n) : xi(g); }
 
 /* A thickness: any extreme (1e300 once crashed libccd and 1e-300 spun its
@@ -135,6 +144,7 @@ static void null_cloth(void)
     CHECK(dClothAddVertexForce(NULL, 0, 1, 0, 0) == CLOTH_EINVAL, "dClothAddVertexForce(NULL) accepted");
     CHECK(dClothSetFailureMode(NULL, DCLOTH_FAILURE_STOP) == CLOTH_EINVAL, "dClothSetFailureMode(NULL) accepted");
     CHECK(dClothGetVertexContact(NULL, 0, NULL, NULL, NULL) == CLOTH_EINVAL, "dClothGetVertexContact(NULL) accepted");
+    CHECK(dClothSetFrictionCallback(NULL, NULL, NULL) == CLOTH_EINVAL, "dClothSetFrictionCallback(NULL) accepted");
     dClothDestroy(NULL);
 }
 
@@ -227,7 +237,7 @@ static void walk(scene *s)
         const double *x = dClothGetPositions(c);
         int vi = index_of(&g, n), vv = vi >= 0 && vi < n ? vi : 0;
         for (int r = 0; r < 3; r++) p[r] = rng_u64(&g) % 12 ? x[3 * vv + r] : xd(&g);
-        int op = (int)(rng_u64(&g) % 23);
+        int op = (int)(rng_u64(&g) % 28); /* 0-21 the calls, the rest steps */
         cloth_status st = CLOTH_OK;
         int is_step = 0;
         switch (op) {
@@ -330,6 +340,10 @@ static void walk(scene *s)
                                         rng_u64(&g) % 2 ? pt : NULL, rng_u64(&g) % 2 ? nr : NULL);
             break;
         }
+        case 21: /* a per-geom friction callback answering any value, or none */
+            fuzz_mu = dval(&g, 0, 1.5);
+            st = dClothSetFrictionCallback(c, rng_u64(&g) % 4 ? fuzz_friction : NULL, &fuzz_mu);
+            break;
         case 19: /* hold or stop on a failed step, or a mode that does not exist */
             st = dClothSetFailureMode(c, (dClothFailureMode)(rng_u64(&g) % 4 ? (int)(rng_u64(&g) % 2) : xi(&g)));
             break;

@@ -78,6 +78,16 @@ static void follow_body(dBodyID b, const double local[3], double h, double w[3],
     }
 }
 
+/* The friction coefficient of a contact with geom g: the user's per-geom
+ * answer (dClothSetFrictionCallback) when it is one, else the cloth's. */
+static double contact_mu(dClothID c, dGeomID g)
+{
+    if (!c->friction_fn) return c->mu;
+    dReal mu = c->mu;
+    c->friction_fn(c->friction_data, c, g, &mu);
+    return mu >= 0.0 && isfinite(mu) ? mu : c->mu;
+}
+
 /* Decide the vertex's contact for this step: none (returns 0), sticking or
  * sliding; fills its constraint and, sliding, its friction force. */
 static int contact_rule(dClothID c, int i, double h, double mass, const double g[3], vcontact *nw,
@@ -153,7 +163,8 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
         }
     }
     for (int r = 0; r < 3; r++) F[r] = -mass * vt[r] / h - fo[r];
-    double Fs = sqrt(dcloth_dot3(F, F)), limit = c->mu * fn;
+    double mu = contact_mu(c, nw->geom);
+    double Fs = sqrt(dcloth_dot3(F, F)), limit = mu * fn;
     /* A contact made ahead of a moving body (the vertex still apart, the
      * body approaching along the normal) does not stick: its vertex slides
      * onto the body, with kinetic friction. Held in all directions it was
@@ -167,7 +178,7 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
      * toward it, and crept (strain 0.36, 1235 of 100,000 steps over 0.035,
      * a snap of 0.055 J). */
     int ahead = nw->gap > c->thickness && h * dcloth_dot3(nw->vbody, n) > 0.1 * DCLOTH_CONTACT_SLOP * c->thickness;
-    int stick = c->mu > 0.0 && Fs <= limit && !ahead && (!had || nw->weight >= STICK_WEIGHT) && !nw->slides &&
+    int stick = mu > 0.0 && Fs <= limit && !ahead && (!had || nw->weight >= STICK_WEIGHT) && !nw->slides &&
                 !nw->pinched;
     /* end-of-step position: moved with the body's point, the penetration
      * (negative gap) removed along the normal (paper eq. 22) */
@@ -205,7 +216,7 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
     }
     k->ndof = stick ? 3 : 1;
     nw->sticking = stick;
-    if (!stick && c->mu > 0.0 && limit > 0.0) {
+    if (!stick && mu > 0.0 && limit > 0.0) {
         /* kinetic: mu fn against the slip (never more than stops it), or,
          * breaking away with no slip yet, along the force that would hold */
         if (vts > 0.0) {

@@ -283,6 +283,14 @@ cloth_status dClothGetVertexContact(dClothID c, int vertex, dGeomID *geom, dReal
 
 /* ------------------------------------------------------------- parameters */
 
+cloth_status dClothSetFrictionCallback(dClothID c, dClothFrictionFn *fn, void *data)
+{
+    if (!c) return CLOTH_EINVAL;
+    c->friction_fn = fn;
+    c->friction_data = fn ? data : NULL;
+    return CLOTH_OK;
+}
+
 cloth_status dClothSetFailureMode(dClothID c, dClothFailureMode mode)
 {
     if (!c) return CLOTH_EINVAL;

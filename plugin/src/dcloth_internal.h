@@ -86,6 +86,8 @@ struct dxCloth {
     /* moving bodies solved with the cloth this step (coupling.c) */
     int implicit;        /* 1: couple dynamic bodies implicitly (default)   */
     dClothFailureMode on_failure; /* what a failed solve gives (dcloth.h)   */
+    dClothFrictionFn *friction_fn; /* per-geom friction (NULL: mu for all)  */
+    void *friction_data;
     dBodyID *bodies;
     cloth_body *bdesc;
     double *bforce;      /* 6 per body: the cloth's force and torque on it  */

@@ -180,6 +180,12 @@ cloth_status dClothAddVertexForce(dClothID c, int vertex, dReal fx, dReal fy, dR
 /* ------------------------------------------------------------ parameters */
 
 cloth_status dClothSetFriction(dClothID c, dReal mu);
+/* Friction per geom, as ODE users set surface parameters per contact pair:
+ * fn(data, c, g, &mu) is called for each vertex contact with geom g (several
+ * times a step), mu holding dClothGetFriction(c); set mu for that geom. A
+ * value that is not finite and >= 0 is ignored. fn NULL: one mu for all. */
+typedef void dClothFrictionFn(void *data, dClothID c, dGeomID g, dReal *mu);
+cloth_status dClothSetFrictionCallback(dClothID c, dClothFrictionFn *fn, void *data);
 dReal dClothGetFriction(dClothID c);
 cloth_status dClothSetThickness(dClothID c, dReal thickness);
 dReal dClothGetThickness(dClothID c);
