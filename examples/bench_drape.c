@@ -64,19 +64,6 @@ static const double blender_s[4] = {2.95, 8.16, 38.1, 143};
 static const int target_n[3] = {41, 81, 161};
 static const double target_s[3] = {0.4, 1.9, 14};
 
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 /* ------------------------------------------------------------------ strain */
@@ -128,7 +115,7 @@ static double links_strain(links *L, const double *x)
 static double links_p99(links *L)
 {
     if (L->n == 0) return NAN;
-    qsort(L->strain, (size_t)L->n, sizeof *L->strain, cmp_double);
+    qsort(L->strain, (size_t)L->n, sizeof *L->strain, bench_cmp_double);
     int k = (int)ceil(0.99 * L->n) - 1;
     return L->strain[k < 0 ? 0 : k];
 }
@@ -431,7 +418,7 @@ static void finish_row(const scene *s, trace *t, links *L, long newton, long cg,
     r->mean_speed = mean_speed(t, n);
     if (s->ball) r->passed = ball_below(s);
     if (n) {
-        qsort(t->step_s, (size_t)n, sizeof *t->step_s, cmp_double);
+        qsort(t->step_s, (size_t)n, sizeof *t->step_s, bench_cmp_double);
         r->median_ms = 1e3 * t->step_s[n / 2];
         r->max_ms = 1e3 * t->step_s[n - 1];
     }
@@ -454,15 +441,15 @@ static void run_loop(scene *s, double seconds, double max_wall, row *r)
         goto done;
     }
     memcpy(t.ring, cloth_positions(s->core), frame * sizeof *t.ring);
-    double e_prev = s->ball ? hammock_energy(s) : 0.0, start = now();
+    double e_prev = s->ball ? hammock_energy(s) : 0.0, start = bench_wall_now();
     long newton = 0, cg = 0;
     r->status = "ok";
     r->max_seen = links_strain(&L, cloth_positions(s->core));
     for (int k = 0; k < total; k++) {
         cloth_step_stats st;
-        double w0 = now(), c0 = bench_cpu_now();
+        double w0 = bench_wall_now(), c0 = bench_cpu_now();
         cloth_status rc = scene_step(s, h, &st);
-        t.step_s[k] = now() - w0;
+        t.step_s[k] = bench_wall_now() - w0;
         r->wall_s += t.step_s[k];
         r->cpu_s += bench_cpu_now() - c0;
         r->steps = k + 1;
@@ -480,7 +467,7 @@ static void run_loop(scene *s, double seconds, double max_wall, row *r)
             r->energy_gain = k ? fmax(r->energy_gain, e - e_prev) : e - e_prev;
             e_prev = e;
         }
-        if (k + 1 < total && now() - start > max_wall) {
+        if (k + 1 < total && bench_wall_now() - start > max_wall) {
             r->status = "timeout";
             break;
         }

@@ -28,26 +28,7 @@
 #include <sys/stat.h>
 #include <time.h>
 #include "odecloth/cloth.h"
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
-static double cpu_now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
+#include "bench_util.h"
 
 typedef struct result {
     int steps, done, failed;
@@ -87,21 +68,21 @@ static result run_once(int N, double hz, cloth_precond pc, double seconds, doubl
     cloth_pin(c, N - 1, x + 3 * (N - 1));
     double h = 1.0 / hz;
     long iters = 0;
-    double t0 = now(), c0 = cpu_now();
+    double t0 = bench_wall_now(), c0 = bench_cpu_now();
     for (int s = 0; s < r.steps; s++) {
-        double a = now();
+        double a = bench_wall_now();
         cloth_step_stats st;
         if (cloth_step(c, h, &st) != CLOTH_OK) {
             fprintf(stderr, "bench_step: %dx%d step %d: %s\n", N, N, s, cloth_last_error(c));
             r.failed = 1;
             break;
         }
-        dt[s] = now() - a;
+        dt[s] = bench_wall_now() - a;
         iters += st.iterations;
         r.done = s + 1;
-        if (now() - t0 > cap) break;
+        if (bench_wall_now() - t0 > cap) break;
     }
-    double wall = now() - t0, cpu = cpu_now() - c0;
+    double wall = bench_wall_now() - t0, cpu = bench_cpu_now() - c0;
     if (r.done > 0) {
         r.steps_per_s = r.done / wall;
         r.cpu_steps_per_s = r.done / cpu;
@@ -127,7 +108,7 @@ static result run(int N, double hz, cloth_precond pc, double seconds, double cap
         result q = run_once(N, hz, pc, seconds, cap, dt);
         if (k == 0) {
             r = q;
-            qsort(memcpy(best, dt, (size_t)q.done * sizeof *dt), (size_t)q.done, sizeof *dt, cmp_double);
+            qsort(memcpy(best, dt, (size_t)q.done * sizeof *dt), (size_t)q.done, sizeof *dt, bench_cmp_double);
             r.median_ms = q.done > 0 ? 1e3 * best[q.done / 2] : 0.0;
             memcpy(best, dt, (size_t)q.done * sizeof *dt);
         } else {
@@ -139,8 +120,8 @@ static result run(int N, double hz, cloth_precond pc, double seconds, double cap
         sps[k] = q.steps_per_s;
         cps[k] = q.cpu_steps_per_s;
     }
-    qsort(sps, (size_t)reps, sizeof *sps, cmp_double);
-    qsort(cps, (size_t)reps, sizeof *cps, cmp_double);
+    qsort(sps, (size_t)reps, sizeof *sps, bench_cmp_double);
+    qsort(cps, (size_t)reps, sizeof *cps, bench_cmp_double);
     r.steps_per_s = sps[reps / 2];
     r.cpu_steps_per_s = cps[reps / 2];
     double sum = 0.0;

@@ -55,6 +55,19 @@ double bench_cpu_now(void)
     return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
+double bench_wall_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+int bench_cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
 static FILE *open_in_out(const bench_opts *o, const char *name, const char *ext)
 {
     char path[1024];

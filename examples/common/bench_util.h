@@ -25,6 +25,10 @@ int bench_unknown(const bench_opts *o, const char *arg);
 
 /* CPU seconds of the process (CLOCK_PROCESS_CPUTIME_ID). */
 double bench_cpu_now(void);
+/* Wall seconds (CLOCK_MONOTONIC). */
+double bench_wall_now(void);
+/* qsort's comparison of doubles, ascending. */
+int bench_cmp_double(const void *a, const void *b);
 
 /* Creates o->out and opens o->out/<name>.csv for writing; NULL (message
  * printed) on failure. */
