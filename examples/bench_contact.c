@@ -105,7 +105,7 @@ static result run(int N, int kind, double seconds, double hz, const mesh *sph)
     dClothDesc d = dClothDefaultDesc();
     d.cloth.rows = d.cloth.cols = N;
     d.cloth.origin[0] = d.cloth.origin[1] = -0.5;
-    d.cloth.origin[2] = top + 0.006; /* released touching: see the note on impacts in README */
+    d.cloth.origin[2] = top + 0.006; /* released touching: see the note on impacts in docs/contacts.md */
     dClothID c;
     cloth_error err;
     if (dClothCreate(w, sp, &d, &c, &err) != CLOTH_OK) {
