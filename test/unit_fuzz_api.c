@@ -265,7 +265,7 @@ static void walk(void)
         double f0[3 * 35], f1[3 * 35];
         for (int i = 0; i < n; i++) cloth_constraint_force(c, i, f0 + 3 * i);
         cloth_desc d0 = cloth_get_desc(c);
-        int op = (int)(rng_u64(&g) % 29), isnull = 0, mutates = 1;
+        int op = (int)(rng_u64(&g) % 30), isnull = 0, mutates = 1;
         cloth_status s = CLOTH_OK;
         double v3[3], *p;
         switch (op) {
@@ -325,6 +325,18 @@ static void walk(void)
             break;
         }
         case 9: s = cloth_release(c, index_of(&g, n)); break;
+        case 29: { /* a contact candidate, sometimes bad */
+            const double *x = cloth_positions(c);
+            int vi = index_of(&g, n), vv = vi >= 0 && vi < n ? vi : 0;
+            double nrm[3], pt[3];
+            for (int r = 0; r < 3; r++) {
+                nrm[r] = dval(&g, -1, 1);
+                pt[r] = rng_u64(&g) % 4 ? x[3 * vv + r] - rng_range(&g, -0.01, 0.01) : xd(&g);
+            }
+            s = cloth_set_contact(c, vi, rng_u64(&g) % 12 ? nrm : NULL, rng_u64(&g) % 12 ? pt : NULL);
+            mutates = 0; /* a candidate changes nothing until a step */
+            break;
+        }
         case 10: cloth_release_all(c); break;
         case 11: {
             cloth_constraint k;

@@ -174,6 +174,8 @@ void cloth_destroy(cloth *c)
     free(c->retry_fsum);
     free(c->con);
     free(c->con_force);
+    free(c->cand);
+    free(c->cand_on);
     free(c->f_ext);
     free(c->body);
     free(c->body_ws);
@@ -271,6 +273,9 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
     c->Ah = calloc(9 * (size_t)c->A.nnzb + 1, sizeof *c->Ah); /* + the AVX rows' padding double (mat3.h) */
     if (!c->Ah) goto nomem;
     c->cflag = calloc((size_t)n, 1);
+    c->cand = calloc(6 * (size_t)n, sizeof *c->cand);
+    c->cand_on = calloc((size_t)n, 1);
+    if (!c->cand || !c->cand_on) goto nomem;
     c->clist = calloc((size_t)n, sizeof *c->clist);
     c->sl = malloc(9 * (size_t)c->n_seq * sizeof *c->sl);
     c->sl_act = malloc((size_t)c->n_seq * sizeof *c->sl_act);

@@ -57,7 +57,9 @@ cloth_status cloth_release(cloth *c, int vertex)
 {
     if (!c) return CLOTH_EINVAL;
     cloth_constraint k = {.vertex = vertex, .ndof = 0};
-    return cloth_set_constraint(c, &k);
+    cloth_status s = cloth_set_constraint(c, &k);
+    if (s == CLOTH_OK) c->cand_on[vertex] = 0;
+    return s;
 }
 
 void cloth_release_all(cloth *c)
@@ -65,6 +67,7 @@ void cloth_release_all(cloth *c)
     if (!c) return;
     memset(c->con, 0, (size_t)c->n * sizeof *c->con);
     memset(c->con_force, 0, 3 * (size_t)c->n * sizeof *c->con_force);
+    memset(c->cand_on, 0, (size_t)c->n);
     c->n_con = 0;
     if (c->vbody)
         for (int i = 0; i < c->n; i++) c->vbody[i] = -1;

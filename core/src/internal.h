@@ -95,6 +95,8 @@ struct cloth {
     cloth_constraint *con;     /* n, ndof 0 = free */
     int n_con;
     double *con_force;         /* 3n, N, from the last step */
+    double *cand;              /* 6n: contact candidates (cloth_set_contact): normal, point */
+    unsigned char *cand_on;    /* n: 1 a candidate, 2 made a plane in a solve */
     double *f_ext;             /* 3n, N, external forces (cloth_set_external_forces) */
     /* rigid bodies solved with the cloth (bodies.c) */
     int nbody;
@@ -123,6 +125,7 @@ struct cloth {
     unsigned char *cflag;      /* n: vertex constrained (filter needed) */
     int *clist;                /* n_con: the constrained vertices, ascending */
     multigrid mg;              /* levels sized at creation */
+    int coarse_kept;           /* 1: its coarse levels fit this Newton step's constraints */
     double *con_new;           /* 3n: constraint forces of the step being taken */
     double *pre;               /* 9n: preconditioner blocks */
     double *S;                 /* 9n: per-vertex filter (I - constrained projector) */
@@ -211,6 +214,15 @@ double bodies_residual_energy(const struct mpcg_problem *P, const double *b);
  * can change it; and the multipliers' update at positions x, s = max(0,
  * s + d - lmax) for each link, returning the largest change / lmax. */
 int link_held_together(const cloth *c, const link_topo *L);
+/* contacts.c: make planes of the free candidates that x puts behind their
+ * surface by more than tol (returns how many); then set z to land them in
+ * the next iteration from dv, zero elsewhere */
+int contacts_decide(cloth *c, const double *x, double tol);
+void contacts_land(cloth *c, const double *dv);
+/* at a step's start: planes kept from the last step stay constraints; on
+ * its failure: the planes it made are candidates again */
+void contacts_begin(cloth *c);
+void contacts_undo(cloth *c);
 double limit_multipliers_update(cloth *c, const double *x);
 
 /* constraints.c: the filter S_i of each vertex and z_i = (I - S_i)(v_target

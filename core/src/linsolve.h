@@ -7,7 +7,9 @@
 #include "internal.h"
 #include "mpcg.h"
 
-/* x: in, the guess for the free components; out, the solution. */
-mpcg_result linsolve_run(cloth *c, mpcg_problem *P, double *x);
+/* x: in, the guess for the free components; out, the solution.
+ * keep_coarse: 1 if the constraints are those of the last solve, so the
+ * multigrid may keep its coarse levels (a Newton step's later iterations). */
+mpcg_result linsolve_run(cloth *c, mpcg_problem *P, double *x, int keep_coarse);
 
 #endif

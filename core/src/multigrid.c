@@ -366,6 +366,22 @@ static void dense_put(double *D, int n3, int i, int j, const double *B)
 
 static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
 
+void mg_refresh_fine(multigrid *mg, const bsr *A, const double *S, const unsigned char *constrained,
+                     double *Dinv0)
+{
+    if (mg->nlev == 1) { /* the dense level is the fine one: no coarse part to keep */
+        mg_setup(mg, A, S, constrained, Dinv0);
+        return;
+    }
+    mg->A0 = A;
+    mg->lev[0].Dinv = Dinv0;
+    for (int i = 0; i < A->n; i++) {
+        int sym = mat3_is_sym(Dinv0 + 9 * (size_t)i);
+        for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++) sym = sym && mat3_is_sym(A->val + 9 * (size_t)k);
+        mg->lev[0].symrow[i] = (unsigned char)sym;
+    }
+}
+
 void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char *constrained, double *Dinv0)
 {
     mg->A0 = A;

@@ -17,7 +17,9 @@ static mpcg_result linear_solve(cloth *c, mpcg_problem *P, double *ddv)
 {
     memset(ddv, 0, 3 * (size_t)c->n * sizeof *ddv);
     if (P->bodies) bodies_newton_begin(c);
-    return linsolve_run(c, P, ddv);
+    mpcg_result r = linsolve_run(c, P, ddv, c->coarse_kept);
+    c->coarse_kept = 1;
+    return r;
 }
 
 /* The residual's size: sqrt((|S R|^2_{M^-1} + the bodies' |R_g|^2_{M_g^-1})
@@ -150,6 +152,23 @@ static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *
     return r.failure;
 }
 
+/* Contact candidates (contacts.c) the iterate dv (in c->x_new) puts behind
+ * their surface, beyond what the tolerance leaves open (cfac
+ * newton_tolerance), become planes landed by the next iteration; returns
+ * how many. */
+static int decide_contacts(cloth *c, const step_eq *q, mpcg_problem *P, const double *dv, const double *xs,
+                           double frac, cloth_step_stats *st)
+{
+    int added = contacts_decide(c, c->x_new, q->cfac * c->desc.solver.newton_tolerance);
+    if (!added) return 0;
+    st->contacts_decided += added;
+    c->coarse_kept = 0;
+    constraints_build(c, q->a, c->st.v, q->cfac, xs, frac);
+    P->ncon = c->n_con;
+    contacts_land(c, dv);
+    return added;
+}
+
 cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double frac, cloth_step_stats *st,
                           int *limit_held)
 {
@@ -164,7 +183,9 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
                       sv->cg_tolerance, sv->cg_max_iterations, NULL};
     mpcg_bodies bodies;
     P.bodies = bodies_prepare(c, h, q.cfac, &bodies);
-    int defin = sv->definiteness_rule, it = 0, rounds = 0, assembled = 0;
+    c->coarse_kept = 0;
+    int defin = sv->definiteness_rule, it = 0, rounds = 0, assembled = 0, landing = 1;
+    int since = 0; /* iterations since the contacts last changed: the budget */
     double phi = NAN, size = INFINITY, t = 0.0;
     *limit_held = 0;
     potential_state(c, &q, dv);
@@ -176,26 +197,37 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         if (size <= sv->newton_tolerance) {
             potential_state(c, &q, dv);
             if (rounds++ >= sv->newton_iterations) break; /* the limit left to the projection */
-            if (limit_multipliers_update(c, c->x_new) <= sv->limit_tolerance) {
+            int added = decide_contacts(c, &q, &P, dv, xs, frac, st);
+            landing = landing || added;
+            landed = landed && !added; /* the residual no longer bounds the step */
+            if (added) since = 0;
+            if (!added && limit_multipliers_update(c, c->x_new) <= sv->limit_tolerance) {
                 *limit_held = 1;
                 break;
             }
-            st->limit_updates++;
-            phi = NAN; /* the potential changed with the multipliers */
+            st->limit_updates += !added;
+            phi = NAN; /* the potential changed with the multipliers or contacts */
             assembled = 0;
             size = INFINITY;
             continue;
         }
-        if (it >= sv->newton_iterations) break;
+        if (since >= sv->newton_iterations) break;
         if (phi != phi && it > 0)
             phi = potential_value(c, &q, dv, c->xt, c->vt) + (P.bodies ? bodies_energy(c) : 0.0);
-        cloth_failure f = newton_iteration(c, &q, &P, dv, &phi, defin, it == 0, &t, &size, st);
-        if (it == 0) memset(c->z, 0, 3 * (size_t)c->n * sizeof *c->z); /* the constraints landed */
+        cloth_failure f = newton_iteration(c, &q, &P, dv, &phi, defin, landing, &t, &size, st);
+        if (landing) memset(c->z, 0, 3 * (size_t)c->n * sizeof *c->z); /* the constraints landed */
+        landing = 0;
         it++;
+        since++;
         if (f == CLOTH_FAIL_NAN || f == CLOTH_FAIL_CG_INDEFINITE) return f;
         if (size > sv->newton_tolerance) {
             potential_state(c, &q, dv);
             assembled = 0;
+            if (decide_contacts(c, &q, &P, dv, xs, frac, st)) {
+                landing = 1;
+                phi = NAN;
+                since = 0;
+            }
         }
     }
     st->newton += it;

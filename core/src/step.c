@@ -220,6 +220,7 @@ cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
         return cloth_fail(c, CLOTH_EINVAL, "cloth_step: h = %g must be finite and > 0", h);
     }
     measured ms = {0.0, 0.0, 0};
+    contacts_begin(c);
     cloth_failure fail = attempt(c, h, NULL, 1.0, sv->max_substep_halvings == 0, &st, &ms);
     if (fail == CLOTH_FAIL_NONE) {
         commit(c, h, &ms);
@@ -230,6 +231,7 @@ cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
         if (sv->max_substep_halvings > 0) fail = substep_retry(c, h, sv->max_substep_halvings, fail, &st, &ms);
     }
     if (fail != CLOTH_FAIL_NONE) {
+        contacts_undo(c);
         st.failure = fail;
         fill_stats(c, &st, NULL); /* the unchanged state */
         finish(c, &st, out, CLOTH_ESTEP);

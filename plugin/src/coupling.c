@@ -312,6 +312,33 @@ static int held_by_coupled(dClothID c, int i)
     return 0;
 }
 
+/* Vertex i, near its geom but left free, as a contact candidate: the core's
+ * Newton step holds it where it would end deeper in its shell than the
+ * re-solve rule below lets a free vertex be (RESOLVE_DEPTH). */
+static void candidate(dClothID c, int i, double h, vcontact *nw, int newton)
+{
+    const double *x = cloth_positions(c->core) + 3 * i;
+    double p[3], d = nw->gap + RESOLVE_DEPTH * c->thickness;
+    for (int r = 0; r < 3; r++) p[r] = x[r] + h * nw->vbody[r] - d * nw->normal[r];
+    nw->candidate = newton && isfinite(p[0] + p[1] + p[2]) && cloth_set_contact(c->core, i, nw->normal, p) == CLOTH_OK;
+}
+
+/* The candidates the step held (cloth_set_contact): contacts on the normal
+ * alone, as if forced */
+static void took_candidates(dClothID c, dClothStepStats *st)
+{
+    for (int i = 0; i < c->n; i++) {
+        vcontact *nw = &c->vc_new[i];
+        cloth_constraint k;
+        if (!nw->geom || nw->active || c->pin[i].active) continue;
+        if (cloth_get_constraint(c->core, i, &k) != CLOTH_OK || k.ndof != 1) continue;
+        nw->active = nw->forced = 1;
+        nw->sticking = 0;
+        memset(nw->friction, 0, sizeof nw->friction);
+        st->contacts++;
+    }
+}
+
 cloth_status dClothStep(dClothID c, dReal h)
 {
     if (!c) return CLOTH_EINVAL;
@@ -359,13 +386,17 @@ cloth_status dClothStep(dClothID c, dReal h)
         }
         for (int i = 0; i < c->n; i++) {
             vcontact *nw = &c->vc_new[i];
-            nw->active = 0;
+            nw->active = nw->candidate = 0;
             if (!nw->geom || c->pin[i].active) continue;
             cloth_constraint k;
-            if (!contact_rule(c, i, h, mass[i], cd.gravity, nw, &c->vc[i], &k, &st, nw->forced)) continue;
             /* a target the core refuses (not finite: a body's velocity
-             * NaN) leaves the vertex free */
-            if (cloth_set_constraint(core, &k) != CLOTH_OK) continue;
+             * NaN) leaves the vertex free; a vertex left free is a
+             * candidate the Newton step may hold on the surface */
+            if (!contact_rule(c, i, h, mass[i], cd.gravity, nw, &c->vc[i], &k, &st, nw->forced) ||
+                cloth_set_constraint(core, &k) != CLOTH_OK) {
+                candidate(c, i, h, nw, cd.solver.nonlinear == CLOTH_NEWTON);
+                continue;
+            }
             nw->active = 1;
             for (int r = 0; r < 3; r++) c->fext[3 * i + r] += nw->friction[r];
             st.contacts++;
@@ -377,14 +408,16 @@ cloth_status dClothStep(dClothID c, dReal h)
         s = cloth_step(core, h, &st.core);
         passes++;
         if (s != CLOTH_OK) break;
+        took_candidates(c, &st);
         /* a vertex left free (released, or predicted to stay apart) that
-         * ended the step inside its shell: hold it and solve the step again
-         * from its start (an active set, at most RESOLVE_PASSES solves) */
+         * ended the step inside its shell, and that the step did not decide
+         * itself (a candidate): hold it and solve the step again from its
+         * start (an active set, at most RESOLVE_PASSES solves) */
         int more = 0;
         const double *x1 = cloth_positions(core);
         for (int i = 0; i < c->n; i++) {
             vcontact *nw = &c->vc_new[i];
-            if (!nw->geom || nw->active || c->pin[i].active) continue;
+            if (!nw->geom || nw->active || nw->candidate || c->pin[i].active) continue;
             double d[3] = {x1[3 * i] - c->x0[3 * i] - h * nw->vbody[0], x1[3 * i + 1] - c->x0[3 * i + 1] - h * nw->vbody[1],
                            x1[3 * i + 2] - c->x0[3 * i + 2] - h * nw->vbody[2]};
             if (nw->gap + dcloth_dot3(d, nw->normal) < -RESOLVE_DEPTH * c->thickness) {

@@ -24,6 +24,8 @@ typedef struct vcontact {
                             vertex (triangle contacts; 1 for a vertex's own)  */
     int active;          /* 1: a constraint in this step's solve            */
     int forced;          /* 1: a re-solve found the vertex inside its shell  */
+    int candidate;       /* 1: left free, a contact candidate the Newton
+                            step decides (cloth_set_contact)                */
     int let_go;          /* 1: a triangle's contact that pulled in a solve of
                             this step; free in the step's next solve        */
     int slides;          /* 1: held on a link past the elongation limit in a

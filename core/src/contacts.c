@@ -1,0 +1,85 @@
+/* Contacts with bodies' surfaces (cloth_set_contact): decided inside the
+ * Newton step, so a vertex that would end inside a body is held on its
+ * surface in the same solve instead of by solving the step again. */
+#include <math.h>
+#include <string.h>
+#include "internal.h"
+
+cloth_status cloth_set_contact(cloth *c, int vertex, const double normal[3], const double point[3])
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!normal || !point)
+        return cloth_fail(c, CLOTH_EINVAL, "cloth_set_contact: %s is NULL", normal ? "point" : "normal");
+    if (vertex < 0 || vertex >= c->n)
+        return cloth_fail(c, CLOTH_EINVAL, "cloth_set_contact: vertex %d out of range [0, %d)", vertex, c->n);
+    if (!finite3(normal) || !finite3(point))
+        return cloth_fail(c, CLOTH_EINVAL, "cloth_set_contact: %s must be finite", finite3(normal) ? "point" : "normal");
+    /* scaled by the largest component first: neither huge nor tiny
+     * components overflow or vanish when squared */
+    double big = fmax(fabs(normal[0]), fmax(fabs(normal[1]), fabs(normal[2])));
+    if (!(big > 0.0)) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_contact: normal must be non-zero");
+    double u[3] = {normal[0] / big, normal[1] / big, normal[2] / big};
+    double len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    double *k = c->cand + 6 * (size_t)vertex;
+    for (int r = 0; r < 3; r++) {
+        k[r] = u[r] / len;
+        k[3 + r] = point[r];
+    }
+    c->cand_on[vertex] = 1;
+    return CLOTH_OK;
+}
+
+/* free vertex i behind its surface by more than tol: held on its plane */
+static int make_plane(cloth *c, int i, const double *k, const double *x, double tol)
+{
+    const double *xi = x + 3 * (size_t)i;
+    double depth = k[0] * (k[3] - xi[0]) + k[1] * (k[4] - xi[1]) + k[2] * (k[5] - xi[2]);
+    if (!(depth > tol)) return 0;
+    cloth_constraint *q = &c->con[i];
+    q->vertex = i;
+    q->ndof = 1;
+    memcpy(q->axis, k, 3 * sizeof *k);
+    memcpy(q->target, k + 3, 3 * sizeof *k);
+    if (c->vbody) c->vbody[i] = -1;
+    c->cand_on[i] = 2;
+    c->n_con++;
+    return 1;
+}
+
+int contacts_decide(cloth *c, const double *x, double tol)
+{
+    int changed = 0;
+    for (int i = 0; i < c->n; i++)
+        if (c->cand_on[i] == 1 && c->con[i].ndof == 0) changed += make_plane(c, i, c->cand + 6 * (size_t)i, x, tol);
+    return changed;
+}
+
+void contacts_land(cloth *c, const double *dv)
+{
+    for (int i = 0; i < c->n; i++) {
+        double *z = c->z + 3 * (size_t)i;
+        if (c->cand_on[i] != 2 || !c->con[i].ndof) {
+            z[0] = z[1] = z[2] = 0.0;
+            continue;
+        }
+        /* what the next iteration must add to land the normal component */
+        const double *S = c->S + 9 * (size_t)i, *d = dv + 3 * (size_t)i;
+        for (int r = 0; r < 3; r++) z[r] -= d[r] - (S[3 * r] * d[0] + S[3 * r + 1] * d[1] + S[3 * r + 2] * d[2]);
+    }
+}
+
+void contacts_begin(cloth *c)
+{
+    for (int i = 0; i < c->n; i++)
+        if (c->cand_on[i] == 2) c->cand_on[i] = 0; /* a plane kept from the last step: a constraint now */
+}
+
+void contacts_undo(cloth *c)
+{
+    for (int i = 0; i < c->n; i++) {
+        if (c->cand_on[i] != 2) continue;
+        memset(&c->con[i], 0, sizeof c->con[i]);
+        c->n_con--;
+        c->cand_on[i] = 1;
+    }
+}
