@@ -11,6 +11,9 @@
  * below the plane by more than h newton_tolerance, and the impulses its
  * contacts apply equal its momentum change. The linearised solver ignores
  * candidates (documented): there the cloth passes the plane.
+ * A cloth sticking to the floor, one edge pulled 5 cm in a step: the sticking
+ * vertices that would hold a link past the elongation limit slide on the
+ * floor and the limit holds; pulled 0.1 mm, none slides.
  * Bad candidates are refused naming the argument, the cloth unchanged.
  */
 #include <math.h>
@@ -158,6 +161,47 @@ static void linearized_ignores(void)
     cloth_destroy(c);
 }
 
+/* A cloth on the floor, every vertex sticking (pinned where it is, with its
+ * contact), its first column pinned and pulled along -x by `pull` in one
+ * step: sticking vertices that would hold a link past the elongation limit
+ * slide on the floor, so the limit holds; a small pull slides nothing. */
+static void sticking_pulled(double pull)
+{
+    cloth *c = make(CLOTH_NEWTON, 0.0);
+    if (!c) return;
+    int n = cloth_vertex_count(c);
+    double *x = malloc(3 * (size_t)n * sizeof *x), *v = calloc(3 * (size_t)n, sizeof *v);
+    memcpy(x, cloth_positions(c), 3 * (size_t)n * sizeof *x);
+    for (int i = 0; i < n; i++) x[3 * i + 2] = 0.0;
+    cloth_set_positions(c, x);
+    cloth_set_velocities(c, v);
+    static const double up[3] = {0, 0, 1};
+    for (int i = 0; i < n; i++) {
+        double t[3] = {x[3 * i] - (i % N == 0 ? pull : 0.0), x[3 * i + 1], 0.0};
+        cloth_pin(c, i, t);
+        if (i % N) cloth_set_contact(c, i, up, t);
+    }
+    cloth_step_stats st;
+    CHECK(cloth_step(c, H, &st) == CLOTH_OK, "pull %g: %s", pull, cloth_last_error(c));
+    double delta = cloth_get_desc(c).material.delta, worst_z = 0.0, moved = 0.0;
+    for (int i = 0; i < n; i++) {
+        worst_z = fmax(worst_z, fabs(cloth_positions(c)[3 * i + 2]));
+        if (i % N) moved = fmax(moved, fabs(cloth_positions(c)[3 * i] - x[3 * i]));
+    }
+    CHECK(worst_z <= 1e-9, "pull %g: a vertex %.3g m off the floor", pull, worst_z);
+    if (pull > 0.01) {
+        CHECK(st.contacts_decided > 0 && moved > 0.0, "pull %g: no sticking contact slid", pull);
+        CHECK(cloth_max_strain(c) <= delta + 1e-3 * (1.0 + delta), "pull %g: strain %.5f past the limit %.3f", pull,
+              cloth_max_strain(c), delta);
+    } else {
+        CHECK(st.contacts_decided == 0 && moved <= 1e-12, "pull %g: %d contacts slid, a vertex moved %.3g m", pull,
+              st.contacts_decided, moved);
+    }
+    free(x);
+    free(v);
+    cloth_destroy(c);
+}
+
 static void bad_input(void)
 {
     cloth *c = make(CLOTH_NEWTON, 0.0);
@@ -189,6 +233,8 @@ int main(void)
     rigid_landing();
     tilted_landing();
     linearized_ignores();
+    sticking_pulled(0.05);
+    sticking_pulled(1e-4);
     bad_input();
     return check_summary();
 }

@@ -1,6 +1,7 @@
 /* Contacts with bodies' surfaces (cloth_set_contact): decided inside the
  * Newton step, so a vertex that would end inside a body is held on its
- * surface in the same solve instead of by solving the step again. */
+ * surface, and a sticking one that holds a link past the elongation limit
+ * slides, in the same solve instead of by solving the step again. */
 #include <math.h>
 #include <string.h>
 #include "internal.h"
@@ -54,6 +55,34 @@ int contacts_decide(cloth *c, const double *x, double tol)
     return changed;
 }
 
+int contacts_slide(cloth *c, const double *x)
+{
+    const cloth_material *m = &c->desc.material;
+    double lim = (1.0 + m->delta) * (1.0 + c->desc.solver.limit_tolerance);
+    int changed = 0;
+    for (int e = 0; e < c->n_seq; e++) {
+        const link_topo *L = &c->seq[e];
+        int ends[2] = {L->i, L->j}, any = 0;
+        for (int a = 0; a < 2; a++) any = any || (c->con[ends[a]].ndof == 3 && c->cand_on[ends[a]] == 1);
+        if (!any) continue;
+        double d2 = 0.0;
+        for (int r = 0; r < 3; r++) {
+            double w = x[3 * L->j + r] - x[3 * L->i + r];
+            d2 += w * w;
+        }
+        if (d2 <= lim * lim * L->rest * L->rest) continue;
+        for (int a = 0; a < 2; a++) {
+            int i = ends[a];
+            if (c->con[i].ndof != 3 || c->cand_on[i] != 1) continue;
+            c->con[i].ndof = 1;
+            memcpy(c->con[i].axis, c->cand + 6 * (size_t)i, 3 * sizeof(double));
+            c->cand_on[i] = 3;
+            changed++;
+        }
+    }
+    return changed;
+}
+
 void contacts_land(cloth *c, const double *dv)
 {
     for (int i = 0; i < c->n; i++) {
@@ -71,15 +100,21 @@ void contacts_land(cloth *c, const double *dv)
 void contacts_begin(cloth *c)
 {
     for (int i = 0; i < c->n; i++)
-        if (c->cand_on[i] == 2) c->cand_on[i] = 0; /* a plane kept from the last step: a constraint now */
+        if (c->cand_on[i] >= 2) c->cand_on[i] = 0; /* a plane kept from the last step: a constraint now */
 }
 
 void contacts_undo(cloth *c)
 {
     for (int i = 0; i < c->n; i++) {
-        if (c->cand_on[i] != 2) continue;
-        memset(&c->con[i], 0, sizeof c->con[i]);
-        c->n_con--;
+        if (c->cand_on[i] == 2) {
+            memset(&c->con[i], 0, sizeof c->con[i]);
+            c->n_con--;
+        } else if (c->cand_on[i] == 3) {
+            c->con[i].ndof = 3;
+            memset(c->con[i].axis, 0, sizeof c->con[i].axis);
+        } else {
+            continue;
+        }
         c->cand_on[i] = 1;
     }
 }

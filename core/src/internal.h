@@ -96,7 +96,7 @@ struct cloth {
     int n_con;
     double *con_force;         /* 3n, N, from the last step */
     double *cand;              /* 6n: contact candidates (cloth_set_contact): normal, point */
-    unsigned char *cand_on;    /* n: 1 a candidate, 2 made a plane in a solve */
+    unsigned char *cand_on;    /* n: 1 a candidate, 2 made a plane, 3 let slide in a solve */
     double *f_ext;             /* 3n, N, external forces (cloth_set_external_forces) */
     /* rigid bodies solved with the cloth (bodies.c) */
     int nbody;
@@ -219,6 +219,10 @@ int link_held_together(const cloth *c, const link_topo *L);
  * the next iteration from dv, zero elsewhere */
 int contacts_decide(cloth *c, const double *x, double tol);
 void contacts_land(cloth *c, const double *dv);
+/* sticking contacts (ndof 3 with a contact) at an end of a sequential link
+ * that x puts past its limit (beyond limit_tolerance) slide on their
+ * surface's plane; returns how many */
+int contacts_slide(cloth *c, const double *x);
 /* at a step's start: planes kept from the last step stay constraints; on
  * its failure: the planes it made are candidates again */
 void contacts_begin(cloth *c);

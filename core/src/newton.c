@@ -169,6 +169,20 @@ static int decide_contacts(cloth *c, const step_eq *q, mpcg_problem *P, const do
     return added;
 }
 
+/* Sticking contacts that hold a link past the elongation limit at the
+ * converged iterate slide (contacts.c): a limit the contacts make
+ * infeasible is not chased by the multipliers. Returns how many. */
+static int slide_contacts(cloth *c, const step_eq *q, const double *xs, double frac, cloth_step_stats *st)
+{
+    int slid = contacts_slide(c, c->x_new);
+    if (!slid) return 0;
+    st->contacts_decided += slid;
+    c->coarse_kept = 0;
+    constraints_build(c, q->a, c->st.v, q->cfac, xs, frac);
+    memset(c->z, 0, 3 * (size_t)c->n * sizeof *c->z); /* the normal components are on their targets */
+    return slid;
+}
+
 cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double frac, cloth_step_stats *st,
                           int *limit_held)
 {
@@ -200,7 +214,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
             int added = decide_contacts(c, &q, &P, dv, xs, frac, st);
             landing = landing || added;
             landed = landed && !added; /* the residual no longer bounds the step */
-            if (added) since = 0;
+            if (!added && (added = slide_contacts(c, &q, xs, frac, st)) > 0) since = 0;
             if (!added && limit_multipliers_update(c, c->x_new) <= sv->limit_tolerance) {
                 *limit_held = 1;
                 break;

@@ -323,15 +323,21 @@ static void candidate(dClothID c, int i, double h, vcontact *nw, int newton)
     nw->candidate = newton && isfinite(p[0] + p[1] + p[2]) && cloth_set_contact(c->core, i, nw->normal, p) == CLOTH_OK;
 }
 
-/* The candidates the step held (cloth_set_contact): contacts on the normal
- * alone, as if forced */
+/* What the step decided (cloth_set_contact): sticking contacts it let
+ * slide, free candidates it held on the normal alone, as if forced */
 static void took_candidates(dClothID c, dClothStepStats *st)
 {
     for (int i = 0; i < c->n; i++) {
         vcontact *nw = &c->vc_new[i];
         cloth_constraint k;
-        if (!nw->geom || nw->active || c->pin[i].active) continue;
+        if (!nw->geom || c->pin[i].active) continue;
         if (cloth_get_constraint(c->core, i, &k) != CLOTH_OK || k.ndof != 1) continue;
+        if (nw->active && nw->sticking) { /* let slide by the step */
+            nw->sticking = 0;
+            nw->slides = 1;
+            st->sticking--;
+        }
+        if (nw->active) continue;
         nw->active = nw->forced = 1;
         nw->sticking = 0;
         memset(nw->friction, 0, sizeof nw->friction);
@@ -398,6 +404,7 @@ cloth_status dClothStep(dClothID c, dReal h)
                 continue;
             }
             nw->active = 1;
+            if (k.ndof == 3 && !nw->anchored && !nw->pinched) cloth_set_contact(core, i, nw->normal, k.target);
             for (int r = 0; r < 3; r++) c->fext[3 * i + r] += nw->friction[r];
             st.contacts++;
             st.sticking += nw->sticking;

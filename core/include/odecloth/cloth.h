@@ -284,13 +284,14 @@ void cloth_release_all(cloth *c);
 cloth_status cloth_get_constraint(const cloth *c, int vertex, cloth_constraint *out);
 int cloth_constraint_count(const cloth *c);
 
-/* A contact candidate: vertex, free, is near a body's surface, `normal` its
- * outward normal (normalised on set) and `point` a point of it at the end
- * of the step. CLOTH_NEWTON holds the vertex on that plane (it gets a
- * constraint of ndof 1, kept after the step) if it would end the step
- * behind the surface by more than h newton_tolerance, within the same
- * solve; CLOTH_LINEARIZED ignores it, as does a constrained vertex.
- * Cleared by cloth_release and cloth_release_all. */
+/* The vertex touches, or is near, a body's surface: `normal` its outward
+ * normal (normalised on set), `point` a point of it at the end of the step.
+ * CLOTH_NEWTON decides the contact within the step: a free vertex that would
+ * end behind the surface by more than h newton_tolerance is held on its
+ * plane (a constraint of ndof 1); a pinned one (ndof 3: sticking) at an end
+ * of a sequential link held past the elongation limit slides on the plane
+ * (ndof 1). The constraints it makes are kept after the step, undone if the
+ * step fails. CLOTH_LINEARIZED ignores it. Cleared by cloth_release(_all). */
 cloth_status cloth_set_contact(cloth *c, int vertex, const double normal[3], const double point[3]);
 
 /* Force (N) the vertex's constraint exerted on it, averaged over the last
@@ -381,8 +382,9 @@ typedef struct cloth_step_stats {
     int unconverged;       /* Newton solves kept unconverged: solves of
                               the smallest substep (see cloth_step) that
                               ran out of newton_iterations            */
-    int contacts_decided;  /* contact candidates (cloth_set_contact) the
-                              Newton step held on their surface, over
+    int contacts_decided;  /* contacts (cloth_set_contact) the Newton
+                              step changed: free vertices held on the
+                              surface, sticking ones let slide; over
                               every attempt                           */
 } cloth_step_stats;
 
