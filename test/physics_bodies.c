@@ -56,7 +56,7 @@ static cloth *make(int n, double tol, const double g[3])
     cloth_desc d = cloth_default_desc();
     d.rows = d.cols = n;
     memcpy(d.gravity, g, sizeof d.gravity);
-    d.solver.cg_tolerance = tol;
+    d.solver.cg_tolerance = d.solver.newton_cg_tolerance = tol;
     d.solver.cg_max_iterations = 2000;
     cloth *c = NULL;
     cloth_error err;

@@ -37,6 +37,7 @@ cloth_desc cloth_default_desc(void)
     d.solver.newton_iterations = 16;
     d.solver.newton_tolerance = 1e-2;
     d.solver.limit_tolerance = 1e-4;
+    d.solver.newton_cg_tolerance = 1e-2;
     return d;
 }
 

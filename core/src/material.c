@@ -111,6 +111,9 @@ cloth_status cloth_solver_validate(const cloth_solver *s, cloth_error *err)
                          s->newton_tolerance);
     if (!(s->limit_tolerance > 0.0 && s->limit_tolerance < 1.0))
         return error_set(err, CLOTH_EINVAL, "solver.limit_tolerance = %g must be in (0, 1)", s->limit_tolerance);
+    if (!(s->newton_cg_tolerance > 0.0 && s->newton_cg_tolerance < 1.0))
+        return error_set(err, CLOTH_EINVAL, "solver.newton_cg_tolerance = %g must be in (0, 1)",
+                         s->newton_cg_tolerance);
     if (s->keep_unconverged != 0 && s->keep_unconverged != 1)
         return error_set(err, CLOTH_EINVAL, "solver.keep_unconverged = %d must be 0 or 1", s->keep_unconverged);
     return CLOTH_OK;

@@ -194,7 +194,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     int landed = newton_start(c, dv);
     memcpy(c->lim_shift, c->st.lim_shift, (size_t)c->n_seq * sizeof *c->lim_shift);
     mpcg_problem P = {&c->A, b, c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL,
-                      sv->cg_tolerance, sv->cg_max_iterations, NULL};
+                      sv->newton_cg_tolerance, sv->cg_max_iterations, NULL};
     mpcg_bodies bodies;
     P.bodies = bodies_prepare(c, h, q.cfac, &bodies);
     c->coarse_kept = 0;
