@@ -314,12 +314,81 @@ void dcloth_offer_opposite(vcontact *vc, dGeomID g, dBodyID body, const double n
     }
 }
 
+/* The distance from x to geom g's surface and the outward normal there, if
+ * within reach: 1, else 0 */
+static int vertex_query(dClothID c, dGeomID g, const double *x, double reach, double *dist, double nrm[3])
+{
+    if (dGeomGetClass(g) == dHeightfieldClass) {
+        if (!heightfield_query(c, g, x, reach, dist, nrm)) return 0;
+    } else if (!closed_form(g, x, dist, nrm)) {
+        dContactGeom cg[8];
+        dGeomSphereSetRadius(c->sphere, reach);
+        dGeomSetPosition(c->sphere, x[0], x[1], x[2]);
+        int m = dCollide(c->sphere, g, 8, cg, sizeof cg[0]);
+        int best = -1;
+        for (int k = 0; k < m; k++)
+            if (best < 0 || cg[k].depth > cg[best].depth) best = k;
+        if (best < 0) return 0;
+        double nn = dcloth_dot3(cg[best].normal, cg[best].normal);
+        if (!(nn > 0.0)) return 0;
+        nn = 1.0 / sqrt(nn);
+        for (int k = 0; k < 3; k++) nrm[k] = cg[best].normal[k] * nn;
+        *dist = reach - cg[best].depth;
+    }
+    return *dist < reach;
+}
+
+int dcloth_find_late_contacts(dClothID c, const double *x0, const double *x1, double depth)
+{
+    int found = 0;
+    for (int a = 0; a < c->ncand; a++) {
+        dGeomID g = c->cand[a];
+        dBodyID body = dGeomGetBody(g);
+        for (int i = 0; i < c->n; i++) {
+            vcontact *vc = &c->vc_new[i];
+            double dist, nrm[3];
+            if (vc->geom || c->pin[i].active || !vertex_query(c, g, x1 + 3 * i, c->thickness, &dist, nrm)) continue;
+            if (!(dist < (1.0 - depth) * c->thickness)) continue;
+            /* the shell's plane at the end position, as seen from the start */
+            double point[3];
+            for (int k = 0; k < 3; k++) point[k] = x1[3 * i + k] - nrm[k] * dist;
+            vc->geom = g;
+            vc->body = body;
+            memcpy(vc->normal, nrm, sizeof vc->normal);
+            memcpy(vc->point, point, sizeof vc->point);
+            vc->gap = nrm[0] * (x0[3 * i] - point[0]) + nrm[1] * (x0[3 * i + 1] - point[1]) +
+                      nrm[2] * (x0[3 * i + 2] - point[2]) - c->thickness;
+            vc->weight = 1.0;
+            memset(vc->vbody, 0, sizeof vc->vbody);
+            if (body) {
+                dVector3 pv;
+                dBodyGetPointVel(body, point[0], point[1], point[2], pv);
+                for (int k = 0; k < 3; k++) vc->vbody[k] = pv[k];
+            }
+            found++;
+        }
+    }
+    return found;
+}
+
+/* What any vertex may cover in a Newton step beyond its own start
+ * velocity: h times the cloth's fastest vertex (the implicit step pulls a
+ * vertex toward its neighbours' velocities); 0 for the linearised step. */
+static double newton_reach(dClothID c, double h)
+{
+    if (cloth_get_desc(c->core).solver.nonlinear != CLOTH_NEWTON) return 0.0;
+    const double *v = cloth_velocities(c->core);
+    double vmax = 0.0;
+    for (int i = 0; i < c->n; i++) vmax = fmax(vmax, dcloth_dot3(v + 3 * i, v + 3 * i));
+    return h * sqrt(vmax);
+}
+
 int dcloth_find_contacts(dClothID c, double h)
 {
-    if (dcloth_find_candidates(c, h, 0.0) < 0) return -1;
+    double extra = newton_reach(c, h);
+    if (dcloth_find_candidates(c, h, extra) < 0) return -1;
     const double *x = cloth_positions(c->core), *v = cloth_velocities(c->core);
     int n = c->n;
-    dContactGeom cg[8];
     for (int a = 0; a < c->ncand; a++) {
         dGeomID g = c->cand[a];
         dReal aabb[6];
@@ -335,28 +404,12 @@ int dcloth_find_contacts(dClothID c, double h)
          * contacts' fine geometry; soak_turntable) */
         for (int i = 0; i < n; i++) {
             const double *xi = x + 3 * i, *vi = v + 3 * i;
-            double reach = c->thickness * (1.0 + DCLOTH_CONTACT_MARGIN) + h * dcloth_relative_speed(body, xi, vi);
+            double reach = c->thickness * (1.0 + DCLOTH_CONTACT_MARGIN) + fmax(h * dcloth_relative_speed(body, xi, vi), extra);
             if (xi[0] + reach < aabb[0] || xi[0] - reach > aabb[1] || xi[1] + reach < aabb[2] ||
                 xi[1] - reach > aabb[3] || xi[2] + reach < aabb[4] || xi[2] - reach > aabb[5])
                 continue;
             double dist, nrm[3];
-            if (dGeomGetClass(g) == dHeightfieldClass) {
-                if (!heightfield_query(c, g, xi, reach, &dist, nrm)) continue;
-            } else if (!closed_form(g, xi, &dist, nrm)) {
-                dGeomSphereSetRadius(c->sphere, reach);
-                dGeomSetPosition(c->sphere, xi[0], xi[1], xi[2]);
-                int m = dCollide(c->sphere, g, 8, cg, sizeof cg[0]);
-                int best = -1;
-                for (int k = 0; k < m; k++)
-                    if (best < 0 || cg[k].depth > cg[best].depth) best = k;
-                if (best < 0) continue;
-                double nn = dcloth_dot3(cg[best].normal, cg[best].normal);
-                if (!(nn > 0.0)) continue;
-                nn = 1.0 / sqrt(nn);
-                for (int k = 0; k < 3; k++) nrm[k] = cg[best].normal[k] * nn;
-                dist = reach - cg[best].depth;
-            }
-            if (!(dist < reach)) continue;
+            if (!vertex_query(c, g, xi, reach, &dist, nrm)) continue;
             double gap = dist - c->thickness, point[3];
             vcontact *vc = &c->vc_new[i];
             for (int k = 0; k < 3; k++) point[k] = xi[k] - nrm[k] * dist;

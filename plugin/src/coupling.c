@@ -416,11 +416,15 @@ cloth_status dClothStep(dClothID c, dReal h)
         passes++;
         if (s != CLOTH_OK) break;
         took_candidates(c, &st);
+        /* vertices the search did not reach at the step's start (a step can
+         * carry them farther than their start velocity says) that ended
+         * inside a shell: contacts from now on, and the step solved again */
+        int more = dcloth_find_late_contacts(c, c->x0, cloth_positions(core), RESOLVE_DEPTH);
+        st.late_contacts += more;
         /* a vertex left free (released, or predicted to stay apart) that
          * ended the step inside its shell, and that the step did not decide
          * itself (a candidate): hold it and solve the step again from its
          * start (an active set, at most RESOLVE_PASSES solves) */
-        int more = 0;
         const double *x1 = cloth_positions(core);
         for (int i = 0; i < c->n; i++) {
             vcontact *nw = &c->vc_new[i];

@@ -174,6 +174,10 @@ cloth_status dcloth_fail(dClothID c, cloth_status code, const char *fmt, ...);
  * is none within reach). Returns the number of candidate geoms, or -1 when
  * memory for the candidate list ran out. */
 int dcloth_find_contacts(dClothID c, double h);
+/* Vertices with no contact this step whose end positions x1 lie deeper in
+ * a candidate geom's shell than `depth` of its thickness: given that
+ * contact (the shell's plane there, its gap measured from x0); how many */
+int dcloth_find_late_contacts(dClothID c, const double *x0, const double *x1, double depth);
 /* contacts.c: the broadphase alone, reaching `reach` m further: c->cand,
  * c->ncand (and vc_new cleared); the count or -1 as above. */
 int dcloth_find_candidates(dClothID c, double h, double reach);
