@@ -366,6 +366,14 @@ static void dense_put(double *D, int n3, int i, int j, const double *B)
 
 static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
 
+/* row i's blocks and its inverse diagonal block all exactly symmetric */
+static int row_symmetric(const bsr *A, const double *Dinv, int i)
+{
+    int sym = mat3_is_sym(Dinv + 9 * (size_t)i);
+    for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++) sym = sym && mat3_is_sym(A->val + 9 * (size_t)k);
+    return sym;
+}
+
 void mg_refresh_fine(multigrid *mg, const bsr *A, const double *S, const unsigned char *constrained,
                      double *Dinv0)
 {
@@ -375,11 +383,7 @@ void mg_refresh_fine(multigrid *mg, const bsr *A, const double *S, const unsigne
     }
     mg->A0 = A;
     mg->lev[0].Dinv = Dinv0;
-    for (int i = 0; i < A->n; i++) {
-        int sym = mat3_is_sym(Dinv0 + 9 * (size_t)i);
-        for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++) sym = sym && mat3_is_sym(A->val + 9 * (size_t)k);
-        mg->lev[0].symrow[i] = (unsigned char)sym;
-    }
+    for (int i = 0; i < A->n; i++) mg->lev[0].symrow[i] = (unsigned char)row_symmetric(A, Dinv0, i);
 }
 
 void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char *constrained, double *Dinv0)
@@ -395,12 +399,9 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
         mg_level *F = &mg->lev[0], *K = &mg->lev[1];
         bsr_zero(&K->M);
         for (int i = 0; i < F->n; i++) {
-            int sym = mat3_is_sym(Dinv0 + 9 * (size_t)i), filt = constrained[i];
-            for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++) {
-                sym = sym && mat3_is_sym(A->val + 9 * (size_t)k);
-                filt = filt || constrained[A->col[k]];
-            }
-            F->symrow[i] = (unsigned char)sym;
+            int filt = constrained[i];
+            for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++) filt = filt || constrained[A->col[k]];
+            F->symrow[i] = (unsigned char)row_symmetric(A, Dinv0, i);
             if (!filt) {
                 galerkin_row(avx, F, K, i, A->val, A->col, A->row_ptr[i], A->row_ptr[i + 1]);
                 continue;
@@ -424,9 +425,7 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
         mg_level *K = &mg->lev[l + 1];
         bsr_zero(&K->M);
         for (int i = 0; i < L->n; i++) {
-            int sym = mat3_is_sym(L->Dinv + 9 * (size_t)i);
-            for (int k = M->row_ptr[i]; k < M->row_ptr[i + 1]; k++) sym = sym && mat3_is_sym(M->val + 9 * (size_t)k);
-            L->symrow[i] = (unsigned char)sym;
+            L->symrow[i] = (unsigned char)row_symmetric(M, L->Dinv, i);
             galerkin_row(avx, L, K, i, M->val, M->col, M->row_ptr[i], M->row_ptr[i + 1]);
         }
     }

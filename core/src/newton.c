@@ -152,33 +152,39 @@ static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *
     return r.failure;
 }
 
-/* Contact candidates (contacts.c) the iterate dv (in c->x_new) puts behind
- * their surface, beyond what the tolerance leaves open (cfac
- * newton_tolerance), become planes landed by the next iteration; returns
- * how many. */
+/* The constraints again after the contacts changed (contacts.c): the
+ * filter and targets, and the multigrid's coarse levels with them. */
+static void contacts_changed(cloth *c, const step_eq *q, mpcg_problem *P, const double *xs, double frac, int n,
+                             cloth_step_stats *st)
+{
+    st->contacts_decided += n;
+    c->coarse_kept = 0;
+    constraints_build(c, q->a, c->st.v, q->cfac, xs, frac);
+    P->ncon = c->n_con;
+}
+
+/* Contact candidates the iterate dv (in c->x_new) puts behind their
+ * surface, beyond what the tolerance leaves open (cfac newton_tolerance),
+ * become planes landed by the next iteration; returns how many. */
 static int decide_contacts(cloth *c, const step_eq *q, mpcg_problem *P, const double *dv, const double *xs,
                            double frac, cloth_step_stats *st)
 {
     int added = contacts_decide(c, c->x_new, q->cfac * c->desc.solver.newton_tolerance);
     if (!added) return 0;
-    st->contacts_decided += added;
-    c->coarse_kept = 0;
-    constraints_build(c, q->a, c->st.v, q->cfac, xs, frac);
-    P->ncon = c->n_con;
+    contacts_changed(c, q, P, xs, frac, added, st);
     contacts_land(c, dv);
     return added;
 }
 
 /* Sticking contacts that hold a link past the elongation limit at the
- * converged iterate slide (contacts.c): a limit the contacts make
- * infeasible is not chased by the multipliers. Returns how many. */
-static int slide_contacts(cloth *c, const step_eq *q, const double *xs, double frac, cloth_step_stats *st)
+ * converged iterate slide: a limit the contacts make infeasible is not
+ * chased by the multipliers. Returns how many. */
+static int slide_contacts(cloth *c, const step_eq *q, mpcg_problem *P, const double *xs, double frac,
+                          cloth_step_stats *st)
 {
     int slid = contacts_slide(c, c->x_new);
     if (!slid) return 0;
-    st->contacts_decided += slid;
-    c->coarse_kept = 0;
-    constraints_build(c, q->a, c->st.v, q->cfac, xs, frac);
+    contacts_changed(c, q, P, xs, frac, slid, st);
     memset(c->z, 0, 3 * (size_t)c->n * sizeof *c->z); /* the normal components are on their targets */
     return slid;
 }
@@ -211,15 +217,21 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         if (size <= sv->newton_tolerance) {
             potential_state(c, &q, dv);
             if (rounds++ >= sv->newton_iterations) break; /* the limit left to the projection */
-            int added = decide_contacts(c, &q, &P, dv, xs, frac, st);
-            landing = landing || added;
-            landed = landed && !added; /* the residual no longer bounds the step */
-            if (!added && (added = slide_contacts(c, &q, xs, frac, st)) > 0) since = 0;
-            if (!added && limit_multipliers_update(c, c->x_new) <= sv->limit_tolerance) {
+            int changed = decide_contacts(c, &q, &P, dv, xs, frac, st);
+            if (changed) {
+                landing = 1;
+                landed = 0; /* the residual no longer bounds the step */
+            } else {
+                changed = slide_contacts(c, &q, &P, xs, frac, st);
+            }
+            if (changed) {
+                since = 0;
+            } else if (limit_multipliers_update(c, c->x_new) <= sv->limit_tolerance) {
                 *limit_held = 1;
                 break;
+            } else {
+                st->limit_updates++;
             }
-            st->limit_updates += !added;
             phi = NAN; /* the potential changed with the multipliers or contacts */
             assembled = 0;
             size = INFINITY;

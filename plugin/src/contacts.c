@@ -314,6 +314,25 @@ void dcloth_offer_opposite(vcontact *vc, dGeomID g, dBodyID body, const double n
     }
 }
 
+/* vc becomes a contact with geom g (of body, 0 if static): the surface's
+ * outward normal and nearest point, and the gap from the shell */
+static void set_contact(vcontact *vc, dGeomID g, dBodyID body, const double nrm[3], const double point[3],
+                        double gap)
+{
+    vc->geom = g;
+    vc->body = body;
+    memcpy(vc->normal, nrm, sizeof vc->normal);
+    memcpy(vc->point, point, sizeof vc->point);
+    vc->gap = gap;
+    vc->weight = 1.0;
+    memset(vc->vbody, 0, sizeof vc->vbody); /* a static geom's (it replaced a moving one's: stale) */
+    if (body) {
+        dVector3 pv;
+        dBodyGetPointVel(body, point[0], point[1], point[2], pv);
+        for (int k = 0; k < 3; k++) vc->vbody[k] = pv[k];
+    }
+}
+
 /* The distance from x to geom g's surface and the outward normal there, if
  * within reach: 1, else 0 */
 static int vertex_query(dClothID c, dGeomID g, const double *x, double reach, double *dist, double nrm[3])
@@ -352,19 +371,9 @@ int dcloth_find_late_contacts(dClothID c, const double *x0, const double *x1, do
             /* the shell's plane at the end position, as seen from the start */
             double point[3];
             for (int k = 0; k < 3; k++) point[k] = x1[3 * i + k] - nrm[k] * dist;
-            vc->geom = g;
-            vc->body = body;
-            memcpy(vc->normal, nrm, sizeof vc->normal);
-            memcpy(vc->point, point, sizeof vc->point);
-            vc->gap = nrm[0] * (x0[3 * i] - point[0]) + nrm[1] * (x0[3 * i + 1] - point[1]) +
-                      nrm[2] * (x0[3 * i + 2] - point[2]) - c->thickness;
-            vc->weight = 1.0;
-            memset(vc->vbody, 0, sizeof vc->vbody);
-            if (body) {
-                dVector3 pv;
-                dBodyGetPointVel(body, point[0], point[1], point[2], pv);
-                for (int k = 0; k < 3; k++) vc->vbody[k] = pv[k];
-            }
+            double gap = nrm[0] * (x0[3 * i] - point[0]) + nrm[1] * (x0[3 * i + 1] - point[1]) +
+                         nrm[2] * (x0[3 * i + 2] - point[2]) - c->thickness;
+            set_contact(vc, g, body, nrm, point, gap);
             found++;
         }
     }
@@ -415,20 +424,7 @@ int dcloth_find_contacts(dClothID c, double h)
             for (int k = 0; k < 3; k++) point[k] = xi[k] - nrm[k] * dist;
             dcloth_offer_opposite(vc, g, body, nrm, gap, point);
             if (vc->geom && vc->gap <= gap) continue; /* a deeper one is kept */
-            vc->geom = g;
-            vc->body = body;
-            for (int k = 0; k < 3; k++) {
-                vc->normal[k] = nrm[k];
-                vc->point[k] = xi[k] - nrm[k] * dist;
-            }
-            vc->gap = gap;
-            vc->weight = 1.0;
-            memset(vc->vbody, 0, sizeof vc->vbody); /* a static geom's (it replaced a moving one's: stale) */
-            if (body) {
-                dVector3 pv;
-                dBodyGetPointVel(body, vc->point[0], vc->point[1], vc->point[2], pv);
-                for (int k = 0; k < 3; k++) vc->vbody[k] = pv[k];
-            }
+            set_contact(vc, g, body, nrm, point, gap);
         }
     }
     c->tri_hits = 0;
