@@ -4,12 +4,12 @@
  * 1. Against an independent solver: a 5x5 cotton cloth without damping,
  *    pinned at two corners, stretched 2% and jittered out of plane, takes
  *    one backward Euler step of 1/60 s. The test solves the same equations,
- *    M (v1 - v0) = h (f(x0 + h v1) + M g) with the pins held, by its own
- *    dense Newton method (Jacobian by central differences of
- *    cloth_internal_forces, Gaussian elimination) to 1e-12; the library's
- *    v1 must match it to 1e-6 of the velocity change, with the
- *    definiteness rule on and off (the rule chooses the Newton matrix, not
- *    the equations).
+ *    M (v1 - v0) = h (f(x0 + h v1) + M g) with the pins held, compressed
+ *    links pushing along their direction at x0 + h v0, by its own dense
+ *    Newton method (its own link forces, Jacobian by central differences,
+ *    Gaussian elimination) to 1e-12; the library's v1 must match it to
+ *    1e-6 of the velocity change, with the definiteness rule on and off
+ *    (the rule is the linearised step's; Newton's matrix is its own).
  * 2. Orders: a soft 9x9 cloth (k_t = k_c = 20 N/m, so that the steps
  *    resolve its stretch modes) hanging from one corner swings from
  *    horizontal, damping on, the rule on, for 0.2 s at h = 1/400 ... 1/3200
@@ -45,6 +45,45 @@ static cloth_desc small_desc(int n)
     return d;
 }
 
+/* The force on i of link (i, j) with law (k_hi, k_lo, rest, k_lim, lim) at
+ * w = x_j - x_i: tension and the limit along w, compression along u0. */
+static void link_force(const double *w, const double *u0, const double *law, double *f)
+{
+    double d = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    double ft = d >= law[2] ? law[0] * (d - law[2]) : 0.0;
+    if (d > law[4]) ft += law[3] * (d - law[4]);
+    double sc = w[0] * u0[0] + w[1] * u0[1] + w[2] * u0[2] - law[2];
+    double fc = sc < 0.0 ? law[1] * sc : 0.0;
+    for (int r = 0; r < 3; r++) f[r] = ft * w[r] / d + fc * u0[r];
+}
+
+/* The links' forces at xs, v0 = 0 so their predicted directions are x0's
+ * (elastic links: the step starts from rest lengths, no plastic link) */
+static void link_forces(cloth *aux, const double *x0, const double *xs, double *F)
+{
+    cloth_material m = cloth_get_desc(aux).material;
+    memset(F, 0, sizeof *F * 3 * (size_t)cloth_vertex_count(aux));
+    for (int t = 0; t < 2; t++)
+        for (int e = 0; e < cloth_link_count(aux, (cloth_link_type)t); e++) {
+            cloth_link L;
+            cloth_get_link(aux, (cloth_link_type)t, e, &L);
+            double seq[5] = {m.k_t, m.k_c, L.rest, m.k_delta * m.k_t, (1.0 + m.delta) * L.rest};
+            double bend[5] = {m.k_b, m.k_b, L.rest, 0.0, HUGE_VAL};
+            double w[3], u0[3], f[3], l0 = 0.0;
+            for (int r = 0; r < 3; r++) {
+                w[r] = xs[3 * L.j + r] - xs[3 * L.i + r];
+                u0[r] = x0[3 * L.j + r] - x0[3 * L.i + r];
+                l0 += u0[r] * u0[r];
+            }
+            for (int r = 0; r < 3; r++) u0[r] /= sqrt(l0);
+            link_force(w, u0, t ? bend : seq, f);
+            for (int r = 0; r < 3; r++) {
+                F[3 * L.i + r] += f[r];
+                F[3 * L.j + r] -= f[r];
+            }
+        }
+}
+
 /* F(v1) = M (v1 - v0) - h (f(x0 + h v1) + M g), pinned rows v1 - 0 */
 static void be_residual(cloth *aux, const double *x0, const double *v0, const double *v1, const int *pinned,
                         double *F, double *xs)
@@ -53,8 +92,7 @@ static void be_residual(cloth *aux, const double *x0, const double *v0, const do
     const double *m = cloth_masses(aux);
     double g = cloth_get_desc(aux).gravity[2];
     for (int k = 0; k < 3 * n; k++) xs[k] = x0[k] + H * v1[k];
-    cloth_set_positions(aux, xs);
-    cloth_internal_forces(aux, F);
+    link_forces(aux, x0, xs, F);
     for (int k = 0; k < 3 * n; k++) {
         double fg = (k % 3 == 2) ? m[k / 3] * g : 0.0;
         F[k] = pinned[k / 3] ? v1[k] : m[k / 3] * (v1[k] - v0[k]) - H * (F[k] + fg);

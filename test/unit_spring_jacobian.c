@@ -18,6 +18,10 @@
  *     d = 0.05 rest.
  *   - the rule matters: a compressed link with the rule off has the negative
  *     eigenvalue k (1 - rest/d).
+ * The Newton step's form (spring_eval_predicted), for each region, with u0
+ * the link's direction turned by up to 0.2 rad: f_i = -dE/dx_i and
+ * K = df_i/dx_j (-K wrt x_i) by central differences (rel. 1e-6), K
+ * symmetric positive semidefinite; with u0 = u, f_i equals spring_eval's.
  * Whole cloth: on a random state with zero velocities, plastic links of
  * both kinds (d > l1 and d < l1; alpha = 1, plastic state frozen) and
  * sequential links past the elongation limit,
@@ -438,10 +442,61 @@ static void check_cloth_gradient(void)
     cloth_destroy(c);
 }
 
+/* E (what = 0), f_i[a] (1) of spring_eval_predicted with x_i (wrt 0) or
+ * x_j (wrt 1) moved by e along axis b */
+static double predicted_at(const link_case *lc, const double *u0, int wrt, int b, double e, int what, int a)
+{
+    double xi[3], xj[3], f[3];
+    memcpy(xi, lc->xi, sizeof xi);
+    memcpy(xj, lc->xj, sizeof xj);
+    (wrt ? xj : xi)[b] += e;
+    double E = spring_eval_predicted(xi, xj, u0, lc->law, f, NULL);
+    return what ? f[a] : E;
+}
+
+static void check_predicted_links(const cloth_material *m)
+{
+    rng r = rng_seed(0x5EED0202u);
+    double worst = 0.0;
+    for (int region = 0; region < NREGION; region++)
+        for (int t = 0; t < 200; t++) {
+            link_case lc;
+            make_case(&r, m, region, (t & 1) ? 0.05 : 0.5, &lc);
+            double u0[3], w[3], f[3], K[9], fp[3], Kp[9], ev[3], h = 1e-6 * lc.d;
+            rng_unit_vector(&r, w);
+            for (int a = 0; a < 3; a++) u0[a] = lc.u[a] + 0.2 * rng_unit(&r) * w[a];
+            double n0 = norm3(u0);
+            for (int a = 0; a < 3; a++) u0[a] /= n0;
+            spring_eval_predicted(lc.xi, lc.xj, u0, lc.law, f, K);
+            double nK = fmax(fro9(K), 1e-3 * lc.k), nf = fmax(norm3(f), 1e-3 * lc.k * lc.d), eg = 0.0, ek = 0.0;
+            for (int b = 0; b < 3; b++) {
+                double g = (predicted_at(&lc, u0, 0, b, h, 0, 0) - predicted_at(&lc, u0, 0, b, -h, 0, 0)) / (2 * h);
+                eg = fmax(eg, fabs(f[b] + g) / nf);
+                for (int a = 0; a < 3; a++) {
+                    double dj = (predicted_at(&lc, u0, 1, b, h, 1, a) - predicted_at(&lc, u0, 1, b, -h, 1, a)) / (2 * h);
+                    double di = (predicted_at(&lc, u0, 0, b, h, 1, a) - predicted_at(&lc, u0, 0, b, -h, 1, a)) / (2 * h);
+                    ek = fmax(ek, fmax(fabs(K[3 * a + b] - dj), fabs(K[3 * a + b] + di)) / nK);
+                }
+            }
+            worst = fmax(worst, fmax(eg, ek));
+            CHECK(eg < 1e-6 && ek < 1e-6, "%s, predicted: f vs -dE/dx_i %.3g, K vs FD %.3g (d/rest %g)",
+                  region_name[region], eg, ek, lc.d / lc.rest);
+            sym3_eigenvalues(K, ev);
+            CHECK(ev[0] >= -1e-12 * nK && fabs(K[1] - K[3]) + fabs(K[2] - K[6]) + fabs(K[5] - K[7]) <= 1e-12 * nK,
+                  "%s, predicted: K not symmetric semidefinite (eigenvalue %g)", region_name[region], ev[0]);
+            spring_eval_predicted(lc.xi, lc.xj, lc.u, lc.law, fp, Kp);
+            spring_eval(lc.xi, lc.xj, lc.law, 0, f, NULL);
+            CHECK(norm3((double[3]){fp[0] - f[0], fp[1] - f[1], fp[2] - f[2]}) <= 1e-12 * nf,
+                  "%s, predicted along u: force differs from spring_eval's", region_name[region]);
+        }
+    printf("predicted-direction form, %d regions: worst rel err of f, K vs FD %.2e\n", NREGION, worst);
+}
+
 int main(void)
 {
     cloth_material m = test_material();
     check_link_jacobians(&m);
+    check_predicted_links(&m);
     check_cloth_gradient();
     return check_summary();
 }

@@ -110,24 +110,16 @@ static double step_norm(const cloth *c, const mpcg_problem *P, const double *ddv
     return sqrt(s / mt);
 }
 
-/* One Newton iteration from dv (b = -R there, assembled with the rule
- * defin): solve, search (not on the first, which lands the constraints),
- * take. *size gets the full step's size; returns the CG's failure (NONE,
- * or a solve cut short whose direction was still used). */
+/* One Newton iteration from dv (b = -R there): solve, search (not on the
+ * first, which lands the constraints), take. *size gets the full step's
+ * size; returns the CG's failure (NONE, or a cut-short solve's, still used). */
 static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *P, double *dv, double *phi,
-                                      int defin, int first, double *t_out, double *size, cloth_step_stats *st)
+                                      int first, double *t_out, double *size, cloth_step_stats *st)
 {
     size_t n3 = 3 * (size_t)c->n;
     double *ddv = c->ddv;
     *t_out = 0.0;
     mpcg_result r = linear_solve(c, P, ddv);
-    if (r.failure == CLOTH_FAIL_CG_INDEFINITE && !defin) {
-        /* the exact Hessian is not definite here: the rule's matrix instead */
-        if (P->bodies) bodies_newton_take(c, 0.0);
-        potential_assemble(c, q, dv, 1, c->b);
-        st->iterations += r.iterations;
-        r = linear_solve(c, P, ddv);
-    }
     st->iterations += r.iterations;
     if (!(st->residual >= r.residual)) st->residual = r.residual;
     if (r.failure == CLOTH_FAIL_NAN || r.failure == CLOTH_FAIL_CG_INDEFINITE || !all_finite(ddv, n3)) {
@@ -204,13 +196,13 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     mpcg_bodies bodies;
     P.bodies = bodies_prepare(c, h, q.cfac, &bodies);
     c->coarse_kept = 0;
-    int defin = sv->definiteness_rule, it = 0, rounds = 0, assembled = 0, landing = 1;
+    int it = 0, rounds = 0, assembled = 0, landing = 1;
     int since = 0; /* iterations since the contacts last changed: the budget */
     double phi = NAN, size = INFINITY, t = 0.0;
     *limit_held = 0;
     potential_state(c, &q, dv);
     for (;;) {
-        if (!assembled) potential_assemble(c, &q, dv, defin, b);
+        if (!assembled) potential_assemble(c, &q, dv, b);
         assembled = 1;
         if (it == 0 && landed) size = residual_norm(c, &P, b); /* bounds the step's size */
         if (size != size) return CLOTH_FAIL_NAN;
@@ -240,7 +232,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         if (since >= sv->newton_iterations) break;
         if (phi != phi && it > 0)
             phi = potential_value(c, &q, dv, c->xt, c->vt) + (P.bodies ? bodies_energy(c) : 0.0);
-        cloth_failure f = newton_iteration(c, &q, &P, dv, &phi, defin, landing, &t, &size, st);
+        cloth_failure f = newton_iteration(c, &q, &P, dv, &phi, landing, &t, &size, st);
         if (landing) memset(c->z, 0, 3 * (size_t)c->n * sizeof *c->z); /* the constraints landed */
         landing = 0;
         it++;

@@ -15,7 +15,7 @@ void potential_begin(cloth *c, double h, int bdf2, step_eq *q)
     q->cfac = q->beta * h;
     for (size_t k = 0; k < n3; k++) c->na[k] = bdf2 ? s->x[k] + (s->x[k] - s->x_prev[k]) / 3.0 : s->x[k];
     q->a = c->na;
-    /* the damping directions at x~ = x0 + h v0 */
+    /* the links' directions at x~ = x0 + h v0: damping's and compression's */
     for (int t = 0; t < 2; t++) {
         int ne = t ? c->n_int : c->n_seq;
         const link_topo *L = t ? c->lint : c->seq;
@@ -60,7 +60,7 @@ static spring_law law_of(const cloth *c, int t, int e)
     return s;
 }
 
-void potential_assemble(cloth *c, const step_eq *q, const double *dv, int defin, double *b)
+void potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b)
 {
     const cloth_material *m = &c->desc.material;
     const double *x = c->x_new, *v = c->v_new;
@@ -85,8 +85,8 @@ void potential_assemble(cloth *c, const step_eq *q, const double *dv, int defin,
         double damp = t ? m->c_b : m->c_t;
         for (int e = 0; e < ne; e++) {
             int i = L[e].i, j = L[e].j;
-            spring_eval(x + 3 * i, x + 3 * j, law_of(c, t, e), defin, f, K);
             const double *u = ut + 3 * (size_t)e, *vi = v + 3 * i, *vj = v + 3 * j;
+            spring_eval_predicted(x + 3 * i, x + 3 * j, u, law_of(c, t, e), f, K);
             double rate = damp * ((vj[0] - vi[0]) * u[0] + (vj[1] - vi[1]) * u[1] + (vj[2] - vi[2]) * u[2]);
             for (int r = 0; r < 3; r++) {
                 double fr = cf * (f[r] + rate * u[r]);
@@ -124,7 +124,7 @@ double potential_value(const cloth *c, const step_eq *q, const double *dv, doubl
             const double *u = ut + 3 * (size_t)e;
             double rate = (v[3 * j] - v[3 * i]) * u[0] + (v[3 * j + 1] - v[3 * i + 1]) * u[1] +
                           (v[3 * j + 2] - v[3 * i + 2]) * u[2];
-            P += spring_energy(x + 3 * i, x + 3 * j, law_of(c, t, e)) + damp * rate * rate;
+            P += spring_eval_predicted(x + 3 * i, x + 3 * j, u, law_of(c, t, e), NULL, NULL) + damp * rate * rate;
         }
     }
     return P;

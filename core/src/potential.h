@@ -4,8 +4,9 @@
  *   Phi(dv) = 1/2 dv^T M dv - e^T dv + U(x) - cfac f_c^T v + cfac/2 v^T C v,
  * U the springs' energy, f_c gravity and external forces, e BDF2's
  * M (v0 - v_-1) / 3 (0 for backward Euler), C the links' damping along their
- * directions at x~ = x0 + h v0 (frozen over the step, so that damping has a
- * potential; x~ is within O(h^2) of x, which keeps BDF2 second order).
+ * directions at x~ = x0 + h v0. Compressed links push along the same
+ * directions: frozen over the step, they give damping a potential and make
+ * Phi convex (x~ is within O(h^2) of x, which keeps BDF2 second order).
  * The residual R = grad Phi = M dv - e - cfac f(x, v) is an impulse. */
 #ifndef ODECLOTH_POTENTIAL_H
 #define ODECLOTH_POTENTIAL_H
@@ -26,9 +27,8 @@ void potential_begin(cloth *c, double h, int bdf2, step_eq *q);
 void potential_state(cloth *c, const step_eq *q, const double *dv);
 
 /* At c->x_new, c->v_new (potential_state first): b = -R, and the Newton
- * matrix M + cfac C + cfac^2 K into c->A, K the springs' stiffness with
- * the definiteness rule if defin (positive definite then). */
-void potential_assemble(cloth *c, const step_eq *q, const double *dv, int defin, double *b);
+ * matrix M + cfac C + cfac^2 K (Phi's Hessian, positive definite) into c->A. */
+void potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b);
 
 /* Phi at dv (the bodies' share apart), its positions and velocities
  * computed into x and v (3n each). */

@@ -116,7 +116,9 @@ typedef struct cloth_solver {
      * (a block-diagonal-weighted norm, the same whatever the preconditioner). */
     double cg_tolerance;          /* 1, in (0, 1)                         */
     int cg_max_iterations;        /* >= 1; reaching it fails the step     */
-    int definiteness_rule;        /* 1: compressed links keep only k uu^T (paper sec. 3.2) */
+    int definiteness_rule;        /* 1: compressed links keep only k uu^T (paper
+                                     sec. 3.2); CLOTH_LINEARIZED only (Newton's
+                                     matrix is its potential's Hessian) */
     int warm_start;               /* 1: start CG from last step's dv in free directions */
     int strain_limit_iterations;  /* elongation-limit projection (Newton)
                                      steps after a step: the explicit
@@ -144,11 +146,12 @@ typedef struct cloth_solver {
      * CLOTH_LINEARIZED (default): linearised once about the step's start
      * (Baraff-Witkin), the elongation limit by the projection after it.
      * CLOTH_NEWTON: Newton's method on the step's incremental potential,
-     * a line search keeping every iteration a descent, the definiteness
-     * rule choosing the Newton matrix (not the equations); damping along
-     * the links' directions at x0 + h v0. A step ends when the Newton
-     * step's size sqrt(ddv^T M ddv / cloth mass) (+ the bodies'; an RMS
-     * velocity correction) is within newton_tolerance, and no sequential
+     * a line search keeping every iteration a descent; damping, and the
+     * compressed links' push, along the links' directions at x0 + h v0,
+     * which makes the potential convex and its Hessian the Newton matrix.
+     * A step ends when the Newton step's size sqrt(ddv^T M ddv / cloth
+     * mass) (+ the bodies'; an RMS velocity correction) is within
+     * newton_tolerance, and no sequential
      * link is past its limit (1 + delta) l0 by more than limit_tolerance
      * of it: the limit is a constraint held by multipliers (augmented
      * Lagrangian on the k_delta law) carried from step to step, the
