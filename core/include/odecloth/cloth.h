@@ -159,7 +159,7 @@ typedef struct cloth_solver {
      * and measurements: docs/newton.md. */
     cloth_nonlinear nonlinear;
     double newton_tolerance;      /* m/s, > 0 (default 1e-2)              */
-    double limit_tolerance;       /* 1, in (0, 1) (default 1e-4)          */
+    double limit_tolerance;       /* 1, in (0, 1) (default 1e-3)          */
     double newton_cg_tolerance;   /* 1, in (0, 1) (default 1e-2): CLOTH_NEWTON's
                                      linear solves stop here, in cg_tolerance's
                                      norm (which they do not use): an inexact
