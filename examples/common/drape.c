@@ -427,7 +427,7 @@ void demo_moment_offer(demo_moment *k, double value, dClothID c, dBodyID b, cons
     if (!(value > k->value)) return;
     k->value = value;
     cloth_save(dClothGetCore(c), k->state);
-    memcpy(k->body_at, dBodyGetPosition(b), sizeof k->body_at);
+    if (b) memcpy(k->body_at, dBodyGetPosition(b), sizeof k->body_at);
     *m = *run;
     m->wall = demo_now() - t0;
     demo_measure_shape(c, 0.0, m);
@@ -444,7 +444,7 @@ void demo_moment_finish(const demo_opts *o, const demo_scene *sc, const drape_va
     snprintf(name, sizeof name, "%s_%s", v->tag, sc->tags[1]);
     demo_save_frame(o, name, cam, space, &c, 1, &r->pic_after);
     cloth_restore(dClothGetCore(c), k->state);
-    dBodySetPosition(b, k->body_at[0], k->body_at[1], k->body_at[2]);
+    if (b) dBodySetPosition(b, k->body_at[0], k->body_at[1], k->body_at[2]);
     snprintf(name, sizeof name, "%s_%s", v->tag, sc->tags[0]);
     demo_save_frame(o, name, cam, space, &c, 1, &r->pic_draped);
 }

@@ -130,7 +130,8 @@ int drape_alpha_main(int argc, char **argv, const char *prog, const char *usage,
 int drape_material_variants(const demo_opts *o, drape_variant *v);
 
 /* The moment of a run worth a picture besides its end (the deepest sag, the
- * widest swing): the cloth's state, a body's position, the metrics then. */
+ * widest swing): the cloth's state, a body's position (b may be NULL: no
+ * body), the metrics then. */
 typedef struct demo_moment {
     cloth_state *state;
     dReal body_at[3];
