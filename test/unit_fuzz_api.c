@@ -246,6 +246,7 @@ static void walk(void)
             cloth_set_solver(c, &e.solver);
             cloth_set_gravity(c, e.gravity);
             cloth_set_external_forces(c, NULL);
+            cloth_set_air(c, &(cloth_air){{0.0, 0.0, 0.0}, 0.0, 0.0});
             if (!(cloth_max_strain(c) < 0.1)) { /* a new cloth's rest state */
                 cloth *fresh = NULL;
                 d = cloth_get_desc(c);
@@ -266,7 +267,9 @@ static void walk(void)
         double f0[3 * 35], f1[3 * 35];
         for (int i = 0; i < n; i++) cloth_constraint_force(c, i, f0 + 3 * i);
         cloth_desc d0 = cloth_get_desc(c);
-        int op = (int)(rng_u64(&g) % 30), isnull = 0, mutates = 1;
+        cloth_air air0 = cloth_get_air(c);
+        cloth_error rerr = {CLOTH_OK, ""}; /* cloth_state_read's message: it has no cloth to keep one */
+        int op = (int)(rng_u64(&g) % 31), isnull = 0, mutates = 1;
         cloth_status s = CLOTH_OK;
         double v3[3], *p;
         switch (op) {
@@ -336,6 +339,14 @@ static void walk(void)
             }
             s = cloth_set_contact(c, vi, rng_u64(&g) % 12 ? nrm : NULL, rng_u64(&g) % 12 ? pt : NULL);
             mutates = 0; /* a candidate changes nothing until a step */
+            break;
+        }
+        case 30: { /* air drag and wind, sometimes bad */
+            cloth_air a = air0;
+            for (int r = 0; r < 3; r++) a.wind[r] = dval(&g, -20, 20);
+            a.drag_normal = dval(&g, 0, 2);
+            a.drag_tangent = dval(&g, 0, 2);
+            s = cloth_set_air(c, rng_u64(&g) % 10 ? &a : NULL);
             break;
         }
         case 10: cloth_release_all(c); break;
@@ -440,7 +451,7 @@ static void walk(void)
             int dmg = (int)(rng_u64(&g) % 3);
             if (dmg == 1) rec[rng_u64(&g) % len] ^= (unsigned char)(1u << (rng_u64(&g) % 8));
             size_t rl = dmg == 2 ? (size_t)(rng_u64(&g) % (len + 8)) : len;
-            s = cloth_state_read(w.s[ci], rec, rl, NULL);
+            s = cloth_state_read(w.s[ci], rec, rl, &rerr);
             if (s == CLOTH_OK) s = cloth_restore(c, w.s[ci]);
             mutates = 0; /* a record of c's own state: restoring it changes nothing */
             free(rec);
@@ -485,8 +496,12 @@ static void walk(void)
                   "call %d (op %d): constraints changed by a failed or read-only call", it, op);
             cloth_desc d1 = cloth_get_desc(c);
             CHECK(memcmp(&d0, &d1, sizeof d0) == 0, "call %d (op %d): descriptor changed", it, op);
+            cloth_air air1 = cloth_get_air(c);
+            CHECK(memcmp(&air0, &air1, sizeof air0) == 0, "call %d (op %d): air settings changed", it, op);
         }
-        if (s != CLOTH_OK) CHECK(cloth_last_error(c)[0] != '\0', "call %d (op %d): failure without a message", it, op);
+        if (s != CLOTH_OK)
+            CHECK(cloth_last_error(c)[0] != '\0' || rerr.message[0] != '\0', "call %d (op %d): failure without a message",
+                  it, op);
         cloth_state_destroy(w.before);
         cloth_state_destroy(w.after);
     }
@@ -530,6 +545,8 @@ static void null_cloth(void)
           "set material/solver");
     CHECK(cloth_set_gravity(NULL, v) == CLOTH_EINVAL && cloth_set_external_forces(NULL, NULL) == CLOTH_EINVAL,
           "gravity/forces");
+    cloth_air air = cloth_get_air(NULL);
+    CHECK(cloth_set_air(NULL, &air) == CLOTH_EINVAL && air.drag_normal == 0.0 && air.drag_tangent == 0.0, "air");
     CHECK(cloth_link_count(NULL, CLOTH_SEQUENTIAL) == 0 && cloth_get_link(NULL, CLOTH_SEQUENTIAL, 0, &l) != CLOTH_OK,
           "links");
     CHECK(cloth_update_plastic(NULL) == 0, "update_plastic");

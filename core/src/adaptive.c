@@ -272,7 +272,7 @@ static attempt run_substeps(cloth_adaptive *a, cloth *c, int n, double h)
 }
 
 /* The shadow's inputs made the cloth's: material, gravity, external
- * forces and constraints (the cloth's as the frame starts; its solver is
+ * forces, air and constraints (the cloth's as the frame starts; its solver is
  * set before each of its runs, and before_substep then sets its own
  * constraints for each of its substeps). */
 static void shadow_inputs(cloth_adaptive *a, const cloth *c)
@@ -281,6 +281,7 @@ static void shadow_inputs(cloth_adaptive *a, const cloth *c)
     s->desc.material = c->desc.material;
     memcpy(s->desc.gravity, c->desc.gravity, sizeof s->desc.gravity);
     memcpy(s->f_ext, c->f_ext, 3 * (size_t)a->n * sizeof *c->f_ext);
+    s->air = c->air;
     for (int i = 0; i < a->n; i++) {
         const cloth_constraint *k = &c->con[i], *q = &s->con[i];
         if (k->ndof == q->ndof && (k->ndof == 0 || !memcmp(k, q, sizeof *k))) continue;
@@ -324,14 +325,17 @@ static void filter(const cloth *c, double *u)
 }
 
 /* The largest eigenvalue of M^-1 K (which 0) or M^-1 C (which 1), K and C
- * the springs' stiffness and damping at the cloth's state (finite
- * differences of the forces; the constraints filtered out), by `iters`
- * power iterations continuing from u (3n; kept for the next call). */
+ * the springs' stiffness and damping (C with the air drag's) at the
+ * cloth's state (finite differences of the forces; the constraints filtered
+ * out), by `iters` power iterations continuing from u (3n; kept for the
+ * next call). */
 static double power_max(cloth_adaptive *a, const cloth *c, int which, double *u, int iters)
 {
     size_t n3 = 3 * (size_t)a->n;
     const double *x = cloth_positions(c), *v = cloth_velocities(c);
+    int air = which && air_on(c);
     forces_eval(c, x, v, 0, a->pf0);
+    if (air) air_eval(c, x, NULL, 0.0, v, 1.0, a->pf0, NULL, 0.0);
     double lam = 0.0;
     for (int it = 0; it < iters; it++) {
         filter(c, u);
@@ -344,6 +348,7 @@ static double power_max(cloth_adaptive *a, const cloth *c, int which, double *u,
             a->px[k] = (which ? v[k] : x[k]) + eps * u[k];
         }
         forces_eval(c, which ? x : a->px, which ? a->px : v, 0, a->pf1);
+        if (air) air_eval(c, x, NULL, 0.0, a->px, 1.0, a->pf1, NULL, 0.0);
         double num = 0.0, den = 0.0;
         for (size_t k = 0; k < n3; k++) {
             double m = c->mass[k / 3];

@@ -22,7 +22,7 @@ static int cmp_int(const void *a, const void *b)
 
 /* Index of block (i, j), or -1. Rows are short (<= 17 blocks for a cloth),
  * so a linear scan is as fast as a bisection. */
-static int find_block(const bsr *A, int i, int j)
+int bsr_find(const bsr *A, int i, int j)
 {
     for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++)
         if (A->col[k] == j) return k;
@@ -75,10 +75,10 @@ int bsr_build(bsr *A, int n, int nedges, const int *ei, const int *ej, int *blk)
     A->val = calloc(9 * (size_t)out + 1, sizeof *A->val); /* + the AVX rows' padding double (mat3.h) */
     A->sym = calloc(2 * (size_t)n, 1);
     if (!A->val || !A->sym) goto fail;
-    for (int i = 0; i < n; i++) A->diag[i] = find_block(A, i, i);
+    for (int i = 0; i < n; i++) A->diag[i] = bsr_find(A, i, i);
     for (int e = 0; e < nedges; e++) {
-        blk[2 * e] = find_block(A, ei[e], ej[e]);
-        blk[2 * e + 1] = find_block(A, ej[e], ei[e]);
+        blk[2 * e] = bsr_find(A, ei[e], ej[e]);
+        blk[2 * e + 1] = bsr_find(A, ej[e], ei[e]);
     }
     free(count);
     free(fill);

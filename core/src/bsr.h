@@ -23,6 +23,8 @@ typedef struct bsr {
  * of block (ei[e], ej[e]) and blk[2e+1] that of (ej[e], ei[e]).
  * Returns 0, or -1 on allocation failure or bad indices (A is then empty). */
 int bsr_build(bsr *A, int n, int nedges, const int *ei, const int *ej, int *blk);
+/* Index of block (i, j), or -1 if the pattern has none. */
+int bsr_find(const bsr *A, int i, int j);
 void bsr_free(bsr *A);
 void bsr_zero(bsr *A);
 /* y = A x (x and y of length 3n, distinct). */

@@ -185,6 +185,7 @@ void cloth_destroy(cloth *c)
     bsr_free(&c->A);
     free(c->seq_blk);
     free(c->int_blk);
+    free(c->air_blk);
     free(c->lim_shift);
     free(c->K_seq);
     free(c->K_int);
@@ -270,6 +271,7 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
     if (!c->con || !c->con_force || !c->seq_blk || !c->int_blk || !c->lim_shift || !c->K_seq || !c->K_int)
         goto nomem;
     if (links_to_blocks(&c->A, n, c->seq, c->n_seq, c->lint, c->n_int, c->seq_blk, c->int_blk) != 0) goto nomem;
+    if (air_blocks(c) != 0) goto nomem;
     if (workspace_alloc(c) != 0) goto nomem;
     c->Ah = calloc(9 * (size_t)c->A.nnzb + 1, sizeof *c->Ah); /* + the AVX rows' padding double (mat3.h) */
     if (!c->Ah) goto nomem;

@@ -1,5 +1,6 @@
 /* Forces and energies of the whole cloth (paper eq. 4): springs of both link
- * types in their current regions, damping along links, gravity. */
+ * types in their current regions, damping along links, gravity, external
+ * forces and air drag. */
 #include <math.h>
 #include <string.h>
 #include "internal.h"
@@ -36,6 +37,7 @@ void forces_eval(const cloth *c, const double *x, const double *v, int with_grav
             add3(f + 3 * i, c->desc.gravity, c->mass[i]);
             add3(f + 3 * i, c->f_ext + 3 * i, 1.0);
         }
+    if (with_gravity && air_on(c)) air_eval(c, x, NULL, 0.0, v, 1.0, f, NULL, 0.0);
 }
 
 /* spring_energy (springs.c), the same arithmetic, inlined: the step's

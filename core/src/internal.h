@@ -104,6 +104,8 @@ struct cloth {
     double *cand;              /* 6n: contact candidates (cloth_set_contact): normal, point */
     unsigned char *cand_on;    /* n: 1 a candidate, 2 made a plane, 3 let slide in a solve */
     double *f_ext;             /* 3n, N, external forces (cloth_set_external_forces) */
+    cloth_air air;             /* air drag and wind (cloth_set_air; air.c) */
+    int *air_blk;              /* 6 per grid triangle: its pairs' blocks in A (air.c) */
     /* rigid bodies solved with the cloth (bodies.c) */
     int nbody;
     cloth_body *body;          /* nbody, as set */
@@ -241,13 +243,26 @@ double limit_multipliers_update(cloth *c, const double *x);
  * target). */
 void constraints_build(cloth *c, const double *a, const double *v0, double cfac, const double *xs, double frac);
 
+/* air.c: the grid triangles' air drag (cloth_set_air). air_on: any drag
+ * set. air_blocks: find each triangle's off-diagonal blocks in A at
+ * creation (0, or -1 on no memory). */
+int air_on(const cloth *c);
+int air_blocks(cloth *c);
+/* Normals and areas at xf + hf vf (the step's frozen frame), velocities v:
+ * f += s F_air (f may be NULL), A += t (area/9) D on every pair of each
+ * triangle's vertices (A may be NULL; D as in cloth_set_air's model, so
+ * -dF_a/dv_b = (area/9) D). Returns 1/2 sum area r^T D r, the drag's
+ * dissipation potential (Phi's term over cfac, potential.h). */
+double air_eval(const cloth *c, const double *xf, const double *vf, double hf, const double *v, double s, double *f,
+                bsr *A, double t);
+
 /* state.c */
 int state_alloc(struct cloth_state *s, int n, int n_int, int n_seq);
 void state_free(struct cloth_state *s);
 void state_copy(struct cloth_state *dst, const struct cloth_state *src);
 
-/* forces.c: f = internal forces (+ gravity and external forces if
- * with_gravity); optionally
+/* forces.c: f = internal forces (+ gravity, external forces and air drag
+ * if with_gravity); optionally
  * assemble per-link K and D into the matrix via the callback-free kernels in
  * step.c. */
 void forces_eval(const cloth *c, const double *x, const double *v, int with_gravity, double *f);

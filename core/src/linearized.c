@@ -13,7 +13,8 @@ static void add_blk(double *A, const double *B, double s) { mat3_axpy(A, B, s); 
 
 /* A = M - beta h df/dv - gamma h^2 df/dx (eq. 21 for beta = gamma = 1),
  * keeping each link's K = df_i/dx_j for the right-hand side, and in the same
- * pass f = the total force at (x, v) (springs, damping, gravity). */
+ * pass f = the total force at (x, v) (springs, damping, gravity, external
+ * forces, air drag). */
 static void assemble(cloth *c, const double *x, const double *v, double beta_h, double gamma_h2, double *fout)
 {
     const cloth_material *m = &c->desc.material;
@@ -49,6 +50,8 @@ static void assemble(cloth *c, const double *x, const double *v, double beta_h, 
             add_blk(A->val + 9 * (size_t)bl[2 * e + 1], blk, -1.0);
         }
     }
+    /* air drag: its normals and areas at x, constant over the step (no df/dx) */
+    if (air_on(c)) air_eval(c, x, NULL, 0.0, v, 1.0, fout, A, beta_h);
 }
 
 /* out += (df/dx) w, link by link: link (i, j) adds K (w_j - w_i) to i and

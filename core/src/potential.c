@@ -100,6 +100,8 @@ void potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b)
             mat3_axpy(A->val + 9 * (size_t)bl[2 * e + 1], blk, -1.0);
         }
     }
+    /* air drag, a damper with its normals and areas at x~ */
+    if (air_on(c)) air_eval(c, c->st.x, c->st.v, q->h, v, cf, b, A, cf);
 }
 
 double potential_value(const cloth *c, const step_eq *q, const double *dv, double *x, double *v)
@@ -127,5 +129,6 @@ double potential_value(const cloth *c, const step_eq *q, const double *dv, doubl
             P += spring_eval_predicted(x + 3 * i, x + 3 * j, u, law_of(c, t, e), NULL, NULL) + damp * rate * rate;
         }
     }
+    if (air_on(c)) P += cf * air_eval(c, c->st.x, c->st.v, q->h, v, 0.0, NULL, NULL, 0.0);
     return P;
 }

@@ -4,7 +4,8 @@
  *   Phi(dv) = 1/2 dv^T M dv - e^T dv + U(x) - cfac f_c^T v + cfac/2 v^T C v,
  * U the springs' energy, f_c gravity and external forces, e BDF2's
  * M (v0 - v_-1) / 3 (0 for backward Euler), C the links' damping along their
- * directions at x~ = x0 + h v0. Compressed links push along the same
+ * directions at x~ = x0 + h v0 and the air drag (about the wind) with its
+ * triangles' normals and areas at x~. Compressed links push along the same
  * directions: frozen over the step, they give damping a potential and make
  * Phi convex (x~ is within O(h^2) of x, which keeps BDF2 second order).
  * The residual R = grad Phi = M dv - e - cfac f(x, v) is an impulse. */

@@ -230,6 +230,23 @@ cloth_status cloth_set_external_forces(cloth *c, const double *f);
 /* The forces set (3 * vertex_count doubles, read-only, zeros if none). */
 const double *cloth_external_forces(const cloth *c);
 
+/* Linear air drag on each grid triangle (the cells split as the plugin's
+ * dClothGetTriangles): with area A, unit normal n, vbar the mean of its
+ * vertices' velocities and r = vbar - wind,
+ *   F = -A (drag_normal (r.n) n + drag_tangent (r - (r.n) n)),
+ * a third on each vertex. Drags in N s / m^3 (>= 0; both 0, the default:
+ * off); equal drags and no wind are plain air damping. Implicit steps treat
+ * normals and areas as constant over the step. Configuration, not state:
+ * cloth_save leaves it out, cloth_internal_forces too. */
+typedef struct cloth_air {
+    double wind[3];      /* m/s, uniform */
+    double drag_normal;  /* N s / m^3, along the normal */
+    double drag_tangent; /* N s / m^3, in the plane */
+} cloth_air;
+/* Validated (finite, drags >= 0); on error the cloth keeps its settings. */
+cloth_status cloth_set_air(cloth *c, const cloth_air *air);
+cloth_air cloth_get_air(const cloth *c); /* all zeros if c is NULL */
+
 /* ------------------------------------------------------------------ links */
 
 typedef enum cloth_link_type {
