@@ -151,7 +151,7 @@ const mpcg_bodies *bodies_prepare(cloth *c, double h, double cfac, mpcg_bodies *
     double *w = c->body_ws, *M = w, *ginv = w + 36 * nb, *rhs = w + 72 * nb;
     B->nb = c->nbody;
     B->vbody = c->vbody;
-    B->x = c->st.x;
+    B->x = c->x_lever; /* the cloth feels the forces there: no torque created */
     B->M = M;
     B->ginv = ginv;
     B->rhs = rhs;

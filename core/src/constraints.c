@@ -133,5 +133,7 @@ void constraints_build(cloth *c, const double *a, const double *v0, double cfac,
         for (int r = 0; r < 3; r++) dvt[r] = (tg[r] - a[3 * i + r]) / cfac - v0[3 * i + r];
         for (int r = 0; r < 3; r++)
             z[r] = dvt[r] - (S[3 * r] * dvt[0] + S[3 * r + 1] * dvt[1] + S[3 * r + 2] * dvt[2]);
+        /* on the target where constrained, moving on at v0 where free */
+        for (int r = 0; r < 3; r++) c->x_lever[3 * i + r] = a[3 * i + r] + cfac * (v0[3 * i + r] + z[r]);
     }
 }

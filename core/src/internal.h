@@ -130,6 +130,8 @@ struct cloth {
                                   damping directions of the step */
     double *cg;                /* 6 * 3n: MPCG workspace */
     double *jac;               /* 3n: scalar Jacobi inverse diagonal */
+    double *x_lever;           /* 3n: constrained vertices' predicted end-of-step
+                                  positions, where bodies take their forces */
     unsigned char *cflag;      /* n: vertex constrained (filter needed) */
     int *clist;                /* n_con: the constrained vertices, ascending */
     multigrid mg;              /* levels sized at creation */

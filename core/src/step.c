@@ -14,13 +14,14 @@ int workspace_alloc(cloth *c)
 {
     size_t n3 = 3 * (size_t)c->n, nl = 3 * ((size_t)c->n_seq + (size_t)c->n_int);
     /* f b dv z y x_new v_new con_new jac na dvt xt vt sl_x0 ddv dv_saved
-     * con_saved (17) + cg (6) vectors of 3n; pre, S of 9n; ut of 3 per link */
-    c->work = calloc(29 * n3 + nl, sizeof *c->work);
+     * con_saved x_lever (18) + cg (6) vectors of 3n; pre, S of 9n; ut of 3
+     * per link */
+    c->work = calloc(30 * n3 + nl, sizeof *c->work);
     if (!c->work) return -1;
     double *w = c->work;
     double **v3[] = {&c->f, &c->b, &c->dv, &c->z, &c->y, &c->x_new, &c->v_new, &c->con_new,
                      &c->jac, &c->na, &c->dvt, &c->xt, &c->vt, &c->sl_x0, &c->ddv, &c->dv_saved,
-                     &c->con_saved};
+                     &c->con_saved, &c->x_lever};
     for (size_t k = 0; k < sizeof v3 / sizeof *v3; k++, w += n3) *v3[k] = w;
     c->cg = w; w += 6 * n3;
     c->pre = w; w += 3 * n3;

@@ -1,0 +1,231 @@
+/* Plugin: momentum is exchanged between the cloth and ODE bodies, never
+ * created (plugin/src/coupling.c). After dClothStep and before dWorldStep a
+ * body's force and torque accumulators hold what the cloth gave it; the
+ * cloth got its pin and contact forces (dClothGetPinForce,
+ * dClothGetContactForce) at its vertices' end-of-step positions, where the
+ * implicit step evaluates them. So, with f_i those forces, x_i the vertices
+ * and F_b, T_b a body's accumulators at its centre c_b, every step must give
+ *   sum_i f_i + sum_b F_b = 0,  sum_i x_i x f_i + sum_b (c_b x F_b + T_b) = 0
+ * (about the world's origin, 1 m or more from every point), asserted to
+ * 1e-6 of sum_i |f_i| (in N m for the second, on a 1 m scale). Scenes, an
+ * 11x11 cotton cloth 0.4 m square, h = 1/60 s, 60 steps:
+ *   1. zero gravity: a free 0.5 kg sphere holds the cloth by two vertices,
+ *      thrown at (1, 0.5, 2) m/s spinning at 3 rad/s about z;
+ *   2. the same sphere held at its centre by a ball joint to the world;
+ *   3. the same sphere on a hinge along y through its centre;
+ *   4. gravity on: the cloth dropped flat and centred onto a 2 kg box
+ *      resting on a plane, with friction: the pair above holds for the
+ *      box, and the box gets no torque about its vertical axis beyond
+ *      1e-9 of the cloth's weight times the box's size (the landing is
+ *      symmetric about that axis).
+ * Disabled (CMakeLists.txt) while it fails: the force balances to 1e-4
+ * (free sphere) and 0.13 (landing) of sum |f_i|, the torque to 2.7e-4 -
+ * 0.2, and the landing turns the box by up to 0.015 N m about z.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "odecloth/dcloth.h"
+#include "check.h"
+
+#define H (1.0 / 60.0)
+#define STEPS 60
+
+static void cross(const double *a, const double *b, double *o)
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static double norm3(const double *a) { return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
+
+/* The exchange's imbalance this step: |force sum| and |torque sum| over
+ * sum |f_i|, the forces of pins and of contacts with b's geoms (the plane,
+ * static, takes its own), b the one body. */
+static void imbalance(dClothID c, dBodyID b, double *ef, double *et, double *scale)
+{
+    const dReal *x = dClothGetPositions(c);
+    double F[3] = {0, 0, 0}, T[3] = {0, 0, 0}, s = 0.0;
+    for (int i = 0; i < dClothGetVertexCount(c); i++) {
+        dReal fp[3], fc[3];
+        dGeomID g = 0;
+        dClothGetPinForce(c, i, fp);
+        dClothGetContactForce(c, i, fc);
+        dClothGetVertexContact(c, i, &g, NULL, NULL);
+        if (!g || dGeomGetBody(g) != b) fc[0] = fc[1] = fc[2] = 0.0;
+        double f[3] = {fp[0] + fc[0], fp[1] + fc[1], fp[2] + fc[2]}, t[3];
+        cross(x + 3 * i, f, t);
+        for (int r = 0; r < 3; r++) {
+            F[r] += f[r];
+            T[r] += t[r];
+        }
+        s += norm3(f);
+    }
+    const dReal *Fb = dBodyGetForce(b), *Tb = dBodyGetTorque(b), *cb = dBodyGetPosition(b);
+    double fb[3] = {Fb[0], Fb[1], Fb[2]}, pb[3] = {cb[0], cb[1], cb[2]}, t[3];
+    cross(pb, fb, t);
+    for (int r = 0; r < 3; r++) {
+        F[r] += fb[r];
+        T[r] += t[r] + Tb[r];
+    }
+    *ef = norm3(F);
+    *et = norm3(T);
+    *scale = s;
+}
+
+static dClothID make_cloth(dWorldID w, dSpaceID sp, double z, int gravity)
+{
+    dClothDesc d = dClothDefaultDesc();
+    d.cloth.rows = d.cloth.cols = 11;
+    d.cloth.width = d.cloth.height = 0.4;
+    d.cloth.origin[0] = 0.8;
+    d.cloth.origin[1] = 0.9;
+    d.cloth.origin[2] = z;
+    d.cloth.solver.cg_tolerance = 1e-10;
+    if (!gravity) d.cloth.gravity[2] = 0.0;
+    dClothID c = NULL;
+    cloth_error err;
+    if (!CHECK(dClothCreate(w, sp, &d, &c, &err) == CLOTH_OK, "dClothCreate: %s", err.message)) return NULL;
+    dClothSetFailureMode(c, DCLOTH_FAILURE_STOP);
+    return c;
+}
+
+/* Steps the scene, asserting the exchange every step; returns the worst
+ * relative imbalances of force and torque. */
+static void run(const char *name, dWorldID w, dSpaceID sp, dClothID c, dBodyID b, double *wf, double *wt)
+{
+    dJointGroupID contacts = dJointGroupCreate(0);
+    *wf = *wt = 0.0;
+    int exchanged = 0;
+    for (int s = 0; s < STEPS; s++) {
+        if (!CHECK(dClothStep(c, H) == CLOTH_OK, "%s, step %d: %s", name, s, dClothGetLastError(c))) break;
+        double ef, et, scale;
+        imbalance(c, b, &ef, &et, &scale);
+        if (scale > 0.0) {
+            exchanged++;
+            *wf = fmax(*wf, ef / scale);
+            *wt = fmax(*wt, et / scale);
+        }
+        (void)sp;
+        dWorldStep(w, H);
+        dJointGroupEmpty(contacts);
+    }
+    dJointGroupDestroy(contacts);
+    printf("%s: %d steps exchanged force; worst imbalance of force %.2e, of torque %.2e (of sum |f_i|)\n", name,
+           exchanged, *wf, *wt);
+    CHECK(exchanged > STEPS / 2, "%s: the cloth and the body exchanged force in %d steps only", name, exchanged);
+    CHECK(*wf <= 1e-6 && *wt <= 1e-6, "%s: momentum created: force %.3g, torque %.3g of sum |f_i|", name, *wf, *wt);
+}
+
+/* 1-3: the sphere holding the cloth by two vertices; joint 0 none, 1 ball,
+ * 2 hinge */
+static void held(int joint)
+{
+    static const char *const name[3] = {"free sphere", "sphere in a ball joint", "sphere on a hinge"};
+    dWorldID w = dWorldCreate();
+    dWorldSetGravity(w, 0, 0, 0);
+    dClothID c = make_cloth(w, 0, 1.2, 0);
+    if (!c) {
+        dWorldDestroy(w);
+        return;
+    }
+    const dReal *x = dClothGetPositions(c);
+    dBodyID b = dBodyCreate(w);
+    dMass m;
+    dMassSetSphereTotal(&m, 0.5, 0.05);
+    dBodySetMass(b, &m);
+    double p0[3] = {0.5 * (x[0] + x[3]), 0.5 * (x[1] + x[4]), 0.5 * (x[2] + x[5])};
+    dBodySetPosition(b, p0[0], p0[1], p0[2]);
+    for (int k = 0; k < 2; k++) {
+        dReal lp[3] = {x[3 * k] - p0[0], x[3 * k + 1] - p0[1], x[3 * k + 2] - p0[2]};
+        CHECK(dClothPinToBody(c, k, b, lp) == CLOTH_OK, "dClothPinToBody: %s", dClothGetLastError(c));
+    }
+    dBodySetLinearVel(b, joint ? 0.0 : 1.0, joint ? 0.0 : 0.5, joint ? 0.0 : 2.0);
+    dBodySetAngularVel(b, 0, joint == 2 ? 3.0 : 0.0, joint == 2 ? 0.0 : 3.0);
+    dJointID j = 0;
+    if (joint == 1) {
+        j = dJointCreateBall(w, 0);
+        dJointAttach(j, b, 0);
+        dJointSetBallAnchor(j, p0[0], p0[1], p0[2]);
+    } else if (joint == 2) {
+        j = dJointCreateHinge(w, 0);
+        dJointAttach(j, b, 0);
+        dJointSetHingeAnchor(j, p0[0], p0[1], p0[2]);
+        dJointSetHingeAxis(j, 0, 1, 0);
+    }
+    double wf, wt;
+    run(name[joint], w, 0, c, b, &wf, &wt);
+    dClothDestroy(c);
+    dWorldDestroy(w);
+}
+
+/* 4: the cloth dropped flat onto a box resting on a plane */
+static void landing(void)
+{
+    dWorldID w = dWorldCreate();
+    dWorldSetGravity(w, 0, 0, -9.81);
+    dSpaceID sp = dHashSpaceCreate(0);
+    dGeomID plane = dCreatePlane(sp, 0, 0, 1, 0);
+    const double side = 0.2, cx = 1.0, cy = 1.1;
+    dBodyID b = dBodyCreate(w);
+    dMass m;
+    dMassSetBoxTotal(&m, 2.0, side, side, side);
+    dBodySetMass(b, &m);
+    dGeomID g = dCreateBox(sp, side, side, side);
+    dGeomSetBody(g, b);
+    dBodySetPosition(b, cx, cy, side / 2);
+    dClothID c = make_cloth(w, sp, side + 0.02, 1);
+    if (!c) {
+        dSpaceDestroy(sp);
+        dWorldDestroy(w);
+        return;
+    }
+    dJointGroupID contacts = dJointGroupCreate(0);
+    double worst_tz = 0.0, wf = 0.0, wt = 0.0, weight = 0.2 * 0.16 * 9.81;
+    int touched = 0;
+    for (int s = 0; s < STEPS; s++) {
+        if (!CHECK(dClothStep(c, H) == CLOTH_OK, "landing, step %d: %s", s, dClothGetLastError(c))) break;
+        double ef, et, scale;
+        imbalance(c, b, &ef, &et, &scale);
+        if (scale > 0.0) {
+            touched++;
+            wf = fmax(wf, ef / scale);
+            wt = fmax(wt, et / scale);
+        }
+        worst_tz = fmax(worst_tz, fabs(dBodyGetTorque(b)[2]));
+        /* the box rests on the plane: a contact joint at each corner */
+        dContactGeom cg[8];
+        int n = dCollide(g, plane, 8, cg, sizeof cg[0]);
+        for (int k = 0; k < n; k++) {
+            dContact ct;
+            memset(&ct, 0, sizeof ct);
+            ct.surface.mode = 0;
+            ct.surface.mu = 0.8;
+            ct.geom = cg[k];
+            dJointAttach(dJointCreateContact(w, contacts, &ct), b, 0);
+        }
+        dWorldStep(w, H);
+        dJointGroupEmpty(contacts);
+    }
+    printf("landing on a box: %d steps in contact; worst imbalance of force %.2e, of torque %.2e; "
+           "box torque about z at most %.3g N m (weight x size %.3g N m)\n",
+           touched, wf, wt, worst_tz, weight * side);
+    CHECK(touched > 10, "landing: the cloth touched the box in %d steps only", touched);
+    CHECK(wf <= 1e-6 && wt <= 1e-6, "landing: momentum created: force %.3g, torque %.3g of sum |f_i|", wf, wt);
+    CHECK(worst_tz <= 1e-9 * weight * side, "landing: a symmetric landing turned the box about z: %.3g N m",
+          worst_tz);
+    dJointGroupDestroy(contacts);
+    dClothDestroy(c);
+    dSpaceDestroy(sp);
+    dWorldDestroy(w);
+}
+
+int main(void)
+{
+    dInitODE2(0);
+    for (int joint = 0; joint < 3; joint++) held(joint);
+    landing();
+    dCloseODE();
+    return check_summary();
+}
