@@ -247,10 +247,7 @@ static int coupled_body(dClothID c, dBodyID b)
         if (nb) c->bodies = nb;
         cloth_body *nd = nb ? realloc(c->bdesc, (size_t)cap * sizeof *nd) : NULL;
         if (nd) c->bdesc = nd;
-        double *nf = nd ? realloc(c->bforce, 7 * (size_t)cap * sizeof *nf) : NULL;
-        if (nf) c->bforce = nf;
-        if (!nb || !nd || !nf) return -1;
-        c->bshare = c->bforce + 6 * (size_t)cap;
+        if (!nb || !nd) return -1;
         c->bodies_cap = cap;
     }
     dMass m;
@@ -557,93 +554,54 @@ cloth_status dClothStep(dClothID c, dReal h)
      * moving bodies go to the bodies (measured before: a
      * body holding a hanging cloth drifted up at 9 cm/s with the residual of
      * tolerance 1e-3 alone) */
-    /* A body solved with the cloth (couple_bodies) gets exactly the
-     * velocity change the core found for it, the elongation limit's share
-     * included: the force M du / h and torque I dw / h less what ODE already
-     * holds for it (gravity, the user's forces). Its constraints are then
-     * out of the shares below, and their forces count as explained. */
+    /* Each body takes, at each of its vertices, the force the cloth felt
+     * there: the constraint's, friction, and a share of F, what no force
+     * explains (the CG residual, the inelastic stops, the elongation limit's
+     * pull on held vertices). A body solved with the cloth so moves by the
+     * velocity change the core found for it, to second order in h. */
     double F[3] = {0.0, 0.0, 0.0}, wsum = 0.0;
-    int nb = cloth_body_count(core);
-    for (int k = 0; k < nb; k++) {
-        double du[6];
-        const cloth_body *d = &c->bdesc[k];
-        cloth_body_velocity_change(core, k, du);
-        for (int r = 0; r < 3; r++) {
-            c->bforce[6 * k + r] = d->mass * du[r] / h - d->force[r];
-            c->bforce[6 * k + 3 + r] =
-                (d->inertia[3 * r] * du[3] + d->inertia[3 * r + 1] * du[4] + d->inertia[3 * r + 2] * du[5]) / h -
-                d->torque[r];
-            F[r] += c->bforce[6 * k + r]; /* what the body took from the cloth, the cloth gave */
-        }
-    }
     {
         const double *v1 = cloth_velocities(core), *fe = c->fext;
         for (int i = 0; i < c->n; i++)
             for (int r = 0; r < 3; r++)
                 F[r] += mass[i] * (v1[3 * i + r] - c->v0[3 * i + r]) / h - mass[i] * cd.gravity[r] - fe[3 * i + r];
-        for (int k = 0; k < nb; k++) c->bshare[k] = 0.0;
         for (int i = 0; i < c->n; i++) {
             if (!c->pin[i].active && !c->vc_new[i].active) continue;
             double f[3];
             cloth_constraint_force(core, i, f);
-            double fs = sqrt(dcloth_dot3(f, f));
-            wsum += fs;
-            int k = held_by_coupled(c, i);
-            if (k) {
-                c->bshare[k - 1] += fs;
-                continue;
-            }
+            wsum += sqrt(dcloth_dot3(f, f));
             for (int r = 0; r < 3; r++) F[r] -= f[r];
         }
-    }
-    /* F is now what no force explains (the CG residual, the inelastic
-     * stops); all constraints share it by the size of their forces, a
-     * coupled body its vertices' shares, at its centre */
-    for (int k = 0; k < nb; k++) {
-        double *f = c->bforce + 6 * k, w = wsum > 0.0 ? c->bshare[k] / wsum : 0.0;
-        dcloth_touch(c, c->bodies[k]);
-        dBodyAddForce(c->bodies[k], f[0] - w * F[0], f[1] - w * F[1], f[2] - w * F[2]);
-        dBodyAddTorque(c->bodies[k], f[3], f[4], f[5]);
     }
     for (int i = 0; i < c->n; i++) {
         vpin *p = &c->pin[i];
         vcontact *nw = &c->vc_new[i];
         double f[3];
         dBodyID b = 0;
-        const double *at = NULL;
+        /* where the cloth felt the force: a body takes it there too, so no
+         * angular momentum is made between them */
+        const double *at = cloth_positions(core) + 3 * i;
         if (p->active || nw->active) {
             cloth_constraint_force(core, i, f);
             /* the share goes to constraints on moving bodies only: a static
              * geom or the world takes any impulse without moving */
             dBodyID hb = p->active ? p->body : nw->body;
             double w = wsum > 0.0 ? sqrt(dcloth_dot3(f, f)) / wsum : 0.0;
-            if (hb && !dBodyIsKinematic(hb) && !held_by_coupled(c, i))
+            if (hb && !dBodyIsKinematic(hb))
                 for (int r = 0; r < 3; r++) f[r] += w * F[r];
         }
         if (p->active) {
             memcpy(p->force, f, sizeof f);
             b = p->body;
-            at = p->world;
         } else if (nw->active) {
             for (int r = 0; r < 3; r++) f[r] += nw->friction[r];
             memcpy(nw->force, f, sizeof f);
             b = nw->body;
-            at = nw->point;
             /* pinched and pushed toward this contact's body: the push came
              * from the opposite body, which takes the reaction */
-            if (nw->pinched && dcloth_dot3(f, nw->normal) < 0.0 && !held_by_coupled(c, i)) {
-                b = nw->opp_body;
-                at = cloth_positions(core) + 3 * i;
-            }
+            if (nw->pinched && dcloth_dot3(f, nw->normal) < 0.0 && !held_by_coupled(c, i)) b = nw->opp_body;
         }
-        if (b && held_by_coupled(c, i)) {
-            /* the constraint's reaction went in with du above; friction is
-             * applied explicitly */
-            if (nw->active && !p->active) {
-                dcloth_touch(c, b);
-                dBodyAddForceAtPos(b, -nw->friction[0], -nw->friction[1], -nw->friction[2], at[0], at[1], at[2]);
-            }
-        } else if (b && !dBodyIsKinematic(b)) {
+        if (b && !dBodyIsKinematic(b)) {
             dcloth_touch(c, b);
             dBodyAddForceAtPos(b, -f[0], -f[1], -f[2], at[0], at[1], at[2]);
         }

@@ -127,7 +127,6 @@ void dClothDestroy(dClothID c)
     free(c->cand);
     free(c->bodies);
     free(c->bdesc);
-    free(c->bforce);
     free(c->journal);
     cloth_state_destroy(c->undo_core);
     free(c->undo_vc);

@@ -92,8 +92,6 @@ struct dxCloth {
     void *friction_data;
     dBodyID *bodies;
     cloth_body *bdesc;
-    double *bforce;      /* 6 per body: the cloth's force and torque on it  */
-    double *bshare;      /* 1 per body (in bforce's block): its share weight */
     int nbodies, bodies_cap;
     /* convex geoms' points, for triangle tests (dClothSetConvexPoints) */
     struct cvx_points {
