@@ -122,26 +122,20 @@ done:
 
 static const demo_scene scene = {"flag", {"flap", "end"}, {"flap", "end"}, DRAPE_TABLE, run, 0.0, 0, 0};
 
+static int report(const demo_opts *o, const drape_variant *v, const drape_result *r)
+{
+    (void)r;
+    printf("fly end: sideways %.3f to %.3f m; mean height over the second half %.3f m (lowest pin %.3f m)\n",
+           flap_neg, flap_pos, fly_z_mean, pin_z_low);
+    if (!o->check) return 0;
+    return demo_claim(flap_pos > 0.05 && flap_neg < -0.05, "%s: the fly end flaps both ways by > 5 cm", v->tag) +
+           demo_claim(fly_z_mean > pin_z_low, "%s: the wind holds the fly end out, above the lowest pin", v->tag);
+}
+
 int main(int argc, char **argv)
 {
     demo_opts o;
     int p = demo_begin(&o, "flag", usage, argc, argv);
     if (p) return p == 1 ? 0 : 2;
-    drape_variant v[DEMO_MAX_ALPHAS];
-    drape_result r[DEMO_MAX_ALPHAS];
-    int n = drape_material_variants(&o, v), failed = 0;
-    for (int i = 0; i < n; i++) {
-        /* one run at a time: the flap figures are the last run's */
-        if (drape_run_all(&o, &scene, &v[i], 1, &r[i], "flag", "a flag in a gusting wind")) return 1;
-        printf("fly end: sideways %.3f to %.3f m; mean height over the second half %.3f m (lowest pin %.3f m)\n",
-               flap_neg, flap_pos, fly_z_mean, pin_z_low);
-        if (!o.check) continue;
-        failed += drape_check_common(&o, &v[i], &r[i]);
-        failed += demo_claim(flap_pos > 0.05 && flap_neg < -0.05, "%s: the fly end flaps both ways by > 5 cm",
-                             v[i].tag);
-        failed += demo_claim(fly_z_mean > pin_z_low, "%s: the wind holds the fly end out, above the lowest pin",
-                             v[i].tag);
-    }
-    if (o.check) printf("flag: %d check(s) failed\n", failed);
-    return failed ? 1 : 0;
+    return drape_material_main(&o, &scene, "a flag in a gusting wind", report);
 }

@@ -406,6 +406,21 @@ int drape_material_variants(const demo_opts *o, drape_variant *v)
     return n;
 }
 
+int drape_material_main(const demo_opts *o, const demo_scene *s, const char *title, drape_report_fn report)
+{
+    drape_variant v[DEMO_MAX_ALPHAS];
+    drape_result r[DEMO_MAX_ALPHAS];
+    int n = drape_material_variants(o, v), failed = 0;
+    for (int i = 0; i < n; i++) {
+        /* one run at a time: what a run keeps for report is the last run's */
+        if (drape_run_all(o, s, &v[i], 1, &r[i], s->name, title)) return 1;
+        int own = report(o, &v[i], &r[i]);
+        if (o->check) failed += drape_check_common(o, &v[i], &r[i]) + own;
+    }
+    if (o->check) printf("%s: %d check(s) failed\n", s->name, failed);
+    return failed ? 1 : 0;
+}
+
 int demo_moment_init(demo_moment *k, dClothID c)
 {
     k->state = cloth_state_create(dClothGetCore(c));

@@ -129,6 +129,13 @@ int drape_alpha_main(int argc, char **argv, const char *prog, const char *usage,
  * --material preset, once per --alpha, or once at its own alpha. Returns n. */
 int drape_material_variants(const demo_opts *o, drape_variant *v);
 
+/* main() of the one-material demos (trampoline, curtain, flag) after
+ * demo_begin: each variant run alone, the sheet <scene name>.png; report
+ * prints a run's figures and returns how many of its own claims failed
+ * (checked only with --check); the common claims are added. Exit status. */
+typedef int (*drape_report_fn)(const demo_opts *o, const drape_variant *v, const drape_result *r);
+int drape_material_main(const demo_opts *o, const demo_scene *s, const char *title, drape_report_fn report);
+
 /* The moment of a run worth a picture besides its end (the deepest sag, the
  * widest swing): the cloth's state, a body's position (b may be NULL: no
  * body), the metrics then. */
