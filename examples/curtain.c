@@ -88,12 +88,7 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
     for (int s = 0; s < steps; s++) {
         /* the ball's speed just before it reaches the curtain (y = 0) */
         if (dBodyGetPosition(ball)[1] < -BALL_R - 0.05) speed_before = dBodyGetLinearVel(ball)[1];
-        dSpaceCollide(space, &w, demo_near_callback);
-        if (demo_step(o, w.world, &c, 1, h, s)) goto done;
-        dJointGroupEmpty(w.contacts);
-        demo_track_step(c, &run);
-        demo_frame_hook(o, v->tag, s + 1, steps, &next_frame, &cam, space, &c, 1);
-        demo_view_frame(o, v->label, s + 1, steps, &cam, space, &c, 1);
+        if (demo_scene_step(o, v, &w, space, &c, &cam, h, s, steps, &next_frame, &run)) goto done;
         double swing = fabs(x[3 * hem_mid + 1] - hem_y0);
         if (swing > hem_swing) hem_swing = swing;
         demo_moment_offer(&widest, swing, c, ball, &run, t0, &r->draped); /* the widest swing */
@@ -102,11 +97,7 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
     demo_moment_finish(o, sc, v, &widest, c, ball, space, &cam, &run, t0, r);
     rc = 0;
 done:
-    demo_moment_free(&widest);
-    dClothDestroy(c);
-    dJointGroupDestroy(w.contacts);
-    dSpaceDestroy(space);
-    dWorldDestroy(w.world);
+    demo_scene_free(&widest, c, &w, space);
     return rc;
 }
 

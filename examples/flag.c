@@ -93,12 +93,7 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
             fprintf(stderr, "%s: %s\n", o->prog, cloth_last_error(dClothGetCore(c)));
             goto done;
         }
-        dSpaceCollide(space, &w, demo_near_callback);
-        if (demo_step(o, w.world, &c, 1, h, s)) goto done;
-        dJointGroupEmpty(w.contacts);
-        demo_track_step(c, &metrics);
-        demo_frame_hook(o, v->tag, s + 1, steps, &next_frame, &cam, space, &c, 1);
-        demo_view_frame(o, v->label, s + 1, steps, &cam, space, &c, 1);
+        if (demo_scene_step(o, v, &w, space, &c, &cam, h, s, steps, &next_frame, &metrics)) goto done;
         double y = x[3 * (size_t)fly + 1];
         flap_pos = fmax(flap_pos, y);
         flap_neg = fmin(flap_neg, y);
@@ -112,11 +107,7 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
     demo_moment_finish(o, sc, v, &widest, c, NULL, space, &cam, &metrics, t0, r);
     rc = 0;
 done:
-    demo_moment_free(&widest);
-    dClothDestroy(c);
-    dJointGroupDestroy(w.contacts);
-    dSpaceDestroy(space);
-    dWorldDestroy(w.world);
+    demo_scene_free(&widest, c, &w, space);
     return rc;
 }
 

@@ -118,12 +118,7 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
     int next_frame = 1;
     if (demo_moment_init(&deepest, c)) goto done;
     for (int s = 0; s < steps; s++) {
-        dSpaceCollide(space, &w, demo_near_callback);
-        if (demo_step(o, w.world, &c, 1, h, s)) goto done;
-        dJointGroupEmpty(w.contacts);
-        demo_track_step(c, &run);
-        demo_frame_hook(o, v->tag, s + 1, steps, &next_frame, &cam, space, &c, 1);
-        demo_view_frame(o, v->label, s + 1, steps, &cam, space, &c, 1);
+        if (demo_scene_step(o, v, &w, space, &c, &cam, h, s, steps, &next_frame, &run)) goto done;
         /* the deepest sag: the box at its lowest */
         demo_moment_offer(&deepest, -dBodyGetPosition(box)[2], c, box, &run, t0, &r->draped);
     }
@@ -138,11 +133,7 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
     demo_moment_finish(o, sc, v, &deepest, c, box, space, &cam, &run, t0, r);
     rc = 0;
 done:
-    demo_moment_free(&deepest);
-    dClothDestroy(c);
-    dJointGroupDestroy(w.contacts);
-    dSpaceDestroy(space);
-    dWorldDestroy(w.world);
+    demo_scene_free(&deepest, c, &w, space);
     return rc;
 }
 

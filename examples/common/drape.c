@@ -406,6 +406,27 @@ int drape_material_variants(const demo_opts *o, drape_variant *v)
     return n;
 }
 
+int demo_scene_step(const demo_opts *o, const drape_variant *v, demo_contacts *w, dSpaceID space, dClothID *c,
+                    const demo_camera *cam, double h, int s, int steps, int *next_frame, demo_metrics *run)
+{
+    dSpaceCollide(space, w, demo_near_callback);
+    if (demo_step(o, w->world, c, 1, h, s)) return -1;
+    dJointGroupEmpty(w->contacts);
+    demo_track_step(*c, run);
+    demo_frame_hook(o, v->tag, s + 1, steps, next_frame, cam, space, c, 1);
+    demo_view_frame(o, v->label, s + 1, steps, cam, space, c, 1);
+    return 0;
+}
+
+void demo_scene_free(demo_moment *k, dClothID c, demo_contacts *w, dSpaceID space)
+{
+    demo_moment_free(k);
+    dClothDestroy(c);
+    dJointGroupDestroy(w->contacts);
+    dSpaceDestroy(space);
+    dWorldDestroy(w->world);
+}
+
 int drape_material_main(const demo_opts *o, const demo_scene *s, const char *title, drape_report_fn report)
 {
     drape_variant v[DEMO_MAX_ALPHAS];

@@ -136,6 +136,11 @@ int drape_material_variants(const demo_opts *o, drape_variant *v);
 typedef int (*drape_report_fn)(const demo_opts *o, const drape_variant *v, const drape_result *r);
 int drape_material_main(const demo_opts *o, const demo_scene *s, const char *title, drape_report_fn report);
 
+/* One step of a one-cloth scene at step s of steps: ODE contacts, the cloth
+ * and the world (demo_step), then the run's metrics, frames and live view.
+ * 0, or -1 if the step failed (message printed). */
+int demo_scene_step(const demo_opts *o, const drape_variant *v, demo_contacts *w, dSpaceID space, dClothID *c,
+                    const demo_camera *cam, double h, int s, int steps, int *next_frame, demo_metrics *run);
 /* The moment of a run worth a picture besides its end (the deepest sag, the
  * widest swing): the cloth's state, a body's position (b may be NULL: no
  * body), the metrics then. */
@@ -157,6 +162,10 @@ void demo_moment_offer(demo_moment *k, double value, dClothID c, dBodyID b, cons
 void demo_moment_finish(const demo_opts *o, const demo_scene *sc, const drape_variant *v, demo_moment *k,
                         dClothID c, dBodyID b, dSpaceID space, const demo_camera *cam, const demo_metrics *run,
                         double t0, drape_result *r);
+
+/* The scene's teardown: the kept moment, the cloth, the contact group, the
+ * space and the world. */
+void demo_scene_free(demo_moment *k, dClothID c, demo_contacts *w, dSpaceID space);
 
 /* Print a check line ("check ok" / "check FAILED") and return !ok. */
 int demo_claim(int ok, const char *fmt, ...)
