@@ -250,11 +250,9 @@ void constraints_build(cloth *c, const double *a, const double *v0, double cfac,
  * creation (0, or -1 on no memory). */
 int air_on(const cloth *c);
 int air_blocks(cloth *c);
-/* Normals and areas at xf + hf vf (the step's frozen frame), velocities v:
- * f += s F_air (f may be NULL), A += t (area/9) D on every pair of each
- * triangle's vertices (A may be NULL; D as in cloth_set_air's model, so
- * -dF_a/dv_b = (area/9) D). Returns 1/2 sum area r^T D r, the drag's
- * dissipation potential (Phi's term over cfac, potential.h). */
+/* Frames at xf + hf vf, velocities v: f += s F_air, A += t (area/9) D on each
+ * triangle's vertex pairs (f, A may be NULL; -dF_a/dv_b = (area/9) D).
+ * Returns the dissipation potential 1/2 sum area r^T D r. */
 double air_eval(const cloth *c, const double *xf, const double *vf, double hf, const double *v, double s, double *f,
                 bsr *A, double t);
 
