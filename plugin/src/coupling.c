@@ -60,8 +60,8 @@ static double wall(void)
 #define STICK_WEIGHT 0.1
 
 /* A link counts as past the elongation limit, for sliding its sticking
- * vertices, beyond (1 + delta)(1 + SLIP_STRAIN) of its rest length: the
- * projection leaves links within rounding of the limit. */
+ * vertices, beyond (1 + delta)(1 + SLIP_STRAIN) of its rest length (the
+ * projection's rounding); after a Newton step, beyond its limit_tolerance. */
 #define SLIP_STRAIN 1e-4
 
 /* Where a point fixed in body b's frame (local) is now (w) and where it
@@ -496,7 +496,8 @@ cloth_status dClothStep(dClothID c, dReal h)
          * delta + 1e-4; with this rule none, 0.0300-0.0301) */
         {
             const double *x1 = cloth_positions(core);
-            double lim = (1.0 + cd.material.delta) * (1.0 + SLIP_STRAIN);
+            double slip = cd.solver.nonlinear == CLOTH_NEWTON ? cd.solver.limit_tolerance : SLIP_STRAIN;
+            double lim = (1.0 + cd.material.delta) * (1.0 + slip);
             int nl = cloth_link_count(core, CLOTH_SEQUENTIAL);
             for (int e = 0; e < nl; e++) {
                 cloth_link L;
