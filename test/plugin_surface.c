@@ -34,6 +34,7 @@
 
 #include "odecloth/dcloth.h"
 #include "check.h"
+#include "plugin_cloth.h"
 
 #define G 9.81
 #define H (1.0 / 60.0)
@@ -43,21 +44,7 @@
 static dClothID make_cloth(dWorldID w, dSpaceID s, double L, const double centre[3], const double u[3],
                            const double v[3], double mu)
 {
-    dClothDesc d = dClothDefaultDesc();
-    d.cloth.rows = d.cloth.cols = N;
-    d.cloth.width = d.cloth.height = L;
-    for (int k = 0; k < 3; k++) {
-        d.cloth.axis_u[k] = u[k];
-        d.cloth.axis_v[k] = v[k];
-        d.cloth.origin[k] = centre[k] - 0.5 * L * (u[k] + v[k]);
-    }
-    d.mu = mu;
-    d.thickness = THICK;
-    dClothID c = NULL;
-    cloth_error err;
-    if (!CHECK(dClothCreate(w, s, &d, &c, &err) == CLOTH_OK, "dClothCreate: %s", err.message)) return NULL;
-    dClothSetFailureMode(c, DCLOTH_FAILURE_STOP);
-    return c;
+    return flat_cloth(w, s, N, L, centre, u, v, mu, THICK);
 }
 
 static int run(dWorldID w, dClothID c, double seconds, const char *what)
