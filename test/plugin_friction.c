@@ -73,6 +73,7 @@
 
 #include "odecloth/dcloth.h"
 #include "check.h"
+#include "plugin_cloth.h"
 
 #define G 9.81
 #define PI 3.14159265358979323846
@@ -105,21 +106,7 @@ static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1]
 static dClothID make_cloth(dWorldID w, dSpaceID s, int n, double L, const double centre[3], const double u[3],
                            const double v[3], double mu)
 {
-    dClothDesc d = dClothDefaultDesc();
-    d.cloth.rows = d.cloth.cols = n;
-    d.cloth.width = d.cloth.height = L;
-    for (int k = 0; k < 3; k++) {
-        d.cloth.axis_u[k] = u[k];
-        d.cloth.axis_v[k] = v[k];
-        d.cloth.origin[k] = centre[k] - 0.5 * L * (u[k] + v[k]);
-    }
-    d.mu = mu;
-    d.thickness = THICK;
-    dClothID c = NULL;
-    cloth_error err;
-    if (!CHECK(dClothCreate(w, s, &d, &c, &err) == CLOTH_OK, "dClothCreate: %s", err.message)) return NULL;
-    dClothSetFailureMode(c, DCLOTH_FAILURE_STOP); /* a failed step is an error here */
-    return c;
+    return flat_cloth(w, s, n, L, centre, u, v, mu, THICK);
 }
 
 /* One step of cloth and world; a failure is a failed check. */

@@ -15,7 +15,7 @@
  *    releases, forces, normals, friction, thickness, bits, space changes
  *    (a geom as the space included), vertex forces for the next step,
  *    failure modes (valid and not), vertex contact queries, per-geom
- *    friction callbacks answering any value,
+ *    friction and surface callbacks answering any value,
  *    dClothStep and dClothWorldStep with good and bad h and bad cloth
  *    arrays. After each call: a status of the enum; positions finite; after
  *    a failure the core state, the bodies' poses, velocities and forces
@@ -47,6 +47,19 @@ static void fuzz_friction(void *data, dClothID c, dGeomID g, dReal *mu)
 {
     (void)c, (void)g;
     *mu = *(const double *)data;
+}
+/* the surface callback's answer: any mu and thickness, the thickness for
+ * one geom only (0: all) */
+static struct fuzz_surf {
+    double mu, thickness;
+    dGeomID only;
+} fuzz_surf;
+static void fuzz_surface(void *data, dClothID c, dGeomID g, dClothSurface *sf)
+{
+    const struct fuzz_surf *f = data;
+    (void)c;
+    sf->mu = f->mu;
+    if (!f->only || f->only == g) sf->thickness = f->thickness;
 }
 static int index_of(rng *g, int n) { return rng_u64(g) % 2 ? (int)(rng_u64(g) % (uint64_t)n) : xi(g); }
 
@@ -145,6 +158,7 @@ static void null_cloth(void)
     CHECK(dClothSetFailureMode(NULL, DCLOTH_FAILURE_STOP) == CLOTH_EINVAL, "dClothSetFailureMode(NULL) accepted");
     CHECK(dClothGetVertexContact(NULL, 0, NULL, NULL, NULL) == CLOTH_EINVAL, "dClothGetVertexContact(NULL) accepted");
     CHECK(dClothSetFrictionCallback(NULL, NULL, NULL) == CLOTH_EINVAL, "dClothSetFrictionCallback(NULL) accepted");
+    CHECK(dClothSetSurfaceCallback(NULL, NULL, NULL) == CLOTH_EINVAL, "dClothSetSurfaceCallback(NULL) accepted");
     dClothDestroy(NULL);
 }
 
@@ -237,7 +251,7 @@ static void walk(scene *s)
         const double *x = dClothGetPositions(c);
         int vi = index_of(&g, n), vv = vi >= 0 && vi < n ? vi : 0;
         for (int r = 0; r < 3; r++) p[r] = rng_u64(&g) % 12 ? x[3 * vv + r] : xd(&g);
-        int op = (int)(rng_u64(&g) % 28); /* 0-21 the calls, the rest steps */
+        int op = (int)(rng_u64(&g) % 28); /* 0-22 the calls, the rest steps */
         cloth_status st = CLOTH_OK;
         int is_step = 0;
         switch (op) {
@@ -343,6 +357,12 @@ static void walk(scene *s)
         case 21: /* a per-geom friction callback answering any value, or none */
             fuzz_mu = dval(&g, 0, 1.5);
             st = dClothSetFrictionCallback(c, rng_u64(&g) % 4 ? fuzz_friction : NULL, &fuzz_mu);
+            break;
+        case 22: /* a per-geom surface callback answering any value, or none */
+            fuzz_surf.mu = dval(&g, 0, 1.5);
+            fuzz_surf.thickness = rng_u64(&g) % 2 ? dval(&g, 1e-3, 0.05) : thick(&g);
+            fuzz_surf.only = rng_u64(&g) % 2 ? s->box : 0;
+            st = dClothSetSurfaceCallback(c, rng_u64(&g) % 4 ? fuzz_surface : NULL, &fuzz_surf);
             break;
         case 19: /* hold or stop on a failed step, or a mode that does not exist */
             st = dClothSetFailureMode(c, (dClothFailureMode)(rng_u64(&g) % 4 ? (int)(rng_u64(&g) % 2) : xi(&g)));

@@ -266,9 +266,11 @@ int dcloth_find_candidates(dClothID c, double h, double reach)
             lo[k] = fmin(lo[k], fmin(a, b));
             hi[k] = fmax(hi[k], fmax(a, b));
         }
-    /* grown by the thickness and what the fastest body covers in the step:
-     * a body approaching the cloth is a candidate before it arrives */
-    double grow = c->thickness * (1.0 + DCLOTH_CONTACT_MARGIN) + reach + h * space_speed(c->space);
+    /* grown by the thickness (the largest a geom has had, dcloth_surface)
+     * and what the fastest body covers in the step: a body approaching the
+     * cloth is a candidate before it arrives */
+    double t = fmax(c->thickness, c->surf_tmax);
+    double grow = t * (1.0 + DCLOTH_CONTACT_MARGIN) + reach + h * space_speed(c->space);
     for (int k = 0; k < 3; k++) {
         lo[k] -= grow;
         hi[k] += grow;
@@ -314,12 +316,14 @@ void dcloth_offer_opposite(vcontact *vc, dGeomID g, dBodyID body, const double n
     }
 }
 
-/* vc becomes a contact with geom g (of body, 0 if static): the surface's
- * outward normal and nearest point, and the gap from the shell */
-static void set_contact(vcontact *vc, dGeomID g, dBodyID body, const double nrm[3], const double point[3],
-                        double gap)
+/* vc becomes a contact with geom g (surface sf, of body, 0 if static): the
+ * surface's outward normal and nearest point, and the gap from the shell */
+static void set_contact(vcontact *vc, const struct dcloth_surf *sf, dBodyID body, const double nrm[3],
+                        const double point[3], double gap)
 {
-    vc->geom = g;
+    vc->geom = sf->g;
+    vc->thickness = sf->thickness;
+    vc->mu = sf->mu;
     vc->body = body;
     memcpy(vc->normal, nrm, sizeof vc->normal);
     memcpy(vc->point, point, sizeof vc->point);
@@ -363,17 +367,18 @@ int dcloth_find_late_contacts(dClothID c, const double *x0, const double *x1, do
     for (int a = 0; a < c->ncand; a++) {
         dGeomID g = c->cand[a];
         dBodyID body = dGeomGetBody(g);
+        double t = c->surf[a].thickness;
         for (int i = 0; i < c->n; i++) {
             vcontact *vc = &c->vc_new[i];
             double dist, nrm[3];
-            if (vc->geom || c->pin[i].active || !vertex_query(c, g, x1 + 3 * i, c->thickness, &dist, nrm)) continue;
-            if (!(dist < (1.0 - depth) * c->thickness)) continue;
+            if (vc->geom || c->pin[i].active || !vertex_query(c, g, x1 + 3 * i, t, &dist, nrm)) continue;
+            if (!(dist < (1.0 - depth) * t)) continue;
             /* the shell's plane at the end position, as seen from the start */
             double point[3];
             for (int k = 0; k < 3; k++) point[k] = x1[3 * i + k] - nrm[k] * dist;
             double gap = nrm[0] * (x0[3 * i] - point[0]) + nrm[1] * (x0[3 * i + 1] - point[1]) +
-                         nrm[2] * (x0[3 * i + 2] - point[2]) - c->thickness;
-            set_contact(vc, g, body, nrm, point, gap);
+                         nrm[2] * (x0[3 * i + 2] - point[2]) - t;
+            set_contact(vc, &c->surf[a], body, nrm, point, gap);
             found++;
         }
     }
@@ -392,10 +397,45 @@ static double newton_reach(dClothID c, double h)
     return h * sqrt(vmax);
 }
 
+/* Each candidate's surface (dcloth_surface) into c->surf, asking for each
+ * geom once a step. When a geom is thicker than the broadphase reached, it
+ * is run again that much wider, the geoms already asked keeping their answers. */
+static int find_surfaces(dClothID c, double h, double extra)
+{
+    int nold = 0;
+    for (;;) {
+        double reached = fmax(c->thickness, c->surf_tmax);
+        if (dcloth_find_candidates(c, h, extra) < 0) return -1;
+        if (c->ncand > c->surf_cap) {
+            int cap = c->cand_cap;
+            struct dcloth_surf *p = realloc(c->surf, (size_t)cap * sizeof *p);
+            if (p) c->surf = p;
+            struct dcloth_surf *q = p ? realloc(c->surf_old, (size_t)cap * sizeof *q) : NULL;
+            if (q) c->surf_old = q;
+            if (!q) return -1;
+            c->surf_cap = cap;
+        }
+        for (int a = 0; a < c->ncand; a++) {
+            struct dcloth_surf *sf = &c->surf[a];
+            int k = 0;
+            while (k < nold && c->surf_old[k].g != c->cand[a]) k++;
+            if (k < nold) {
+                *sf = c->surf_old[k];
+                continue;
+            }
+            sf->g = c->cand[a];
+            dcloth_surface(c, sf->g, &sf->mu, &sf->thickness);
+        }
+        if (!(c->surf_tmax > reached)) return c->ncand;
+        nold = c->ncand;
+        memcpy(c->surf_old, c->surf, (size_t)nold * sizeof *c->surf_old);
+    }
+}
+
 int dcloth_find_contacts(dClothID c, double h)
 {
     double extra = newton_reach(c, h);
-    if (dcloth_find_candidates(c, h, extra) < 0) return -1;
+    if (find_surfaces(c, h, extra) < 0) return -1;
     const double *x = cloth_positions(c->core), *v = cloth_velocities(c->core);
     int n = c->n;
     for (int a = 0; a < c->ncand; a++) {
@@ -403,6 +443,7 @@ int dcloth_find_contacts(dClothID c, double h)
         dReal aabb[6];
         dGeomGetAABB(g, aabb);
         dBodyID body = dGeomGetBody(g);
+        double t = c->surf[a].thickness;
         /* a vertex's reach: the thickness with its margin, and what the
          * vertex and the geom can close in the step, at their relative
          * speed (with the vertex's speed alone, a box falling at 2.4 m/s
@@ -413,21 +454,21 @@ int dcloth_find_contacts(dClothID c, double h)
          * contacts' fine geometry; soak_turntable) */
         for (int i = 0; i < n; i++) {
             const double *xi = x + 3 * i, *vi = v + 3 * i;
-            double reach = c->thickness * (1.0 + DCLOTH_CONTACT_MARGIN) + fmax(h * dcloth_relative_speed(body, xi, vi), extra);
+            double reach = t * (1.0 + DCLOTH_CONTACT_MARGIN) + fmax(h * dcloth_relative_speed(body, xi, vi), extra);
             if (xi[0] + reach < aabb[0] || xi[0] - reach > aabb[1] || xi[1] + reach < aabb[2] ||
                 xi[1] - reach > aabb[3] || xi[2] + reach < aabb[4] || xi[2] - reach > aabb[5])
                 continue;
             double dist, nrm[3];
             if (!vertex_query(c, g, xi, reach, &dist, nrm)) continue;
-            double gap = dist - c->thickness, point[3];
+            double gap = dist - t, point[3];
             vcontact *vc = &c->vc_new[i];
             for (int k = 0; k < 3; k++) point[k] = xi[k] - nrm[k] * dist;
             dcloth_offer_opposite(vc, g, body, nrm, gap, point);
             if (vc->geom && vc->gap <= gap) continue; /* a deeper one is kept */
-            set_contact(vc, g, body, nrm, point, gap);
+            set_contact(vc, &c->surf[a], body, nrm, point, gap);
         }
     }
     c->tri_hits = 0;
-    for (int a = 0; a < c->ncand; a++) c->tri_hits += dcloth_triangle_contacts(c, c->cand[a], h);
+    for (int a = 0; a < c->ncand; a++) c->tri_hits += dcloth_triangle_contacts(c, &c->surf[a], h);
     return c->ncand;
 }

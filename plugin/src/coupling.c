@@ -78,16 +78,6 @@ static void follow_body(dBodyID b, const double local[3], double h, double w[3],
     }
 }
 
-/* The friction coefficient of a contact with geom g: the user's per-geom
- * answer (dClothSetFrictionCallback) when it is one, else the cloth's. */
-static double contact_mu(dClothID c, dGeomID g)
-{
-    if (!c->friction_fn) return c->mu;
-    dReal mu = c->mu;
-    c->friction_fn(c->friction_data, c, g, &mu);
-    return mu >= 0.0 && isfinite(mu) ? mu : c->mu;
-}
-
 /* Decide the vertex's contact for this step: none (returns 0), sticking or
  * sliding; fills its constraint and, sliding, its friction force. */
 static int contact_rule(dClothID c, int i, double h, double mass, const double g[3], vcontact *nw,
@@ -118,7 +108,7 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
         }
     }
     forced = forced || nw->pinched;
-    if (!forced && nw->gap > 0.0 && nw->gap + h * vn > DCLOTH_CONTACT_SLOP * c->thickness) return 0; /* stays apart */
+    if (!forced && nw->gap > 0.0 && nw->gap + h * vn > DCLOTH_CONTACT_SLOP * nw->thickness) return 0; /* stays apart */
     if (!forced && nw->let_go) {
         st->released++;
         return 0;
@@ -132,7 +122,7 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
      * by its geometry alone (its vertices' forces along the triangle's
      * normal are often negative while the triangle as a whole presses:
      * releasing them made contacts on curved and edged geoms chatter) */
-    if (!forced && had && fn < 0.0 && nw->gap >= -DCLOTH_TOUCH * c->thickness && !nw->from_triangle) {
+    if (!forced && had && fn < 0.0 && nw->gap >= -DCLOTH_TOUCH * nw->thickness && !nw->from_triangle) {
         st->released++;
         return 0;
     }
@@ -163,7 +153,7 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
         }
     }
     for (int r = 0; r < 3; r++) F[r] = -mass * vt[r] / h - fo[r];
-    double mu = contact_mu(c, nw->geom);
+    double mu = nw->mu;
     double Fs = sqrt(dcloth_dot3(F, F)), limit = mu * fn;
     /* A contact made ahead of a moving body (the vertex still apart, the
      * body approaching along the normal) does not stick: its vertex slides
@@ -177,7 +167,7 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
      * beside soak_turntable's turning table slid where the side faces swept
      * toward it, and crept (strain 0.36, 1235 of 100,000 steps over 0.035,
      * a snap of 0.055 J). */
-    int ahead = nw->gap > c->thickness && h * dcloth_dot3(nw->vbody, n) > 0.1 * DCLOTH_CONTACT_SLOP * c->thickness;
+    int ahead = nw->gap > nw->thickness && h * dcloth_dot3(nw->vbody, n) > 0.1 * DCLOTH_CONTACT_SLOP * nw->thickness;
     int stick = mu > 0.0 && Fs <= limit && !ahead && (!had || nw->weight >= STICK_WEIGHT) && !nw->slides &&
                 !nw->pinched;
     /* end-of-step position: moved with the body's point, the penetration
@@ -315,7 +305,7 @@ static int held_by_coupled(dClothID c, int i)
 static void candidate(dClothID c, int i, double h, vcontact *nw, int newton)
 {
     const double *x = cloth_positions(c->core) + 3 * i;
-    double p[3], d = nw->gap + RESOLVE_DEPTH * c->thickness;
+    double p[3], d = nw->gap + RESOLVE_DEPTH * nw->thickness;
     for (int r = 0; r < 3; r++) p[r] = x[r] + h * nw->vbody[r] - d * nw->normal[r];
     nw->candidate = newton && isfinite(p[0] + p[1] + p[2]) && cloth_set_contact(c->core, i, nw->normal, p) == CLOTH_OK;
 }
@@ -428,7 +418,7 @@ cloth_status dClothStep(dClothID c, dReal h)
             if (!nw->geom || nw->active || nw->candidate || c->pin[i].active) continue;
             double d[3] = {x1[3 * i] - c->x0[3 * i] - h * nw->vbody[0], x1[3 * i + 1] - c->x0[3 * i + 1] - h * nw->vbody[1],
                            x1[3 * i + 2] - c->x0[3 * i + 2] - h * nw->vbody[2]};
-            if (nw->gap + dcloth_dot3(d, nw->normal) < -RESOLVE_DEPTH * c->thickness) {
+            if (nw->gap + dcloth_dot3(d, nw->normal) < -RESOLVE_DEPTH * nw->thickness) {
                 nw->forced = 1;
                 more++;
             }

@@ -125,6 +125,8 @@ void dClothDestroy(dClothID c)
     free(c->v0);
     cloth_state_destroy(c->save);
     free(c->cand);
+    free(c->surf);
+    free(c->surf_old);
     free(c->bodies);
     free(c->bdesc);
     free(c->journal);
@@ -287,7 +289,40 @@ cloth_status dClothSetFrictionCallback(dClothID c, dClothFrictionFn *fn, void *d
     if (!c) return CLOTH_EINVAL;
     c->friction_fn = fn;
     c->friction_data = fn ? data : NULL;
+    c->surface_fn = NULL;
+    c->surface_data = NULL;
+    c->surf_tmax = 0.0;
+    dClothWake(c);
     return CLOTH_OK;
+}
+
+cloth_status dClothSetSurfaceCallback(dClothID c, dClothSurfaceFn *fn, void *data)
+{
+    if (!c) return CLOTH_EINVAL;
+    c->surface_fn = fn;
+    c->surface_data = fn ? data : NULL;
+    c->friction_fn = NULL;
+    c->friction_data = NULL;
+    c->surf_tmax = 0.0;
+    dClothWake(c);
+    return CLOTH_OK;
+}
+
+void dcloth_surface(dClothID c, dGeomID g, double *mu, double *thickness)
+{
+    *mu = c->mu;
+    *thickness = c->thickness;
+    if (c->surface_fn) {
+        dClothSurface s = {c->mu, c->thickness};
+        c->surface_fn(c->surface_data, c, g, &s);
+        if (valid_mu(s.mu)) *mu = s.mu;
+        if (valid_thickness(s.thickness)) *thickness = s.thickness;
+        if (*thickness > c->surf_tmax) c->surf_tmax = *thickness;
+    } else if (c->friction_fn) {
+        dReal m = c->mu;
+        c->friction_fn(c->friction_data, c, g, &m);
+        if (valid_mu(m)) *mu = m;
+    }
 }
 
 cloth_status dClothSetFailureMode(dClothID c, dClothFailureMode mode)

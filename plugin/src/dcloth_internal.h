@@ -15,6 +15,8 @@ typedef struct vcontact {
     double normal[3];    /* unit, out of the geom toward the vertex         */
     double point[3];     /* m, the surface point under the vertex           */
     double gap;          /* m, distance to the surface minus the thickness  */
+    double thickness;    /* m, the geom's contact distance this step        */
+    double mu;           /* the geom's friction coefficient this step       */
     double vbody[3];     /* m/s, the body's velocity at the point           */
     int sticking;        /* 1: pinned to the body's motion (static friction) */
     int anchored;        /* 1: sticking to a kinematic body at anchor       */
@@ -84,12 +86,23 @@ struct dxCloth {
     cloth_state *save;   /* the core's state at the step's start (re-solves) */
     dGeomID *cand;       /* candidate geoms of the step                     */
     int ncand, cand_cap;
+    /* each candidate's mu and thickness this step (surf[a] for cand[a]),
+     * a scratch copy for a broadphase redone wider, and the largest
+     * thickness the surface callback has given since it was set */
+    struct dcloth_surf {
+        dGeomID g;
+        double mu, thickness;
+    } *surf, *surf_old;
+    int surf_cap;
+    double surf_tmax;
     int tri_hits;        /* vertex contacts set by triangle tests this step  */
     /* moving bodies solved with the cloth this step (coupling.c) */
     int implicit;        /* 1: couple dynamic bodies implicitly (default)   */
     dClothFailureMode on_failure; /* what a failed solve gives (dcloth.h)   */
     dClothFrictionFn *friction_fn; /* per-geom friction (NULL: mu for all)  */
     void *friction_data;
+    dClothSurfaceFn *surface_fn;   /* per-geom mu and thickness (NULL: none) */
+    void *surface_data;
     dBodyID *bodies;
     cloth_body *bdesc;
     int nbodies, bodies_cap;
@@ -167,6 +180,10 @@ static inline double dcloth_dot3(const double *a, const double *b)
 /* Set c->err and return code (printf-style). */
 cloth_status dcloth_fail(dClothID c, cloth_status code, const char *fmt, ...);
 
+/* dcloth.c: geom g's mu and thickness for this step: the cloth's, changed
+ * by the surface (or friction) callback where it gives valid values */
+void dcloth_surface(dClothID c, dGeomID g, double *mu, double *thickness);
+
 /* contacts.c: for the step of h seconds, every vertex's nearest surface
  * among the candidate geoms of c->space, into c->vc_new (geom 0 where there
  * is none within reach). Returns the number of candidate geoms, or -1 when
@@ -201,9 +218,9 @@ int dcloth_sleep_before(dClothID c, double h, double t0);
 void dcloth_sleep_after(dClothID c);
 
 /* triangles.c: cloth triangles against a box, capsule or cylinder (libccd)
- * over a step of h seconds;
+ * over a step of h seconds, with the geom's surface s;
  * sets deeper contacts of the triangles' vertices in c->vc_new. Returns the
  * number of vertex contacts it set (0 for other classes). */
-int dcloth_triangle_contacts(dClothID c, dGeomID g, double h);
+int dcloth_triangle_contacts(dClothID c, const struct dcloth_surf *s, double h);
 
 #endif

@@ -207,6 +207,7 @@ typedef struct convex_query {
     double span;      /* its diagonal */
     dGeomID g;
     dBodyID body;
+    const struct dcloth_surf *surf; /* the geom's mu and thickness this step */
     int moving;       /* the geom moves more than SWEEP_NEGLIGIBLE per step */
     int cls;          /* the geom's class (dTriMeshClass: face is set) */
 } convex_query;
@@ -271,7 +272,7 @@ static int facing(const convex_query *q, const tri_shape *ts, const double n[3],
 static int triangle_query(dClothID c, const convex_query *q, int k, double h, ccd_t *ccd, ccd_t *fine)
 {
     const double *x = cloth_positions(c->core), *v = cloth_velocities(c->core);
-    double t = c->thickness;
+    double t = q->surf->thickness;
     double shell_r = t * (1.0 + DCLOTH_CONTACT_MARGIN); /* the triangle grown by thickness and margin */
     const int *p = c->tri + 3 * k;
     /* grown by the thickness, the margin and the step's approach: the
@@ -419,6 +420,8 @@ static int triangle_query(dClothID c, const convex_query *q, int k, double h, cc
         dcloth_offer_opposite(vc, q->g, q->body, n, gap, pos.v);
         if (vc->geom && vc->gap <= gap) continue;
         vc->geom = q->g;
+        vc->thickness = q->surf->thickness;
+        vc->mu = q->surf->mu;
         vc->body = q->body;
         for (int r = 0; r < 3; r++) {
             vc->normal[r] = n[r];
@@ -580,7 +583,7 @@ static int grid_build(dClothID c, const convex_query *q, double h, double geom_s
         c->grid_nbuck = nb;
     }
     const double *x = cloth_positions(c->core), *v = cloth_velocities(c->core);
-    double shell_r = c->thickness * (1.0 + DCLOTH_CONTACT_MARGIN), side = 0.0, hi[3];
+    double shell_r = q->surf->thickness * (1.0 + DCLOTH_CONTACT_MARGIN), side = 0.0, hi[3];
     for (int a = 0; a < 3; a++) {
         lo[a] = INFINITY;
         hi[a] = -INFINITY;
@@ -686,7 +689,7 @@ static int mesh_contacts(dClothID c, convex_query *q, double h, ccd_t *ccd, ccd_
         double lmin = sqrt(fmin(dcloth_dot3(u, u), fmin(dcloth_dot3(w, w), (e[0] - b[0]) * (e[0] - b[0]) +
                                                                           (e[1] - b[1]) * (e[1] - b[1]) +
                                                                           (e[2] - b[2]) * (e[2] - b[2]))));
-        double depth = fmin(fmin(0.5 * lmin, 0.5 * least), MESH_PRISM_DEPTH * c->thickness);
+        double depth = fmin(fmin(0.5 * lmin, 0.5 * least), MESH_PRISM_DEPTH * q->surf->thickness);
         for (int r = 0; r < 3; r++) {
             nrm[r] /= area2;
             ps.p[0][r] = a[r];
@@ -738,8 +741,9 @@ static int mesh_contacts(dClothID c, convex_query *q, double h, ccd_t *ccd, ccd_
     return hits;
 }
 
-int dcloth_triangle_contacts(dClothID c, dGeomID g, double h)
+int dcloth_triangle_contacts(dClothID c, const struct dcloth_surf *sf, double h)
 {
+    dGeomID g = sf->g;
     if (!dClothGetTriangleTests(c, g)) return 0;
     geom_shape gs = {0};
     gs.g = g;
@@ -764,7 +768,7 @@ int dcloth_triangle_contacts(dClothID c, dGeomID g, double h)
     } else if (gs.cls != dTriMeshClass) {
         return 0;
     }
-    double t = c->thickness;
+    double t = sf->thickness;
     ccd_t ccd;
     CCD_INIT(&ccd);
     ccd.support1 = geom_support;
@@ -775,7 +779,7 @@ int dcloth_triangle_contacts(dClothID c, dGeomID g, double h)
     ccd.epa_tolerance = 1e-3 * t;
     ccd_t fine = ccd;
     fine.epa_tolerance = EPA_FINE * t;
-    convex_query q = {.shape = &gs, .support = geom_support, .center = geom_center, .g = g, .body = dGeomGetBody(g)};
+    convex_query q = {.shape = &gs, .support = geom_support, .center = geom_center, .g = g, .body = dGeomGetBody(g), .surf = sf};
     q.moving = dcloth_geom_speed(g) * h > SWEEP_NEGLIGIBLE * t; /* not ODE's jitter of a body at rest */
     q.cls = gs.cls;
     if (gs.cls == dTriMeshClass) return mesh_contacts(c, &q, h, &ccd, &fine);

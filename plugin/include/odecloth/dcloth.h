@@ -184,10 +184,25 @@ cloth_status dClothAddVertexForce(dClothID c, int vertex, dReal fx, dReal fy, dR
 /* ------------------------------------------------------------ parameters */
 
 cloth_status dClothSetFriction(dClothID c, dReal mu);
-/* Friction per geom, as ODE users set surface parameters per contact pair:
- * fn(data, c, g, &mu) is called for each vertex contact with geom g (several
- * times a step), mu holding dClothGetFriction(c); set mu for that geom. A
- * value that is not finite and >= 0 is ignored. fn NULL: one mu for all. */
+/* Contact parameters per geom, as an ODE near callback fills dSurfaceParameters
+ * per pair: fn(data, c, g, &s) is called once a step for each geom the
+ * cloth's broadphase finds, s holding dClothGetFriction(c) and
+ * dClothGetThickness(c); change either field for that geom (its contacts'
+ * friction, and how far vertices and triangles keep from it). A value
+ * dClothSetFriction or dClothSetThickness would refuse is ignored (that
+ * field keeps the cloth's). fn NULL: the cloth's values for all geoms.
+ * The broadphase reaches the largest thickness fn has given since it was
+ * set: a geom thicker than any before is seen from when it comes within
+ * that reach (a vertex then inside its shell is pushed out). */
+typedef struct dClothSurface {
+    dReal mu;        /* Coulomb friction coefficient, >= 0      */
+    dReal thickness; /* m, 1e-6 .. 10, the contact distance      */
+} dClothSurface;
+typedef void dClothSurfaceFn(void *data, dClothID c, dGeomID g, dClothSurface *s);
+cloth_status dClothSetSurfaceCallback(dClothID c, dClothSurfaceFn *fn, void *data);
+/* Friction alone per geom: fn(data, c, g, &mu), mu holding
+ * dClothGetFriction(c), called as the surface callback is. Setting either
+ * callback (even to NULL) clears the other. */
 typedef void dClothFrictionFn(void *data, dClothID c, dGeomID g, dReal *mu);
 cloth_status dClothSetFrictionCallback(dClothID c, dClothFrictionFn *fn, void *data);
 dReal dClothGetFriction(dClothID c);

@@ -1,0 +1,31 @@
+/* A flat square plugin cloth for the plugin tests (header-only, static). */
+#ifndef ODECLOTH_TEST_PLUGIN_CLOTH_H
+#define ODECLOTH_TEST_PLUGIN_CLOTH_H
+
+#include "odecloth/dcloth.h"
+#include "check.h"
+
+/* n x n nodes, side L, centred at `centre`, columns along u and rows along
+ * v, friction mu and the given thickness; a failed step is an error
+ * (DCLOTH_FAILURE_STOP). NULL (and a failed check) on error. */
+static dClothID flat_cloth(dWorldID w, dSpaceID s, int n, double L, const double centre[3], const double u[3],
+                           const double v[3], double mu, double thickness)
+{
+    dClothDesc d = dClothDefaultDesc();
+    d.cloth.rows = d.cloth.cols = n;
+    d.cloth.width = d.cloth.height = L;
+    for (int k = 0; k < 3; k++) {
+        d.cloth.axis_u[k] = u[k];
+        d.cloth.axis_v[k] = v[k];
+        d.cloth.origin[k] = centre[k] - 0.5 * L * (u[k] + v[k]);
+    }
+    d.mu = mu;
+    d.thickness = thickness;
+    dClothID c = NULL;
+    cloth_error err;
+    if (!CHECK(dClothCreate(w, s, &d, &c, &err) == CLOTH_OK, "dClothCreate: %s", err.message)) return NULL;
+    dClothSetFailureMode(c, DCLOTH_FAILURE_STOP);
+    return c;
+}
+
+#endif
