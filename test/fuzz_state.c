@@ -22,7 +22,6 @@
  *     -DODECLOTH_LIBFUZZER): libFuzzer's own main drives fuzz_one() from the
  *     same corpus for a bounded time.
  */
-#include <dirent.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -30,17 +29,13 @@
 
 #include "odecloth/cloth.h"
 #include "check.h"
-
-#ifndef ODECLOTH_TEST_CORPUS
-#define ODECLOTH_TEST_CORPUS "test/corpus"
-#endif
+#include "records.h"
 
 #define FUZZ_MUTATIONS 30000
 
 static void die(const char *what, const uint8_t *data, size_t size)
 {
-    fprintf(stderr, "fuzz_state: %s (input of %zu bytes, mode %d)\n", what, size, size ? data[0] : -1);
-    abort();
+    fuzz_die("fuzz_state", what, data, size);
 }
 
 static cloth *small_cloth(void)
@@ -54,16 +49,6 @@ static cloth *small_cloth(void)
     if (cloth_create(&d, &c, NULL) != CLOTH_OK) return NULL;
     cloth_pin(c, 0, cloth_positions(c));
     return c;
-}
-
-/* FNV-1a 64 of all but the last 8 bytes, written into them (the format's
- * checksum, computed here on its own) */
-static void reseal(uint8_t *p, size_t len)
-{
-    if (len < 8) return;
-    uint64_t h = 0xcbf29ce484222325ull;
-    for (size_t k = 0; k + 8 < len; k++) h = (h ^ p[k]) * 0x100000001b3ull;
-    for (int k = 0; k < 8; k++) p[len - 8 + k] = (uint8_t)(h >> (8 * k));
 }
 
 static int finite_all(const double *a, size_t n)
@@ -135,27 +120,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
 #ifndef ODECLOTH_LIBFUZZER
 
-typedef struct blob {
-    uint8_t *p;
-    size_t n;
-} blob;
-
-static blob read_all(const char *path)
-{
-    blob b = {NULL, 0};
-    FILE *f = fopen(path, "rb");
-    if (!f) return b;
-    size_t cap = 1 << 16;
-    b.p = malloc(cap);
-    size_t got;
-    while (b.p && (got = fread(b.p + b.n, 1, cap - b.n, f)) > 0) {
-        b.n += got;
-        if (b.n == cap) b.p = realloc(b.p, cap *= 2);
-    }
-    fclose(f);
-    return b;
-}
-
 static int write_file(const char *dir, const char *name, int mode, const cloth_state *s)
 {
     char path[1024];
@@ -193,82 +157,14 @@ static int write_corpus(const char *dir)
     return rc;
 }
 
-static const double special[] = {0.0, -0.0, 1.0, -1.0, 1e-310, 1e308, -1e308, 1e300, 5e-324, 1.0 / 60, 0.05};
-
-static void mutate(rng *g, const blob *seeds, int ns, blob *out)
-{
-    const blob *s = &seeds[rng_u64(g) % (uint64_t)ns];
-    size_t cap = s->n + 64;
-    out->p = malloc(cap);
-    memcpy(out->p, s->p, s->n);
-    out->n = s->n;
-    int edits = 1 + (int)(rng_u64(g) % 4);
-    for (int e = 0; e < edits && out->n > 0; e++) {
-        size_t at = (size_t)(rng_u64(g) % out->n);
-        switch (rng_u64(g) % 9) {
-        case 0: out->p[at] ^= (uint8_t)(1u << (rng_u64(g) % 8)); break; /* bit flip */
-        case 1: out->p[at] = (uint8_t)rng_u64(g); break;                  /* random byte */
-        case 2: { /* an interesting double at an 8-aligned offset of the record */
-            double d = rng_u64(g) % 2 ? special[rng_u64(g) % (sizeof special / sizeof special[0])]
-                                      : (rng_u64(g) % 2 ? NAN : (rng_u64(g) % 2 ? INFINITY : -INFINITY));
-            size_t off = 1 + ((at / 8) * 8);
-            if (off + 8 <= out->n) memcpy(out->p + off, &d, 8);
-            break;
-        }
-        case 3: { /* an interesting u32 in the header */
-            static const uint32_t u[] = {0, 1, 2, 11, 12, 13, 0x7fffffff, 0xffffffff, 0x80000000};
-            size_t off = 1 + 4 * (size_t)(2 + rng_u64(g) % 4);
-            uint32_t val = u[rng_u64(g) % (sizeof u / sizeof u[0])];
-            if (off + 4 <= out->n) memcpy(out->p + off, &val, 4);
-            break;
-        }
-        case 4: out->n = at; break; /* truncate */
-        case 5:                     /* insert bytes */
-            if (out->n + 8 <= cap) {
-                size_t k = 1 + (size_t)(rng_u64(g) % 8);
-                memmove(out->p + at + k, out->p + at, out->n - at);
-                for (size_t q = 0; q < k; q++) out->p[at + q] = (uint8_t)rng_u64(g);
-                out->n += k;
-            }
-            break;
-        case 6: { /* delete bytes */
-            size_t k = 1 + (size_t)(rng_u64(g) % 8);
-            if (at + k > out->n) k = out->n - at;
-            memmove(out->p + at, out->p + at + k, out->n - at - k);
-            out->n -= k;
-            break;
-        }
-        case 7: { /* splice: the tail of another seed */
-            const blob *o = &seeds[rng_u64(g) % (uint64_t)ns];
-            size_t k = o->n > at ? o->n - at : 0;
-            if (at + k > cap) k = cap - at;
-            memcpy(out->p + at, o->p + at, k);
-            out->n = at + k;
-            break;
-        }
-        default: out->p[0] = (uint8_t)(rng_u64(g) % 4); break; /* mode */
-        }
-    }
-}
-
 int main(int argc, char **argv)
 {
     if (argc == 3 && !strcmp(argv[1], "--write-corpus")) return write_corpus(argv[2]) ? 1 : 0;
     const char *dir = argc > 1 ? argv[1] : ODECLOTH_TEST_CORPUS "/state";
     long mutations = argc > 2 ? atol(argv[2]) : FUZZ_MUTATIONS;
-    DIR *dp = opendir(dir);
-    if (!CHECK(dp != NULL, "no corpus directory %s", dir)) return check_summary();
     blob seeds[64];
-    int ns = 0;
-    struct dirent *de;
-    while ((de = readdir(dp)) && ns < 64) {
-        if (de->d_name[0] == '.') continue;
-        char path[1024];
-        snprintf(path, sizeof path, "%s/%s", dir, de->d_name);
-        blob b = read_all(path);
-        if (b.p) seeds[ns++] = b;
-    }
-    closedir(dp);
+    int ns = load_seeds(dir, seeds, 64);
+    if (!CHECK(ns >= 0, "no corpus directory %s", dir)) return check_summary();
     CHECK(ns >= 3, "%d corpus files in %s, expected the 3 seeds at least", ns, dir);
     for (int k = 0; k < ns; k++) LLVMFuzzerTestOneInput(seeds[k].p, seeds[k].n);
     /* the seeds themselves must be valid records */
@@ -279,13 +175,7 @@ int main(int argc, char **argv)
     CHECK(valid >= 3, "only %d valid records among the seeds", valid);
     cloth_state_destroy(s);
     cloth_destroy(c);
-    rng g = rng_seed(0x5eedf00du);
-    for (long k = 0; k < mutations && ns > 0; k++) {
-        blob m;
-        mutate(&g, seeds, ns, &m);
-        LLVMFuzzerTestOneInput(m.p, m.n);
-        free(m.p);
-    }
+    fuzz_mutations(seeds, ns, mutations, 0x5eedf00du, LLVMFuzzerTestOneInput);
     printf("%d corpus files and %ld mutations through cloth_state_read: no violation; %ld refused, %ld "
            "accepted (%ld stepped, %ld steps failed and rolled back)\n",
            ns, mutations, n_refused, n_accepted, n_stepped, n_step_failed);

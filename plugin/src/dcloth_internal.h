@@ -158,6 +158,24 @@ struct dxCloth {
     char err[256];
 };
 
+/* save.c: a snapshot of a cloth (dClothSave); statefile.c reads and writes
+ * it to a file. */
+struct dClothState {
+    int n;
+    cloth_state *core;
+    vcontact *vc;
+    vpin *pin;
+    dClothStepStats stats;
+    struct sleep_state sleep;
+    double *sleep_geoms;
+    dGeomID *sleep_ids;
+};
+
+/* statefile.c: dClothReadState on a file already in memory (name: for the
+ * messages), for the fuzzer. */
+cloth_status dcloth_read_state(dClothID c, const char *name, const unsigned char *buf, size_t len,
+                               const dGeomID *geoms, int ngeoms, const dBodyID *bodies, int nbodies);
+
 /* Vertices and triangles are seen this fraction of the thickness beyond it:
  * one held exactly at the thickness is then still seen (a shape that only
  * touches reports no contact, so such a vertex fell free every other step). */

@@ -8,17 +8,6 @@
 #include <string.h>
 #include "dcloth_internal.h"
 
-struct dClothState {
-    int n;
-    cloth_state *core;
-    vcontact *vc;
-    vpin *pin;
-    dClothStepStats stats;
-    struct sleep_state sleep;
-    double *sleep_geoms;
-    dGeomID *sleep_ids;
-};
-
 dClothState *dClothStateCreate(dClothID c)
 {
     if (!c) return NULL;

@@ -249,6 +249,22 @@ void dClothStateDestroy(dClothState *s);    /* NULL is fine */
 cloth_status dClothSave(dClothID c, dClothState *s);
 cloth_status dClothRestore(dClothID c, const dClothState *s);
 
+/* The same to a file, to continue a run in another process or on another
+ * machine (versioned, little-endian, checksummed; the layout is in
+ * plugin/src/statefile.c). Geoms and bodies cannot go to a file: you name
+ * those the cloth may refer to in geoms[] and bodies[] (NULL with a count of
+ * 0 for none), and the file keeps indices into them, so pass the same
+ * arrays, in the same order, of the scene you rebuilt. Writing refuses
+ * (file untouched) a pin, contact or sleep snapshot whose geom or body is
+ * not in the arrays, naming it: dropping it would silently change the run.
+ * Reading checks every field (magic, version, vertex count, indices,
+ * finite numbers, checksum) and changes the cloth only if all pass. The last
+ * step's stats are not kept; your bodies' own state is yours to save. */
+cloth_status dClothWriteState(dClothID c, const char *path, const dGeomID *geoms, int ngeoms,
+                              const dBodyID *bodies, int nbodies);
+cloth_status dClothReadState(dClothID c, const char *path, const dGeomID *geoms, int ngeoms,
+                             const dBodyID *bodies, int nbodies);
+
 /* -------------------------------------------------------------- sleeping */
 
 /* A cloth at rest costs nothing (off by default, as ODE's auto-disable).
