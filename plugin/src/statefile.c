@@ -122,7 +122,7 @@ static void io_flag(io *s, int *v, const char *field) { io_int(s, v, 0, 1, field
 static void io_f64(io *s, double *v, int k, const char *field)
 {
     for (int j = 0; j < k; j++) {
-        uint64_t u;
+        uint64_t u = 0;
         if (!s->reading) memcpy(&u, &v[j], sizeof u);
         io_u64(s, &u, field);
         if (!s->reading || s->err[0]) continue;
