@@ -13,7 +13,9 @@
  * candidates (documented): there the cloth passes the plane.
  * A cloth sticking to the floor, one edge pulled 5 cm in a step: the sticking
  * vertices that would hold a link past the elongation limit slide on the
- * floor and the limit holds; pulled 0.1 mm, none slides.
+ * floor and the limit holds; pulled 0.1 mm, none slides. One edge lifted
+ * 10 cm in a step: the floor's planes under the vertices next to it, pulling
+ * them down against links past the limit, let go, and the limit holds.
  * Bad candidates are refused naming the argument, the cloth unchanged.
  */
 #include <math.h>
@@ -202,6 +204,41 @@ static void sticking_pulled(double pull)
     cloth_destroy(c);
 }
 
+/* A cloth sticking to the floor as in sticking_pulled, its first column
+ * lifted by `lift` in one step: the contacts next to it, let slide, still
+ * hold links past the elongation limit and pull their vertices down: they
+ * let go, so the limit holds and those vertices leave the floor. */
+static void lifted(double lift)
+{
+    cloth *c = make(CLOTH_NEWTON, 0.0);
+    if (!c) return;
+    int n = cloth_vertex_count(c);
+    double *x = malloc(3 * (size_t)n * sizeof *x), *v = calloc(3 * (size_t)n, sizeof *v);
+    memcpy(x, cloth_positions(c), 3 * (size_t)n * sizeof *x);
+    for (int i = 0; i < n; i++) x[3 * i + 2] = 0.0;
+    cloth_set_positions(c, x);
+    cloth_set_velocities(c, v);
+    static const double up[3] = {0, 0, 1};
+    for (int i = 0; i < n; i++) {
+        double t[3] = {x[3 * i], x[3 * i + 1], i % N ? 0.0 : lift};
+        cloth_pin(c, i, t);
+        if (i % N) cloth_set_contact(c, i, up, t);
+    }
+    cloth_step_stats st;
+    CHECK(cloth_step(c, H, &st) == CLOTH_OK, "lift %g: %s", lift, cloth_last_error(c));
+    double delta = cloth_get_desc(c).material.delta, low = min_z(c), second = INFINITY;
+    for (int i = 1; i < n; i += N) second = fmin(second, cloth_positions(c)[3 * i + 2]);
+    CHECK(cloth_max_strain(c) <= delta + 1e-3 * (1.0 + delta), "lift %g: strain %.5f past the limit %.3f", lift,
+          cloth_max_strain(c), delta);
+    CHECK(low >= -H * 1e-9, "lift %g: a vertex %.3g m below the floor", lift, low);
+    CHECK(second > 1e-3, "lift %g: the second column stayed on the floor (%.3g m)", lift, second);
+    printf("lifted %.2f m: strain %.5f, second column at %.4f m, %d Newton iterations\n", lift, cloth_max_strain(c),
+           second, st.newton);
+    free(x);
+    free(v);
+    cloth_destroy(c);
+}
+
 static void bad_input(void)
 {
     cloth *c = make(CLOTH_NEWTON, 0.0);
@@ -233,6 +270,7 @@ int main(void)
     rigid_landing();
     tilted_landing();
     linearized_ignores();
+    lifted(0.1);
     sticking_pulled(0.05);
     sticking_pulled(1e-4);
     bad_input();

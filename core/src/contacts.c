@@ -83,6 +83,34 @@ int contacts_slide(cloth *c, const double *x)
     return changed;
 }
 
+int contacts_release(cloth *c, const double *x, const double *b)
+{
+    double lim = (1.0 + c->desc.material.delta) * (1.0 + c->desc.solver.limit_tolerance);
+    int changed = 0;
+    for (int e = 0; e < c->n_seq; e++) {
+        const link_topo *L = &c->seq[e];
+        double d2 = 0.0;
+        for (int r = 0; r < 3; r++) {
+            double w = x[3 * L->j + r] - x[3 * L->i + r];
+            d2 += w * w;
+        }
+        if (d2 <= lim * lim * L->rest * L->rest) continue;
+        int ends[2] = {L->i, L->j};
+        for (int a = 0; a < 2; a++) {
+            int i = ends[a];
+            cloth_constraint *q = &c->con[i];
+            if ((c->cand_on[i] != 2 && c->cand_on[i] != 3) || q->ndof != 1) continue;
+            const double *bi = b + 3 * (size_t)i;
+            if (!(bi[0] * q->axis[0] + bi[1] * q->axis[1] + bi[2] * q->axis[2] > 0.0)) continue; /* pushes */
+            q->ndof = 0;
+            c->cand_on[i] += 2; /* 4: a plane released, 5: a slid contact released */
+            c->n_con--;
+            changed++;
+        }
+    }
+    return changed;
+}
+
 void contacts_land(cloth *c, const double *dv)
 {
     for (int i = 0; i < c->n; i++) {
@@ -106,10 +134,11 @@ void contacts_begin(cloth *c)
 void contacts_undo(cloth *c)
 {
     for (int i = 0; i < c->n; i++) {
-        if (c->cand_on[i] == 2) {
+        if (c->cand_on[i] == 2 || c->cand_on[i] == 4) {
+            if (c->cand_on[i] == 2) c->n_con--;
             memset(&c->con[i], 0, sizeof c->con[i]);
-            c->n_con--;
-        } else if (c->cand_on[i] == 3) {
+        } else if (c->cand_on[i] == 3 || c->cand_on[i] == 5) {
+            if (c->cand_on[i] == 5) c->n_con++;
             c->con[i].ndof = 3;
             memset(c->con[i].axis, 0, sizeof c->con[i].axis);
         } else {

@@ -102,7 +102,8 @@ struct cloth {
     int n_con;
     double *con_force;         /* 3n, N, from the last step */
     double *cand;              /* 6n: contact candidates (cloth_set_contact): normal, point */
-    unsigned char *cand_on;    /* n: 1 a candidate, 2 made a plane, 3 let slide in a solve */
+    unsigned char *cand_on;    /* n: 1 a candidate, 2 made a plane, 3 let slide in a solve,
+                                  4 and 5 those released in a solve */
     double *f_ext;             /* 3n, N, external forces (cloth_set_external_forces) */
     cloth_air air;             /* air drag and wind (cloth_set_air; air.c) */
     int *air_blk;              /* 6 per grid triangle: its pairs' blocks in A (air.c) */
@@ -233,6 +234,9 @@ void contacts_land(cloth *c, const double *dv);
  * that x puts past its limit (beyond limit_tolerance) slide on their
  * surface's plane; returns how many */
 int contacts_slide(cloth *c, const double *x);
+/* Contacts the step made planes (or let slide) at an end of a link x puts
+ * past the limit, whose force b pulls: released for the step; how many. */
+int contacts_release(cloth *c, const double *x, const double *b);
 /* at a step's start: planes kept from the last step stay constraints; on
  * its failure: the planes it made are candidates again */
 void contacts_begin(cloth *c);

@@ -173,17 +173,15 @@ static int decide_contacts(cloth *c, const step_eq *q, mpcg_problem *P, const do
     return added;
 }
 
-/* Sticking contacts that hold a link past the elongation limit at the
- * converged iterate slide: a limit the contacts make infeasible is not
- * chased by the multipliers. Returns how many. */
-static int slide_contacts(cloth *c, const step_eq *q, mpcg_problem *P, const double *xs, double frac,
-                          cloth_step_stats *st)
+/* The constraints again after n contacts were loosened at the converged
+ * iterate (let slide or let go): their normal components are on target. */
+static int loosened(cloth *c, const step_eq *q, mpcg_problem *P, const double *xs, double frac, int n,
+                    cloth_step_stats *st)
 {
-    int slid = contacts_slide(c, c->x_new);
-    if (!slid) return 0;
-    contacts_changed(c, q, P, xs, frac, slid, st);
-    memset(c->z, 0, 3 * (size_t)c->n * sizeof *c->z); /* the normal components are on their targets */
-    return slid;
+    if (!n) return 0;
+    contacts_changed(c, q, P, xs, frac, n, st);
+    memset(c->z, 0, 3 * (size_t)c->n * sizeof *c->z);
+    return n;
 }
 
 cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double frac, cloth_step_stats *st,
@@ -224,7 +222,10 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
                 landing = 1;
                 landed = 0; /* the residual no longer bounds the step */
             } else {
-                changed = slide_contacts(c, &q, &P, xs, frac, st);
+                /* sticking contacts that hold a link past the limit slide;
+                 * contacts there whose force pulls let go */
+                changed = loosened(c, &q, &P, xs, frac, contacts_slide(c, c->x_new), st);
+                if (!changed) changed = loosened(c, &q, &P, xs, frac, contacts_release(c, c->x_new, b), st);
             }
             if (changed) {
                 since = 0;
