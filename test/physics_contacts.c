@@ -167,22 +167,36 @@ static void linearized_ignores(void)
  * contact), its first column pinned and pulled along -x by `pull` in one
  * step: sticking vertices that would hold a link past the elongation limit
  * slide on the floor, so the limit holds; a small pull slides nothing. */
-static void sticking_pulled(double pull)
+/* A Newton cloth at rest on the floor, every vertex sticking (pinned where
+ * it is, with its contact) but its first column, pinned moved by d; x gets
+ * the start positions (3n, the caller frees it). */
+static cloth *on_floor(const double d[3], double **x)
 {
     cloth *c = make(CLOTH_NEWTON, 0.0);
-    if (!c) return;
+    if (!c) return NULL;
     int n = cloth_vertex_count(c);
-    double *x = malloc(3 * (size_t)n * sizeof *x), *v = calloc(3 * (size_t)n, sizeof *v);
-    memcpy(x, cloth_positions(c), 3 * (size_t)n * sizeof *x);
-    for (int i = 0; i < n; i++) x[3 * i + 2] = 0.0;
-    cloth_set_positions(c, x);
+    double *p = malloc(3 * (size_t)n * sizeof *p), *v = calloc(3 * (size_t)n, sizeof *v);
+    memcpy(p, cloth_positions(c), 3 * (size_t)n * sizeof *p);
+    for (int i = 0; i < n; i++) p[3 * i + 2] = 0.0;
+    cloth_set_positions(c, p);
     cloth_set_velocities(c, v);
     static const double up[3] = {0, 0, 1};
     for (int i = 0; i < n; i++) {
-        double t[3] = {x[3 * i] - (i % N == 0 ? pull : 0.0), x[3 * i + 1], 0.0};
+        double s = i % N ? 0.0 : 1.0, t[3] = {p[3 * i] + s * d[0], p[3 * i + 1] + s * d[1], s * d[2]};
         cloth_pin(c, i, t);
         if (i % N) cloth_set_contact(c, i, up, t);
     }
+    free(v);
+    *x = p;
+    return c;
+}
+
+static void sticking_pulled(double pull)
+{
+    double d[3] = {-pull, 0.0, 0.0}, *x;
+    cloth *c = on_floor(d, &x);
+    if (!c) return;
+    int n = cloth_vertex_count(c);
     cloth_step_stats st;
     CHECK(cloth_step(c, H, &st) == CLOTH_OK, "pull %g: %s", pull, cloth_last_error(c));
     double delta = cloth_get_desc(c).material.delta, worst_z = 0.0, moved = 0.0;
@@ -200,7 +214,6 @@ static void sticking_pulled(double pull)
               st.contacts_decided, moved);
     }
     free(x);
-    free(v);
     cloth_destroy(c);
 }
 
@@ -210,20 +223,10 @@ static void sticking_pulled(double pull)
  * let go, so the limit holds and those vertices leave the floor. */
 static void lifted(double lift)
 {
-    cloth *c = make(CLOTH_NEWTON, 0.0);
+    double d[3] = {0.0, 0.0, lift}, *x;
+    cloth *c = on_floor(d, &x);
     if (!c) return;
     int n = cloth_vertex_count(c);
-    double *x = malloc(3 * (size_t)n * sizeof *x), *v = calloc(3 * (size_t)n, sizeof *v);
-    memcpy(x, cloth_positions(c), 3 * (size_t)n * sizeof *x);
-    for (int i = 0; i < n; i++) x[3 * i + 2] = 0.0;
-    cloth_set_positions(c, x);
-    cloth_set_velocities(c, v);
-    static const double up[3] = {0, 0, 1};
-    for (int i = 0; i < n; i++) {
-        double t[3] = {x[3 * i], x[3 * i + 1], i % N ? 0.0 : lift};
-        cloth_pin(c, i, t);
-        if (i % N) cloth_set_contact(c, i, up, t);
-    }
     cloth_step_stats st;
     CHECK(cloth_step(c, H, &st) == CLOTH_OK, "lift %g: %s", lift, cloth_last_error(c));
     double delta = cloth_get_desc(c).material.delta, low = min_z(c), second = INFINITY;
@@ -235,7 +238,6 @@ static void lifted(double lift)
     printf("lifted %.2f m: strain %.5f, second column at %.4f m, %d Newton iterations\n", lift, cloth_max_strain(c),
            second, st.newton);
     free(x);
-    free(v);
     cloth_destroy(c);
 }
 
