@@ -162,9 +162,12 @@ typedef struct cloth_solver {
     double limit_tolerance;       /* 1, in (0, 1) (default 1e-3)          */
     double newton_cg_tolerance;   /* 1, in (0, 1) (default 1e-2): CLOTH_NEWTON's
                                      linear solves stop here, in cg_tolerance's
-                                     norm (which they do not use): an inexact
-                                     Newton step, the next iterations
-                                     correcting what it leaves             */
+                                     norm (which they do not use), or once
+                                     their error is estimated within 0.3
+                                     newton_tolerance (no bodies solved with
+                                     the cloth): an inexact Newton step, the
+                                     next iterations correcting what it
+                                     leaves                                */
     int keep_unconverged;         /* 0 (default) or 1. CLOTH_NEWTON: 1 keeps
                                      the last iterate of a solve that runs
                                      out of newton_iterations at the
