@@ -36,11 +36,6 @@ dClothDesc dClothDefaultDesc(void)
     return d;
 }
 
-/* Thickness range: below a micron libccd's EPA tolerance (1e-3 of it) is
- * lost in rounding and GJK spins; past 10 m its sums overflow (1e300 made
- * libccd crash: found by plugin_fuzz_api). */
-#define DCLOTH_THICKNESS_MIN 1e-6
-#define DCLOTH_THICKNESS_MAX 10.0
 static int valid_thickness(double t) { return t >= DCLOTH_THICKNESS_MIN && t <= DCLOTH_THICKNESS_MAX; }
 static int valid_mu(double mu) { return mu >= 0.0 && isfinite(mu); }
 

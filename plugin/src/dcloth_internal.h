@@ -169,6 +169,7 @@ struct dClothState {
     struct sleep_state sleep;
     double *sleep_geoms;
     dGeomID *sleep_ids;
+    double surf_tmax; /* the broadphase's reach for the surface callback's geoms */
 };
 
 /* statefile.c: dClothReadState on a file already in memory (name: for the
@@ -201,6 +202,12 @@ cloth_status dcloth_fail(dClothID c, cloth_status code, const char *fmt, ...);
 /* dcloth.c: geom g's mu and thickness for this step: the cloth's, changed
  * by the surface (or friction) callback where it gives valid values */
 void dcloth_surface(dClothID c, dGeomID g, double *mu, double *thickness);
+
+/* Thickness range (m): below a micron libccd's EPA tolerance (1e-3 of it)
+ * is lost in rounding and GJK spins; past 10 m its sums overflow (1e300
+ * made libccd crash: found by plugin_fuzz_api). */
+#define DCLOTH_THICKNESS_MIN 1e-6
+#define DCLOTH_THICKNESS_MAX 10.0
 
 /* contacts.c: for the step of h seconds, every vertex's nearest surface
  * among the candidate geoms of c->space, into c->vc_new (geom 0 where there

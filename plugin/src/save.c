@@ -64,6 +64,7 @@ cloth_status dClothSave(dClothID c, dClothState *s)
     memcpy(s->pin, c->pin, (size_t)c->n * sizeof *s->pin);
     s->stats = c->stats;
     s->sleep = c->sleep;
+    s->surf_tmax = c->surf_tmax;
     return CLOTH_OK;
 }
 
@@ -88,5 +89,6 @@ cloth_status dClothRestore(dClothID c, const dClothState *s)
     memcpy(c->pin, s->pin, (size_t)c->n * sizeof *c->pin);
     c->stats = s->stats;
     c->sleep = s->sleep;
+    c->surf_tmax = s->surf_tmax;
     return CLOTH_OK;
 }

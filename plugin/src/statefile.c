@@ -11,7 +11,8 @@
  *   24  L   the core's state record (cloth_state_write, its own format)
  *       sleep: i32 on, steps, still, asleep; f64 speed, gravity[3];
  *           i32 count k; k times: i32 geom, f64 position[3]
- *       n contact records (292 bytes each, fields in xfer_contact's order)
+ *       f64 the surface callback's largest thickness so far (0: none)
+ *       n contact records (308 bytes each, fields in xfer_contact's order)
  *       n pin records (80 bytes each: i32 active, i32 body, f64 local[3],
  *           world[3], force[3])
  *   end-8 8 u64 FNV-1a 64 of every byte before it
@@ -193,6 +194,8 @@ static void xfer_contact(io *s, vcontact *c)
     io_f64(s, &c->opp_gap, 1, "opp_gap");
     io_f64(s, c->opp_vbody, 3, "opp_vbody");
     io_flag(s, &c->pinched, "pinched");
+    io_f64(s, &c->thickness, 1, "thickness");
+    io_f64(s, &c->mu, 1, "mu");
 }
 
 static void xfer_pin(io *s, vpin *p)
@@ -263,6 +266,10 @@ static void xfer_body(io *s, dClothState *st, size_t core_len)
         return;
     }
     xfer_sleep(s, st);
+    snprintf(s->where, sizeof s->where, "surface");
+    io_f64(s, &st->surf_tmax, 1, "largest thickness");
+    if (s->reading && !s->err[0] && !(st->surf_tmax >= 0.0 && st->surf_tmax <= DCLOTH_THICKNESS_MAX))
+        io_fail(s, "largest thickness", " = %g is outside [0, %g]", st->surf_tmax, DCLOTH_THICKNESS_MAX);
     for (int i = 0; i < st->n && !s->err[0]; i++) {
         snprintf(s->where, sizeof s->where, "contact of vertex %d", i);
         xfer_contact(s, &st->vc[i]);
