@@ -279,28 +279,28 @@ cloth_status dClothGetVertexContact(dClothID c, int vertex, dGeomID *geom, dReal
 
 /* ------------------------------------------------------------- parameters */
 
-cloth_status dClothSetFrictionCallback(dClothID c, dClothFrictionFn *fn, void *data)
+/* One per-geom callback at a time: the other cleared, and the reach it
+ * gave the broadphase forgotten */
+static cloth_status set_callback(dClothID c, dClothSurfaceFn *sfn, dClothFrictionFn *ffn, void *data)
 {
     if (!c) return CLOTH_EINVAL;
-    c->friction_fn = fn;
-    c->friction_data = fn ? data : NULL;
-    c->surface_fn = NULL;
-    c->surface_data = NULL;
+    c->surface_fn = sfn;
+    c->friction_fn = ffn;
+    c->surface_data = sfn ? data : NULL;
+    c->friction_data = ffn ? data : NULL;
     c->surf_tmax = 0.0;
     dClothWake(c);
     return CLOTH_OK;
 }
 
+cloth_status dClothSetFrictionCallback(dClothID c, dClothFrictionFn *fn, void *data)
+{
+    return set_callback(c, NULL, fn, data);
+}
+
 cloth_status dClothSetSurfaceCallback(dClothID c, dClothSurfaceFn *fn, void *data)
 {
-    if (!c) return CLOTH_EINVAL;
-    c->surface_fn = fn;
-    c->surface_data = fn ? data : NULL;
-    c->friction_fn = NULL;
-    c->friction_data = NULL;
-    c->surf_tmax = 0.0;
-    dClothWake(c);
-    return CLOTH_OK;
+    return set_callback(c, fn, NULL, data);
 }
 
 void dcloth_surface(dClothID c, dGeomID g, double *mu, double *thickness)
