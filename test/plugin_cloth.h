@@ -8,7 +8,7 @@
 /* n x n nodes, side L, centred at `centre`, columns along u and rows along
  * v, friction mu and the given thickness; a failed step is an error
  * (DCLOTH_FAILURE_STOP). NULL (and a failed check) on error. */
-static dClothID flat_cloth(dWorldID w, dSpaceID s, int n, double L, const double centre[3], const double u[3],
+static inline dClothID flat_cloth(dWorldID w, dSpaceID s, int n, double L, const double centre[3], const double u[3],
                            const double v[3], double mu, double thickness)
 {
     dClothDesc d = dClothDefaultDesc();
@@ -26,6 +26,24 @@ static dClothID flat_cloth(dWorldID w, dSpaceID s, int n, double L, const double
     if (!CHECK(dClothCreate(w, s, &d, &c, &err) == CLOTH_OK, "dClothCreate: %s", err.message)) return NULL;
     dClothSetFailureMode(c, DCLOTH_FAILURE_STOP);
     return c;
+}
+
+/* A sphere of mass m (radius 5 cm) in world w holding cloth c by its
+ * vertices 0 and 1, its centre halfway between them. */
+static inline dBodyID sphere_holding(dWorldID w, dClothID c, double m)
+{
+    const dReal *x = dClothGetPositions(c);
+    dBodyID b = dBodyCreate(w);
+    dMass ms;
+    dMassSetSphereTotal(&ms, m, 0.05);
+    dBodySetMass(b, &ms);
+    double p0[3] = {0.5 * (x[0] + x[3]), 0.5 * (x[1] + x[4]), 0.5 * (x[2] + x[5])};
+    dBodySetPosition(b, p0[0], p0[1], p0[2]);
+    for (int k = 0; k < 2; k++) {
+        dReal lp[3] = {x[3 * k] - p0[0], x[3 * k + 1] - p0[1], x[3 * k + 2] - p0[2]};
+        CHECK(dClothPinToBody(c, k, b, lp) == CLOTH_OK, "dClothPinToBody: %s", dClothGetLastError(c));
+    }
+    return b;
 }
 
 #endif

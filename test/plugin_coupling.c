@@ -37,6 +37,7 @@
 
 #include "odecloth/dcloth.h"
 #include "check.h"
+#include "plugin_cloth.h"
 
 #define G 9.81
 static const double H = 1.0 / 60;
@@ -153,18 +154,7 @@ static void thrown(double mb)
         return;
     }
     dClothSetFailureMode(c, DCLOTH_FAILURE_STOP);
-    const double *x = dClothGetPositions(c);
-    dBodyID b = dBodyCreate(w);
-    dMass m;
-    dMassSetSphereTotal(&m, mb, 0.05);
-    dBodySetMass(b, &m);
-    /* the body's centre halfway between vertices 0 and 1 */
-    double p0[3] = {0.5 * (x[0] + x[3]), 0.5 * (x[1] + x[4]), 0.5 * (x[2] + x[5])};
-    dBodySetPosition(b, p0[0], p0[1], p0[2]);
-    for (int k = 0; k < 2; k++) {
-        dReal lp[3] = {x[3 * k] - p0[0], x[3 * k + 1] - p0[1], x[3 * k + 2] - p0[2]};
-        CHECK(dClothPinToBody(c, k, b, lp) == CLOTH_OK, "dClothPinToBody: %s", dClothGetLastError(c));
-    }
+    dBodyID b = sphere_holding(w, c, mb);
     dBodySetLinearVel(b, 1.0, 0.5, 2.0);
     dBodySetAngularVel(b, 0, 0, 3.0);
     double P0[3];

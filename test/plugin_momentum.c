@@ -27,6 +27,7 @@
 
 #include "odecloth/dcloth.h"
 #include "check.h"
+#include "plugin_cloth.h"
 
 #define H (1.0 / 60.0)
 #define STEPS 60
@@ -137,17 +138,8 @@ static void held(int joint)
         dWorldDestroy(w);
         return;
     }
-    const dReal *x = dClothGetPositions(c);
-    dBodyID b = dBodyCreate(w);
-    dMass m;
-    dMassSetSphereTotal(&m, 0.5, 0.05);
-    dBodySetMass(b, &m);
-    double p0[3] = {0.5 * (x[0] + x[3]), 0.5 * (x[1] + x[4]), 0.5 * (x[2] + x[5])};
-    dBodySetPosition(b, p0[0], p0[1], p0[2]);
-    for (int k = 0; k < 2; k++) {
-        dReal lp[3] = {x[3 * k] - p0[0], x[3 * k + 1] - p0[1], x[3 * k + 2] - p0[2]};
-        CHECK(dClothPinToBody(c, k, b, lp) == CLOTH_OK, "dClothPinToBody: %s", dClothGetLastError(c));
-    }
+    dBodyID b = sphere_holding(w, c, 0.5);
+    const dReal *p0 = dBodyGetPosition(b);
     dBodySetLinearVel(b, joint ? 0.0 : 1.0, joint ? 0.0 : 0.5, joint ? 0.0 : 2.0);
     dBodySetAngularVel(b, 0, joint == 2 ? 3.0 : 0.0, joint == 2 ? 0.0 : 3.0);
     dJointID j = 0;
