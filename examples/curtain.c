@@ -60,19 +60,10 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
     d.cloth.origin[0] = -0.5;
     d.cloth.origin[1] = 0;
     d.cloth.origin[2] = ROD_Z;
-    d.cloth.axis_u[0] = 1, d.cloth.axis_u[1] = 0, d.cloth.axis_u[2] = 0;
-    d.cloth.axis_v[0] = 0, d.cloth.axis_v[1] = 0, d.cloth.axis_v[2] = -1;
-    d.cloth.material = v->material;
-    r->delta = v->material.delta;
-    r->thickness = d.thickness;
-    dClothID c = NULL;
     demo_moment widest = {0};
-    cloth_error err;
     int rc = -1;
-    if (dClothCreate(w.world, space, &d, &c, &err) != CLOTH_OK) {
-        fprintf(stderr, "%s: %s\n", o->prog, err.message);
-        goto done;
-    }
+    dClothID c = demo_hang_cloth(o, v, &w, space, &d, r);
+    if (!c) goto done;
     const int C = o->grid;
     const dReal *x = dClothGetPositions(c);
     for (int col = 0; col < C; col++) dClothPinToWorld(c, col, x + 3 * col);

@@ -406,6 +406,23 @@ int drape_material_variants(const demo_opts *o, drape_variant *v)
     return n;
 }
 
+dClothID demo_hang_cloth(const demo_opts *o, const drape_variant *v, demo_contacts *w, dSpaceID space,
+                         dClothDesc *d, drape_result *r)
+{
+    d->cloth.axis_u[0] = 1, d->cloth.axis_u[1] = 0, d->cloth.axis_u[2] = 0;
+    d->cloth.axis_v[0] = 0, d->cloth.axis_v[1] = 0, d->cloth.axis_v[2] = -1;
+    d->cloth.material = v->material;
+    r->delta = v->material.delta;
+    r->thickness = d->thickness;
+    dClothID c = NULL;
+    cloth_error err;
+    if (dClothCreate(w->world, space, d, &c, &err) != CLOTH_OK) {
+        fprintf(stderr, "%s: %s\n", o->prog, err.message);
+        return NULL;
+    }
+    return c;
+}
+
 int demo_scene_step(const demo_opts *o, const drape_variant *v, demo_contacts *w, dSpaceID space, dClothID *c,
                     const demo_camera *cam, double h, int s, int steps, int *next_frame, demo_metrics *run)
 {

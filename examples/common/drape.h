@@ -141,6 +141,11 @@ int drape_material_main(const demo_opts *o, const demo_scene *s, const char *tit
  * 0, or -1 if the step failed (message printed). */
 int demo_scene_step(const demo_opts *o, const drape_variant *v, demo_contacts *w, dSpaceID space, dClothID *c,
                     const demo_camera *cam, double h, int s, int steps, int *next_frame, demo_metrics *run);
+/* A cloth hanging from its first row (columns along x, rows down -z) at
+ * the variant's material, created from d in w's world and space; r gets
+ * its delta and thickness. NULL if refused (message printed). */
+dClothID demo_hang_cloth(const demo_opts *o, const drape_variant *v, demo_contacts *w, dSpaceID space,
+                         dClothDesc *d, drape_result *r);
 /* The moment of a run worth a picture besides its end (the deepest sag, the
  * widest swing): the cloth's state, a body's position (b may be NULL: no
  * body), the metrics then. */
