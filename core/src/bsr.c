@@ -92,6 +92,24 @@ fail:
 
 void bsr_zero(bsr *A) { memset(A->val, 0, 9 * (size_t)A->nnzb * sizeof *A->val); }
 
+void bsr_zero_diag(bsr *A)
+{
+    for (int i = 0; i < A->n; i++) memset(A->val + 9 * (size_t)A->diag[i], 0, 9 * sizeof *A->val);
+}
+
+int bsr_edges_own_offdiag(const bsr *A, int nedges, const int *blk)
+{
+    unsigned char *hits = calloc((size_t)A->nnzb + 1, 1);
+    if (!hits) return 0;
+    for (int k = 0; k < 2 * nedges; k++)
+        if (hits[blk[k]] < 2) hits[blk[k]]++;
+    int own = 1;
+    for (int i = 0; i < A->n && own; i++)
+        for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++) own = own && (k == A->diag[i] || hits[k] == 1);
+    free(hits);
+    return own;
+}
+
 void bsr_mul(const bsr *A, const double *x, double *y)
 {
     for (int i = 0; i < A->n; i++) {

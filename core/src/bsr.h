@@ -27,6 +27,11 @@ int bsr_build(bsr *A, int n, int nedges, const int *ei, const int *ej, int *blk)
 int bsr_find(const bsr *A, int i, int j);
 void bsr_free(bsr *A);
 void bsr_zero(bsr *A);
+/* Zero the diagonal blocks only. */
+void bsr_zero_diag(bsr *A);
+/* 1 when the edges' blocks (blk, as bsr_build fills it) cover every
+ * off-diagonal block exactly once: an assembly may then write them, not add. */
+int bsr_edges_own_offdiag(const bsr *A, int nedges, const int *blk);
 /* y = A x (x and y of length 3n, distinct). */
 void bsr_mul(const bsr *A, const double *x, double *y);
 /* y = A x for an x that is zero outside the block columns cols[0..m), for

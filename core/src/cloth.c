@@ -142,7 +142,7 @@ static int make_links(int R, int C, int s, const double *x0, link_topo *out)
 }
 
 static int links_to_blocks(bsr *A, int n, const link_topo *seq, int n_seq, const link_topo *lint,
-                           int n_int, int *seq_blk, int *int_blk)
+                           int n_int, int *seq_blk, int *int_blk, int *own)
 {
     int ne = n_seq + n_int;
     int *ei = malloc((size_t)ne * sizeof *ei), *ej = malloc((size_t)ne * sizeof *ej);
@@ -153,6 +153,7 @@ static int links_to_blocks(bsr *A, int n, const link_topo *seq, int n_seq, const
         for (int e = 0; e < n_int; e++) { ei[n_seq + e] = lint[e].i; ej[n_seq + e] = lint[e].j; }
         rc = bsr_build(A, n, ne, ei, ej, blk);
         if (rc == 0) {
+            *own = bsr_edges_own_offdiag(A, ne, blk);
             memcpy(seq_blk, blk, 2 * (size_t)n_seq * sizeof *blk);
             memcpy(int_blk, blk + 2 * (size_t)n_seq, 2 * (size_t)n_int * sizeof *blk);
         }
@@ -270,7 +271,9 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
     c->K_int = malloc(9 * (size_t)c->n_int * sizeof *c->K_int);
     if (!c->con || !c->con_force || !c->seq_blk || !c->int_blk || !c->lim_shift || !c->K_seq || !c->K_int)
         goto nomem;
-    if (links_to_blocks(&c->A, n, c->seq, c->n_seq, c->lint, c->n_int, c->seq_blk, c->int_blk) != 0) goto nomem;
+    if (links_to_blocks(&c->A, n, c->seq, c->n_seq, c->lint, c->n_int, c->seq_blk, c->int_blk,
+                        &c->links_own_blocks) != 0)
+        goto nomem;
     if (air_blocks(c) != 0) goto nomem;
     if (workspace_alloc(c) != 0) goto nomem;
     c->Ah = calloc(9 * (size_t)c->A.nnzb + 1, sizeof *c->Ah); /* + the AVX rows' padding double (mat3.h) */

@@ -122,6 +122,7 @@ struct cloth {
     /* step workspace, sized at creation: the step allocates nothing */
     bsr A;                     /* pattern: diagonal + one block pair per link */
     int *seq_blk, *int_blk;    /* 2 per link: blocks (i,j) and (j,i) in A */
+    int links_own_blocks;      /* each off-diagonal block is one link's (bsr_edges_own_offdiag) */
     double *work;              /* one allocation behind the vectors below */
     double *f, *b, *dv, *z, *y, *x_new, *v_new; /* 3n each */
     double *ddv;               /* 3n: a Newton correction of dv */

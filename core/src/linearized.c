@@ -6,10 +6,10 @@
 #include <string.h>
 #include "internal.h"
 #include "linsolve.h"
+#include "assembly.h"
 #include "mat3.h"
 #include "mpcg.h"
 
-static void add_blk(double *A, const double *B, double s) { mat3_axpy(A, B, s); }
 
 /* A = M - beta h df/dv - gamma h^2 df/dx (eq. 21 for beta = gamma = 1),
  * keeping each link's K = df_i/dx_j for the right-hand side, and in the same
@@ -20,7 +20,7 @@ static void assemble(cloth *c, const double *x, const double *v, double beta_h, 
     const cloth_material *m = &c->desc.material;
     int defin = c->desc.solver.definiteness_rule;
     bsr *A = &c->A;
-    bsr_zero(A);
+    assemble_zero(c);
     for (int i = 0; i < c->n; i++) {
         double *B = A->val + 9 * (size_t)A->diag[i];
         B[0] = B[4] = B[8] = c->mass[i];
@@ -44,10 +44,7 @@ static void assemble(cloth *c, const double *x, const double *v, double beta_h, 
                 fout[3 * j + r] -= f[r];
             }
             for (int k = 0; k < 9; k++) blk[k] = gamma_h2 * K[k] + beta_h * D[k];
-            add_blk(A->val + 9 * (size_t)A->diag[i], blk, 1.0);
-            add_blk(A->val + 9 * (size_t)A->diag[j], blk, 1.0);
-            add_blk(A->val + 9 * (size_t)bl[2 * e], blk, -1.0);
-            add_blk(A->val + 9 * (size_t)bl[2 * e + 1], blk, -1.0);
+            assemble_link(c, i, j, bl + 2 * e, blk);
         }
     }
     /* air drag: its normals and areas at x, constant over the step (no df/dx) */

@@ -44,6 +44,12 @@ static inline void mat3mul(const double *A, const double *B, double *C)
 }
 
 /* A += s B, element by element (SSE2: two at a time, the same operations) */
+/* A = 0 - B: the bits of mat3_axpy(A, B, -1) on a zero A */
+static inline void mat3_set_neg(double *A, const double *B)
+{
+    for (int k = 0; k < 9; k++) A[k] = 0.0 - B[k];
+}
+
 static inline void mat3_axpy(double *A, const double *B, double s)
 {
 #if defined(__SSE2__)

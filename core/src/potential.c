@@ -3,6 +3,7 @@
 #include <math.h>
 #include <string.h>
 #include "potential.h"
+#include "assembly.h"
 #include "mat3.h"
 
 void potential_begin(cloth *c, double h, int bdf2, step_eq *q)
@@ -66,7 +67,7 @@ void potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b)
     const double *x = c->x_new, *v = c->v_new;
     double cf = q->cfac, cf2 = cf * cf;
     bsr *A = &c->A;
-    bsr_zero(A);
+    assemble_zero(c);
     for (int i = 0; i < c->n; i++) {
         double *B = A->val + 9 * (size_t)A->diag[i];
         B[0] = B[4] = B[8] = c->mass[i];
@@ -94,10 +95,7 @@ void potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b)
                 b[3 * j + r] -= fr;
                 for (int s = 0; s < 3; s++) blk[3 * r + s] = cf2 * K[3 * r + s] + cf * damp * u[r] * u[s];
             }
-            mat3_axpy(A->val + 9 * (size_t)A->diag[i], blk, 1.0);
-            mat3_axpy(A->val + 9 * (size_t)A->diag[j], blk, 1.0);
-            mat3_axpy(A->val + 9 * (size_t)bl[2 * e], blk, -1.0);
-            mat3_axpy(A->val + 9 * (size_t)bl[2 * e + 1], blk, -1.0);
+            assemble_link(c, i, j, bl + 2 * e, blk);
         }
     }
     /* air drag, a damper with its normals and areas at x~ */

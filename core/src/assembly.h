@@ -1,0 +1,33 @@
+/* Writing the links' blocks into the step's matrix A (potential.c,
+ * linearized.c): where each off-diagonal block is one link's, it is written
+ * rather than added, so only the diagonal blocks need zeroing first. */
+#ifndef ODECLOTH_ASSEMBLY_H
+#define ODECLOTH_ASSEMBLY_H
+
+#include "internal.h"
+#include "mat3.h"
+
+/* A's blocks that the assembly adds into set to zero */
+static inline void assemble_zero(cloth *c)
+{
+    if (c->links_own_blocks) bsr_zero_diag(&c->A);
+    else bsr_zero(&c->A);
+}
+
+/* link (i, j) with blocks bl[0] = (i, j), bl[1] = (j, i): +blk on both
+ * diagonal blocks, -blk off the diagonal */
+static inline void assemble_link(cloth *c, int i, int j, const int *bl, const double *blk)
+{
+    double *val = c->A.val;
+    mat3_axpy(val + 9 * (size_t)c->A.diag[i], blk, 1.0);
+    mat3_axpy(val + 9 * (size_t)c->A.diag[j], blk, 1.0);
+    if (c->links_own_blocks) {
+        mat3_set_neg(val + 9 * (size_t)bl[0], blk);
+        mat3_set_neg(val + 9 * (size_t)bl[1], blk);
+    } else {
+        mat3_axpy(val + 9 * (size_t)bl[0], blk, -1.0);
+        mat3_axpy(val + 9 * (size_t)bl[1], blk, -1.0);
+    }
+}
+
+#endif
