@@ -18,8 +18,9 @@
  * 3. A step whose Newton solve cannot converge (one iteration allowed),
  *    with keep_unconverged, keeps its last iterate at the smallest
  *    substep: the scene goes on; without it the step fails, state unchanged.
- * 4. Bad parameters (nonlinear 99, newton_tolerance 0 / NaN,
- *    newton_cg_tolerance 0 / NaN, limit_tolerance 0 / 1, newton_iterations 0
+ * 4. Bad parameters (nonlinear 99, newton_tolerance 0 / NaN, newton_rtol
+ *    -1e-3 / 1 / NaN, newton_cg_tolerance 0 / NaN, limit_tolerance 0 / 1,
+ *    newton_iterations 0
  *    with CLOTH_NEWTON) are refused naming the field, the cloth's solver
  *    unchanged. */
 #include <math.h>
@@ -39,6 +40,7 @@ static cloth_desc small_desc(int n)
     d.solver.nonlinear = CLOTH_NEWTON;
     d.solver.newton_iterations = 100;
     d.solver.newton_tolerance = 1e-12;
+    d.solver.newton_rtol = 0.0;
     d.solver.cg_tolerance = d.solver.newton_cg_tolerance = 1e-10;
     d.solver.max_substep_halvings = 0;
     d.solver.strain_limit_iterations = 0;
@@ -204,6 +206,7 @@ static void swing(cloth_method m, int steps_per_s, double *x_end)
     d.material.k_delta = 0.0;
     d.solver.method = m;
     d.solver.newton_tolerance = 1e-10;
+    d.solver.newton_rtol = 0.0;
     d.solver.cg_tolerance = d.solver.newton_cg_tolerance = 1e-12;
     cloth *c = NULL;
     if (!CHECK(cloth_create(&d, &c, NULL) == CLOTH_OK, "create")) return;
@@ -263,6 +266,7 @@ static void goes_on(int halvings)
         return;
     d.solver.newton_iterations = 1;
     d.solver.newton_tolerance = 1e-12;
+    d.solver.newton_rtol = 0.0;
     d.solver.keep_unconverged = 1;
     CHECK(cloth_set_solver(c, &d.solver) == CLOTH_OK, "set_solver: %s", cloth_last_error(c));
     const double *x = cloth_positions(c), *xr = cloth_positions(ref);
@@ -307,10 +311,11 @@ static void bad_parameters(void)
     cloth_desc d = small_desc(5);
     cloth *c = NULL;
     if (!CHECK(cloth_create(&d, &c, NULL) == CLOTH_OK, "create")) return;
-    static const char *const field[9] = {"nonlinear",       "newton_tolerance", "newton_tolerance",
-                                         "limit_tolerance", "limit_tolerance",  "newton_iterations",
-                                         "keep_unconverged", "newton_cg_tolerance", "newton_cg_tolerance"};
-    for (int k = 0; k < 9; k++) {
+    static const char *const field[12] = {"nonlinear",        "newton_tolerance",    "newton_tolerance",
+                                          "limit_tolerance",  "limit_tolerance",     "newton_iterations",
+                                          "keep_unconverged", "newton_cg_tolerance", "newton_cg_tolerance",
+                                          "newton_rtol",      "newton_rtol",         "newton_rtol"};
+    for (int k = 0; k < 12; k++) {
         cloth_solver s = d.solver;
         switch (k) {
         case 0: s.nonlinear = (cloth_nonlinear)99; break;
@@ -321,7 +326,10 @@ static void bad_parameters(void)
         case 5: s.newton_iterations = 0; break;
         case 6: s.keep_unconverged = 2; break;
         case 7: s.newton_cg_tolerance = 0.0; break;
-        default: s.newton_cg_tolerance = NAN; break;
+        case 8: s.newton_cg_tolerance = NAN; break;
+        case 9: s.newton_rtol = -1e-3; break;
+        case 10: s.newton_rtol = 1.0; break;
+        default: s.newton_rtol = NAN; break;
         }
         cloth_error err;
         CHECK(cloth_solver_validate(&s, &err) == CLOTH_EINVAL, "case %d accepted", k);

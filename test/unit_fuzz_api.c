@@ -69,7 +69,7 @@ static void perturb(rng *g, cloth_desc *d, int f)
                      &d->gravity[1], &d->gravity[2], &d->material.k_t, &d->material.k_c, &d->material.k_b,
                      &d->material.k_s, &d->material.alpha, &d->material.delta, &d->material.k_delta,
                      &d->material.c_t, &d->material.c_b, &d->material.density, &d->solver.cg_tolerance,
-                     &d->solver.strain_fail, &d->solver.newton_tolerance, &d->solver.limit_tolerance,
+                     &d->solver.strain_fail, &d->solver.newton_tolerance, &d->solver.newton_rtol, &d->solver.limit_tolerance,
                      &d->solver.newton_cg_tolerance};
     int nd = (int)(sizeof dbl / sizeof dbl[0]);
     if (f < nd) {
@@ -93,7 +93,7 @@ static void perturb(rng *g, cloth_desc *d, int f)
     default: d->solver.definiteness_rule = v; break;
     }
 }
-#define NFIELDS 39
+#define NFIELDS 41 /* the doubles above, then the switch's 11 cases */
 
 /* The created cloth is sound: masses, positions, rest lengths. */
 static void check_model(const cloth *c, const char *what)

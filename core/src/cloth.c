@@ -36,6 +36,7 @@ cloth_desc cloth_default_desc(void)
     d.solver.max_substep_halvings = 4; /* a failed step is tried again as 2, 4, 8, 16 substeps */
     d.solver.newton_iterations = 16;
     d.solver.newton_tolerance = 1e-2;
+    d.solver.newton_rtol = 1e-2;
     d.solver.limit_tolerance = 1e-3;
     d.solver.newton_cg_tolerance = 1e-2;
     return d;

@@ -109,6 +109,8 @@ cloth_status cloth_solver_validate(const cloth_solver *s, cloth_error *err)
     if (!(s->newton_tolerance > 0.0) || bad(s->newton_tolerance))
         return error_set(err, CLOTH_EINVAL, "solver.newton_tolerance = %g must be finite and > 0",
                          s->newton_tolerance);
+    if (!(s->newton_rtol >= 0.0 && s->newton_rtol < 1.0))
+        return error_set(err, CLOTH_EINVAL, "solver.newton_rtol = %g must be in [0, 1)", s->newton_rtol);
     if (!(s->limit_tolerance > 0.0 && s->limit_tolerance < 1.0))
         return error_set(err, CLOTH_EINVAL, "solver.limit_tolerance = %g must be in (0, 1)", s->limit_tolerance);
     if (!(s->newton_cg_tolerance > 0.0 && s->newton_cg_tolerance < 1.0))
