@@ -10,7 +10,8 @@
  *     vertices are columns k and k + 1 (2N) and the rectangle's 4: 2N + 4.
  *     The same after a rigid motion;
  *   - no crossing: a flat sheet, the sheet moved rigidly far from the
- *     origin, wrapped on a cylinder, rolled into a spiral, waved;
+ *     origin, folded flat in three (touching layers) and moved rigidly,
+ *     wrapped on a cylinder, rolled into a spiral, waved;
  *   - crumpled grids: the grid search gives the pairs and the marked
  *     vertices of testing every pair (brute force);
  *   - bad input (an index out of range, a NaN) is refused.
@@ -107,6 +108,20 @@ static long count_pairs(int nv, int nt)
     return is.pairs;
 }
 
+/* A sheet folded in three (accordion, layers `gap` apart), then every vertex
+ * moved by up to `noise` on each axis. */
+static void crumple(rng *g, int n, double gap, double noise)
+{
+    flat_grid(n, 1.0 / (n - 1));
+    for (int v = 0; v < n * n; v++) {
+        double *p = xs + 3 * v, u = 3.0 * p[0];
+        int layer = u < 1.0 ? 0 : u < 2.0 ? 1 : 2;
+        double w = layer == 1 ? 2.0 - u : u - layer; /* back and forth */
+        p[0] = w / 3.0, p[2] = layer * gap;
+        for (int a = 0; a < 3; a++) p[a] += rng_range(g, -noise, noise);
+    }
+}
+
 static void check_no_crossing(rng *g)
 {
     int n = MAXN, nv = n * n, nt = flat_grid(n, 0.025);
@@ -118,6 +133,15 @@ static void check_no_crossing(rng *g)
         long p = count_pairs(nv, nt);
         CHECK(p == 0, "flat sheet moved rigidly (%d, offset %.0f %.0f %.0f) crosses itself: %ld pairs", i, t[0], t[1],
               t[2], p);
+    }
+    /* folded flat in three (layers touching, none crossing), moved rigidly:
+     * rounding alone puts the layers' points either side of each other */
+    for (int i = 0; i < 5; i++) {
+        double t[3] = {rng_range(g, -10, 10), rng_range(g, -10, 10), rng_range(g, -10, 10)};
+        crumple(g, n, 0.0, 0.0);
+        rigid_motion(g, nv, rng_range(g, 0.1, 3.0), t);
+        long p = count_pairs(nv, nt);
+        CHECK(p == 0, "sheet folded flat, moved rigidly (%d) crosses itself: %ld pairs", i, p);
     }
     /* the 1 m sheet wrapped 0.95 times round a cylinder, its ends 5 cm apart */
     flat_grid(n, 0.025);
@@ -140,20 +164,6 @@ static void check_no_crossing(rng *g)
     flat_grid(n, 0.025);
     for (int v = 0; v < nv; v++) xs[3 * v + 2] = 0.05 * sin(9.0 * xs[3 * v]) * cos(13.0 * xs[3 * v + 1]);
     CHECK(count_pairs(nv, nt) == 0, "waved sheet crosses itself");
-}
-
-/* A sheet folded in three (accordion, layers `gap` apart), then every vertex
- * moved by up to `noise` on each axis. */
-static void crumple(rng *g, int n, double gap, double noise)
-{
-    flat_grid(n, 1.0 / (n - 1));
-    for (int v = 0; v < n * n; v++) {
-        double *p = xs + 3 * v, u = 3.0 * p[0];
-        int layer = u < 1.0 ? 0 : u < 2.0 ? 1 : 2;
-        double w = layer == 1 ? 2.0 - u : u - layer; /* back and forth */
-        p[0] = w / 3.0, p[2] = layer * gap;
-        for (int a = 0; a < 3; a++) p[a] += rng_range(g, -noise, noise);
-    }
 }
 
 static void check_against_brute_force(rng *g)
