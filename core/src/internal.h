@@ -148,6 +148,7 @@ struct cloth {
     double *sl_vtx;            /* 3n: its per-vertex scratch, kept zeroed */
     double *sl_x0;             /* 3n: the positions it started from (the held vertices' levers) */
     const double *sl_x;        /* sl_x0 while it runs, else NULL (bodies.c's levers from the step's start) */
+    double *sl_dv;             /* 3n: its velocity correction of the step being taken (step.c) */
     double *lim_shift;         /* n_seq: the step's multipliers of the elongation limit
                                   (newton.c: from st.lim_shift, committed with the step;
                                   linearized.c: from 0) */
@@ -168,10 +169,9 @@ cloth_status error_set(cloth_error *e, cloth_status code, const char *fmt, ...);
 int workspace_alloc(cloth *c);
 
 /* strain_limit.c: the elongation limit on sequential links by fast
- * projection. Moves x (and v by dx / cfac, the method's dx/dv_new) for at
- * most `iterations` Newton steps; returns the number of links over the limit
- * before the first. */
-int strain_limit(cloth *c, double *x, double *v, const double *S, double cfac, int iterations);
+ * projection. Moves x (and v by dx / h, h the step) for at most `iterations`
+ * Newton steps; returns the number of links over the limit before the first. */
+int strain_limit(cloth *c, double *x, double *v, const double *S, double h, int iterations);
 
 /* bodies.c: fill B for this step's solve (h the step, cfac the method's
  * dx/dv_new); NULL when no constrained vertex is held by a body. */

@@ -14,14 +14,14 @@ int workspace_alloc(cloth *c)
 {
     size_t n3 = 3 * (size_t)c->n, nl = 3 * ((size_t)c->n_seq + (size_t)c->n_int);
     /* f b dv z y x_new v_new con_new jac na dvt xt vt sl_x0 ddv dv_saved
-     * con_saved x_lever (18) + cg (6) vectors of 3n; pre, S of 9n; ut of 3
-     * per link */
-    c->work = calloc(30 * n3 + nl, sizeof *c->work);
+     * con_saved x_lever sl_dv (19) + cg (6) vectors of 3n; pre, S of 9n; ut
+     * of 3 per link */
+    c->work = calloc(31 * n3 + nl, sizeof *c->work);
     if (!c->work) return -1;
     double *w = c->work;
     double **v3[] = {&c->f, &c->b, &c->dv, &c->z, &c->y, &c->x_new, &c->v_new, &c->con_new,
                      &c->jac, &c->na, &c->dvt, &c->xt, &c->vt, &c->sl_x0, &c->ddv, &c->dv_saved,
-                     &c->con_saved, &c->x_lever};
+                     &c->con_saved, &c->x_lever, &c->sl_dv};
     for (size_t k = 0; k < sizeof v3 / sizeof *v3; k++, w += n3) *v3[k] = w;
     c->cg = w; w += 6 * n3;
     c->pre = w; w += 3 * n3;
@@ -105,7 +105,6 @@ static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, 
     size_t n3 = 3 * (size_t)c->n;
     const cloth_solver *sv = &c->desc.solver;
     int bdf2 = sv->method == CLOTH_BDF2 && c->st.has_prev && fabs(c->st.h_prev - h) <= 1e-12 * h;
-    double cfac = h;
     cloth_failure fail;
     int held = 0; /* the limit held by the step itself: no projection */
     switch (sv->method) {
@@ -119,12 +118,15 @@ static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, 
             fail = CLOTH_FAIL_NONE;
             st->unconverged++;
         }
-        if (bdf2) cfac = 2.0 * h / 3.0;
         break;
     }
     if (fail == CLOTH_FAIL_NONE && !(all_finite(c->x_new, n3) && all_finite(c->v_new, n3))) fail = CLOTH_FAIL_NAN;
-    if (fail == CLOTH_FAIL_NONE && !held && sv->strain_limit_iterations > 0)
-        st->strain_limited += strain_limit(c, c->x_new, c->v_new, c->S, cfac, sv->strain_limit_iterations);
+    memset(c->sl_dv, 0, n3 * sizeof *c->sl_dv);
+    if (fail == CLOTH_FAIL_NONE && !held && sv->strain_limit_iterations > 0) {
+        memcpy(c->sl_dv, c->v_new, n3 * sizeof *c->sl_dv);
+        st->strain_limited += strain_limit(c, c->x_new, c->v_new, c->S, h, sv->strain_limit_iterations);
+        for (size_t k = 0; k < n3; k++) c->sl_dv[k] = c->v_new[k] - c->sl_dv[k];
+    }
     if (fail == CLOTH_FAIL_NONE && !(all_finite(c->x_new, n3) && all_finite(c->v_new, n3))) fail = CLOTH_FAIL_NAN;
     /* the constraint forces too: A dv - b can overflow while x and v do not */
     if (fail == CLOTH_FAIL_NONE && !all_finite(c->con_new, n3)) fail = CLOTH_FAIL_NAN;
@@ -136,13 +138,14 @@ static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, 
 }
 
 /* Make the attempt of size h the state (constraint forces apart); ms, from
- * the attempt, gets the elastic energy and the plastic links. */
+ * the attempt, gets the elastic energy and the plastic links. v_prev takes
+ * the projection's impulse too: BDF2 then reads no acceleration into it. */
 static void commit(cloth *c, double h, measured *ms)
 {
     size_t n3 = 3 * (size_t)c->n;
     struct cloth_state *s = &c->st;
     memcpy(s->x_prev, s->x, n3 * sizeof *s->x);
-    memcpy(s->v_prev, s->v, n3 * sizeof *s->v);
+    for (size_t k = 0; k < n3; k++) s->v_prev[k] = s->v[k] + c->sl_dv[k];
     memcpy(s->x, c->x_new, n3 * sizeof *s->x);
     memcpy(s->v, c->v_new, n3 * sizeof *s->v);
     s->h_prev = h;

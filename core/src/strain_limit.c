@@ -33,9 +33,9 @@
  * (G W G^T + mu diag) lambda = C, and a step is kept only if it lowers the
  * summed squared violation, halving it up to SL_HALVINGS times (the
  * constraints are not linear: a link that turns lengthens); mu falls after a
- * kept step and rises after a refused one (Levenberg-Marquardt). Velocities follow
- * the positions through the method's x_new = a + cfac v_new, so the corrected
- * state stays consistent (the correction is an impulse). */
+ * kept step and rises after a refused one (Levenberg-Marquardt). Velocities take
+ * dx / h with every method, the impulse that stops the link within the step
+ * (BDF2's recurrence carries a jump in v on at 3/2: dx / (2h/3) rebounds). */
 #include <math.h>
 #include <string.h>
 #include "internal.h"
@@ -158,11 +158,10 @@ static double violation(const cloth *c, const double *x, double limit, int *over
     return sum;
 }
 
-/* x (and v, if not NULL, by q / cfac) += s q over the vertices touched by the
- * active links; each vertex once (touched[] marks them). The other vertices
- * held by a body move with it. */
-static void apply_step(const cloth *c, const double *S, int m, const int *act, double *x, double *v, double cfac,
-                       const double *q, double s, unsigned char *touched)
+/* x += s q over the vertices touched by the active links; each vertex once
+ * (touched[] marks them). The other vertices held by a body move with it. */
+static void apply_step(const cloth *c, const double *S, int m, const int *act, double *x, const double *q, double s,
+                       unsigned char *touched)
 {
     for (int a = 0; a < m; a++) {
         int ends[2] = {c->seq[act[a]].i, c->seq[act[a]].j};
@@ -170,10 +169,7 @@ static void apply_step(const cloth *c, const double *S, int m, const int *act, d
             size_t i = (size_t)ends[t];
             if (touched[i]) continue;
             touched[i] = 1;
-            for (int k = 0; k < 3; k++) {
-                x[3 * i + k] += s * q[3 * i + k];
-                if (v) v[3 * i + k] += s * q[3 * i + k] / cfac;
-            }
+            for (int k = 0; k < 3; k++) x[3 * i + k] += s * q[3 * i + k];
         }
     }
     if (bodies_on(c))
@@ -265,7 +261,7 @@ static void clear_step(const cloth *c, int m, const int *act, double *q)
     }
 }
 
-int strain_limit(cloth *c, double *x, double *v, const double *S, double cfac, int iterations)
+int strain_limit(cloth *c, double *x, double *v, const double *S, double h, int iterations)
 {
     double limit = 1.0 + c->desc.material.delta;
     int *act = c->sl_act;
@@ -345,25 +341,25 @@ int strain_limit(cloth *c, double *x, double *v, const double *S, double cfac, i
          * halves of it; if none lowers it, undo and damp harder */
         double s = 1.0, merit1 = merit;
         int over1 = over, kept = 0;
-        apply_step(c, S, m, act, x, NULL, cfac, q, 1.0, touched);
+        apply_step(c, S, m, act, x, q, 1.0, touched);
         for (int half = 0; half < SL_HALVINGS; half++) {
             merit1 = violation(c, x, limit, &over1);
             if (merit1 < merit) {
                 kept = 1;
                 break;
             }
-            apply_step(c, S, m, act, x, NULL, cfac, q, -0.5 * s, touched);
+            apply_step(c, S, m, act, x, q, -0.5 * s, touched);
             s *= 0.5;
         }
         if (kept) { /* velocities follow; pushing links leave */
-            apply_step(c, S, m, act, v, NULL, cfac, q, s / cfac, touched);
-            if (bodies_on(c)) body_kept(c, s / cfac);
+            apply_step(c, S, m, act, v, q, s / h, touched);
+            if (bodies_on(c)) body_kept(c, s / h);
             for (int a = 0; a < m; a++) in[act[a]] = lam[a] > 0.0;
             merit = merit1;
             over = over1;
             mu = mu / 10.0 > SL_MU_MIN ? mu / 10.0 : SL_MU_MIN;
         } else {
-            apply_step(c, S, m, act, x, NULL, cfac, q, -s, touched);
+            apply_step(c, S, m, act, x, q, -s, touched);
             mu *= 10.0;
         }
         clear_step(c, m, act, q);
