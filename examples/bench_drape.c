@@ -16,7 +16,8 @@
  *   each with the implicit steps linearised and by Newton (--solver; the
  *   variant names the solver: linearized, newton, step-newton, ...).
  * Columns: wall and CPU seconds of the steps, failed and substepped steps,
- * steps that kept an unconverged Newton iterate (unc; last in the CSV),
+ * steps that kept an unconverged Newton iterate (unc; near the CSV's end,
+ * before the preconditioner, --precond),
  * Newton iterations and CG iterations per step (the core's counts; the
  * plugin reports its last solve's), strain over the sequential links at the
  * end (p99, max) and over the run, the deepest vertex inside the sphere (the
@@ -24,10 +25,13 @@
  * 1/24 s, step times, and for the hammock the largest energy gain of a step
  * and whether the ball ended below the cloth. A run that passes its wall
  * budget (--max-wall) stops there with status "timeout" and its figures so far.
+ * After each solver's drape rows: the CPU per step fitted as n^p over the
+ * vertex count from N = 41 up, and the range of Newton iterations a step.
  * Writes DIR/bench_drape.csv and, with gnuplot, DIR/bench_drape.png.
  *
  *   bench_drape [--out DIR] [--scene drape,pinned,pile,hammock] [--grid N]
- *               [--solver linearized|newton|both] [--max-wall S] [--fast] [--check]
+ *               [--solver linearized|newton|both] [--precond P] [--max-wall S]
+ *               [--fast] [--check]
  *
  * ctest: bench drape --fast --out out/bench_fast
  */
@@ -150,13 +154,17 @@ static void near_callback(void *ctx, dGeomID a, dGeomID b)
     }
 }
 
-/* how the implicit steps solve their equations in this run (--solver) */
+/* how the implicit steps solve their equations in this run (--solver,
+ * --precond) */
 static cloth_nonlinear g_solver = CLOTH_LINEARIZED;
+static cloth_precond g_precond = CLOTH_PRECOND_BLOCK_JACOBI;
+static const char *const precond_name[] = {"block-jacobi", "jacobi", "multigrid", "ssor"};
 
 static cloth_desc cotton_desc(int N, double z)
 {
     cloth_desc d = cloth_default_desc();
     d.solver.nonlinear = g_solver;
+    d.solver.precond = g_precond;
     d.rows = d.cols = N;
     d.width = d.height = 1.0;
     d.material = cloth_material_preset(CLOTH_COTTON);
@@ -526,16 +534,16 @@ static void print_row(const row *r)
 static const char csv_header[] =
     "scene,variant,N,wall_s,cpu_s,steps,failed_steps,substepped_steps,newton_per_step,cg_per_step,"
     "p99_strain,max_strain,max_strain_seen,depth_in_sphere_mm,mean_speed,max_step_ms,median_step_ms,"
-    "energy_gain_J,passed_through,status,unconverged_steps\n";
+    "energy_gain_J,passed_through,status,unconverged_steps,precond\n";
 
 static void csv_row(FILE *f, const row *r)
 {
     char thru[8];
     snprintf(thru, sizeof thru, r->passed < 0 ? "nan" : "%d", r->passed);
-    fprintf(f, "%s,%s,%d,%.4f,%.4f,%d,%d,%d,%.3f,%.2f,%.6f,%.6f,%.6f,%.4f,%.6f,%.3f,%.3f,%.6g,%s,%s,%d\n",
+    fprintf(f, "%s,%s,%d,%.4f,%.4f,%d,%d,%d,%.3f,%.2f,%.6f,%.6f,%.6f,%.4f,%.6f,%.3f,%.3f,%.6g,%s,%s,%d,%s\n",
             scene_name[r->scene], r->variant, r->N, r->wall_s, r->cpu_s, r->steps, r->failed, r->substepped,
             r->newton, r->cg, r->p99, r->max_strain, r->max_seen, r->depth_mm, r->mean_speed, r->max_ms,
-            r->median_ms, r->energy_gain, thru, r->status, r->unconverged);
+            r->median_ms, r->energy_gain, thru, r->status, r->unconverged, precond_name[g_precond]);
     fflush(f);
 }
 
@@ -613,8 +621,8 @@ static int check_row(const row *r)
 /* ----------------------------------------------------------------- options */
 
 static const char usage[] =
-    "usage: bench_drape [--out DIR] [--scene NAME[,NAME...]] [--grid N] [--solver S] [--max-wall S] [--fast]\n"
-    "                   [--check]\n"
+    "usage: bench_drape [--out DIR] [--scene NAME[,NAME...]] [--grid N] [--solver S] [--precond P]\n"
+    "                   [--max-wall S] [--fast] [--check]\n"
     "The drape benchmark: a 1 m cotton cloth, 2 s at h = 1/60, library defaults, in four scenes:\n"
     "  drape    over a static sphere (r 0.25 m), N = 21, 41, 81, 161\n"
     "  pinned   pinned at two corners, core only (bench_step's scene), N = 21, 41, 81\n"
@@ -624,6 +632,8 @@ static const char usage[] =
     "--grid N   only that N, for every scene run\n"
     "--solver S  linearized, newton or both (default): how the implicit steps solve their\n"
     "           equations (cloth_solver.nonlinear)\n"
+    "--precond P  block-jacobi (the default), jacobi, multigrid or ssor: the linear\n"
+    "           solves' preconditioner (cloth_solver.precond; the CSV's precond column)\n"
     "--max-wall S  wall-clock budget per run in seconds (default 120; --fast 3): a run\n"
     "           past it stops with status timeout and its figures so far\n"
     "--fast     N <= 41 only, 0.5 s simulated (a smoke test)\n"
@@ -680,6 +690,14 @@ static int parse_options(options *o, int argc, char **argv)
             }
             o->solvers[0] = k != 1;
             o->solvers[1] = k != 0;
+        } else if (v && !strcmp(argv[a], "--precond")) {
+            int k = 0;
+            while (k < 4 && strcmp(v, precond_name[k])) k++;
+            if (k == 4) {
+                fprintf(stderr, "bench_drape: --precond '%s' must be block-jacobi, jacobi, multigrid or ssor\n", v);
+                return 2;
+            }
+            g_precond = (cloth_precond)k;
         } else if (v && !strcmp(argv[a], "--max-wall")) {
             char *end;
             o->max_wall = strtod(v, &end);
@@ -697,6 +715,39 @@ static int parse_options(options *o, int argc, char **argv)
     if (!o->solvers[0] && !o->solvers[1]) o->solvers[0] = o->solvers[1] = 1;
     if (!o->max_wall) o->max_wall = o->b.fast ? 3.0 : 120.0;
     return 0;
+}
+
+/* ---------------------------------------------------------------- scaling */
+
+/* The drape's cost per step against the vertex count n = N^2, fitted as
+ * n^p by least squares on the logs of the finished rows from N = 41 up:
+ * what the issue's linear-cost target (p <= 1.15) is judged on. */
+typedef struct scaling {
+    int m;
+    double logn[4], logc[4], it_lo, it_hi;
+} scaling;
+
+static void scaling_add(scaling *s, const row *r)
+{
+    if (r->scene != DRAPE || r->N < 41 || strcmp(r->status, "ok") || r->steps < 1 || s->m >= 4) return;
+    s->logn[s->m] = log((double)r->N * r->N);
+    s->logc[s->m] = log(r->cpu_s / r->steps);
+    s->it_lo = s->m ? fmin(s->it_lo, r->newton) : r->newton;
+    s->it_hi = s->m ? fmax(s->it_hi, r->newton) : r->newton;
+    s->m++;
+}
+
+static void scaling_print(const scaling *s, const char *variant)
+{
+    if (s->m < 2) return;
+    double mx = 0.0, my = 0.0, sxx = 0.0, sxy = 0.0;
+    for (int k = 0; k < s->m; k++) mx += s->logn[k] / s->m, my += s->logc[k] / s->m;
+    for (int k = 0; k < s->m; k++) {
+        sxx += (s->logn[k] - mx) * (s->logn[k] - mx);
+        sxy += (s->logn[k] - mx) * (s->logc[k] - my);
+    }
+    printf("drape %s: CPU per step ~ n^%.2f over %d grids from N = 41 (target <= 1.15); "
+           "Newton iterations a step %.2f-%.2f\n", variant, sxy / sxx, s->m, s->it_lo, s->it_hi);
 }
 
 /* ------------------------------------------------------------------- main */
@@ -748,13 +799,16 @@ int main(int argc, char **argv)
         for (int sv = 0; sv < 2; sv++) {
             if (!o.solvers[sv]) continue;
             g_solver = (cloth_nonlinear)sv;
+            scaling fit = {0};
             for (int g = 0; g < ng; g++)
                 for (int quick = 0; quick <= (kind == PILE); quick++) {
                     row r = run_one(kind, quick, grids[g], seconds, o.max_wall);
                     print_row(&r);
                     csv_row(csv, &r);
+                    scaling_add(&fit, &r);
                     if (o.b.check) misses += check_row(&r);
                 }
+            scaling_print(&fit, sv ? "newton" : "linearized");
         }
     }
     dCloseODE();
