@@ -119,10 +119,10 @@ double cloth_state_diff(const cloth_state *a, const cloth_state *b)
 
 /* ------------------------------------------------------------ state files
  *
- * Format version 1, every number little-endian, doubles as IEEE 754 bits:
+ * Format version 2, every number little-endian, doubles as IEEE 754 bits:
  *   offset  size
  *   0       8     magic "ODCLSTAT"
- *   8       4     u32 format version (1)
+ *   8       4     u32 format version (2; 1 is read too: no multipliers)
  *   12      4     u32 vertex count n
  *   16      4     u32 interlaced link count m
  *   20      4     u32 has_prev (0 or 1)
@@ -134,18 +134,26 @@ double cloth_state_diff(const cloth_state *a, const cloth_state *b)
  *           8*3n  f64 dv_prev last velocity change (warm start)
  *           8*m   f64 l1     plastic rest lengths (m, finite, > 0)
  *           m     u8  plastic flags (0 or 1)
+ *           8*q   f64 lim_shift the elongation limit's multipliers (m, finite,
+ *                     >= 0; q the state's sequential links; version 2 only)
  *   end-8   8     u64 FNV-1a 64 of every byte before it
  * Every value is checked on reading; nothing is changed unless all pass. */
 
 #define STATE_MAGIC "ODCLSTAT"
-#define STATE_VERSION 1u
+#define STATE_VERSION 2u
 #define STATE_HEADER 32u
 
-static size_t state_bytes(size_t n, size_t m) { return STATE_HEADER + 8 * (15 * n + m) + m + 8; }
+/* A record's bytes: version 1 without the multipliers (q = 0). */
+static size_t state_bytes(size_t n, size_t m, size_t q) { return STATE_HEADER + 8 * (15 * n + m + q) + m + 8; }
 
 size_t cloth_state_size_bytes(const cloth_state *s)
 {
-    return s ? state_bytes((size_t)s->n, (size_t)s->n_int) : 0;
+    return s ? state_bytes((size_t)s->n, (size_t)s->n_int, (size_t)s->n_seq) : 0;
+}
+
+static size_t state_record_bytes(const cloth_state *s, uint32_t version)
+{
+    return version == 1u ? state_bytes((size_t)s->n, (size_t)s->n_int, 0) : cloth_state_size_bytes(s);
 }
 
 static void put_u32(unsigned char *p, uint32_t v)
@@ -209,7 +217,7 @@ cloth_status cloth_state_write(const cloth_state *s, void *buf, size_t cap, size
     if (written) *written = 0;
     if (!s) return error_set(err, CLOTH_EINVAL, "cloth_state_write: state is NULL");
     if (!buf) return error_set(err, CLOTH_EINVAL, "cloth_state_write: buffer is NULL");
-    size_t n = (size_t)s->n, m = (size_t)s->n_int, need = state_bytes(n, m);
+    size_t n = (size_t)s->n, m = (size_t)s->n_int, need = cloth_state_size_bytes(s);
     if (cap < need)
         return error_set(err, CLOTH_EINVAL, "cloth_state_write: buffer of %zu bytes, the state needs %zu", cap,
                          need);
@@ -227,6 +235,7 @@ cloth_status cloth_state_write(const cloth_state *s, void *buf, size_t cap, size
         for (size_t i = 0; i < 3 * n; i++, q += 8) put_f64(q, a[k][i]);
     for (size_t e = 0; e < m; e++, q += 8) put_f64(q, s->l1[e]);
     for (size_t e = 0; e < m; e++) *q++ = s->plastic[e];
+    for (int e = 0; e < s->n_seq; e++, q += 8) put_f64(q, s->lim_shift[e]);
     put_u64(q, fnv1a(p, (size_t)(q - p)));
     if (written) *written = need;
     return CLOTH_OK;
@@ -243,15 +252,15 @@ static cloth_status check_record(const cloth_state *s, const unsigned char *p, s
     if (memcmp(p, STATE_MAGIC, 8) != 0)
         return error_set(err, CLOTH_EINVAL, "cloth_state_read: not an odecloth state (bad magic)");
     uint32_t ver = get_u32(p + 8), n = get_u32(p + 12), m = get_u32(p + 16), hp = get_u32(p + 20);
-    if (ver != STATE_VERSION)
-        return error_set(err, CLOTH_EINVAL, "cloth_state_read: format version %u, this library reads %u",
+    if (ver != 1u && ver != STATE_VERSION)
+        return error_set(err, CLOTH_EINVAL, "cloth_state_read: format version %u, this library reads 1 and %u",
                          (unsigned)ver, STATE_VERSION);
     if (n != (uint32_t)s->n || m != (uint32_t)s->n_int)
         return error_set(err, CLOTH_EINVAL,
                          "cloth_state_read: the record is for %u vertices and %u interlaced links, the state "
                          "for %d and %d",
                          (unsigned)n, (unsigned)m, s->n, s->n_int);
-    size_t need = state_bytes(n, m);
+    size_t need = state_record_bytes(s, ver);
     if (len != need)
         return error_set(err, CLOTH_EINVAL, "cloth_state_read: %zu bytes, a record of this size has %zu", len,
                          need);
@@ -275,6 +284,11 @@ static cloth_status check_record(const cloth_state *s, const unsigned char *p, s
     }
     for (size_t e = 0; e < m; e++, q++)
         if (*q > 1) return error_set(err, CLOTH_EINVAL, "cloth_state_read: plastic[%zu] = %u must be 0 or 1", e, *q);
+    for (int e = 0; ver > 1u && e < s->n_seq; e++, q += 8) {
+        double sh = get_f64(q);
+        if (!isfinite(sh) || sh < 0.0)
+            return error_set(err, CLOTH_EINVAL, "cloth_state_read: lim_shift[%d] = %g must be finite and >= 0", e, sh);
+    }
     return CLOTH_OK;
 }
 
@@ -295,8 +309,9 @@ cloth_status cloth_state_read(cloth_state *s, const void *buf, size_t len, cloth
         for (size_t i = 0; i < 3 * n; i++, q += 8) a[k][i] = get_f64(q);
     for (size_t e = 0; e < m; e++, q += 8) s->l1[e] = get_f64(q);
     for (size_t e = 0; e < m; e++) s->plastic[e] = *q++;
-    /* the limit's multipliers are a warm start the file does not keep */
+    /* the limit's multipliers: a version 1 record has none */
     memset(s->lim_shift, 0, (size_t)s->n_seq * sizeof *s->lim_shift);
+    for (int e = 0; get_u32(p + 8) > 1u && e < s->n_seq; e++, q += 8) s->lim_shift[e] = get_f64(q);
     return CLOTH_OK;
 }
 
@@ -324,9 +339,9 @@ cloth_status cloth_state_read_file(cloth_state *s, FILE *f, cloth_error *err)
     if (!buf) return error_set(err, CLOTH_ENOMEM, "cloth_state_read_file: no memory for %zu bytes", need);
     size_t got = fread(buf, 1, STATE_HEADER, f);
     cloth_status r;
-    if (got == STATE_HEADER && memcmp(buf, STATE_MAGIC, 8) == 0 &&
-        state_bytes(get_u32(buf + 12), get_u32(buf + 16)) == need)
-        got += fread(buf + got, 1, need - got, f);
+    if (got == STATE_HEADER && memcmp(buf, STATE_MAGIC, 8) == 0 && get_u32(buf + 12) == (uint32_t)s->n &&
+        get_u32(buf + 16) == (uint32_t)s->n_int && state_record_bytes(s, get_u32(buf + 8)) <= need)
+        got += fread(buf + got, 1, state_record_bytes(s, get_u32(buf + 8)) - got, f);
     /* a short or foreign record: check_record names what is wrong */
     r = cloth_state_read(s, buf, got, err);
     if (r != CLOTH_OK && got < need && ferror(f))

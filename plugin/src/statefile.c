@@ -8,7 +8,8 @@
  *   8   4   u32 format version (1)
  *   12  4   u32 vertex count n
  *   16  8   u64 length L of the core's record
- *   24  L   the core's state record (cloth_state_write, its own format)
+ *   24  L   the core's state record (cloth_state_write, its own format; an
+ *           older, shorter core version is read too)
  *       sleep: i32 on, steps, still, asleep; f64 speed, gravity[3];
  *           i32 count k; k times: i32 geom, f64 position[3]
  *       f64 the surface callback's largest thickness so far (0: none)
@@ -379,7 +380,8 @@ static void decode(io *s, dClothID c, dClothState *st)
         snprintf(s->err, sizeof s->err, "the file is for %u vertices, the cloth has %d", (unsigned)n, c->n);
         return;
     }
-    if (core_len != cloth_state_size_bytes(st->core)) {
+    /* an older core record is shorter; the core's reader checks its length */
+    if (core_len > cloth_state_size_bytes(st->core) || core_len > s->len) {
         snprintf(s->err, sizeof s->err, "core length %llu, this cloth's core record has %zu",
                  (unsigned long long)core_len, cloth_state_size_bytes(st->core));
         return;
@@ -393,7 +395,7 @@ static void decode(io *s, dClothID c, dClothState *st)
     }
     s->at = PSTATE_HEADER;
     s->len -= 8;
-    xfer_body(s, st, cloth_state_size_bytes(st->core));
+    xfer_body(s, st, (size_t)core_len);
     if (!s->err[0] && s->at != s->len)
         snprintf(s->err, sizeof s->err, "%zu bytes after the last pin record", s->len - s->at);
 }

@@ -472,8 +472,10 @@ double cloth_state_diff(const cloth_state *a, const cloth_state *b);
  * (little-endian, IEEE 754 doubles, a checksum; the layout is in state.c),
  * so a run can be stopped and continued exactly, on this or another
  * machine. Reading checks every field (magic, version, sizes against s,
- * finite numbers, l1 > 0, flags 0 or 1, checksum, exact length) and changes
- * s only if all pass; err (may be NULL) says what is wrong. */
+ * finite numbers, l1 > 0, flags 0 or 1, the limit's multipliers >= 0,
+ * checksum, exact length) and changes s only if all pass; err (may be NULL)
+ * says what is wrong. Writing makes version 2; version 1 records (without
+ * the multipliers, read as zero) are read too. */
 size_t cloth_state_size_bytes(const cloth_state *s); /* a record's size; 0 for NULL */
 /* Write the record into buf (cap bytes, at least cloth_state_size_bytes);
  * *written (may be NULL) gets its size. */
