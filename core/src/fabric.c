@@ -65,6 +65,33 @@ static cloth_status spacing_check(double v, const char *name, cloth_error *err)
     return CLOTH_OK;
 }
 
+/* k_t and k_b for cells dx x dy (cells that are not square: the mean of the
+ * two thread directions). Membrane: the interlaced links are a lattice like
+ * the sequential one with links twice as long, so k_t + 4 k_b = S = tensile
+ * / t. Bending: a free sheet relaxes in plane (the compressed interlaced
+ * links push it apart), which leaves q k_b k_t / S kappa^4 per area; equal to
+ * B kappa^2 / 2 at kappa_ref when 4 q k_b^2 - q S k_b + Q S = 0, Q = B / (2
+ * kappa_ref^2), the root that tends to Q / q for a stiff membrane. */
+static cloth_status link_stiffnesses(const cloth_fabric *f, double dx, double dy, double *k_t, double *k_b,
+                                     cloth_error *err)
+{
+    double kref = cloth_fabric_reference_curvature(f);
+    double t = 0.5 * (tension_per_k(dx, dy) + tension_per_k(dy, dx));
+    double q = 0.5 * (bending_per_k(dx, dy) + bending_per_k(dy, dx));
+    double S = f->tensile / t, Q = f->bending / (2.0 * kref * kref), r = 16.0 * Q / (q * S);
+    if (!(r <= 1.0) && isfinite(r)) {
+        double grow = pow(r, 0.25); /* q S grows as the spacing^4 */
+        return error_set(err, CLOTH_EINVAL,
+                         "fabric material at spacing %g x %g m: the interlaced links cannot give the fabric's "
+                         "bending (B %g N m at kappa_ref %g 1/m) within its tensile stiffness %g N/m; use cells of "
+                         "at least %g x %g m (or a larger bend_curvature)",
+                         dx, dy, f->bending, kref, f->tensile, dx * grow, dy * grow);
+    }
+    *k_b = 2.0 * Q / (q * (1.0 + sqrt(1.0 - r)));
+    *k_t = S - 4.0 * *k_b;
+    return CLOTH_OK;
+}
+
 cloth_status cloth_fabric_material(const cloth_fabric *f, double dx, double dy, cloth_material *out,
                                    cloth_error *err)
 {
@@ -73,21 +100,8 @@ cloth_status cloth_fabric_material(const cloth_fabric *f, double dx, double dy, 
     if ((s = spacing_check(dx, "dx", err)) != CLOTH_OK || (s = spacing_check(dy, "dy", err)) != CLOTH_OK)
         return s;
     if (!out) return error_set(err, CLOTH_EINVAL, "fabric material: out is NULL");
-    /* cells that are not square get the mean of the two thread directions */
-    double kref = cloth_fabric_reference_curvature(f);
-    double t = 0.5 * (tension_per_k(dx, dy) + tension_per_k(dy, dx));
-    double q = 0.5 * (bending_per_k(dx, dy) + bending_per_k(dy, dx));
     cloth_material m = {0};
-    m.k_b = f->bending / (2.0 * q * kref * kref);
-    /* the interlaced links stretch too: a lattice like the sequential one,
-     * links twice as long, so 4 k_b of membrane stiffness per unit t */
-    m.k_t = f->tensile / t - 4.0 * m.k_b;
-    if (!(m.k_t > 0.0) && isfinite(m.k_b))
-        return error_set(err, CLOTH_EINVAL,
-                         "fabric material at spacing %g x %g m: the interlaced links (k_b %g N/m) alone are "
-                         "stiffer in tension than fabric.tensile = %g N/m; use cells of at least %g m (or a larger "
-                         "bend_curvature)", dx, dy, m.k_b, f->tensile,
-                         pow(64.0 * f->bending / (f->tensile * kref * kref), 0.25));
+    if ((s = link_stiffnesses(f, dx, dy, &m.k_t, &m.k_b, err)) != CLOTH_OK) return s;
     m.k_c = f->compression * m.k_t;
     m.k_s = f->spreading * m.k_b;
     m.alpha = f->alpha;

@@ -11,22 +11,29 @@
  *   cloth_fabric f = cloth_fabric_preset(CLOTH_FABRIC_COTTON);
  *   if (cloth_fabric_apply(&f, &d, &err) != CLOTH_OK) ...;  // d.material set
  *
- * The derivation (docs/materials.md), for cells dx x dy:
- *   - sequential links: k_t such that the lattice with its diagonals,
- *     stretched along a thread direction with the other held (uniaxial
- *     strain), has the membrane stiffness `tensile`: for square cells
- *     k_t = tensile / 2; k_c = compression k_t.
- *   - interlaced links: an interlaced link measures bending through the
+ * The derivation (docs/materials.md), for cells dx x dy (square cells are
+ * what it is made for; others get the mean of the two thread directions and
+ * bend very differently along them):
+ *   - interlaced links: an interlaced link measures bending by the
  *     shortening of its chord, which is quadratic in the curvature kappa,
- *     so a uniformly bent sheet stores Q kappa^4 per unit area (square
- *     cells: Q = k_b dx^4 / 16), not B kappa^2 / 2 at every curvature.
- *     k_b is chosen so that the two agree at kappa_ref (bend_curvature;
- *     by default eta / c, c the bending length (B / (density g0))^(1/3),
- *     g0 = 9.81 m/s^2 and eta such that the model's cantilever droops to
- *     ASTM D1388's 41.5 degrees at an overhang of 2 c, as a fabric of
- *     bending length c does). Because Q does not depend on the spacing,
- *     the bending is the same at every resolution and every curvature;
- *     k_s = spreading k_b.
+ *     so a bent sheet stores Q kappa^4 per unit area, not B kappa^2 / 2 at
+ *     every curvature. k_b is chosen so that the two agree at kappa_ref
+ *     (bend_curvature; by default eta / c, c the bending length
+ *     (B / (density g0))^(1/3), g0 = CLOTH_FABRIC_GRAVITY, and eta = 1.1349
+ *     such that the model's cantilever droops to ASTM D1388's 41.5 degrees
+ *     at an overhang of 2 c, as a fabric of bending length c does). Q does
+ *     not depend on the spacing: the bending is the same at every
+ *     resolution and every curvature. The energy counted is that of a sheet
+ *     free to relax in its plane (the shortened interlaced links push it
+ *     apart). k_s = spreading k_b.
+ *   - sequential links: the interlaced links stretch like a membrane too,
+ *     so k_t + 4 k_b gives the membrane stiffness `tensile` along a thread
+ *     direction with the other held (uniaxial strain; square cells:
+ *     k_t + 4 k_b = tensile / 2). k_c = compression k_t.
+ *   - k_b grows as the spacing^-4, so below a spacing the fabric's bending
+ *     cannot be had within its tensile stiffness (the interlaced links would
+ *     carry more than half of it): refused, the message naming the finest
+ *     spacing (cotton's preset: about 3 mm).
  *   - damping: Kelvin-Voigt time constants, c_t = tau_tension k_t and
  *     c_b = tau_bending k_b, so the damping scales with the stiffness it
  *     damps and is grid-independent like it.
