@@ -1,9 +1,11 @@
-/* Uses the installed core: its version must be the header's, and the default
- * descriptor must be a valid grid. Exits 0 on success. */
+/* Uses the installed core: its version must be the header's, the default
+ * descriptor must be a valid grid, and the fabric header (installed beside
+ * cloth.h) must give it a material. Exits 0 on success. */
 #include <stdio.h>
 #include <string.h>
 
 #include <odecloth/cloth.h>
+#include <odecloth/fabric.h>
 
 int main(void)
 {
@@ -20,6 +22,12 @@ int main(void)
         fprintf(stderr, "cloth_default_desc(): %d x %d grid\n", d.rows, d.cols);
         return 1;
     }
-    printf("odecloth %s, default grid %d x %d\n", v, d.rows, d.cols);
+    cloth_fabric f = cloth_fabric_preset(CLOTH_FABRIC_COTTON);
+    cloth_error err;
+    if (cloth_fabric_apply(&f, &d, &err) != CLOTH_OK) {
+        fprintf(stderr, "cloth_fabric_apply: %s\n", err.message);
+        return 1;
+    }
+    printf("odecloth %s, default grid %d x %d, cotton k_b %g N/m\n", v, d.rows, d.cols, d.material.k_b);
     return 0;
 }
