@@ -521,21 +521,33 @@ static int bench(int n)
         x0[3 * i + 2] = 0.0;
         inv[i] = 1.0;
     }
-    /* crumple it first: 6 resolved steps of 2-8 spacings, then time the
-     * calls of 6 more */
-    for (int step = 0; step < 12; step++) {
-        crumple_field(n, h * rnd(2.0, 8.0), d);
-        for (int i = 0; i < 3 * nv; i++) x1[i] = x0[i] + d[i];
-        self_ccd_stats st;
-        clock_t c0 = clock();
-        int left = self_ccd_apply(s, x0, x1, inv, ETA, &st);
-        double ms = 1e3 * (double)(clock() - c0) / CLOCKS_PER_SEC;
-        if (step >= 6)
-            printf("%dx%d step %d: %.1f ms CPU, %d impulses, %d left to zones, %d zone rounds, %d zones (%d vertices), "
-                   "%d rounds, %d unresolved, stretch %.4f\n",
-                   n, n, step, ms, st.impulses, st.left, st.zone_rounds, st.zones, st.zone_vertices, st.rounds, left,
-                   st.stretch);
-        memcpy(x0, x1, 3 * (size_t)nv * sizeof *x0);
+    /* phases: a flat sheet moved half a spacing a step (3 calls, timed);
+     * crumpled by 6 steps of 2-8 spacings (not timed); 3 more such steps;
+     * then 3 steps of half a spacing on the crumpled sheet */
+    static const struct { const char *name; int steps, timed; double lo, hi; } phase[] = {
+        {"flat, 0.5 spacing a step", 3, 1, 0.5, 0.5},
+        {"crumpling", 6, 0, 2.0, 8.0},
+        {"crumpled, 2-8 spacings a step", 3, 1, 2.0, 8.0},
+        {"crumpled, 0.5 spacing a step", 3, 1, 0.5, 0.5},
+    };
+    for (int ph = 0; ph < 4; ph++) {
+        double total = 0.0;
+        for (int step = 0; step < phase[ph].steps; step++) {
+            crumple_field(n, h * rnd(phase[ph].lo, phase[ph].hi), d);
+            for (int i = 0; i < 3 * nv; i++) x1[i] = x0[i] + d[i];
+            self_ccd_stats st;
+            clock_t c0 = clock();
+            int left = self_ccd_apply(s, x0, x1, inv, ETA, &st);
+            double ms = 1e3 * (double)(clock() - c0) / CLOCKS_PER_SEC;
+            total += ms;
+            if (phase[ph].timed)
+                printf("%dx%d %s: %.1f ms CPU, %d impulses, %d left to zones, %d zone rounds, %d zones "
+                       "(%d vertices), %d rounds, %d unresolved, stretch %.4f\n",
+                       n, n, phase[ph].name, ms, st.impulses, st.left, st.zone_rounds, st.zones, st.zone_vertices,
+                       st.rounds, left, st.stretch);
+            if (ph > 0) memcpy(x0, x1, 3 * (size_t)nv * sizeof *x0); /* the flat phase restarts flat */
+        }
+        if (phase[ph].timed) printf("%dx%d %s: mean %.1f ms CPU a call\n", n, n, phase[ph].name, total / phase[ph].steps);
     }
     self_ccd_destroy(s);
     free(tri);

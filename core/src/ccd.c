@@ -6,6 +6,7 @@
 #define CCD_FTOL 1e-12      /* a cubic value within this of its scale counts as zero */
 #define CCD_NEAR 1e-6       /* of eta: a distance this small has no direction of its own */
 #define CCD_CLOSING 1e-12   /* of the relative speed: a normal speed this small is not closing */
+#define CCD_TTOL 1e-14      /* a root's time is refined to this */
 
 enum { CCD_PT, CCD_EE };
 
@@ -14,25 +15,32 @@ static double cubic_at(const double *c, double t) { return ((c[3] * t + c[2]) * 
 static double cubic_slope(const double *c, double t) { return (3.0 * c[3] * t + 2.0 * c[2]) * t + c[1]; }
 
 /* The root in (lo, hi) of a cubic monotone there, f(lo) and f(hi) of
- * opposite signs: Newton, falling back to bisection when a step leaves the
- * bracket or the bracket shrinks by less than half. */
+ * opposite signs: Newton, bisecting when a step would leave the bracket or
+ * shrink the last step by less than half (rtsafe, Numerical Recipes 9.4). */
 static double refine(const double *c, double lo, double hi, double flo)
 {
-    double t = 0.5 * (lo + hi), width = hi - lo;
-    for (int it = 0; it < 200; it++) {
-        double f = cubic_at(c, t);
-        if (f == 0.0) return t;
-        if ((f < 0.0) == (flo < 0.0))
-            lo = t;
+    double neg = flo < 0.0 ? lo : hi, pos = flo < 0.0 ? hi : lo; /* f < 0 at neg, > 0 at pos */
+    double t = 0.5 * (lo + hi), dx_old = hi - lo, dx = dx_old;
+    double f = cubic_at(c, t), df = cubic_slope(c, t);
+    for (int it = 0; it < 100 && f != 0.0; it++) {
+        if (((t - pos) * df - f) * ((t - neg) * df - f) > 0.0 || fabs(2.0 * f) > fabs(dx_old * df)) {
+            dx_old = dx;
+            dx = 0.5 * (pos - neg);
+            t = neg + dx;
+        } else {
+            dx_old = dx;
+            dx = f / df;
+            t -= dx;
+        }
+        if (fabs(dx) <= CCD_TTOL) break;
+        f = cubic_at(c, t);
+        df = cubic_slope(c, t);
+        if (f < 0.0)
+            neg = t;
         else
-            hi = t;
-        double d = cubic_slope(c, t), tn = d != 0.0 ? t - f / d : lo;
-        if (!(tn > lo && tn < hi) || hi - lo > 0.5 * width) tn = 0.5 * (lo + hi);
-        width = hi - lo;
-        if (tn <= lo || tn >= hi) break; /* lo and hi are adjacent doubles */
-        t = tn;
+            pos = t;
     }
-    return 0.5 * (lo + hi);
+    return t;
 }
 
 /* Roots in (0, 1) of a t^2 + b t + c, ascending. */
@@ -81,22 +89,24 @@ int ccd_cubic_roots(const double *c, double ftol, double *t)
 }
 
 /* The coplanarity cubic of the four points: det(y1, y2, y3), y_k = x_k - x_0
- * at time t; its length scale (the largest |y_k| over the step) in *len. */
+ * at time t; its length scale (at least the largest |y_k| over the step)
+ * in *len. */
 static void coplanarity(const double *x0, const double *x1, double *c, double *len)
 {
-    double A[3][3], B[3][3], L = 0.0;
+    double A[3][3], B[3][3], L2 = 0.0;
     for (int k = 0; k < 3; k++) {
         double y1[3];
         vec3_sub(x0 + 3 * (k + 1), x0, A[k]);
         vec3_sub(x1 + 3 * (k + 1), x1, y1);
         vec3_sub(y1, A[k], B[k]);
-        L = fmax(L, vec3_norm(A[k]) + vec3_norm(B[k]));
+        double l2 = vec3_dot(A[k], A[k]) + vec3_dot(B[k], B[k]);
+        if (l2 > L2) L2 = l2;
     }
     c[0] = vec3_triple(A[0], A[1], A[2]);
     c[1] = vec3_triple(B[0], A[1], A[2]) + vec3_triple(A[0], B[1], A[2]) + vec3_triple(A[0], A[1], B[2]);
     c[2] = vec3_triple(B[0], B[1], A[2]) + vec3_triple(B[0], A[1], B[2]) + vec3_triple(A[0], B[1], B[2]);
     c[3] = vec3_triple(B[0], B[1], B[2]);
-    *len = L;
+    *len = sqrt(2.0 * L2); /* >= max_k |A_k| + |B_k| */
 }
 
 static double clamp01(double s) { return s < 0.0 ? 0.0 : (s > 1.0 ? 1.0 : s); }

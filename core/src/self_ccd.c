@@ -137,9 +137,9 @@ static void swept_box(const double *x0, const double *x1, const int *v, int k, d
     }
     for (int j = 0; j < k; j++)
         for (int a = 0; a < 3; a++) {
-            double p = x0[3 * v[j] + a], q = x1[3 * v[j] + a];
-            box[a] = fmin(box[a], fmin(p, q) - pad);
-            box[3 + a] = fmax(box[3 + a], fmax(p, q) + pad);
+            double p = x0[3 * v[j] + a], q = x1[3 * v[j] + a], lo = (p < q ? p : q) - pad, hi = (p < q ? q : p) + pad;
+            if (lo < box[a]) box[a] = lo;
+            if (hi > box[3 + a]) box[3 + a] = hi;
         }
 }
 
