@@ -14,19 +14,29 @@
 #define SELF_CCD_ZONE_ROUNDS 500 /* zone sweeps at most */
 #define SELF_CCD_THROW 2.0       /* an impulse moving a corner more than this times its closing */
 #define SELF_CCD_UNSTRETCH 10    /* unstretch sweeps per round */
+#define SELF_CCD_SLACK 1e-6      /* an edge this far over its limit is left as it is */
 
 struct self_ccd {
     int n, ntri, nedge;
-    int *tri, *edge;         /* 3 ntri, 2 nedge vertex indices */
-    sweep_grid *tgrid, *egrid;
-    double *tbox, *ebox;     /* 6 ntri, 6 nedge: swept boxes */
-    double *din;             /* 3 n: displacements entering the zones */
-    double *mass;            /* n: the zones' fit masses */
-    double *lim;             /* nedge: edge length limits */
-    int *parent;             /* n: zones (union-find) */
-    int *order, *first;      /* n, n + 1: vertices grouped by zone */
-    int *pair, npair, cap;   /* the colliding pairs' vertices, 4 each */
+    int *tri, *edge;          /* 3 ntri, 2 nedge vertex indices */
+    /* a sweep's active vertices, triangles and edges: their swept boxes,
+     * their indices, and a grid over each */
+    sweep_grid *grid[3];
+    double *box[3];
+    int *id[3], nact[3];
+    unsigned char *act;       /* n: active in this sweep */
+    unsigned char *mark;      /* n: active in the next (moved, or in a hit) */
+    int full;                 /* the next sweep tests every pair */
+    double *din;              /* 3 n: displacements entering the zones */
+    double *mass;             /* n: the zones' fit masses */
+    double *lim;              /* nedge: edge length limits */
+    int *parent;              /* n: zones (union-find) */
+    unsigned char *dirty;     /* n: a zone's root, when the zone grew */
+    int *order, *first;       /* n, n + 1: vertices grouped by zone */
+    int *pair, npair, cap;    /* the colliding pairs' vertices, 4 each */
 };
+
+enum { ACT_VERTEX, ACT_TRIANGLE, ACT_EDGE };
 
 enum { SWEEP_RESPOND, SWEEP_RECORD, SWEEP_COUNT };
 
@@ -90,19 +100,25 @@ self_ccd *self_ccd_create(int nvert, int ntri, const int *tri)
         self_ccd_destroy(s);
         return NULL;
     }
-    size_t ne = s->nedge ? (size_t)s->nedge : 1;
-    s->tgrid = sweep_grid_create();
-    s->egrid = sweep_grid_create();
-    s->tbox = malloc(6 * nt * sizeof *s->tbox);
-    s->ebox = malloc(6 * ne * sizeof *s->ebox);
+    size_t cap[3] = {n, nt, s->nedge ? (size_t)s->nedge : 1};
+    int ok = 1;
+    for (int k = 0; k < 3; k++) {
+        s->grid[k] = sweep_grid_create();
+        s->box[k] = malloc(6 * cap[k] * sizeof *s->box[k]);
+        s->id[k] = malloc(cap[k] * sizeof *s->id[k]);
+        ok = ok && s->grid[k] && s->box[k] && s->id[k];
+    }
+    s->act = malloc(n);
+    s->mark = calloc(n, 1);
+    s->dirty = calloc(n, 1);
     s->din = malloc(3 * n * sizeof *s->din);
     s->mass = malloc(n * sizeof *s->mass);
-    s->lim = malloc(ne * sizeof *s->lim);
+    s->lim = malloc(cap[2] * sizeof *s->lim);
     s->parent = malloc(n * sizeof *s->parent);
     s->order = malloc(n * sizeof *s->order);
     s->first = malloc((n + 1) * sizeof *s->first);
-    if (!s->tgrid || !s->egrid || !s->tbox || !s->ebox || !s->din || !s->mass || !s->lim || !s->parent ||
-        !s->order || !s->first) {
+    if (!ok || !s->act || !s->mark || !s->dirty || !s->din || !s->mass || !s->lim || !s->parent || !s->order ||
+        !s->first) {
         self_ccd_destroy(s);
         return NULL;
     }
@@ -114,10 +130,14 @@ void self_ccd_destroy(self_ccd *s)
     if (!s) return;
     free(s->tri);
     free(s->edge);
-    sweep_grid_destroy(s->tgrid);
-    sweep_grid_destroy(s->egrid);
-    free(s->tbox);
-    free(s->ebox);
+    for (int k = 0; k < 3; k++) {
+        sweep_grid_destroy(s->grid[k]);
+        free(s->box[k]);
+        free(s->id[k]);
+    }
+    free(s->act);
+    free(s->mark);
+    free(s->dirty);
     free(s->din);
     free(s->mass);
     free(s->lim);
@@ -181,6 +201,7 @@ static int pair_test(self_ccd *s, sweep_ctx *c, const int *v, int edges)
         }
     if (!(edges ? ccd_edge_edge(p0, p1, c->eta, &h) : ccd_point_triangle(p0, p1, c->eta, &h))) return 0;
     c->hits++;
+    for (int j = 0; j < 4; j++) s->mark[v[j]] = 1;
     if (c->mode == SWEEP_RESPOND) {
         if (impulse(c, v, &h))
             c->applied++;
@@ -199,34 +220,70 @@ static int pair_test(self_ccd *s, sweep_ctx *c, const int *v, int edges)
     return 0;
 }
 
-/* Every vertex against the triangles and every edge against the edges
- * whose swept boxes come within eta. Returns -1 out of memory. */
+/* File the active primitives of one kind (k: ACT_*) in their grid. */
+static int file_active(self_ccd *s, const sweep_ctx *c, int k)
+{
+    static const int size[3] = {1, 3, 2};
+    const int *verts = k == ACT_VERTEX ? NULL : (k == ACT_TRIANGLE ? s->tri : s->edge);
+    int count = k == ACT_VERTEX ? s->n : (k == ACT_TRIANGLE ? s->ntri : s->nedge), m = 0;
+    double pad = k == ACT_VERTEX ? c->eta : (k == ACT_TRIANGLE ? 0.0 : 0.5 * c->eta);
+    for (int i = 0; i < count; i++) {
+        const int *v = verts ? verts + size[k] * i : &i;
+        int on = 0;
+        for (int j = 0; j < size[k]; j++) on |= s->act[v[j]];
+        if (!on) continue;
+        swept_box(c->x0, c->x1, v, size[k], pad, s->box[k] + 6 * m);
+        s->id[k][m++] = i;
+    }
+    s->nact[k] = m;
+    return sweep_grid_build(s->grid[k], s->box[k], m);
+}
+
+static int edge_active(const self_ccd *s, int e) { return s->act[s->edge[2 * e]] | s->act[s->edge[2 * e + 1]]; }
+
+/* The pairs with an active vertex (every pair on a full sweep) whose swept
+ * boxes come within eta: each triangle against the active vertices, each
+ * inactive vertex against the active triangles, each edge against the
+ * active edges. Returns -1 out of memory. */
 static int sweep(self_ccd *s, sweep_ctx *c)
 {
     c->hits = c->applied = c->left = 0;
     s->npair = 0;
-    for (int t = 0; t < s->ntri; t++) swept_box(c->x0, c->x1, s->tri + 3 * t, 3, 0.0, s->tbox + 6 * t);
-    for (int e = 0; e < s->nedge; e++) swept_box(c->x0, c->x1, s->edge + 2 * e, 2, 0.5 * c->eta, s->ebox + 6 * e);
-    if (sweep_grid_build(s->tgrid, s->tbox, s->ntri) < 0 || sweep_grid_build(s->egrid, s->ebox, s->nedge) < 0)
-        return -1;
-    for (int p = 0; p < s->n; p++) {
-        double box[6];
-        const int *cand;
-        swept_box(c->x0, c->x1, &p, 1, c->eta, box);
-        int m = sweep_grid_query(s->tgrid, box, &cand);
+    for (int i = 0; i < s->n; i++) s->act[i] = s->full || s->mark[i];
+    memset(s->mark, 0, (size_t)s->n);
+    s->full = 0;
+    for (int k = 0; k < 3; k++)
+        if (file_active(s, c, k) < 0) return -1;
+    const int *cand;
+    double box[6];
+    for (int t = 0; t < s->ntri; t++) {
+        const int *tv = s->tri + 3 * t;
+        swept_box(c->x0, c->x1, tv, 3, 0.0, box);
+        int m = sweep_grid_query(s->grid[ACT_VERTEX], box, &cand);
         for (int k = 0; k < m; k++) {
-            const int *tv = s->tri + 3 * cand[k];
-            if (tv[0] == p || tv[1] == p || tv[2] == p) continue;
+            int p = s->id[ACT_VERTEX][cand[k]], v[4] = {p, tv[0], tv[1], tv[2]};
+            if (p != tv[0] && p != tv[1] && p != tv[2] && pair_test(s, c, v, 0) < 0) return -1;
+        }
+    }
+    for (int p = 0; p < s->n && s->nact[ACT_TRIANGLE]; p++) {
+        if (s->act[p]) continue;
+        swept_box(c->x0, c->x1, &p, 1, c->eta, box);
+        int m = sweep_grid_query(s->grid[ACT_TRIANGLE], box, &cand);
+        for (int k = 0; k < m; k++) {
+            const int *tv = s->tri + 3 * s->id[ACT_TRIANGLE][cand[k]];
             int v[4] = {p, tv[0], tv[1], tv[2]};
             if (pair_test(s, c, v, 0) < 0) return -1;
         }
     }
-    for (int e = 0; e < s->nedge; e++) {
-        const int *cand, *ev = s->edge + 2 * e;
-        int m = sweep_grid_query(s->egrid, s->ebox + 6 * e, &cand);
+    for (int f = 0; f < s->nedge && s->nact[ACT_EDGE]; f++) {
+        const int *fv = s->edge + 2 * f;
+        int f_on = edge_active(s, f);
+        swept_box(c->x0, c->x1, fv, 2, 0.5 * c->eta, box);
+        int m = sweep_grid_query(s->grid[ACT_EDGE], box, &cand);
         for (int k = 0; k < m; k++) {
-            const int *fv = s->edge + 2 * cand[k];
-            if (cand[k] <= e || fv[0] == ev[0] || fv[0] == ev[1] || fv[1] == ev[0] || fv[1] == ev[1]) continue;
+            int e = s->id[ACT_EDGE][cand[k]];
+            const int *ev = s->edge + 2 * e;
+            if ((f_on && f >= e) || fv[0] == ev[0] || fv[0] == ev[1] || fv[1] == ev[0] || fv[1] == ev[1]) continue;
             int v[4] = {ev[0], ev[1], fv[0], fv[1]};
             if (pair_test(s, c, v, 1) < 0) return -1;
         }
@@ -301,7 +358,7 @@ static void zone_fit(self_ccd *s, const sweep_ctx *c, const int *m, int k)
     }
 }
 
-/* Group the vertices by zone and move each zone of two or more. */
+/* Group the vertices by zone and move each zone that grew. */
 static void zones_move(self_ccd *s, const sweep_ctx *c, self_ccd_stats *st)
 {
     int n = s->n;
@@ -320,7 +377,10 @@ static void zones_move(self_ccd *s, const sweep_ctx *c, self_ccd_stats *st)
         if (k < 2) continue;
         st->zones++;
         st->zone_vertices += k;
+        if (!s->dirty[r]) continue;
+        s->dirty[r] = 0;
         zone_fit(s, c, s->order + s->first[r], k);
+        for (int j = 0; j < k; j++) s->mark[s->order[s->first[r] + j]] = 1;
     }
 }
 
@@ -332,6 +392,7 @@ static int zones(self_ccd *s, sweep_ctx *c, self_ccd_stats *st)
     int nfree = 0;
     for (int i = 0; i < s->n; i++) {
         s->parent[i] = i;
+        s->dirty[i] = 0;
         for (int a = 0; a < 3; a++) s->din[3 * i + a] = c->x1[3 * i + a] - c->x0[3 * i + a];
         if (c->inv[i] > 0.0) {
             mean += 1.0 / c->inv[i];
@@ -349,7 +410,10 @@ static int zones(self_ccd *s, sweep_ctx *c, self_ccd_stats *st)
             for (int j = 1; j < 4; j++) {
                 int a = zone_root(s->parent, s->pair[4 * p]), b = zone_root(s->parent, s->pair[4 * p + j]);
                 if (a == b) continue;
-                s->parent[a > b ? a : b] = a < b ? a : b;
+                int lo = a < b ? a : b, hi = a < b ? b : a;
+                s->parent[hi] = lo;
+                s->dirty[lo] = 1; /* the zone grew: move it */
+                s->dirty[hi] = 0;
                 merged = 1;
             }
         if (!merged) return s->npair;
@@ -372,10 +436,11 @@ static int unstretch(self_ccd *s, double *x1, const double *inv)
             double d[3], wsum = inv[i] + inv[j];
             vec3_sub(x1 + 3 * j, x1 + 3 * i, d);
             double len = vec3_norm(d);
-            if (!(len > s->lim[e] * (1.0 + 1e-9)) || !(wsum > 0.0)) continue;
+            if (!(len > s->lim[e] * (1.0 + SELF_CCD_SLACK)) || !(wsum > 0.0)) continue;
             double f = (len - s->lim[e]) / (len * wsum);
             vec3_axpy(x1 + 3 * i, f * inv[i], d);
             vec3_axpy(x1 + 3 * j, -f * inv[j], d);
+            s->mark[i] = s->mark[j] = 1;
             moved = 1;
         }
         any |= moved;
@@ -410,6 +475,7 @@ int self_ccd_apply(self_ccd *s, const double *x0, double *x1, const double *inv_
     if (bad_input(s, x0, x1, inv_mass, eta)) return -1;
     for (int e = 0; e < s->nedge; e++) s->lim[e] = fmax(edge_len(x0, s->edge + 2 * e), edge_len(x1, s->edge + 2 * e));
     sweep_ctx c = {x0, x1, inv_mass, x1, eta, SWEEP_RESPOND, 0, 0, 0};
+    s->full = 1;
     for (int round = 0; round < SELF_CCD_ROUNDS; round++) {
         st.rounds = round + 1;
         c.mode = SWEEP_RESPOND;
@@ -437,6 +503,7 @@ int self_ccd_count(self_ccd *s, const double *x0, const double *x1, double eta)
     for (int i = 0; i < 3 * s->n; i++)
         if (!isfinite(x0[i]) || !isfinite(x1[i])) return -1;
     sweep_ctx c = {x0, x1, NULL, NULL, eta, SWEEP_COUNT, 0, 0, 0};
+    s->full = 1;
     if (sweep(s, &c) < 0) return -1;
     return c.hits;
 }

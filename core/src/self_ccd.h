@@ -27,7 +27,7 @@
 #define ODECLOTH_SELF_CCD_H
 
 #define SELF_CCD_HELD_MASS 1e6
-#define SELF_CCD_ROUNDS 3
+#define SELF_CCD_ROUNDS 8
 
 typedef struct self_ccd self_ccd;
 

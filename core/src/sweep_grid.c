@@ -12,6 +12,7 @@ struct sweep_grid {
     const double *box;
     int n, cap;         /* boxes; capacity of the per-box arrays */
     double cell;        /* m */
+    double bound[6];    /* the box around every box filed */
     int *big, nbig;     /* boxes over SWEEP_GRID_MAX_CELLS cells */
     int *stamp, query;  /* per box: the last query that met it */
     int *out;           /* a query's answer */
@@ -71,12 +72,21 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* The cell: the median of the boxes' largest sides (finite ones). */
+/* The cell: the median of the boxes' largest sides (finite ones); and the
+ * boxes' bound. */
 static double cell_size(sweep_grid *g)
 {
     int m = 0;
+    for (int a = 0; a < 3; a++) {
+        g->bound[a] = HUGE_VAL;
+        g->bound[3 + a] = -HUGE_VAL;
+    }
     for (int i = 0; i < g->n; i++) {
         const double *b = g->box + 6 * (size_t)i;
+        for (int a = 0; a < 3; a++) {
+            if (b[a] < g->bound[a]) g->bound[a] = b[a];
+            if (b[3 + a] > g->bound[3 + a]) g->bound[3 + a] = b[3 + a];
+        }
         double s = fmax(b[3] - b[0], fmax(b[4] - b[1], b[5] - b[2]));
         if (isfinite(s) && s > 0.0) g->side[m++] = s;
     }
@@ -172,7 +182,7 @@ int sweep_grid_query(sweep_grid *g, const double *box, const int **items)
     int m = 0;
     int64_t lo[3], hi[3];
     *items = g->out;
-    if (g->n == 0) return 0;
+    if (g->n == 0 || !overlap(g->bound, box)) return 0;
     if (cell_range(g, box, lo, hi) < 0) {
         for (int i = 0; i < g->n; i++)
             if (overlap(g->box + 6 * (size_t)i, box)) g->out[m++] = i;
