@@ -72,6 +72,11 @@ static int turning_points(double a, double b, double c, double *r)
 int ccd_cubic_roots(const double *c, double ftol, double *t)
 {
     if (fabs(c[0]) <= ftol && fabs(c[1]) <= ftol && fabs(c[2]) <= ftol && fabs(c[3]) <= ftol) return -1;
+    /* Bernstein coefficients on [0, 1] all of one sign: no root (the curve
+     * lies in their convex hull) */
+    double b1 = c[0] + c[1] / 3.0, b2 = b1 + (c[1] + c[2]) / 3.0, b3 = c[0] + c[1] + c[2] + c[3];
+    if ((c[0] > ftol && b1 > ftol && b2 > ftol && b3 > ftol) || (c[0] < -ftol && b1 < -ftol && b2 < -ftol && b3 < -ftol))
+        return 0;
     double b[4] = {0.0};
     int nb = 1 + turning_points(3.0 * c[3], 2.0 * c[2], c[1], b + 1);
     b[nb++] = 1.0;
