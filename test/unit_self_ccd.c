@@ -7,26 +7,26 @@
  *    no hit for a point passing beside, a point stopping short, an edge
  *    passing beyond another's end, a point sliding in a triangle's plane
  *    (over it, and along an edge within eta) and an edge sliding along a
- *    parallel edge within eta (none closing); a
- *    graze that parts (t = 0.2) before a crossing (t = 0.7): the hit is at
- *    0.7. The cubic's roots: three simple, a double, none, vanishing.
+ *    parallel edge within eta (none closing); a graze that parts (t = 0.2)
+ *    before a crossing (t = 0.7): the hit is at 0.7. The cubic's roots:
+ *    three simple, a double, none, vanishing.
  * 2. The grid: every query gives the boxes brute force gives, with a box
  *    blown up to 1e6 m and a NaN box (both in the big list).
- * 3. A sheet thrown through another: it ends on the side it started,
- *    nothing crossing (an independent brute-force count below), momentum
- *    kept to 1e-12.
+ * 3. A sheet thrown through another: it ends above it (each vertex over
+ *    the other sheet's surface), no pair left, momentum kept to 1e-12.
  * 4. 20 crumples: a 15 x 15 sheet moved 3 steps from flat by smooth random
- *    fields of 2-8 grid spacings a step; after each step no crossing pair
- *    and nothing unresolved, momentum kept. With a row held, the pairs left
- *    are reported: the count returned is the sweep's, and a crossing is
- *    never left unreported.
+ *    fields of 2-8 grid spacings a step; no crossing pair at 8 times through
+ *    each step, nothing unresolved, momentum kept to 1e-12. With a row held
+ *    (5 more crumples), the count returned is what a fresh sweep finds, and
+ *    a step that starts free of crossings and crosses reports pairs.
  *
  * Crossings are counted here by brute force, independently of the code
- * under test: every pair of triangles sharing no vertex, an edge of one
- * through the other by signed volumes.
+ * under test: every pair of triangles sharing no vertex whose boxes
+ * overlap, an edge of one through the other by signed volumes.
  *
  *   unit_self_ccd              the test
- *   unit_self_ccd --bench N    time one call on an N x N crumpled sheet
+ *   unit_self_ccd --bench N    time calls on an N x N sheet, flat and
+ *                              crumpled (CPU ms)
  */
 #include <math.h>
 #include <stdio.h>
@@ -556,6 +556,10 @@ static int bench(int n)
     }
     grid_triangles(n, n, 0, tri);
     self_ccd *s = self_ccd_create(nv, ntri, tri);
+    if (!s) {
+        fprintf(stderr, "unit_self_ccd --bench %d: out of memory\n", n);
+        return 1;
+    }
     double h = 1.0 / (n - 1);
     R = rng_seed(0xbe7c);
     for (int i = 0; i < nv; i++) {
@@ -604,10 +608,15 @@ static int bench(int n)
 int main(int argc, char **argv)
 {
     if (argc > 1) {
-        char *end = NULL;
-        long n = argc == 3 && !strcmp(argv[1], "--bench") ? strtol(argv[2], &end, 10) : 0;
-        if (!end || *end || n < 3 || n > 2000) {
+        if (argc != 3 || strcmp(argv[1], "--bench") != 0) {
             fprintf(stderr, "usage: unit_self_ccd [--bench N]  (N: grid side, 3 to 2000)\n");
+            return 2;
+        }
+        char *end = NULL;
+        long n = strtol(argv[2], &end, 10);
+        if (end == argv[2] || *end || n < 3 || n > 2000) {
+            fprintf(stderr, "unit_self_ccd: --bench '%s': the grid side must be a whole number from 3 to 2000\n",
+                    argv[2]);
             return 2;
         }
         return bench((int)n);
