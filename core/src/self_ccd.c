@@ -390,6 +390,7 @@ static int zones(self_ccd *s, sweep_ctx *c, self_ccd_stats *st)
 {
     double mean = 0.0;
     int nfree = 0;
+    st->zones = st->zone_vertices = 0;
     for (int i = 0; i < s->n; i++) {
         s->parent[i] = i;
         s->dirty[i] = 0;

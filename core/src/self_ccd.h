@@ -34,8 +34,8 @@ typedef struct self_ccd self_ccd;
 typedef struct self_ccd_stats {
     int impulses;      /* impulses applied */
     int left;          /* impulses left to the zones (they would throw a corner) */
-    int zone_rounds;   /* sweeps of the zone phase that merged zones */
-    int zones;         /* zones of two or more vertices at the end */
+    int zone_rounds;   /* sweeps of the zone phases that merged zones */
+    int zones;         /* zones of two or more vertices in the last zone phase */
     int zone_vertices; /* vertices in them */
     int rounds;        /* rounds of 1-3 */
     int unresolved;    /* pairs still colliding at the end */
