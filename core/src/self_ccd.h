@@ -22,7 +22,9 @@
  *
  * Pairs still colliding at the end are counted and returned, never dropped.
  * A pair counts as colliding when the sweep finds it: coplanar within eta at
- * some time in the step, and closing. */
+ * some time in the step, and closing. The first sweep of a call tests every
+ * pair whose swept boxes come within eta; later ones only the pairs with a
+ * vertex that moved since the last sweep or was in one of its hits. */
 #ifndef ODECLOTH_SELF_CCD_H
 #define ODECLOTH_SELF_CCD_H
 
