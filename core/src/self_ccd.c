@@ -19,8 +19,9 @@
 struct self_ccd {
     int n, ntri, nedge;
     int *tri, *edge;          /* 3 ntri, 2 nedge vertex indices */
-    /* a sweep's active vertices, triangles and edges: their swept boxes,
-     * their indices, and a grid over each */
+    /* every vertex's, triangle's and edge's swept box (kept current for
+     * the active ones); the active ones' boxes, indices and grid */
+    double *all[3];
     sweep_grid *grid[3];
     double *box[3];
     int *id[3], nact[3];
@@ -104,9 +105,10 @@ self_ccd *self_ccd_create(int nvert, int ntri, const int *tri)
     int ok = 1;
     for (int k = 0; k < 3; k++) {
         s->grid[k] = sweep_grid_create();
+        s->all[k] = malloc(6 * cap[k] * sizeof *s->all[k]);
         s->box[k] = malloc(6 * cap[k] * sizeof *s->box[k]);
         s->id[k] = malloc(cap[k] * sizeof *s->id[k]);
-        ok = ok && s->grid[k] && s->box[k] && s->id[k];
+        ok = ok && s->grid[k] && s->all[k] && s->box[k] && s->id[k];
     }
     s->act = malloc(n);
     s->mark = calloc(n, 1);
@@ -132,6 +134,7 @@ void self_ccd_destroy(self_ccd *s)
     free(s->edge);
     for (int k = 0; k < 3; k++) {
         sweep_grid_destroy(s->grid[k]);
+        free(s->all[k]);
         free(s->box[k]);
         free(s->id[k]);
     }
@@ -220,7 +223,8 @@ static int pair_test(self_ccd *s, sweep_ctx *c, const int *v, int edges)
     return 0;
 }
 
-/* File the active primitives of one kind (k: ACT_*) in their grid. */
+/* Bring the active primitives' boxes of one kind (k: ACT_*) up to date and
+ * file them in their grid. */
 static int file_active(self_ccd *s, const sweep_ctx *c, int k)
 {
     static const int size[3] = {1, 3, 2};
@@ -232,11 +236,17 @@ static int file_active(self_ccd *s, const sweep_ctx *c, int k)
         int on = 0;
         for (int j = 0; j < size[k]; j++) on |= s->act[v[j]];
         if (!on) continue;
-        swept_box(c->x0, c->x1, v, size[k], pad, s->box[k] + 6 * m);
+        swept_box(c->x0, c->x1, v, size[k], pad, s->all[k] + 6 * (size_t)i);
+        memcpy(s->box[k] + 6 * m, s->all[k] + 6 * (size_t)i, 6 * sizeof *s->box[k]);
         s->id[k][m++] = i;
     }
     s->nact[k] = m;
     return sweep_grid_build(s->grid[k], s->box[k], m);
+}
+
+static int box_meets(const double *a, const double *b)
+{
+    return a[0] <= b[3] && b[0] <= a[3] && a[1] <= b[4] && b[1] <= a[4] && a[2] <= b[5] && b[2] <= a[5];
 }
 
 static int edge_active(const self_ccd *s, int e) { return s->act[s->edge[2 * e]] | s->act[s->edge[2 * e + 1]]; }
@@ -255,31 +265,30 @@ static int sweep(self_ccd *s, sweep_ctx *c)
     for (int k = 0; k < 3; k++)
         if (file_active(s, c, k) < 0) return -1;
     const int *cand;
-    double box[6];
+    const double *vb = sweep_grid_bound(s->grid[ACT_VERTEX]), *tb = sweep_grid_bound(s->grid[ACT_TRIANGLE]);
+    const double *eb = sweep_grid_bound(s->grid[ACT_EDGE]);
     for (int t = 0; t < s->ntri; t++) {
         const int *tv = s->tri + 3 * t;
-        swept_box(c->x0, c->x1, tv, 3, 0.0, box);
-        int m = sweep_grid_query(s->grid[ACT_VERTEX], box, &cand);
+        const double *box = s->all[ACT_TRIANGLE] + 6 * (size_t)t;
+        int m = box_meets(box, vb) ? sweep_grid_query(s->grid[ACT_VERTEX], box, &cand) : 0;
         for (int k = 0; k < m; k++) {
             int p = s->id[ACT_VERTEX][cand[k]], v[4] = {p, tv[0], tv[1], tv[2]};
             if (p != tv[0] && p != tv[1] && p != tv[2] && pair_test(s, c, v, 0) < 0) return -1;
         }
     }
-    for (int p = 0; p < s->n && s->nact[ACT_TRIANGLE]; p++) {
-        if (s->act[p]) continue;
-        swept_box(c->x0, c->x1, &p, 1, c->eta, box);
-        int m = sweep_grid_query(s->grid[ACT_TRIANGLE], box, &cand);
+    for (int p = 0; p < s->n; p++) {
+        const double *box = s->all[ACT_VERTEX] + 6 * (size_t)p;
+        int m = !s->act[p] && box_meets(box, tb) ? sweep_grid_query(s->grid[ACT_TRIANGLE], box, &cand) : 0;
         for (int k = 0; k < m; k++) {
             const int *tv = s->tri + 3 * s->id[ACT_TRIANGLE][cand[k]];
             int v[4] = {p, tv[0], tv[1], tv[2]};
             if (pair_test(s, c, v, 0) < 0) return -1;
         }
     }
-    for (int f = 0; f < s->nedge && s->nact[ACT_EDGE]; f++) {
+    for (int f = 0; f < s->nedge; f++) {
         const int *fv = s->edge + 2 * f;
-        int f_on = edge_active(s, f);
-        swept_box(c->x0, c->x1, fv, 2, 0.5 * c->eta, box);
-        int m = sweep_grid_query(s->grid[ACT_EDGE], box, &cand);
+        const double *box = s->all[ACT_EDGE] + 6 * (size_t)f;
+        int f_on = edge_active(s, f), m = box_meets(box, eb) ? sweep_grid_query(s->grid[ACT_EDGE], box, &cand) : 0;
         for (int k = 0; k < m; k++) {
             int e = s->id[ACT_EDGE][cand[k]];
             const int *ev = s->edge + 2 * e;

@@ -24,7 +24,16 @@ struct sweep_grid {
     size_t nentry, entry_cap;
 };
 
-sweep_grid *sweep_grid_create(void) { return calloc(1, sizeof(sweep_grid)); }
+sweep_grid *sweep_grid_create(void)
+{
+    sweep_grid *g = calloc(1, sizeof *g);
+    if (!g) return NULL;
+    for (int a = 0; a < 3; a++) {
+        g->bound[a] = HUGE_VAL;
+        g->bound[3 + a] = -HUGE_VAL;
+    }
+    return g;
+}
 
 void sweep_grid_destroy(sweep_grid *g)
 {
@@ -39,6 +48,8 @@ void sweep_grid_destroy(sweep_grid *g)
 }
 
 int sweep_grid_big(const sweep_grid *g) { return g ? g->nbig : 0; }
+
+const double *sweep_grid_bound(const sweep_grid *g) { return g->bound; }
 
 static int overlap(const double *a, const double *b)
 {
@@ -77,10 +88,6 @@ static int cmp_double(const void *a, const void *b)
 static double cell_size(sweep_grid *g)
 {
     int m = 0;
-    for (int a = 0; a < 3; a++) {
-        g->bound[a] = HUGE_VAL;
-        g->bound[3 + a] = -HUGE_VAL;
-    }
     for (int i = 0; i < g->n; i++) {
         const double *b = g->box + 6 * (size_t)i;
         for (int a = 0; a < 3; a++) {
@@ -145,10 +152,17 @@ int sweep_grid_build(sweep_grid *g, const double *box, int n)
 {
     g->box = box;
     g->n = n < 0 ? 0 : n;
+    for (int a = 0; a < 3; a++) {
+        g->bound[a] = HUGE_VAL;
+        g->bound[3 + a] = -HUGE_VAL;
+    }
     g->nbig = 0;
     g->nentry = 0;
     if (g->n == 0) return 0;
-    if (reserve(g, n) < 0) return g->n = 0, -1;
+    if (reserve(g, n) < 0) {
+        g->n = 0;
+        return -1;
+    }
     g->cell = cell_size(g);
     memset(g->stamp, 0, (size_t)n * sizeof *g->stamp);
     g->query = 0;
@@ -156,13 +170,19 @@ int sweep_grid_build(sweep_grid *g, const double *box, int n)
     while (nb < 2 * total) nb *= 2;
     if (nb > g->bucket_cap) {
         size_t *start = realloc(g->start, (nb + 2) * sizeof *start);
-        if (!start) return g->n = 0, -1;
+        if (!start) {
+            g->n = 0;
+            return -1;
+        }
         g->start = start;
         g->bucket_cap = nb;
     }
     if (total > g->entry_cap) {
         int *e = realloc(g->entry, total * sizeof *e);
-        if (!e) return g->n = 0, -1;
+        if (!e) {
+            g->n = 0;
+            return -1;
+        }
         g->entry = e;
         g->entry_cap = total;
     }

@@ -28,4 +28,8 @@ int sweep_grid_query(sweep_grid *g, const double *box, const int **items);
 /* Boxes filed in the big list at the last build (for tests and stats). */
 int sweep_grid_big(const sweep_grid *g);
 
+/* The box around every box filed (empty, low above high, when none is):
+ * a query box that misses it meets nothing. */
+const double *sweep_grid_bound(const sweep_grid *g);
+
 #endif
