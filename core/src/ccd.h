@@ -31,10 +31,9 @@ typedef struct ccd_hit {
 int ccd_point_triangle(const double *x0, const double *x1, double eta, ccd_hit *hit);
 int ccd_edge_edge(const double *x0, const double *x1, double eta, ccd_hit *hit);
 
-/* The roots in [0, 1] of c[0] + c[1] t + c[2] t^2 + c[3] t^3, ascending,
- * into t (at most 3); a turning point where the cubic is within ftol of
- * zero counts as a root. Returns their number, or -1 when every
- * coefficient is within ftol (the cubic vanishes throughout). */
+/* The roots in [0, 1] of c[0] + c[1] t + c[2] t^2 + c[3] t^3 into t,
+ * ascending (a turning point within ftol of zero counts). Returns their
+ * number (0-3), or -1 when every coefficient is within ftol of zero. */
 int ccd_cubic_roots(const double *c, double ftol, double *t);
 
 #endif

@@ -251,10 +251,9 @@ static int box_meets(const double *a, const double *b)
 
 static int edge_active(const self_ccd *s, int e) { return s->act[s->edge[2 * e]] | s->act[s->edge[2 * e + 1]]; }
 
-/* The pairs with an active vertex (every pair on a full sweep) whose swept
- * boxes come within eta: each triangle against the active vertices, each
- * inactive vertex against the active triangles, each edge against the
- * active edges. Returns -1 out of memory. */
+/* Test the pairs with an active vertex whose boxes meet: every triangle
+ * against the active vertices, inactive vertices against the active
+ * triangles, every edge against the active edges. -1: out of memory. */
 static int sweep(self_ccd *s, sweep_ctx *c)
 {
     c->hits = c->applied = c->left = 0;

@@ -50,11 +50,9 @@ typedef struct self_ccd_stats {
 self_ccd *self_ccd_create(int nvert, int ntri, const int *tri);
 void self_ccd_destroy(self_ccd *s); /* NULL is fine */
 
-/* Resolve the step x0 -> x1 (3 nvert each; x1 is changed). inv_mass: per
- * vertex, 0 for a held vertex. eta: m, > 0. st may be NULL. Returns the
- * pairs left colliding, or -1 for bad input (x1 untouched: a NULL pointer,
- * eta not in (0, inf), a position or inverse mass not finite, a negative
- * inverse mass) or out of memory (x1 may be partly resolved). */
+/* Resolve x0 -> x1 (3 nvert each; x1 changes); inv_mass 0: held; eta > 0 m.
+ * Returns the pairs left colliding; -1: bad input (a NULL, eta, a position
+ * or inverse mass not finite or negative; x1 untouched) or out of memory. */
 int self_ccd_apply(self_ccd *s, const double *x0, double *x1, const double *inv_mass, double eta,
                    self_ccd_stats *st);
 
