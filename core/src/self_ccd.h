@@ -50,9 +50,9 @@ typedef struct self_ccd_stats {
 self_ccd *self_ccd_create(int nvert, int ntri, const int *tri);
 void self_ccd_destroy(self_ccd *s); /* NULL is fine */
 
-/* Resolve x0 -> x1 (3 nvert each; x1 changes); inv_mass 0: held; eta > 0 m.
- * Returns the pairs left colliding; -1: bad input (a NULL, eta, a position
- * or inverse mass not finite or negative; x1 untouched) or out of memory. */
+/* Resolve x0 -> x1 (3 nvert each; x1 changes); inv_mass 0: held; eta > 0 m;
+ * st may be NULL. Returns the pairs left colliding; -1: bad input (x1 left
+ * as it was) or out of memory (x1 may be partly resolved). */
 int self_ccd_apply(self_ccd *s, const double *x0, double *x1, const double *inv_mass, double eta,
                    self_ccd_stats *st);
 
