@@ -1,0 +1,39 @@
+/* Continuous collision tests of four points moving linearly over a step
+ * (x(t) = x0 + t (x1 - x0), t in [0, 1]): a point against a triangle and an
+ * edge against an edge (Bridson, Fedkiw, Anderson 2002, sec. 6.4).
+ *
+ * The four points are coplanar where a cubic in t vanishes; its roots in
+ * [0, 1] are bracketed by its turning points and refined by safeguarded
+ * Newton. At each root, in order, the pair's distance is measured; the hit
+ * is the first root where it is within eta and the pair is approaching
+ * (its relative velocity along the normal closes the gap). A root that
+ * fails either test does not end the search: a graze that parts early does
+ * not hide a crossing later in the step.
+ *
+ * Points: x0 and x1 hold 4 points each (12 doubles). Point-triangle: the
+ * point, then the triangle's corners. Edge-edge: edge a's ends, then edge
+ * b's. */
+#ifndef ODECLOTH_CCD_H
+#define ODECLOTH_CCD_H
+
+typedef struct ccd_hit {
+    double t;    /* time of the event in [0, 1] */
+    double w[4]; /* weights: sum_k w[k] x_k is the first primitive's point
+                    minus the second's (point-triangle: 1, -barycentric;
+                    edge-edge: 1 - s, s, -(1 - u), -u); they sum to 0 */
+    double n[3]; /* unit normal at the event, from the second primitive to
+                    the first (touching there: the plane's normal, on the
+                    side the first started) */
+    double dist; /* distance at the event */
+} ccd_hit;
+
+/* 1 and *hit filled on a hit, else 0. eta > 0. */
+int ccd_point_triangle(const double *x0, const double *x1, double eta, ccd_hit *hit);
+int ccd_edge_edge(const double *x0, const double *x1, double eta, ccd_hit *hit);
+
+/* The roots in [0, 1] of c[0] + c[1] t + c[2] t^2 + c[3] t^3 into t,
+ * ascending (a turning point within ftol of zero counts). Returns their
+ * number (0-3), or -1 when every coefficient is within ftol of zero. */
+int ccd_cubic_roots(const double *c, double ftol, double *t);
+
+#endif

@@ -1,0 +1,35 @@
+/* Broadphase for the continuous collision tests: a uniform grid of cubic
+ * cells over boxes (the box a vertex, edge or triangle sweeps over a step),
+ * rebuilt per call and hashed, so a far-flung box costs no memory.
+ *
+ * The cell is the median of the boxes' largest sides. A box over
+ * SWEEP_GRID_MAX_CELLS cells (or far out, or not finite) is kept in a list
+ * that every query scans, and a query box that large scans every box: a
+ * blown-up displacement costs one pass over the boxes, never a loop over
+ * the cells it spans. */
+#ifndef ODECLOTH_SWEEP_GRID_H
+#define ODECLOTH_SWEEP_GRID_H
+
+#define SWEEP_GRID_MAX_CELLS 64
+
+typedef struct sweep_grid sweep_grid;
+
+sweep_grid *sweep_grid_create(void); /* NULL: out of memory */
+void sweep_grid_destroy(sweep_grid *g); /* NULL is fine */
+
+/* Files n boxes, 6 doubles each (low corner, high corner), kept by pointer
+ * until the next build. Returns 0, or -1 out of memory. */
+int sweep_grid_build(sweep_grid *g, const double *box, int n);
+
+/* The boxes that overlap box (closed intervals), each once, as indices into
+ * *items, valid until the next query or build. Returns their number. */
+int sweep_grid_query(sweep_grid *g, const double *box, const int **items);
+
+/* Boxes filed in the big list at the last build (for tests and stats). */
+int sweep_grid_big(const sweep_grid *g);
+
+/* The box around every box filed (empty, low above high, when none is):
+ * a query box that misses it meets nothing. */
+const double *sweep_grid_bound(const sweep_grid *g);
+
+#endif
