@@ -44,7 +44,6 @@ static cloth *make(int s, const double g[3])
     d.solver.cg_tolerance = 1e-12;
     d.solver.newton_cg_tolerance = 1e-10;
     d.solver.newton_tolerance = 1e-12;
-    d.solver.newton_rtol = 0.0;
     cloth *c;
     cloth_error err;
     if (!CHECK(cloth_create(&d, &c, &err) == CLOTH_OK, "create: %s", err.message)) return NULL;

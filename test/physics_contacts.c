@@ -41,7 +41,6 @@ static cloth *make(cloth_nonlinear how, double tilt)
     d.axis_u[2] = sin(tilt);
     d.solver.nonlinear = how;
     d.solver.newton_tolerance = 1e-9;
-    d.solver.newton_rtol = 0.0;
     d.solver.cg_tolerance = d.solver.newton_cg_tolerance = 1e-10;
     d.solver.cg_max_iterations = 2000;
     d.solver.newton_iterations = 64;

@@ -40,7 +40,6 @@ static cloth_desc small_desc(int n)
     d.solver.nonlinear = CLOTH_NEWTON;
     d.solver.newton_iterations = 100;
     d.solver.newton_tolerance = 1e-12;
-    d.solver.newton_rtol = 0.0;
     d.solver.cg_tolerance = d.solver.newton_cg_tolerance = 1e-10;
     d.solver.max_substep_halvings = 0;
     d.solver.strain_limit_iterations = 0;
@@ -206,7 +205,6 @@ static void swing(cloth_method m, int steps_per_s, double *x_end)
     d.material.k_delta = 0.0;
     d.solver.method = m;
     d.solver.newton_tolerance = 1e-10;
-    d.solver.newton_rtol = 0.0;
     d.solver.cg_tolerance = d.solver.newton_cg_tolerance = 1e-12;
     cloth *c = NULL;
     if (!CHECK(cloth_create(&d, &c, NULL) == CLOTH_OK, "create")) return;
@@ -266,7 +264,6 @@ static void goes_on(int halvings)
         return;
     d.solver.newton_iterations = 1;
     d.solver.newton_tolerance = 1e-12;
-    d.solver.newton_rtol = 0.0;
     d.solver.keep_unconverged = 1;
     CHECK(cloth_set_solver(c, &d.solver) == CLOTH_OK, "set_solver: %s", cloth_last_error(c));
     const double *x = cloth_positions(c), *xr = cloth_positions(ref);

@@ -89,7 +89,6 @@ static dClothID make_cloth(dWorldID w, dSpaceID sp, double cx, double cy, double
     if (newton) {
         d.cloth.solver.nonlinear = CLOTH_NEWTON;
         d.cloth.solver.newton_tolerance = 1e-9;
-        d.cloth.solver.newton_rtol = 0.0;
         d.cloth.solver.newton_cg_tolerance = 1e-10;
     }
     if (!gravity) d.cloth.gravity[2] = 0.0;

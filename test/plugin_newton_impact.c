@@ -3,8 +3,8 @@
  * static box (0.5 x 0.5 m top at z = 0.2) and falling at 3 m/s, takes 30
  * steps of 1/60 s (dClothStep) at the solver's defaults. Every step must:
  *   - succeed whole or in substeps, no cloth held (DCLOTH_FAILURE_STOP);
- *   - end with the Newton residual within the step's goal (newton_tolerance
- *     + newton_rtol |dv|);
+ *   - end with the Newton residual within the step's goal (stats.newton_goal:
+ *     solver.newton_tolerance, or less for a warm start kept unsolved);
  *   - leave every sequential link within (1 + delta) l0 to 1e-3 of it,
  *     measured by the test from the positions;
  *   - leave no vertex deeper in the box's shell than the thickness (none

@@ -101,27 +101,26 @@ static int newton_start(cloth *c, double *dv)
     return none;
 }
 
-/* The size a Newton step must come within for the step to end (m/s, RMS):
- * newton_tolerance + newton_rtol |dv|_M / sqrt(mt), |dv| the step's
- * velocity change so far; mt the cloth's mass. */
-static double newton_goal(const cloth *c, const double *dv, double mt)
+/* The velocity change dv's size, |dv|_M / sqrt(mt) (m/s, RMS; mt the
+ * cloth's mass). */
+static double dv_size(const cloth *c, const double *dv, double mt)
 {
     double s = 0.0;
     for (int i = 0; i < c->n; i++) {
         const double *d = dv + 3 * (size_t)i;
         s += c->mass[i] * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     }
-    return c->desc.solver.newton_tolerance + c->desc.solver.newton_rtol * sqrt(s / mt);
+    return sqrt(s / mt);
 }
 
 /* Before any iteration: *size the residual's bound on the step's size, and
- * *goal what takes the warm start without a solve: a residual within
- * newton_rtol of the warm start's own velocity change (free fall's is exact),
- * not an absolute tolerance, under which a weak force would never act. */
+ * *goal what takes the warm start without a solve: within newton_tolerance
+ * and newton_rtol of the warm start's own velocity change (free fall's is
+ * exact); by the absolute tolerance alone a weak force would never act. */
 static void warm_size(cloth *c, const mpcg_problem *P, const double *dv, double mt, double *size, double *goal)
 {
     *size = residual_norm(c, P, c->b);
-    *goal = newton_goal(c, dv, mt) - c->desc.solver.newton_tolerance;
+    *goal = fmin(c->desc.solver.newton_tolerance, c->desc.solver.newton_rtol * dv_size(c, dv, mt));
 }
 
 /* The Newton step's size, sqrt(ddv^T M ddv (+ the bodies') / cloth mass):
@@ -184,12 +183,12 @@ static void contacts_changed(cloth *c, const step_eq *q, mpcg_problem *P, const 
 }
 
 /* Contact candidates the iterate dv (in c->x_new) puts behind their
- * surface, beyond what the step's goal leaves open (cfac goal), become
- * planes landed by the next iteration; returns how many. */
-static int decide_contacts(cloth *c, const step_eq *q, mpcg_problem *P, const double *dv, double goal,
-                           const double *xs, double frac, cloth_step_stats *st)
+ * surface, beyond what the tolerance leaves open (cfac newton_tolerance),
+ * become planes landed by the next iteration; returns how many. */
+static int decide_contacts(cloth *c, const step_eq *q, mpcg_problem *P, const double *dv, const double *xs,
+                           double frac, cloth_step_stats *st)
 {
-    int added = contacts_decide(c, c->x_new, q->cfac * goal);
+    int added = contacts_decide(c, c->x_new, q->cfac * c->desc.solver.newton_tolerance);
     if (!added) return 0;
     contacts_changed(c, q, P, xs, frac, added, st);
     contacts_land(c, dv);
@@ -221,8 +220,11 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
                       sv->newton_cg_tolerance, sv->cg_max_iterations, NULL, 0.0};
     mpcg_bodies bodies;
     P.bodies = bodies_prepare(c, h, q.cfac, &bodies);
-    double mt = 0.0;
+    double mt = 0.0, slack = NEWTON_CG_SLACK * sv->newton_tolerance;
     for (int i = 0; i < c->n; i++) mt += c->mass[i];
+    /* |e|_M <= |e|_A: the step norm's error within slack. Not with bodies:
+     * their momentum exchange is read from the residual this leaves. */
+    P.abs2 = P.bodies ? 0.0 : slack * slack * mt;
     c->coarse_kept = 0;
     int it = 0, rounds = 0, assembled = 0, landing = 1;
     int since = 0; /* iterations since the contacts last changed: the budget */
@@ -232,17 +234,13 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     for (;;) {
         if (!assembled) potential_assemble(c, &q, dv, b);
         assembled = 1;
-        goal = newton_goal(c, dv, mt);
-        /* |e|_M <= |e|_A: the step norm's error within NEWTON_CG_SLACK of the
-         * goal. Not with bodies: their momentum exchange is read from the
-         * residual this leaves. */
-        P.abs2 = P.bodies ? 0.0 : NEWTON_CG_SLACK * NEWTON_CG_SLACK * goal * goal * mt;
+        goal = sv->newton_tolerance;
         if (it == 0 && landed) warm_size(c, &P, dv, mt, &size, &goal);
         if (size != size) return CLOTH_FAIL_NAN;
         if (size <= goal) {
             potential_state(c, &q, dv);
             if (rounds++ >= sv->newton_iterations) break; /* the limit left to the projection */
-            int changed = decide_contacts(c, &q, &P, dv, goal, xs, frac, st);
+            int changed = decide_contacts(c, &q, &P, dv, xs, frac, st);
             if (changed) {
                 landing = 1;
                 landed = 0; /* the residual no longer bounds the step */
@@ -274,11 +272,11 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         it++;
         since++;
         if (f == CLOTH_FAIL_NAN || f == CLOTH_FAIL_CG_INDEFINITE) return f;
-        goal = newton_goal(c, dv, mt);
+        goal = sv->newton_tolerance;
         if (size > goal) {
             potential_state(c, &q, dv);
             assembled = 0;
-            if (decide_contacts(c, &q, &P, dv, goal, xs, frac, st)) {
+            if (decide_contacts(c, &q, &P, dv, xs, frac, st)) {
                 landing = 1;
                 phi = NAN;
                 since = 0;

@@ -151,20 +151,21 @@ typedef struct cloth_solver {
      * which makes the potential convex and its Hessian the Newton matrix.
      * A step ends when the Newton step's size sqrt(ddv^T M ddv / cloth
      * mass) (+ the bodies'; an RMS velocity correction) is within
-     * newton_tolerance + newton_rtol |dv| (|dv| the step's velocity
-     * change so far, in the same norm), and no sequential
+     * newton_tolerance (the warm start is kept without a solve only when
+     * the residual's bound on that size is also within newton_rtol |dv|,
+     * |dv| the warm start's velocity change), and no sequential
      * link is past its limit (1 + delta) l0 by more than limit_tolerance
      * of it: the limit is a constraint held by multipliers (augmented
      * Lagrangian on the k_delta law) carried from step to step, the
      * projection above acting only where they did not converge. Design
      * and measurements: docs/newton.md. */
     cloth_nonlinear nonlinear;
-    double newton_tolerance;      /* m/s, > 0 (default 1e-2): the stop's
-                                     absolute part                        */
-    double newton_rtol;           /* 1, in [0, 1) (default 1e-2): the stop's
-                                     part relative to the step's velocity
-                                     change, so a weak force's motion is
-                                     solved as closely as a strong one's  */
+    double newton_tolerance;      /* m/s, > 0 (default 1e-2)              */
+    double newton_rtol;           /* 1, in [0, 1) (default 1e-2): the warm
+                                     start kept unsolved only within this
+                                     fraction of its velocity change, so a
+                                     force too weak for newton_tolerance
+                                     still acts                           */
     double limit_tolerance;       /* 1, in (0, 1) (default 1e-3)          */
     double newton_cg_tolerance;   /* 1, in (0, 1) (default 1e-2): CLOTH_NEWTON's
                                      linear solves stop here, in cg_tolerance's
@@ -409,8 +410,9 @@ typedef struct cloth_step_stats {
     int newton;            /* Newton iterations, over every attempt    */
     double newton_residual;/* m/s, the last attempt's final residual
                               size (solver.newton_tolerance's norm)   */
-    double newton_goal;    /* m/s, the size that attempt had to reach:
-                              newton_tolerance + newton_rtol |dv|     */
+    double newton_goal;    /* m/s, the size that attempt had to reach
+                              (newton_tolerance; less when it kept its
+                              warm start unsolved)                    */
     int limit_updates;     /* updates of the elongation limit's
                               multipliers, over every attempt          */
     int line_search_cuts;  /* Newton iterations whose full step the
