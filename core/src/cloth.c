@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "internal.h"
+#include "vec3.h"
 
 /* Largest vertex count: keeps every index (3 per vertex, 16 links per vertex,
  * 2 blocks per link) within int. */
@@ -42,7 +43,6 @@ cloth_desc cloth_default_desc(void)
     return d;
 }
 
-static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 /* a divided by its largest component's magnitude (zero stays zero): a
  * direction whose squares neither overflow nor underflow. */
@@ -78,7 +78,7 @@ cloth_status cloth_desc_validate(const cloth_desc *d, cloth_error *err)
     double au[3], av[3];
     unit_scaled(d->axis_u, au);
     unit_scaled(d->axis_v, av);
-    double uu = dot3(au, au), vv = dot3(av, av), uv = dot3(au, av);
+    double uu = vec3_dot(au, au), vv = vec3_dot(av, av), uv = vec3_dot(au, av);
     if (!(uu > 0.0) || !(vv > 0.0)) return error_set(err, CLOTH_EINVAL, "axis_u and axis_v must be non-zero");
     if (uu * vv - uv * uv <= 1e-12 * uu * vv)
         return error_set(err, CLOTH_EINVAL, "axis_u and axis_v must not be parallel");
@@ -109,11 +109,11 @@ static void frame(const cloth_desc *d, double u[3], double v[3])
     double au[3], av[3];
     unit_scaled(d->axis_u, au);
     unit_scaled(d->axis_v, av);
-    double nu = sqrt(dot3(au, au));
+    double nu = sqrt(vec3_dot(au, au));
     for (int k = 0; k < 3; k++) u[k] = au[k] / nu;
-    double p = dot3(av, u);
+    double p = vec3_dot(av, u);
     for (int k = 0; k < 3; k++) v[k] = av[k] - p * u[k];
-    double nv = sqrt(dot3(v, v));
+    double nv = sqrt(vec3_dot(v, v));
     for (int k = 0; k < 3; k++) v[k] /= nv;
 }
 

@@ -113,14 +113,12 @@ static double dv_size(const cloth *c, const double *dv, double mt)
     return sqrt(s / mt);
 }
 
-/* Before any iteration: *size the residual's bound on the step's size, and
- * *goal what takes the warm start without a solve: within newton_tolerance
- * and newton_rtol of the warm start's own velocity change (free fall's is
- * exact); by the absolute tolerance alone a weak force would never act. */
-static void warm_size(cloth *c, const mpcg_problem *P, const double *dv, double mt, double *size, double *goal)
+/* What the warm start dv must come within to be kept without a solve:
+ * newton_tolerance and newton_rtol of its own velocity change (free fall's
+ * is exact); by the absolute tolerance alone a weak force would never act. */
+static double warm_goal(const cloth *c, const double *dv, double mt)
 {
-    *size = residual_norm(c, P, c->b);
-    *goal = fmin(c->desc.solver.newton_tolerance, c->desc.solver.newton_rtol * dv_size(c, dv, mt));
+    return fmin(c->desc.solver.newton_tolerance, c->desc.solver.newton_rtol * dv_size(c, dv, mt));
 }
 
 /* The Newton step's size, sqrt(ddv^T M ddv (+ the bodies') / cloth mass):
@@ -235,7 +233,10 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         if (!assembled) potential_assemble(c, &q, dv, b);
         assembled = 1;
         goal = sv->newton_tolerance;
-        if (it == 0 && landed) warm_size(c, &P, dv, mt, &size, &goal);
+        if (it == 0 && landed) { /* the residual bounds the step's size */
+            size = residual_norm(c, &P, b);
+            goal = warm_goal(c, dv, mt);
+        }
         if (size != size) return CLOTH_FAIL_NAN;
         if (size <= goal) {
             potential_state(c, &q, dv);

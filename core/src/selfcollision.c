@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "internal.h"
+#include "vec3.h"
 #include "odecloth/selfcollision.h"
 
 #define SC_PASSES 3
@@ -27,30 +28,14 @@ struct cloth_self_collision {
     int have_prev;
 };
 
-static void sub3(const double *a, const double *b, double *o)
-{
-    o[0] = a[0] - b[0];
-    o[1] = a[1] - b[1];
-    o[2] = a[2] - b[2];
-}
-
-static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-static void cross3(const double *a, const double *b, double *o)
-{
-    o[0] = a[1] * b[2] - a[2] * b[1];
-    o[1] = a[2] * b[0] - a[0] * b[2];
-    o[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 /* Unit normal of triangle (a, b, c) into nrm; 0 if degenerate. */
 static int tri_normal(const double *a, const double *b, const double *c, double *nrm)
 {
     double e1[3], e2[3];
-    sub3(b, a, e1);
-    sub3(c, a, e2);
-    cross3(e1, e2, nrm);
-    double l = sqrt(dot3(nrm, nrm));
+    vec3_sub(b, a, e1);
+    vec3_sub(c, a, e2);
+    vec3_cross(e1, e2, nrm);
+    double l = sqrt(vec3_dot(nrm, nrm));
     if (!(l > 1e-14)) return 0;
     for (int k = 0; k < 3; k++) nrm[k] /= l;
     return 1;
@@ -60,11 +45,11 @@ static int tri_normal(const double *a, const double *b, const double *c, double 
 static void barycentric(const double *a, const double *b, const double *c, const double *q, double *w)
 {
     double e0[3], e1[3], e2[3];
-    sub3(b, a, e0);
-    sub3(c, a, e1);
-    sub3(q, a, e2);
-    double d00 = dot3(e0, e0), d01 = dot3(e0, e1), d11 = dot3(e1, e1);
-    double d20 = dot3(e2, e0), d21 = dot3(e2, e1);
+    vec3_sub(b, a, e0);
+    vec3_sub(c, a, e1);
+    vec3_sub(q, a, e2);
+    double d00 = vec3_dot(e0, e0), d01 = vec3_dot(e0, e1), d11 = vec3_dot(e1, e1);
+    double d20 = vec3_dot(e2, e0), d21 = vec3_dot(e2, e1);
     double den = d00 * d11 - d01 * d01;
     if (!(fabs(den) > 1e-30)) {
         w[0] = w[1] = w[2] = -1.0;
@@ -161,8 +146,8 @@ static int separate(cloth_self_collision *s, int p, int t, cloth_self_collision_
     double nrm[3], nprev[3];
     if (!tri_normal(x + 3 * tv[0], x + 3 * tv[1], x + 3 * tv[2], nrm)) return 0;
     double rel[3];
-    sub3(x + 3 * p, x + 3 * tv[0], rel);
-    double s_now = dot3(rel, nrm);
+    vec3_sub(x + 3 * p, x + 3 * tv[0], rel);
+    double s_now = vec3_dot(rel, nrm);
     /* only a point over the triangle: its edges belong to the neighbours */
     double q[3], w[3];
     for (int k = 0; k < 3; k++) q[k] = x[3 * p + k] - s_now * nrm[k];
@@ -172,8 +157,8 @@ static int separate(cloth_self_collision *s, int p, int t, cloth_self_collision_
     double side = s_now >= 0.0 ? 1.0 : -1.0;
     int over_before = 0;
     if (tri_normal(xp + 3 * tv[0], xp + 3 * tv[1], xp + 3 * tv[2], nprev)) {
-        sub3(xp + 3 * p, xp + 3 * tv[0], rel);
-        double s_prev = dot3(rel, nprev), qp[3], wp[3];
+        vec3_sub(xp + 3 * p, xp + 3 * tv[0], rel);
+        double s_prev = vec3_dot(rel, nprev), qp[3], wp[3];
         if (fabs(s_prev) > 1e-12) side = s_prev > 0.0 ? 1.0 : -1.0;
         for (int k = 0; k < 3; k++) qp[k] = xp[3 * p + k] - s_prev * nprev[k];
         barycentric(xp + 3 * tv[0], xp + 3 * tv[1], xp + 3 * tv[2], qp, wp);

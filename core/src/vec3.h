@@ -1,4 +1,4 @@
-/* 3-vector helpers for the continuous collision code (ccd.c, self_ccd.c). */
+/* 3-vector helpers of the core (ccd.c, self_ccd.c, selfcollision.c, cloth.c). */
 #ifndef ODECLOTH_VEC3_H
 #define ODECLOTH_VEC3_H
 
