@@ -31,7 +31,7 @@
  *
  *   bench_drape [--out DIR] [--scene drape,pinned,pile,hammock] [--grid N]
  *               [--solver linearized|newton|both] [--precond P] [--max-wall S]
- *               [--fast] [--check]
+ *               [--fast] [--check] [--steps]
  *
  * ctest: bench drape --fast --out out/bench_fast
  */
@@ -67,6 +67,9 @@ static const int blender_n[4] = {21, 41, 81, 161};
 static const double blender_s[4] = {2.95, 8.16, 38.1, 143};
 static const int target_n[3] = {41, 81, 161};
 static const double target_s[3] = {0.4, 1.9, 14};
+
+/* --steps: every step's figures go to DIR/bench_drape_steps.csv (NULL: off) */
+static FILE *g_steps;
 
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
@@ -432,6 +435,14 @@ static void finish_row(const scene *s, trace *t, links *L, long newton, long cg,
     }
 }
 
+/* One line of --steps' CSV: step k of row r just taken. */
+static void steps_row(const scene *s, const row *r, int k, const cloth_step_stats *st, int ok, double energy)
+{
+    fprintf(g_steps, "%s,%s,%d,%d,%.3f,%d,%d,%d,%d,%d,%d,%d,%.5f,%.6g\n", scene_name[s->kind], r->variant, r->N, k,
+            1e3 * r->wall_s, st->newton, st->iterations, st->limit_updates, st->line_search_cuts,
+            st->contacts_decided, st->substeps, !ok, st->max_strain, energy);
+}
+
 /* Steps the scene for `seconds` or until the wall budget is spent; only
  * the steps are timed, the measuring between them is not. */
 static void run_loop(scene *s, double seconds, double max_wall, row *r)
@@ -475,6 +486,7 @@ static void run_loop(scene *s, double seconds, double max_wall, row *r)
             r->energy_gain = k ? fmax(r->energy_gain, e - e_prev) : e - e_prev;
             e_prev = e;
         }
+        if (g_steps) steps_row(s, r, k, &st, ok, s->ball ? e_prev : NAN);
         if (k + 1 < total && bench_wall_now() - start > max_wall) {
             r->status = "timeout";
             break;
@@ -622,7 +634,7 @@ static int check_row(const row *r)
 
 static const char usage[] =
     "usage: bench_drape [--out DIR] [--scene NAME[,NAME...]] [--grid N] [--solver S] [--precond P]\n"
-    "                   [--max-wall S] [--fast] [--check]\n"
+    "                   [--max-wall S] [--fast] [--check] [--steps]\n"
     "The drape benchmark: a 1 m cotton cloth, 2 s at h = 1/60, library defaults, in four scenes:\n"
     "  drape    over a static sphere (r 0.25 m), N = 21, 41, 81, 161\n"
     "  pinned   pinned at two corners, core only (bench_step's scene), N = 21, 41, 81\n"
@@ -643,6 +655,8 @@ static const char usage[] =
     "           pile: no vertex deeper in a geom than the thickness, strain over the run\n"
     "           <= 2 delta, no step over 10x the median; hammock: no step gains over\n"
     "           1e-3 J, the ball does not end below the cloth\n"
+    "--steps    also write every step's figures to DIR/bench_drape_steps.csv (wall_ms is\n"
+    "           the run's time so far, energy the hammock's in J, the rest the core's step stats)\n"
     "Writes DIR/bench_drape.csv and .png (default DIR out/bench).";
 
 typedef struct options {
@@ -651,6 +665,7 @@ typedef struct options {
     int any_scene;
     int solvers[2];      /* 1: run with that cloth_nonlinear */
     double max_wall;     /* s; 0: the default */
+    int steps;           /* 1: --steps */
 } options;
 
 /* --scene's value: names separated by commas; 0, or -1 (message printed). */
@@ -698,6 +713,9 @@ static int parse_options(options *o, int argc, char **argv)
                 return 2;
             }
             g_precond = (cloth_precond)k;
+        } else if (!strcmp(argv[a], "--steps")) {
+            o->steps = 1;
+            continue;
         } else if (v && !strcmp(argv[a], "--max-wall")) {
             char *end;
             o->max_wall = strtod(v, &end);
@@ -788,6 +806,10 @@ int main(int argc, char **argv)
     FILE *csv = bench_open_csv(&o.b, "bench_drape");
     if (!csv) return 1;
     fputs(csv_header, csv);
+    if (o.steps && !(g_steps = bench_open_csv(&o.b, "bench_drape_steps"))) return 1;
+    if (g_steps)
+        fputs("scene,variant,N,step,wall_ms,newton,cg,limit_updates,line_search_cuts,contacts_decided,substeps,"
+              "failed,max_strain,energy\n", g_steps);
     print_load();
     printf("%g s simulated at h = 1/%g, wall budget %g s per run\n", seconds, HZ, o.max_wall);
     print_header();
@@ -813,6 +835,7 @@ int main(int argc, char **argv)
     }
     dCloseODE();
     fclose(csv);
+    if (g_steps) fclose(g_steps);
     write_chart(&o.b, seconds, delta);
     if (o.b.check) printf("check: %s (%d missed)\n", misses ? "FAILED" : "passed", misses);
     return o.b.check && misses ? 1 : 0;
