@@ -125,8 +125,9 @@ cloth_status cloth_hold_by_body(cloth *c, int vertex, int index)
     if (index < -1 || index >= c->nbody)
         return cloth_fail(c, CLOTH_EINVAL, "cloth_hold_by_body: body %d must be -1 (none) or in [0, %d)", index,
                           c->nbody);
-    if (index >= 0 && !c->con[vertex].ndof)
-        return cloth_fail(c, CLOTH_EINVAL, "cloth_hold_by_body: vertex %d has no constraint to hold", vertex);
+    if (index >= 0 && !c->con[vertex].ndof && c->cand_on[vertex] != 1)
+        return cloth_fail(c, CLOTH_EINVAL, "cloth_hold_by_body: vertex %d has no constraint or contact to hold",
+                          vertex);
     if (c->vbody) c->vbody[vertex] = index;
     return CLOTH_OK;
 }
@@ -146,7 +147,7 @@ const mpcg_bodies *bodies_prepare(cloth *c, double h, double cfac, mpcg_bodies *
     c->body_held = 0;
     if (c->nbody == 0) return NULL;
     int held = 0;
-    for (int i = 0; i < c->n; i++) held += c->vbody[i] >= 0 && c->con[i].ndof;
+    for (int i = 0; i < c->n; i++) held += c->vbody[i] >= 0 && (c->con[i].ndof || c->cand_on[i] == 1);
     size_t nb = (size_t)c->nbody;
     double *w = c->body_ws, *M = w, *ginv = w + 36 * nb, *rhs = w + 72 * nb;
     B->nb = c->nbody;
@@ -578,6 +579,18 @@ double bodies_residual_energy(const mpcg_problem *P, const double *b)
             for (int k = 0; k < 6; k++) s += r[a] * Mi[6 * a + k] * r[k];
     }
     return s;
+}
+
+void bodies_held_motion(const cloth *c, int i, double out[3])
+{
+    out[0] = out[1] = out[2] = 0.0;
+    if (!c->body_held || !c->vbody || c->vbody[i] < 0) return;
+    size_t nb = (size_t)c->nbody, g = (size_t)c->vbody[i];
+    const double *U = c->body_ws + 78 * nb + 6 * g, *com = bw(c, 0) + 3 * g, *x = c->x_lever + 3 * (size_t)i;
+    double r[3] = {x[0] - com[0], x[1] - com[1], x[2] - com[2]};
+    out[0] = U[0] + U[4] * r[2] - U[5] * r[1];
+    out[1] = U[1] + U[5] * r[0] - U[3] * r[2];
+    out[2] = U[2] + U[3] * r[1] - U[4] * r[0];
 }
 
 double bodies_step_energy(const cloth *c)

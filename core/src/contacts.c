@@ -41,8 +41,7 @@ static int make_plane(cloth *c, int i, const double *k, const double *x, double 
     q->ndof = 1;
     memcpy(q->axis, k, 3 * sizeof *k);
     memcpy(q->target, k + 3, 3 * sizeof *k);
-    if (c->vbody) c->vbody[i] = -1;
-    c->cand_on[i] = 2;
+    c->cand_on[i] = 2; /* held by the body cloth_hold_by_body named, if any */
     c->n_con++;
     return 1;
 }
@@ -83,6 +82,10 @@ int contacts_slide(cloth *c, const double *x)
     return changed;
 }
 
+/* cand_on of a contact released by the step, by what it was: 6 a
+ * sliding contact set so, 4 a plane the step made, 5 a contact it let slide */
+static const unsigned char released_as[4] = {0, 6, 4, 5};
+
 int contacts_release(cloth *c, const double *x, const double *b)
 {
     double lim = (1.0 + c->desc.material.delta) * (1.0 + c->desc.solver.limit_tolerance);
@@ -99,11 +102,11 @@ int contacts_release(cloth *c, const double *x, const double *b)
         for (int a = 0; a < 2; a++) {
             int i = ends[a];
             cloth_constraint *q = &c->con[i];
-            if ((c->cand_on[i] != 2 && c->cand_on[i] != 3) || q->ndof != 1) continue;
+            if (c->cand_on[i] < 1 || c->cand_on[i] > 3 || q->ndof != 1) continue;
             const double *bi = b + 3 * (size_t)i;
             if (!(bi[0] * q->axis[0] + bi[1] * q->axis[1] + bi[2] * q->axis[2] > 0.0)) continue; /* pushes */
             q->ndof = 0;
-            c->cand_on[i] += 2; /* 4: a plane released, 5: a slid contact released */
+            c->cand_on[i] = released_as[c->cand_on[i]];
             c->n_con--;
             changed++;
         }
@@ -119,8 +122,12 @@ void contacts_land(cloth *c, const double *dv)
             z[0] = z[1] = z[2] = 0.0;
             continue;
         }
-        /* what the next iteration must add to land the normal component */
-        const double *S = c->S + 9 * (size_t)i, *d = dv + 3 * (size_t)i;
+        /* what the next iteration must add to land the normal component,
+         * on the holding body as it has moved so far */
+        const double *S = c->S + 9 * (size_t)i, *dd = dv + 3 * (size_t)i;
+        double d[3];
+        bodies_held_motion(c, i, d);
+        for (int r = 0; r < 3; r++) d[r] = dd[r] - d[r];
         for (int r = 0; r < 3; r++) z[r] -= d[r] - (S[3 * r] * d[0] + S[3 * r + 1] * d[1] + S[3 * r + 2] * d[2]);
     }
 }
@@ -137,6 +144,9 @@ void contacts_undo(cloth *c)
         if (c->cand_on[i] == 2 || c->cand_on[i] == 4) {
             if (c->cand_on[i] == 2) c->n_con--;
             memset(&c->con[i], 0, sizeof c->con[i]);
+        } else if (c->cand_on[i] == 6) {
+            c->con[i].ndof = 1;
+            c->n_con++;
         } else if (c->cand_on[i] == 3 || c->cand_on[i] == 5) {
             if (c->cand_on[i] == 5) c->n_con++;
             c->con[i].ndof = 3;

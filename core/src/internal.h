@@ -103,7 +103,8 @@ struct cloth {
     double *con_force;         /* 3n, N, from the last step */
     double *cand;              /* 6n: contact candidates (cloth_set_contact): normal, point */
     unsigned char *cand_on;    /* n: 1 a candidate, 2 made a plane, 3 let slide in a solve,
-                                  4 and 5 those released in a solve */
+                                  4 and 5 those released in a solve, 6 a sliding
+                                  candidate released */
     double *f_ext;             /* 3n, N, external forces (cloth_set_external_forces) */
     cloth_air air;             /* air drag and wind (cloth_set_air; air.c) */
     int *air_blk;              /* 6 per grid triangle: its pairs' blocks in A (air.c) */
@@ -152,6 +153,9 @@ struct cloth {
     double *lim_shift;         /* n_seq: the step's multipliers of the elongation limit
                                   (newton.c: from st.lim_shift, committed with the step;
                                   linearized.c: from 0) */
+    double *lim_rho;           /* n_seq: each link's penalty factor on k_lim in the step
+                                  (limit_multipliers.c; 1 at the step's start) */
+    double *lim_viol;          /* n_seq: its violation at the last multiplier update */
     double *dv_saved, *con_saved; /* 3n each (linearized.c): dv and con_new when the
                                   corrections last converged */
     double *K_seq, *K_int;     /* per-link 3x3 df_i/dx_j (linearized.c's K v products) */
@@ -212,6 +216,10 @@ void bodies_newton_begin(cloth *c);
 double bodies_newton_energy(const cloth *c, double t);
 double bodies_newton_slope(const cloth *c);
 void bodies_newton_take(cloth *c, double t);
+/* J_i u: how far vertex i's holding body has moved it with the velocity
+ * change u taken so far in the step (0 if no body solved with the cloth
+ * holds it); a contact made within the step lands there */
+void bodies_held_motion(const cloth *c, int i, double out[3]);
 /* du^T M du over the bodies (M as scaled for the solve), during an
  * iteration: the bodies' share of the Newton step's size */
 double bodies_step_energy(const cloth *c);
@@ -235,14 +243,17 @@ void contacts_land(cloth *c, const double *dv);
  * that x puts past its limit (beyond limit_tolerance) slide on their
  * surface's plane; returns how many */
 int contacts_slide(cloth *c, const double *x);
-/* Contacts the step made planes (or let slide) at an end of a link x puts
- * past the limit, whose force b pulls: released for the step; how many. */
+/* Contacts on a plane (set so, made so or let slide by the step) at an end
+ * of a link x puts past the limit, whose force b pulls: released for the
+ * step; how many. */
 int contacts_release(cloth *c, const double *x, const double *b);
 /* at a step's start: planes kept from the last step stay constraints; on
  * its failure: the planes it made are candidates again */
 void contacts_begin(cloth *c);
 void contacts_undo(cloth *c);
-double limit_multipliers_update(cloth *c, const double *x);
+double limit_multipliers_update(cloth *c, const double *x, int grow);
+/* every link's penalty factor 1 again (a step's start) */
+void limit_multipliers_begin(cloth *c);
 
 /* constraints.c: the filter S_i of each vertex and z_i = (I - S_i)(v_target
  * - v0), given x_new = a + cfac v_new; a substep aims at frac of the way

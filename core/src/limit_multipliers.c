@@ -1,9 +1,18 @@
 /* The elongation limit as a constraint of the implicit step (augmented
  * Lagrangian on the k_delta law): past (1 + delta) l0 a sequential link's
- * force gains max(0, lambda + k_lim (d - lmax)), its multiplier lambda kept
- * as the shift s = lambda / k_lim of its limit length (c->lim_shift). */
+ * force gains max(0, lambda + rho k_lim (d - lmax)), its multiplier lambda
+ * kept as the shift s = lambda / k_lim (c->lim_shift), rho its penalty
+ * factor in this step (c->lim_rho). */
 #include <math.h>
 #include "internal.h"
+
+/* A link whose violation a round of the multipliers shrank by less than
+ * this factor gets a penalty RHO_GROWTH times stiffer, up to RHO_MAX: the
+ * augmented Lagrangian's rule (Nocedal and Wright, Algorithm 17.4) for a
+ * penalty too soft to hold the constraint against the rest of the cloth. */
+#define RHO_SHRINK 0.25
+#define RHO_GROWTH 10.0
+#define RHO_MAX 1e3
 
 /* the body solved with the cloth holding vertex i, or -1 */
 static int held_by(const cloth *c, int i) { return c->body_held && c->vbody && c->vbody[i] >= 0 ? c->vbody[i] : -1; }
@@ -13,7 +22,23 @@ int link_held_together(const cloth *c, const link_topo *L)
     return c->con[L->i].ndof == 3 && c->con[L->j].ndof == 3 && held_by(c, L->i) == held_by(c, L->j);
 }
 
-double limit_multipliers_update(cloth *c, const double *x)
+void limit_multipliers_begin(cloth *c)
+{
+    for (int e = 0; e < c->n_seq; e++) {
+        c->lim_rho[e] = 1.0;
+        c->lim_viol[e] = INFINITY;
+    }
+}
+
+/* the penalty of link e after a round left it violated by viol (of lmax) */
+static void grow_penalty(cloth *c, int e, double viol)
+{
+    if (viol > c->desc.solver.limit_tolerance && viol > RHO_SHRINK * c->lim_viol[e])
+        c->lim_rho[e] = fmin(RHO_MAX, c->lim_rho[e] * RHO_GROWTH);
+    c->lim_viol[e] = viol;
+}
+
+double limit_multipliers_update(cloth *c, const double *x, int grow)
 {
     const cloth_material *m = &c->desc.material;
     if (!(m->k_delta > 0.0) || !(m->k_t > 0.0)) return 0.0;
@@ -24,14 +49,15 @@ double limit_multipliers_update(cloth *c, const double *x)
             c->lim_shift[e] = 0.0;
             continue;
         }
-        double d2 = 0.0, lmax = lim * L->rest;
+        double d2 = 0.0, lmax = lim * L->rest, rho = c->lim_rho[e];
         for (int r = 0; r < 3; r++) {
             double w = x[3 * L->j + r] - x[3 * L->i + r];
             d2 += w * w;
         }
-        double s0 = c->lim_shift[e], s1 = fmax(0.0, s0 + sqrt(d2) - lmax);
-        worst = fmax(worst, fabs(s1 - s0) / lmax);
+        double d = sqrt(d2), s0 = c->lim_shift[e], s1 = fmax(0.0, s0 + rho * (d - lmax));
+        worst = fmax(worst, fabs(s1 - s0) / rho / lmax);
         c->lim_shift[e] = s1;
+        if (grow) grow_penalty(c, e, fmax(0.0, d - lmax) / lmax);
     }
     return worst;
 }

@@ -157,6 +157,7 @@ cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, do
         w[k] = bdf2 ? (2.0 / 9.0) * h * (x0[k] - S0->x_prev[k]) + (4.0 / 9.0) * h * h * v0[k] : h * h * v0[k];
     }
     memset(c->lim_shift, 0, (size_t)c->n_seq * sizeof *c->lim_shift);
+    limit_multipliers_begin(c); /* its penalties stay 1 (its law has none) */
     assemble(c, x0, v0, beta * h, beta * beta * h * h, c->f);
     for (size_t k = 0; k < n3; k++) b[k] = beta * h * c->f[k];
     if (bdf2)
@@ -240,7 +241,7 @@ cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, do
             memcpy(c->con_saved, c->con_new, n3 * sizeof *c->con_new);
             bodies_newton_save(c);
             saved = 1;
-            if (limit_multipliers_update(c, c->x_new) <= LIMIT_TOL) {
+            if (limit_multipliers_update(c, c->x_new, 0) <= LIMIT_TOL) {
                 done = 1;
                 break;
             }

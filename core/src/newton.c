@@ -214,6 +214,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     double *dv = c->dv, *b = c->b;
     int landed = newton_start(c, dv);
     memcpy(c->lim_shift, c->st.lim_shift, (size_t)c->n_seq * sizeof *c->lim_shift);
+    limit_multipliers_begin(c);
     mpcg_problem P = {&c->A, b, c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL,
                       sv->newton_cg_tolerance, sv->cg_max_iterations, NULL, 0.0};
     mpcg_bodies bodies;
@@ -253,7 +254,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
             }
             if (changed) {
                 since = 0;
-            } else if (limit_multipliers_update(c, c->x_new) <= sv->limit_tolerance) {
+            } else if (limit_multipliers_update(c, c->x_new, 1) <= sv->limit_tolerance) {
                 *limit_held = 1;
                 break;
             } else {

@@ -57,7 +57,8 @@ static spring_law law_of(const cloth *c, int t, int e)
     const cloth_material *m = &c->desc.material;
     if (t) return int_law(m, c->lint[e].rest, c->st.plastic[e], c->st.l1[e]);
     spring_law s = seq_law(m, c->seq[e].rest);
-    s.lim -= c->lim_shift[e];
+    s.k_lim *= c->lim_rho[e];
+    s.lim -= c->lim_shift[e] / c->lim_rho[e];
     return s;
 }
 

@@ -267,22 +267,31 @@ static int coupled_body(dClothID c, dBodyID b)
     return c->nbodies++;
 }
 
-/* Hand this pass's moving bodies to the core: each vertex held (pinned, or
- * in contact) by an enabled dynamic body has its body's velocity change
- * solved with the cloth (cloth_body), so a body as light as the cloth does
- * not overshoot with it. The vertex's target stays the body point's
+/* The body vertex i is pinned to, in contact with, or a contact candidate
+ * of (the step may hold it on the body's surface), or 0. */
+static dBodyID holder(dClothID c, int i)
+{
+    const vcontact *nw = &c->vc_new[i];
+    return c->pin[i].active ? c->pin[i].body : nw->active || nw->candidate ? nw->body : 0;
+}
+
+/* Hand this pass's moving bodies to the core: each vertex held (pinned, in
+ * contact, or a candidate the step may make a contact) by an enabled
+ * dynamic body has its body's velocity change solved with the cloth
+ * (cloth_body), so a body as light as the cloth does not overshoot with it,
+ * and a cloth at its limit can stop a heavy one. The vertex's target stays the body point's
  * position with the body's velocity from before the step. */
 static void couple_bodies(dClothID c)
 {
     cloth *core = c->core;
     c->nbodies = 0;
     for (int i = 0; i < c->n; i++) {
-        dBodyID b = c->pin[i].active ? c->pin[i].body : c->vc_new[i].active ? c->vc_new[i].body : 0;
+        dBodyID b = holder(c, i);
         if (b) coupled_body(c, b);
     }
     if (cloth_set_bodies(core, c->bdesc, c->nbodies) != CLOTH_OK) return; /* invalid mass: explicit */
     for (int i = 0; i < c->n && c->nbodies > 0; i++) {
-        dBodyID b = c->pin[i].active ? c->pin[i].body : c->vc_new[i].active ? c->vc_new[i].body : 0;
+        dBodyID b = holder(c, i);
         int k = b ? coupled_body(c, b) : -1;
         if (k >= 0) cloth_hold_by_body(core, i, k);
     }
@@ -391,7 +400,10 @@ cloth_status dClothStep(dClothID c, dReal h)
                 continue;
             }
             nw->active = 1;
-            if (k.ndof == 3 && !nw->anchored && !nw->pinched) cloth_set_contact(core, i, nw->normal, k.target);
+            /* the core's step may let a sticking contact slide, and a
+             * vertex's sliding one go where it holds a link past the limit */
+            if ((k.ndof == 3 && !nw->anchored && !nw->pinched) || (k.ndof == 1 && !nw->pinched))
+                cloth_set_contact(core, i, nw->normal, k.target);
             for (int r = 0; r < 3; r++) c->fext[3 * i + r] += nw->friction[r];
             st.contacts++;
             st.sticking += nw->sticking;

@@ -325,8 +325,9 @@ int cloth_constraint_count(const cloth *c);
  * end behind the surface by more than h newton_tolerance is held on its
  * plane (a constraint of ndof 1); a pinned one (ndof 3: sticking) at an end
  * of a sequential link held past the elongation limit slides on the plane
- * (ndof 1). The constraints it makes are kept after the step, undone if the
- * step fails. CLOTH_LINEARIZED ignores it. Cleared by cloth_release(_all). */
+ * (ndof 1), and a sliding one (ndof 1) there whose force pulls lets go. The
+ * constraints it changes stay so after the step, undone if the step fails.
+ * CLOTH_LINEARIZED ignores it. Cleared by cloth_release(_all). */
 cloth_status cloth_set_contact(cloth *c, int vertex, const double normal[3], const double point[3]);
 
 /* Force (N) the vertex's constraint exerted on it, averaged over the last
@@ -364,8 +365,9 @@ int cloth_body_count(const cloth *c);
 /* Let body `index` (0-based, of cloth_set_bodies; -1: none) hold the
  * vertex's constraint: its target is then where the body's point would be
  * if the body kept its velocity, and its constrained components also follow
- * the body's velocity change, solved for with the cloth. Setting or
- * releasing the vertex's constraint ends the hold. */
+ * the body's velocity change, solved for with the cloth. A free vertex with
+ * a contact (cloth_set_contact) is held so once the step makes it a plane.
+ * Setting or releasing the vertex's constraint ends the hold. */
 cloth_status cloth_hold_by_body(cloth *c, int vertex, int index);
 /* The velocity change (linear m/s, then angular rad/s) body `index`
  * (0-based) received in the last step's solve; zeros before any. */
