@@ -80,6 +80,27 @@ static void constraint_forces(cloth *c, const double *b, const double *ddv, doub
     }
 }
 
+/* A free cloth's converged step made to keep linear momentum exactly: the
+ * linear solves leave a residual R whose sum W no force explains (the
+ * links' forces cancel in pairs), removed by one velocity change of every
+ * vertex, the rigid translation no link feels. With constraints W is
+ * theirs (the plugin shares it); with air drag it holds the drag. ddv
+ * becomes t ddv plus that change. */
+static void balance_momentum(cloth *c, const step_eq *q, double *dv, double t)
+{
+    size_t n3 = 3 * (size_t)c->n;
+    double *ddv = c->ddv, W[3], mt = 0.0;
+    for (size_t k = 0; k < n3; k++) ddv[k] *= t;
+    if (c->n_con || air_on(c)) return;
+    potential_momentum_residual(c, q, dv, W);
+    for (int i = 0; i < c->n; i++) mt += c->mass[i];
+    if (!(mt > 0.0)) return;
+    for (size_t k = 0; k < n3; k++) {
+        dv[k] -= W[k % 3] / mt;
+        ddv[k] -= W[k % 3] / mt;
+    }
+}
+
 /* The start: dv the warm start (or 0), and z what the first iteration must
  * add to its constrained components to land them on their targets; 1 if
  * that is nothing. */
@@ -293,6 +314,8 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         constraint_forces(c, b, c->ddv, 0.0, q.cfac); /* b is assembled at the last iterate */
         return CLOTH_FAIL_NEWTON;
     }
-    constraint_forces(c, b, c->ddv, it > 0 && assembled ? t : 0.0, q.cfac);
+    balance_momentum(c, &q, dv, it > 0 && assembled ? t : 0.0);
+    potential_state(c, &q, dv);
+    constraint_forces(c, b, c->ddv, 1.0, q.cfac);
     return CLOTH_FAIL_NONE;
 }

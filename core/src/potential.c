@@ -103,6 +103,17 @@ void potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b)
     if (air_on(c)) air_eval(c, c->st.x, c->st.v, q->h, v, cf, b, A, cf);
 }
 
+void potential_momentum_residual(const cloth *c, const step_eq *q, const double *dv, double out[3])
+{
+    out[0] = out[1] = out[2] = 0.0;
+    for (int i = 0; i < c->n; i++)
+        for (int r = 0; r < 3; r++) {
+            size_t k = 3 * (size_t)i + (size_t)r;
+            double fc = c->mass[i] * c->desc.gravity[r] + c->f_ext[k];
+            out[r] += c->mass[i] * dv[k] - bdf2_extra(c, q, k) - q->cfac * fc;
+        }
+}
+
 double potential_value(const cloth *c, const step_eq *q, const double *dv, double *x, double *v)
 {
     const cloth_material *m = &c->desc.material;

@@ -31,6 +31,11 @@ void potential_state(cloth *c, const step_eq *q, const double *dv);
  * matrix M + cfac C + cfac^2 K (Phi's Hessian, positive definite) into c->A. */
 void potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b);
 
+/* The sum of R over every row at dv, out (3): M dv - e - cfac f_c summed,
+ * as the links' forces and dampers cancel in pairs (not with air drag, an
+ * outside force: air_on). */
+void potential_momentum_residual(const cloth *c, const step_eq *q, const double *dv, double out[3]);
+
 /* Phi at dv (the bodies' share apart), its positions and velocities
  * computed into x and v (3n each). */
 double potential_value(const cloth *c, const step_eq *q, const double *dv, double *x, double *v);
