@@ -438,9 +438,10 @@ static void finish_row(const scene *s, trace *t, links *L, long newton, long cg,
 /* One line of --steps' CSV: step k of row r just taken. */
 static void steps_row(const scene *s, const row *r, int k, const cloth_step_stats *st, int ok, double energy)
 {
-    fprintf(g_steps, "%s,%s,%d,%d,%.3f,%d,%d,%d,%d,%d,%d,%d,%.5f,%.6g,%d\n", scene_name[s->kind], r->variant, r->N, k,
+    fprintf(g_steps, "%s,%s,%d,%d,%.3f,%d,%d,%d,%d,%d,%d,%d,%.5f,%.6g,%d,%d,%d\n", scene_name[s->kind], r->variant, r->N, k,
             1e3 * r->wall_s, st->newton, st->iterations, st->limit_updates, st->line_search_cuts,
-            st->contacts_decided, st->substeps, !ok, st->max_strain, energy, s->cl ? dClothGetStats(s->cl)->resolves : 0);
+            st->contacts_decided, st->substeps, !ok, st->max_strain, energy, s->cl ? dClothGetStats(s->cl)->resolves : 0,
+            s->cl ? dClothGetStats(s->cl)->newton_all : st->newton, s->cl ? dClothGetStats(s->cl)->cg_all : st->iterations);
 }
 
 /* Steps the scene for `seconds` or until the wall budget is spent; only
@@ -657,7 +658,8 @@ static const char usage[] =
     "           1e-3 J, the ball does not end below the cloth\n"
     "--steps    also write every step's figures to DIR/bench_drape_steps.csv (wall_ms is\n"
     "           the run's time so far, energy the hammock's in J, resolves the plugin's extra\n"
-    "           solves, the rest the core's stats of its last solve)\n"
+    "           solves, newton_all and cg_all the iterations of all the step's solves, the\n"
+    "           rest the core's stats of its last solve)\n"
     "Writes DIR/bench_drape.csv and .png (default DIR out/bench).";
 
 typedef struct options {
@@ -810,7 +812,7 @@ int main(int argc, char **argv)
     if (o.steps && !(g_steps = bench_open_csv(&o.b, "bench_drape_steps"))) return 1;
     if (g_steps)
         fputs("scene,variant,N,step,wall_ms,newton,cg,limit_updates,line_search_cuts,contacts_decided,substeps,"
-              "failed,max_strain,energy,resolves\n", g_steps);
+              "failed,max_strain,energy,resolves,newton_all,cg_all\n", g_steps);
     print_load();
     printf("%g s simulated at h = 1/%g, wall budget %g s per run\n", seconds, HZ, o.max_wall);
     print_header();

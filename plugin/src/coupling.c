@@ -413,6 +413,8 @@ cloth_status dClothStep(dClothID c, dReal h)
         couple_bodies(c);
         s = cloth_step(core, h, &st.core);
         passes++;
+        st.newton_all += st.core.newton;
+        st.cg_all += st.core.iterations;
         if (s != CLOTH_OK) break;
         took_candidates(c, &st);
         /* vertices the search did not reach at the step's start (a step can

@@ -135,6 +135,9 @@ typedef struct dClothStepStats {
                                 but the timings                               */
     int held;                /* 1: the solve failed and the cloth was stopped
                                 where it was (DCLOTH_FAILURE_HOLD)            */
+    int newton_all;          /* Newton iterations of all the step's solves
+                                (core.newton is the last solve's)             */
+    int cg_all;              /* CG iterations of all the step's solves        */
 } dClothStepStats;
 
 /* Stats of the last dClothStep. */
