@@ -6,10 +6,9 @@
 #include <math.h>
 #include "internal.h"
 
-/* A link whose violation a round of the multipliers shrank by less than
- * this factor gets a penalty RHO_GROWTH times stiffer, up to RHO_MAX: the
- * augmented Lagrangian's rule (Nocedal and Wright, Algorithm 17.4) for a
- * penalty too soft to hold the constraint against the rest of the cloth. */
+/* A link whose violation a round shrank by less than RHO_SHRINK gets a
+ * penalty RHO_GROWTH times stiffer, up to RHO_MAX: the augmented
+ * Lagrangian's rule for a penalty too soft (Nocedal-Wright Alg. 17.4). */
 #define RHO_SHRINK 0.25
 #define RHO_GROWTH 10.0
 #define RHO_MAX 1e3

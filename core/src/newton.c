@@ -80,12 +80,9 @@ static void constraint_forces(cloth *c, const double *b, const double *ddv, doub
     }
 }
 
-/* A free cloth's converged step made to keep linear momentum exactly: the
- * linear solves leave a residual R whose sum W no force explains (the
- * links' forces cancel in pairs), removed by one velocity change of every
- * vertex, the rigid translation no link feels. With constraints W is
- * theirs (the plugin shares it); with air drag it holds the drag. ddv
- * becomes t ddv plus that change. */
+/* A free cloth's converged step keeps linear momentum exactly: the sum of
+ * the residual the solves leave goes by one rigid velocity change (no link
+ * feels it); not with constraints or air drag. ddv becomes t ddv plus it. */
 static void balance_momentum(cloth *c, const step_eq *q, double *dv, double t)
 {
     size_t n3 = 3 * (size_t)c->n;

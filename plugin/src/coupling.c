@@ -275,12 +275,9 @@ static dBodyID holder(dClothID c, int i)
     return c->pin[i].active ? c->pin[i].body : nw->active || nw->candidate ? nw->body : 0;
 }
 
-/* Hand this pass's moving bodies to the core: each vertex held (pinned, in
- * contact, or a candidate the step may make a contact) by an enabled
- * dynamic body has its body's velocity change solved with the cloth
- * (cloth_body), so a body as light as the cloth does not overshoot with it,
- * and a cloth at its limit can stop a heavy one. The vertex's target stays the body point's
- * position with the body's velocity from before the step. */
+/* Hand this pass's moving bodies to the core: an enabled dynamic body a
+ * vertex is pinned to, touches or may touch (holder) is solved with the
+ * cloth (cloth_body), so neither overshoots the other. */
 static void couple_bodies(dClothID c)
 {
     cloth *core = c->core;
