@@ -283,14 +283,20 @@ void body_solve(cloth *c)
     }
 }
 
+/* v = U_lin + U_ang x r: a rigid body's velocity U (6) at lever r */
+static void rigid_vel(const double *U, const double r[3], double v[3])
+{
+    v[0] = U[0] + U[4] * r[2] - U[5] * r[1];
+    v[1] = U[1] + U[5] * r[0] - U[3] * r[2];
+    v[2] = U[2] + U[3] * r[1] - U[4] * r[0];
+}
+
 void body_move(const cloth *c, const double *S, int i, double s, double *q)
 {
     const double *D = bw(c, 3) + 6 * c->vbody[i];
     double r[3], v[3], pv[3];
     lever_of(c, i, r);
-    v[0] = D[0] + D[4] * r[2] - D[5] * r[1];
-    v[1] = D[1] + D[5] * r[0] - D[3] * r[2];
-    v[2] = D[2] + D[3] * r[1] - D[4] * r[0];
+    rigid_vel(D, r, v);
     con_project(S + 9 * (size_t)i, v, pv);
     for (int a = 0; a < 3; a++) q[3 * i + a] += s * pv[a];
 }
@@ -321,9 +327,7 @@ void bodies_expand(const mpcg_problem *P, const double *u, double *out)
         const double *ug = u + 6 * g;
         double r[3], v[3], pv[3];
         lever(B, i, g, r);
-        v[0] = ug[0] + ug[4] * r[2] - ug[5] * r[1];
-        v[1] = ug[1] + ug[5] * r[0] - ug[3] * r[2];
-        v[2] = ug[2] + ug[3] * r[1] - ug[4] * r[0];
+        rigid_vel(ug, r, v);
         con_project(P->S + 9 * (size_t)i, v, pv);
         for (int a = 0; a < 3; a++) out[3 * i + a] += pv[a];
     }
@@ -446,9 +450,7 @@ static void body_point_vel(const cloth *c, int i, const double *U, double v[3])
 {
     double r[3];
     lever_of(c, i, r);
-    v[0] = U[0] + U[4] * r[2] - U[5] * r[1];
-    v[1] = U[1] + U[5] * r[0] - U[3] * r[2];
-    v[2] = U[2] + U[3] * r[1] - U[4] * r[0];
+    rigid_vel(U, r, v);
 }
 
 void bodies_retry_target(const cloth *c, int i, double hs, double tg[3])
@@ -588,9 +590,7 @@ void bodies_held_motion(const cloth *c, int i, double out[3])
     size_t nb = (size_t)c->nbody, g = (size_t)c->vbody[i];
     const double *U = c->body_ws + 78 * nb + 6 * g, *com = bw(c, 0) + 3 * g, *x = c->x_lever + 3 * (size_t)i;
     double r[3] = {x[0] - com[0], x[1] - com[1], x[2] - com[2]};
-    out[0] = U[0] + U[4] * r[2] - U[5] * r[1];
-    out[1] = U[1] + U[5] * r[0] - U[3] * r[2];
-    out[2] = U[2] + U[3] * r[1] - U[4] * r[0];
+    rigid_vel(U, r, out);
 }
 
 double bodies_step_energy(const cloth *c)

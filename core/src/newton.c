@@ -96,6 +96,7 @@ static void balance_momentum(cloth *c, const step_eq *q, double *dv, double t)
         dv[k] -= W[k % 3] / mt;
         ddv[k] -= W[k % 3] / mt;
     }
+    potential_state(c, q, dv); /* x_new, v_new, which the step commits */
 }
 
 /* The start: dv the warm start (or 0), and z what the first iteration must
@@ -312,7 +313,6 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         return CLOTH_FAIL_NEWTON;
     }
     balance_momentum(c, &q, dv, it > 0 && assembled ? t : 0.0);
-    potential_state(c, &q, dv);
     constraint_forces(c, b, c->ddv, 1.0, q.cfac);
     return CLOTH_FAIL_NONE;
 }
