@@ -11,9 +11,6 @@
 #include "mat3.h"
 #include "mpcg.h"
 
-/* the steps whose sum estimates the remaining error (the estimate's delay) */
-#define MPCG_TAIL 4
-
 void filter_apply(int n, const double *S, const double *x, double *y)
 {
     for (int i = 0; i < n; i++) {
@@ -37,7 +34,7 @@ static double dot(const double *a, const double *b, size_t n)
 mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const double *z,
                        const double *Pinv, double tol, int max_iter, double *x, double *w)
 {
-    mpcg_problem P = {A, b, S, z, Pinv, NULL, 0, NULL, NULL, tol, max_iter, NULL, 0.0};
+    mpcg_problem P = {A, b, S, z, Pinv, NULL, 0, NULL, NULL, tol, max_iter, NULL};
     return mpcg_run(&P, x, w);
 }
 
@@ -45,7 +42,7 @@ mpcg_result mpcg_solve_pc(const bsr *A, const double *b, const double *S, const 
                           const double *Dinv, mpcg_precond_fn pc, void *ctx, double tol, int max_iter,
                           double *x, double *w)
 {
-    mpcg_problem P = {A, b, S, z, Dinv, NULL, 0, pc, ctx, tol, max_iter, NULL, 0.0};
+    mpcg_problem P = {A, b, S, z, Dinv, NULL, 0, pc, ctx, tol, max_iter, NULL};
     return mpcg_run(&P, x, w);
 }
 
@@ -266,7 +263,6 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
     int fused = !B && con_sorted(P);
 
     int it = 0;
-    double tail[MPCG_TAIL] = {0.0}, tail_sum = INFINITY;
     /* |rr| within tol2 has converged: a residual at rounding level can
      * weigh in negative (r^T Dinv r of -2e-55 against a tol2 of 4e-33, a
      * cloth thrown onto a mesh: plugin_mesh_impact), and only a negative
@@ -304,11 +300,6 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
             break;
         }
         double alpha = delta / pq, dnew;
-        tail[it % MPCG_TAIL] = alpha * delta; /* |x_{k+1} - x_k|_A^2 */
-        if (P->abs2 > 0.0 && it + 1 >= MPCG_TAIL) {
-            tail_sum = 0.0;
-            for (int k = 0; k < MPCG_TAIL; k++) tail_sum += tail[k];
-        }
         if (fused && !P->pc) {
             dnew = update_jacobi(P, alpha, p, q, x, r, s) + 0.0;
             rr = dnew;
@@ -336,7 +327,6 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
         for (size_t k = 0; k < NB; k++) B->p[k] = B->s[k] + beta * B->p[k];
         delta = dnew;
         it++;
-        if (tail_sum <= P->abs2) break; /* the error already within abs2 */
     }
     if (B) bodies_expand(P, B->u, x); /* the held vertices follow their bodies */
     res.iterations = it;

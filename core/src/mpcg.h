@@ -64,9 +64,6 @@ typedef struct mpcg_problem {
     double tol;
     int max_iter;
     const mpcg_bodies *bodies; /* NULL: none */
-    /* > 0: also stop once the error's A-norm squared is estimated within
-     * abs2 (the last MPCG_TAIL steps' alpha r^T s, Hestenes and Stiefel) */
-    double abs2;
 } mpcg_problem;
 
 /* bodies.c, the solver's body operations (P->bodies not NULL):

@@ -11,11 +11,6 @@
 #include "mat3.h"
 #include "mpcg.h"
 
-/* A Newton iteration's linear solve also stops once its error, in the
- * step's own norm (an RMS velocity), is estimated within this fraction of
- * newton_tolerance: a closer solve changes no decision of the loop. */
-#define NEWTON_CG_SLACK 0.3
-
 /* Solve the Newton matrix in c->A for ddv (cold start), rhs P->b, the
  * constrained components held at P->z. */
 static mpcg_result linear_solve(cloth *c, mpcg_problem *P, double *ddv)
@@ -235,14 +230,11 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     memcpy(c->lim_shift, c->st.lim_shift, (size_t)c->n_seq * sizeof *c->lim_shift);
     limit_multipliers_begin(c);
     mpcg_problem P = {&c->A, b, c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL,
-                      sv->newton_cg_tolerance, sv->cg_max_iterations, NULL, 0.0};
+                      sv->newton_cg_tolerance, sv->cg_max_iterations, NULL};
     mpcg_bodies bodies;
     P.bodies = bodies_prepare(c, h, q.cfac, &bodies);
-    double mt = 0.0, slack = NEWTON_CG_SLACK * sv->newton_tolerance;
+    double mt = 0.0;
     for (int i = 0; i < c->n; i++) mt += c->mass[i];
-    /* |e|_M <= |e|_A: the step norm's error within slack. Not with bodies:
-     * their momentum exchange is read from the residual this leaves. */
-    P.abs2 = P.bodies ? 0.0 : slack * slack * mt;
     c->coarse_kept = 0;
     int it = 0, rounds = 0, assembled = 0, landing = 1;
     int since = 0; /* iterations since the contacts last changed: the budget */
