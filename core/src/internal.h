@@ -155,7 +155,8 @@ struct cloth {
                                   linearized.c: from 0) */
     double *lim_rho;           /* n_seq: each link's penalty factor on k_lim in the step
                                   (limit_multipliers.c; 1 at the step's start) */
-    double *lim_viol;          /* n_seq: its violation at the last multiplier update */
+    double *lim_viol;          /* n_seq: its violation at the last multiplier update (< 0:
+                                  dictated by the constraints, left to the plain law) */
     double *dv_saved, *con_saved; /* 3n each (linearized.c): dv and con_new when the
                                   corrections last converged */
     double *K_seq, *K_int;     /* per-link 3x3 df_i/dx_j (linearized.c's K v products) */

@@ -12,6 +12,10 @@
 #define RHO_SHRINK 0.25
 #define RHO_GROWTH 10.0
 #define RHO_MAX 1e3
+/* A link whose violation a round with a stiffened penalty shrank by less
+ * than this part does not respond to its force: the constraints dictate its
+ * length, and a multiplier would only grow without bound. */
+#define DICTATED_SHRINK 0.01
 
 /* the body solved with the cloth holding vertex i, or -1 */
 static int held_by(const cloth *c, int i) { return c->body_held && c->vbody && c->vbody[i] >= 0 ? c->vbody[i] : -1; }
@@ -29,9 +33,20 @@ void limit_multipliers_begin(cloth *c)
     }
 }
 
+/* lim_viol < 0 marks a dictated link: the plain k_delta law for the rest
+ * of the step (shift 0, penalty 1), left out of the rounds */
+static int dictated(const cloth *c, int e) { return c->lim_viol[e] < 0.0; }
+
 /* the penalty of link e after a round left it violated by viol (of lmax) */
 static void grow_penalty(cloth *c, int e, double viol)
 {
+    if (viol > c->desc.solver.limit_tolerance && c->lim_rho[e] > 1.0 &&
+        viol > (1.0 - DICTATED_SHRINK) * c->lim_viol[e]) {
+        c->lim_shift[e] = 0.0;
+        c->lim_rho[e] = 1.0;
+        c->lim_viol[e] = -1.0;
+        return;
+    }
     if (viol > c->desc.solver.limit_tolerance && viol > RHO_SHRINK * c->lim_viol[e])
         c->lim_rho[e] = fmin(RHO_MAX, c->lim_rho[e] * RHO_GROWTH);
     c->lim_viol[e] = viol;
@@ -44,7 +59,7 @@ double limit_multipliers_update(cloth *c, const double *x, int grow)
     double lim = 1.0 + m->delta, worst = 0.0;
     for (int e = 0; e < c->n_seq; e++) {
         const link_topo *L = &c->seq[e];
-        if (link_held_together(c, L)) {
+        if (link_held_together(c, L) || dictated(c, e)) {
             c->lim_shift[e] = 0.0;
             continue;
         }

@@ -237,7 +237,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     for (int i = 0; i < c->n; i++) mt += c->mass[i];
     c->coarse_kept = 0;
     int it = 0, rounds = 0, assembled = 0, landing = 1;
-    int since = 0; /* iterations since the contacts last changed: the budget */
+    int since = 0; /* iterations since the contacts or multipliers changed */
     double phi = NAN, size = INFINITY, t = 0.0, goal = sv->newton_tolerance;
     *limit_held = 0;
     potential_state(c, &q, dv);
@@ -270,6 +270,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
                 break;
             } else {
                 st->limit_updates++;
+                since = 0; /* each round its own budget */
             }
             phi = NAN; /* the potential changed with the multipliers or contacts */
             assembled = 0;
