@@ -35,7 +35,8 @@ static cloth *make(cloth_method m)
     d.material.density = 0.25;     /* dyadic masses */
     d.gravity[0] = d.gravity[1] = d.gravity[2] = 0.0;
     d.solver.method = m;
-    d.solver.cg_tolerance = 1e-12;
+    d.solver.cg_tolerance = d.solver.newton_cg_tolerance = 1e-12;
+    d.solver.newton_tolerance = 1e-12; /* Newton's step solved as exactly */
     d.solver.strain_limit_iterations = 0;
     cloth *c;
     cloth_error err;

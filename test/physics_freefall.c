@@ -59,7 +59,8 @@ static void run(cloth_method m)
     memcpy(d.gravity, G, sizeof G);
     d.material.density = 0.25;
     d.solver.method = m;
-    d.solver.cg_tolerance = 1e-14;
+    d.solver.cg_tolerance = d.solver.newton_cg_tolerance = 1e-14;
+    d.solver.newton_tolerance = 1e-12; /* Newton's step solved as exactly */
     d.solver.cg_max_iterations = 1000;
     cloth *c = NULL;
     cloth_error err;
