@@ -7,7 +7,7 @@
  * (default: the material's); sheet curtain.png in --out. 3 s (--short: 1.5)
  * at 240 steps/s (the fast impact overstretches at 60: see main).
  *
- * --check: penetration < thickness, strain <= delta + 1e-4; the ball hands
+ * --check: penetration < thickness, strain <= delta + the step's allowance; the ball hands
  * momentum to the curtain (its speed along y drops by more than 1% between
  * before and after the contact: it drags a 0.2 kg cloth; a closed form for
  * a perfectly inelastic hit of the whole cloth would be 2 / 2.2 = 9%); the

@@ -64,6 +64,7 @@ typedef struct drape_result {
     demo_metrics draped;     /* at the end of the drape (first picture)  */
     demo_metrics after;      /* settled after removal (second picture)   */
     double delta;            /* the material's elongation limit          */
+    double strain_allow;     /* past delta, what the step guarantees      */
     double thickness;        /* m                                        */
     demo_image *pic_draped, *pic_after; /* NULL without pictures         */
 } drape_result;
@@ -100,9 +101,13 @@ extern const demo_scene press_scene;
 int drape_run_all(const demo_opts *o, const demo_scene *s, const drape_variant *v, int nv, drape_result *results,
                   const char *sheet, const char *title);
 
+/* What a step guarantees past the elongation limit delta, in strain: the
+ * projection's rounding (1e-4), or Newton's limit_tolerance of the limit. */
+double drape_strain_allowance(const cloth_solver *sv, double delta);
+
 /* The claims common to every drape: no vertex past the thickness into a
- * body (max penetration < thickness) and max strain within delta (plus a
- * rounding allowance of 1e-4). Prints each; returns the number failed. */
+ * body (max penetration < thickness) and max strain within delta plus the
+ * step's allowance. Prints each; returns the number failed. */
 int drape_check_common(const demo_opts *o, const drape_variant *v, const drape_result *r);
 
 /* The paper's claim on runs that differ only in alpha (alphas[i] -> r[i]):

@@ -87,6 +87,7 @@ static int press_run(const demo_opts *o, const demo_scene *sc, const drape_varia
     d.cloth.material = v->material;
     d.mu = 0.0; /* smooth plates: the squeezed cloth slides along them */
     r->delta = v->material.delta;
+    r->strain_allow = drape_strain_allowance(&d.cloth.solver, r->delta);
     r->thickness = d.thickness;
     dClothID c = NULL;
     cloth_error err;
