@@ -5,9 +5,11 @@
  * vertex pinned to a free 50 g body that hangs off the table.
  *
  * 1. A 9 x 9 cloth run 60 steps, its state written (the body's pose and
- *    velocities kept by hand), then run 40 more. A second scene built from
- *    scratch reads the file (with its own table and body in the arrays) and
- *    runs 40 steps: positions and velocities bitwise the first run's.
+ *    velocities kept by hand, bit for bit), then run 40 more. A second scene
+ *    built from scratch reads the file (with its own table and body in the
+ *    arrays) and runs 40 steps: positions and velocities bitwise the first
+ *    run's. Both with the linearised step and with Newton's (under which
+ *    the body turns: its orientation must go back bit for bit).
  * 2. Sleep: a 3 x 3 cloth without the body falls asleep on the table; the
  *    file carries the sleep snapshot (the table by index): read into a
  *    fresh scene, it sleeps, and wakes as the first does when the table moves.
@@ -38,7 +40,7 @@ typedef struct scene {
     dClothID cloth;
 } scene;
 
-static int make(scene *r, int rows, int hang)
+static int make(scene *r, int rows, int hang, cloth_nonlinear nl)
 {
     memset(r, 0, sizeof *r);
     r->world = dWorldCreate();
@@ -52,6 +54,7 @@ static int make(scene *r, int rows, int hang)
     d.cloth.origin[0] = d.cloth.origin[1] = -0.3;
     d.cloth.origin[2] = 0.45;
     d.mu = 0.5;
+    d.cloth.solver.nonlinear = nl;
     cloth_error err;
     if (!CHECK(dClothCreate(r->world, r->space, &d, &r->cloth, &err) == CLOTH_OK, "dClothCreate: %s", err.message))
         return -1;
@@ -146,7 +149,7 @@ static void refused(scene *r, const blob *ref, const unsigned char *p, size_t n,
 static void bad_input(void)
 {
     scene r, big;
-    if (make(&r, 3, 1) || make(&big, 9, 1)) return;
+    if (make(&r, 3, 1, CLOTH_LINEARIZED) || make(&big, 9, 1, CLOTH_LINEARIZED)) return;
     if (run(&r, 30)) return;
     blob ref = snapshot(&r), b = snapshot(&r);
     CHECK(dClothGetStats(r.cloth)->contacts > 0, "the small scene has no contacts");
@@ -264,10 +267,11 @@ static void bad_input(void)
 }
 
 /* Written at step n, read into a new scene, m steps on: bitwise the same */
-static void round_trip(int n, int m)
+static void round_trip(int n, int m, cloth_nonlinear nl)
 {
+    const char *name = nl == CLOTH_NEWTON ? "Newton" : "linearized";
     scene a, b;
-    if (make(&a, 9, 1) || make(&b, 9, 1)) return;
+    if (make(&a, 9, 1, nl) || make(&b, 9, 1, nl)) return;
     size_t n3 = 3 * (size_t)dClothGetVertexCount(a.cloth);
     run(&a, n);
     CHECK(write_state(&a, "plugin_state_file.state") == CLOTH_OK, "write: %s", dClothGetLastError(a.cloth));
@@ -275,17 +279,18 @@ static void round_trip(int n, int m)
     body_save(a.body, &bs);
     run(&a, m);
     CHECK(dClothGetStats(a.cloth)->contacts > 20 && dClothGetStats(a.cloth)->sticking > 0,
-          "the scene has too few contacts (%d, sticking %d)", dClothGetStats(a.cloth)->contacts,
+          "%s: the scene has too few contacts (%d, sticking %d)", name, dClothGetStats(a.cloth)->contacts,
           dClothGetStats(a.cloth)->sticking);
     run(&b, 5); /* somewhere else, to be overwritten */
     CHECK(read_state(&b, "plugin_state_file.state") == CLOTH_OK, "read: %s", dClothGetLastError(b.cloth));
     body_restore(b.body, &bs);
+    CHECK(body_same(b.body, &bs), "%s: the hanging body is not restored bit for bit", name);
     run(&b, m);
     int same = memcmp(dClothGetPositions(a.cloth), dClothGetPositions(b.cloth), n3 * sizeof(double)) == 0 &&
                memcmp(cloth_velocities(dClothGetCore(a.cloth)), cloth_velocities(dClothGetCore(b.cloth)),
                       n3 * sizeof(double)) == 0;
-    CHECK(same, "read into a new scene and run %d steps: differs from the uninterrupted run", m);
-    printf("written at step %d, read into a new scene, %d steps on: %s\n", n, m,
+    CHECK(same, "%s: read into a new scene and run %d steps: differs from the uninterrupted run", name, m);
+    printf("%s: written at step %d, read into a new scene, %d steps on: %s\n", name, n, m,
            same ? "bitwise the uninterrupted run" : "DIFFERS");
     destroy(&a);
     destroy(&b);
@@ -297,12 +302,13 @@ int main(void)
     const int N = 60, M = 40;
 
     /* 1. written at step N, read into a new scene: bitwise the same */
-    round_trip(N, M);
+    round_trip(N, M, CLOTH_LINEARIZED);
+    round_trip(N, M, CLOTH_NEWTON);
     scene a, b;
     size_t n3;
 
     /* 2. a sleeping cloth: the snapshot goes by index */
-    if (!make(&a, 3, 0) && !make(&b, 3, 0)) {
+    if (!make(&a, 3, 0, CLOTH_LINEARIZED) && !make(&b, 3, 0, CLOTH_LINEARIZED)) {
         dClothSetAutoSleep(a.cloth, 1, 0.05, 10);
         for (int s = 0; s < 300 && !dClothIsSleeping(a.cloth); s++) run(&a, 1);
         CHECK(dClothIsSleeping(a.cloth), "the small cloth never fell asleep");

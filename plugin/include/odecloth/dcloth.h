@@ -262,7 +262,9 @@ cloth_status dClothRestore(dClothID c, const dClothState *s);
  * not in the arrays, naming it: dropping it would silently change the run.
  * Reading checks every field (magic, version, vertex count, indices,
  * finite numbers, checksum) and changes the cloth only if all pass. The last
- * step's stats are not kept; your bodies' own state is yours to save. */
+ * step's stats are not kept; your bodies' own state is yours to save. For a
+ * bitwise continuation put a body's quaternion and rotation back bit for bit:
+ * dBodySetQuaternion normalises again, moving the last bits of a turned body. */
 cloth_status dClothWriteState(dClothID c, const char *path, const dGeomID *geoms, int ngeoms,
                               const dBodyID *bodies, int nbodies);
 cloth_status dClothReadState(dClothID c, const char *path, const dGeomID *geoms, int ngeoms,
