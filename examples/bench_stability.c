@@ -110,6 +110,7 @@ static cloth *make_scene(int grid, double k_t, const method_cfg *m, double stret
     d.material.density = 0.2;
     d.material.k_t = k_t;
     d.solver.method = m->method;
+    d.solver.nonlinear = CLOTH_LINEARIZED; /* the map of the rule's step, whatever the default */
     d.solver.definiteness_rule = m->rule;
     if (!limit) d.solver.strain_limit_iterations = 0;
     if (stretch > 0.0) { /* the linear theory has no elongation limit */

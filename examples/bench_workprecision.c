@@ -89,6 +89,7 @@ static cloth_desc scene_desc(const config *cf, int scene, cloth_method m, double
     d.material.c_b *= cf->damping;
     d.material.k_t = cf->k_t;
     d.solver.method = m;
+    d.solver.nonlinear = CLOTH_LINEARIZED; /* the series of the rule's step, whatever the default */
     d.solver.cg_tolerance = cg_tol;
     d.solver.cg_max_iterations = 20000;
     d.solver.definiteness_rule = cf->rule;

@@ -285,6 +285,8 @@ static cloth *make_swing(cloth_method m, double cg_tol, int rule)
     d.solver.strain_limit_iterations = 0;
     d.solver.method = m;
     d.solver.cg_tolerance = cg_tol;
+    /* Newton's step, if the default, as tight (its stop in m/s) */
+    d.solver.newton_cg_tolerance = d.solver.newton_tolerance = cg_tol;
     d.solver.cg_max_iterations = 20000;
     d.solver.definiteness_rule = rule;
     cloth *c = NULL;
