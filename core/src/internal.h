@@ -41,9 +41,9 @@ void damper_eval(const double xi[3], const double xj[3], const double vi[3],
 void link_eval(const double xi[3], const double xj[3], const double vi[3], const double vj[3], spring_law s,
                double c, int definiteness, double f_i[3], double K[9], double D[9]);
 
-/* A link in the Newton step (springs.c): tension and the limit along its
- * direction, compression along u0 (unit: its direction predicted at x0 + h v0),
- * so E is convex and K = df_i/dx_j semidefinite. Returns E; f_i, K may be NULL. */
+/* A link in the Newton step (springs.c): tension and the limit along its direction, compression along
+ * u0 (unit, frozen over the step: potential.h), so E is convex, K = df_i/dx_j semidefinite and
+ * E >= spring_energy, equal where u0 is the link's direction. Returns E; f_i, K may be NULL. */
 double spring_eval_predicted(const double xi[3], const double xj[3], const double u0[3], spring_law s, double f_i[3],
                              double K[9]);
 

@@ -11,6 +11,16 @@
 #include "mat3.h"
 #include "mpcg.h"
 
+/* A step also ends only once its Newton step's energy norm is within this
+ * fraction of its velocity change |dv|_M: the energy the iterate may hold too
+ * many stays a sixteenth of what the exact step dissipates, 1/2 |dv|_M^2. */
+#define NEWTON_REL_STOP 0.25
+
+/* That goal is no less than this fraction of newton_tolerance: at rest
+ * |dv|_M is rounding, and an error this small holds no energy that shows (a
+ * cloth at rest jitters at about this RMS velocity). */
+#define NEWTON_REL_FLOOR 1e-4
+
 /* Solve the Newton matrix in c->A for ddv (cold start), rhs P->b, the
  * constrained components held at P->z. */
 static mpcg_result linear_solve(cloth *c, mpcg_problem *P, double *ddv)
@@ -149,11 +159,30 @@ static double step_norm(const cloth *c, const mpcg_problem *P, const double *ddv
     return sqrt(s / mt);
 }
 
-/* One Newton iteration from dv (b = -R there): solve, search (not on the
- * first, which lands the constraints), take. *size gets the full step's
- * size; returns the CG's failure (NONE, or a cut-short solve's, still used). */
+/* Its size in the Newton matrix's norm (+ the bodies' M_g), m/s: an iterate that far from the
+ * solution holds about half its square times the cloth's mass of energy too many, the stiff
+ * links' share included, which the mass norm misses. c->y gets A ddv. */
+static double energy_norm(cloth *c, const mpcg_problem *P, const double *ddv, double mt)
+{
+    double s = 0.0;
+    bsr_mul(&c->A, ddv, c->y);
+    for (size_t k = 0; k < 3 * (size_t)c->n; k++) s += ddv[k] * c->y[k];
+    if (P->bodies) s += bodies_step_energy(c);
+    return sqrt(fmax(0.0, s) / mt);
+}
+
+/* What the Newton step's energy norm must come within at dv. */
+static double energy_goal(const cloth *c, const double *dv, double mt)
+{
+    return fmax(NEWTON_REL_STOP * dv_size(c, dv, mt), NEWTON_REL_FLOOR * c->desc.solver.newton_tolerance);
+}
+
+/* One Newton iteration from dv (b = -R there): solve, search (not on the first, which lands the
+ * constraints), take. *size and *esize get the full step's size and energy norm; returns the
+ * CG's failure (NONE, or a cut-short solve's, still used). */
 static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *P, double *dv, double *phi,
-                                      int first, double *t_out, double *size, cloth_step_stats *st)
+                                      int first, double mt, double *t_out, double *size, double *esize,
+                                      cloth_step_stats *st)
 {
     size_t n3 = 3 * (size_t)c->n;
     double *ddv = c->ddv;
@@ -166,6 +195,7 @@ static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *
         return r.failure == CLOTH_FAIL_NONE ? CLOTH_FAIL_NAN : r.failure;
     }
     *size = step_norm(c, P, ddv);
+    *esize = energy_norm(c, P, ddv, mt);
     double t = 1.0;
     if (!first) {
         double slope = 0.0, phi1;
@@ -238,19 +268,20 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     c->coarse_kept = 0;
     int it = 0, rounds = 0, assembled = 0, landing = 1;
     int since = 0; /* iterations since the contacts or multipliers changed */
-    double phi = NAN, size = INFINITY, t = 0.0, goal = sv->newton_tolerance;
+    double phi = NAN, size = INFINITY, esize = INFINITY, t = 0.0, goal = sv->newton_tolerance, egoal = INFINITY;
     *limit_held = 0;
     potential_state(c, &q, dv);
     for (;;) {
         if (!assembled) potential_assemble(c, &q, dv, b);
         assembled = 1;
         goal = sv->newton_tolerance;
-        if (it == 0 && landed) { /* the residual bounds the step's size */
-            size = residual_norm(c, &P, b);
-            goal = warm_goal(c, dv, mt);
+        egoal = energy_goal(c, dv, mt);
+        if (it == 0 && landed) { /* the residual bounds the step's size, both norms */
+            size = esize = residual_norm(c, &P, b);
+            goal = egoal = warm_goal(c, dv, mt);
         }
         if (size != size) return CLOTH_FAIL_NAN;
-        if (size <= goal) {
+        if (size <= goal && esize <= egoal) {
             potential_state(c, &q, dv);
             if (rounds++ >= sv->newton_iterations) break; /* the limit left to the projection */
             int changed = decide_contacts(c, &q, &P, dv, xs, frac, st);
@@ -274,20 +305,21 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
             }
             phi = NAN; /* the potential changed with the multipliers or contacts */
             assembled = 0;
-            size = INFINITY;
+            size = esize = INFINITY;
             continue;
         }
         if (since >= sv->newton_iterations) break;
         if (phi != phi && it > 0)
             phi = potential_value(c, &q, dv, c->xt, c->vt) + (P.bodies ? bodies_energy(c) : 0.0);
-        cloth_failure f = newton_iteration(c, &q, &P, dv, &phi, landing, &t, &size, st);
+        cloth_failure f = newton_iteration(c, &q, &P, dv, &phi, landing, mt, &t, &size, &esize, st);
         if (landing) memset(c->z, 0, 3 * (size_t)c->n * sizeof *c->z); /* the constraints landed */
         landing = 0;
         it++;
         since++;
         if (f == CLOTH_FAIL_NAN || f == CLOTH_FAIL_CG_INDEFINITE) return f;
         goal = sv->newton_tolerance;
-        if (size > goal) {
+        egoal = energy_goal(c, dv, mt);
+        if (size > goal || esize > egoal) {
             potential_state(c, &q, dv);
             assembled = 0;
             if (decide_contacts(c, &q, &P, dv, xs, frac, st)) {
@@ -301,7 +333,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     st->newton_residual = size;
     st->newton_goal = goal;
     if (size != size) return CLOTH_FAIL_NAN;
-    if (!(size <= goal)) {
+    if (!(size <= goal && esize <= egoal)) {
         constraint_forces(c, b, c->ddv, 0.0, q.cfac); /* b is assembled at the last iterate */
         return CLOTH_FAIL_NEWTON;
     }

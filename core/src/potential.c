@@ -16,7 +16,10 @@ void potential_begin(cloth *c, double h, int bdf2, step_eq *q)
     q->cfac = q->beta * h;
     for (size_t k = 0; k < n3; k++) c->na[k] = bdf2 ? s->x[k] + (s->x[k] - s->x_prev[k]) / 3.0 : s->x[k];
     q->a = c->na;
-    /* the links' directions at x~ = x0 + h v0: damping's and compression's */
+    /* the links' directions, damping's and compression's: backward Euler's at
+     * x0, where the step's energy equals the springs' and elsewhere bounds it
+     * (no exact step gains energy); BDF2's at x0 + h v0, for its order */
+    double hd = bdf2 ? h : 0.0;
     for (int t = 0; t < 2; t++) {
         int ne = t ? c->n_int : c->n_seq;
         const link_topo *L = t ? c->lint : c->seq;
@@ -26,7 +29,7 @@ void potential_begin(cloth *c, double h, int bdf2, step_eq *q)
             const double *vi = s->v + 3 * L[e].i, *vj = s->v + 3 * L[e].j;
             double w[3], d2 = 0.0;
             for (int r = 0; r < 3; r++) {
-                w[r] = xj[r] - xi[r] + h * (vj[r] - vi[r]);
+                w[r] = xj[r] - xi[r] + hd * (vj[r] - vi[r]);
                 d2 += w[r] * w[r];
             }
             double inv = d2 > 1e-24 ? 1.0 / sqrt(d2) : 0.0;

@@ -3,11 +3,11 @@
  * (beta 2/3, cfac = beta h) ask for the stationary point of
  *   Phi(dv) = 1/2 dv^T M dv - e^T dv + U(x) - cfac f_c^T v + cfac/2 v^T C v,
  * U the springs' energy, f_c gravity and external forces, e BDF2's
- * M (v0 - v_-1) / 3 (0 for backward Euler), C the links' damping along their
- * directions at x~ = x0 + h v0 and the air drag (about the wind) with its
- * triangles' normals and areas at x~. Compressed links push along the same
- * directions: frozen over the step, they give damping a potential and make
- * Phi convex (x~ is within O(h^2) of x, which keeps BDF2 second order).
+ * M (v0 - v_-1) / 3 (0 for backward Euler), C the links' damping along directions frozen over
+ * the step and the air drag (about the wind) with its triangles' normals and areas at
+ * x~ = x0 + h v0. Compressed links push along the same directions, which makes Phi convex.
+ * Backward Euler's are at x0, where U equals the springs' energy and elsewhere exceeds it (no
+ * exact step gains energy); BDF2's at x~, O(h^2) from x, keep it second order.
  * The residual R = grad Phi = M dv - e - cfac f(x, v) is an impulse. */
 #ifndef ODECLOTH_POTENTIAL_H
 #define ODECLOTH_POTENTIAL_H
@@ -20,7 +20,7 @@ typedef struct step_eq {
     const double *a;      /* 3n: x = a + cfac v */
 } step_eq;
 
-/* The step's equations: a (into c->na) and the damping directions at x~
+/* The step's equations: a (into c->na) and the links' frozen directions
  * (into c->ut), for a step of h from the current state. */
 void potential_begin(cloth *c, double h, int bdf2, step_eq *q);
 

@@ -147,15 +147,20 @@ typedef struct cloth_solver {
      * (Baraff-Witkin), the elongation limit by the projection after it.
      * CLOTH_NEWTON: Newton's method on the step's incremental potential,
      * a line search keeping every iteration a descent; damping, and the
-     * compressed links' push, along the links' directions at x0 + h v0,
-     * which makes the potential convex and its Hessian the Newton matrix.
-     * A step ends when the Newton step's size sqrt(ddv^T M ddv / cloth
-     * mass) (+ the bodies'; an RMS velocity correction) is within
-     * newton_tolerance (the warm start is kept without a solve only when
-     * the residual's bound on that size is also within newton_rtol |dv|,
-     * |dv| the warm start's velocity change), and no sequential
-     * link is past its limit (1 + delta) l0 by more than limit_tolerance
-     * of it: the limit is a constraint held by multipliers (augmented
+     * compressed links' push, along the links' directions frozen over the
+     * step (backward Euler: at x0, so that no exact step gains energy;
+     * BDF2: at x0 + h v0, for its order), which makes the potential convex
+     * and its Hessian A the Newton matrix. A step ends when the Newton
+     * step's size sqrt(ddv^T M ddv / cloth mass) (+ the bodies'; an RMS
+     * velocity correction) is within newton_tolerance and its energy norm
+     * sqrt(ddv^T A ddv / cloth mass) within a quarter of the step's
+     * velocity change |dv| (same norm; but not below 1e-4 newton_tolerance),
+     * so an inexact step cannot add energy that shows (the warm start is
+     * kept without a solve only when the residual's bound on both is
+     * within newton_tolerance and newton_rtol |dv|, |dv| the warm start's
+     * velocity change), and
+     * no sequential link is past its limit (1 + delta) l0 by more than
+     * limit_tolerance of it: the limit is a constraint held by multipliers (augmented
      * Lagrangian on the k_delta law) carried from step to step, the
      * projection above acting only where they did not converge. Design
      * and measurements: docs/newton.md. */
@@ -170,8 +175,8 @@ typedef struct cloth_solver {
     double newton_cg_tolerance;   /* 1, in (0, 1) (default 1e-2): CLOTH_NEWTON's
                                      linear solves stop here, in cg_tolerance's
                                      norm (which they do not use), or once
-                                     their error is estimated within 0.3
-                                     newton_tolerance (no bodies solved with
+                                     their error is estimated within 0.3 of
+                                     the step's goals (no bodies solved with
                                      the cloth): an inexact Newton step, the
                                      next iterations correcting what it
                                      leaves                                */
