@@ -37,6 +37,7 @@
 #include "odecloth/cloth.h"
 #include "odecloth/fabric.h"
 #include "check.h"
+#include "fabric_strip.h"
 
 #define PI 3.14159265358979323846
 #define ASTM_ANGLE 41.5
@@ -97,13 +98,8 @@ static double quartic_overhang(double angle)
  * at rest, or NaN if the fabric refuses the spacing or a step fails. */
 static double simulate(const cloth_fabric *f, int n, int *steps_total)
 {
-    double c = cloth_fabric_bending_length(f), dy = 2.0 * c / (n + 0.5);
-    cloth_desc d = cloth_default_desc();
-    d.rows = n + 2;
-    d.cols = 4;
-    d.width = 3.0 * dy;
-    d.height = (n + 1) * dy;
-    d.origin[0] = d.origin[1] = d.origin[2] = 0.0;
+    cloth_desc d;
+    double dy = fabric_strip_desc(f, n, &d);
     cloth_error err;
     cloth *cl = NULL;
     if (cloth_fabric_apply(f, &d, &err) != CLOTH_OK || cloth_create(&d, &cl, &err) != CLOTH_OK) {

@@ -29,6 +29,7 @@
 #include "odecloth/cloth.h"
 #include "odecloth/fabric.h"
 #include "check.h"
+#include "fabric_strip.h"
 
 #define SLACK 1e-6 /* of the peak kinetic energy: what the stop may leave at rest */
 
@@ -85,13 +86,8 @@ static void strip(const char *name, cloth_fabric_kind kind)
 {
     cloth_fabric f = cloth_fabric_preset(kind);
     const int cells = 6;
-    double dy = 2.0 * cloth_fabric_bending_length(&f) / (cells + 0.5);
-    cloth_desc d = cloth_default_desc();
-    d.rows = cells + 2;
-    d.cols = 4;
-    d.width = 3.0 * dy;
-    d.height = (cells + 1) * dy;
-    d.origin[0] = d.origin[1] = d.origin[2] = 0.0;
+    cloth_desc d;
+    fabric_strip_desc(&f, cells, &d);
     cloth_error err;
     cloth *c = NULL;
     if (!CHECK(cloth_fabric_apply(&f, &d, &err) == CLOTH_OK, "%s: %s", name, err.message)) return;
