@@ -158,10 +158,11 @@ typedef struct cloth_solver {
      * so an inexact step cannot add energy that shows (the warm start is
      * kept without a solve only when the residual's bound on both is
      * within newton_tolerance and newton_rtol |dv|, |dv| the warm start's
-     * velocity change), and
-     * no sequential link is past its limit (1 + delta) l0 by more than
-     * limit_tolerance of it: the limit is a constraint held by multipliers (augmented
-     * Lagrangian on the k_delta law) carried from step to step, the
+     * velocity change), and no sequential link is past its limit
+     * (1 + delta) l0 by more than limit_tolerance of it: the limit is a
+     * constraint held by multipliers (augmented Lagrangian on the k_delta
+     * law; a link the constraints hold past it keeps the plain law) carried
+     * from step to step, the
      * projection above acting only where they did not converge. Design
      * and measurements: docs/newton.md. */
     cloth_nonlinear nonlinear;
@@ -174,12 +175,9 @@ typedef struct cloth_solver {
     double limit_tolerance;       /* 1, in (0, 1) (default 1e-3)          */
     double newton_cg_tolerance;   /* 1, in (0, 1) (default 1e-2): CLOTH_NEWTON's
                                      linear solves stop here, in cg_tolerance's
-                                     norm (which they do not use), or once
-                                     their error is estimated within 0.3 of
-                                     the step's goals (no bodies solved with
-                                     the cloth): an inexact Newton step, the
-                                     next iterations correcting what it
-                                     leaves                                */
+                                     norm (which they do not use): an
+                                     inexact Newton step, the next
+                                     iterations correcting what it leaves  */
     int keep_unconverged;         /* 0 (default) or 1. CLOTH_NEWTON: 1 keeps
                                      the last iterate of a solve that runs
                                      out of newton_iterations at the
