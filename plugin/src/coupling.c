@@ -107,6 +107,7 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
             }
         }
     }
+    nw->pinch_shift = dmid - d1;
     forced = forced || nw->pinched;
     if (!forced && nw->gap > 0.0 && nw->gap + h * vn > DCLOTH_CONTACT_SLOP * nw->thickness) return 0; /* stays apart */
     if (!forced && nw->let_go) {
@@ -332,6 +333,7 @@ static void took_candidates(dClothID c, dClothStepStats *st)
         }
         if (nw->active) continue;
         nw->active = nw->forced = 1;
+        nw->pinch_shift = 0.0;
         nw->sticking = 0;
         memset(nw->friction, 0, sizeof nw->friction);
         st->contacts++;
@@ -532,17 +534,16 @@ cloth_status dClothStep(dClothID c, dReal h)
         return st.held ? CLOTH_OK : s;
     }
 
-    /* the gap was closed (or the penetration removed) by moving the vertex
-     * within the step; its normal velocity keeps only the body's: an
-     * inelastic impact, and no pop (a vertex shot out at -gap/h bounced off
-     * its neighbours back into the body, step after step; one that closed a
-     * gap kept moving inward at gap/h and sank into its shell next step) */
+    /* the target moved the vertex across its gap (or out of its shell), less
+     * a pinched vertex's midway shift: a displacement, not a velocity; the
+     * normal velocity keeps only the body's (an inelastic impact, no pop) */
     for (int i = 0; i < c->n; i++) {
         vcontact *nw = &c->vc_new[i];
-        if (!nw->active || nw->gap == 0.0) continue;
+        double moved = nw->gap - nw->pinch_shift; /* minus how far the target moved it out */
+        if (!nw->active || moved == 0.0) continue;
         double vi[3];
         memcpy(vi, cloth_velocities(core) + 3 * i, sizeof vi);
-        for (int r = 0; r < 3; r++) vi[r] += nw->gap / h * nw->normal[r];
+        for (int r = 0; r < 3; r++) vi[r] += moved / h * nw->normal[r];
         cloth_set_vertex(core, i, cloth_positions(core) + 3 * i, vi);
     }
 

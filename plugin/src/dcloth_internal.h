@@ -45,6 +45,8 @@ typedef struct vcontact {
     dBodyID opp_body;
     double opp_normal[3], opp_gap, opp_vbody[3];
     int pinched;         /* 1: this step's target is the midway one         */
+    double pinch_shift;  /* m, along the normal: the midway target's offset
+                            from this contact's own (0 unless pinched)      */
 } vcontact;
 
 /* contacts.c: before contact (g, body, n, gap at point) is offered to
