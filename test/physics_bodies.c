@@ -167,7 +167,10 @@ static int light_body_thrown(int limit_iterations, double speed, int halvings, d
     d.solver.newton_iterations = 64;
     d.solver.strain_limit_iterations = limit_iterations; /* the projection moves the body too */
     d.solver.max_substep_halvings = halvings;
-    if (cg_max > 0) d.solver.cg_max_iterations = cg_max;
+    if (cg_max > 0) { /* block Jacobi: the multigrid converges within the cap at h too */
+        d.solver.cg_max_iterations = cg_max;
+        d.solver.precond = CLOTH_PRECOND_BLOCK_JACOBI;
+    }
     cloth_set_solver(c, &d.solver);
     int n = cloth_vertex_count(c), cols = cloth_cols(c), held[2] = {0, cols - 1};
     const double *x = cloth_positions(c), *v = cloth_velocities(c), *m = cloth_masses(c);

@@ -6,12 +6,14 @@
  * z = 3 cm. Gravity brings the top layer down onto the bottom one, and the
  * pass (thickness 5 mm) is run after every step for 1 s at h = 1/60:
  *   - every top-layer vertex stays at least 0.8 thickness above the bottom
- *     layer at every step, and none crosses it (stats.crossings 0);
+ *     layer at every step, none crosses it (stats.crossings 0), and after
+ *     every pass no two triangles of the cloth intersect (an independent
+ *     count, examples/common/intersections.h);
  *   - once landed the top layer rests on the bottom one: no vertex of it moves
  *     up or down faster than 1 mm/s after 1 s;
  *   - control: the same run without the pass lets the top layer fall through
  *     the bottom one (a top vertex ends below z = -5 cm), so the first claim
- *     can fail.
+ *     can fail (unit_intersections tests the count).
  * And the bad inputs: thickness <= 0 or > 1 m, NULL cloth, a pass applied
  * to a cloth of another grid: CLOTH_EINVAL, nothing created or changed.
  */
@@ -22,6 +24,7 @@
 #include "odecloth/cloth.h"
 #include "odecloth/selfcollision.h"
 #include "check.h"
+#include "intersections.h"
 
 #define N 11
 #define THICK 0.005
@@ -81,22 +84,29 @@ static void with_pass(void)
     }
     CHECK(cloth_self_collision_apply(sc, c, NULL) == CLOTH_OK, "first apply (records the sides)");
     double worst = HUGE_VAL, zmin = 0, vmax = 0;
-    int crossings = 0, pairs = 0;
+    int crossings = 0, pairs = 0, tri[6 * (N - 1) * (N - 1)];
+    long intersecting = 0;
+    int nt = intersections_grid_triangles(N, N, tri);
     for (int s = 1; s <= 60; s++) {
         if (!CHECK(cloth_step(c, H, NULL) == CLOTH_OK, "step %d: %s", s, cloth_last_error(c))) break;
         cloth_self_collision_stats st;
         CHECK(cloth_self_collision_apply(sc, c, &st) == CLOTH_OK, "apply at step %d", s);
         crossings += st.crossings;
         pairs += st.pairs;
+        intersections ix;
+        CHECK(intersections_count(cloth_positions(c), N * N, tri, nt, &ix, NULL) == 0, "count at step %d", s);
+        intersecting += ix.pairs;
         top_layer(c, &zmin, &vmax);
         worst = fmin(worst, zmin);
     }
     printf("with the pass: lowest top-layer vertex %.2f mm above the bottom layer over 60 steps, "
-           "%d pairs separated, %d crossings, top layer's vertical speed at 1 s %.2e m/s\n",
-           1e3 * worst, pairs, crossings, vmax);
+           "%d pairs separated, %d crossings, %ld intersecting triangle pairs after the passes, "
+           "top layer's vertical speed at 1 s %.2e m/s\n",
+           1e3 * worst, pairs, crossings, intersecting, vmax);
     CHECK(worst >= 0.8 * THICK, "top layer came within %.2f mm of the bottom one (thickness %.1f mm)", 1e3 * worst,
           1e3 * THICK);
     CHECK(crossings == 0, "%d vertex-triangle crossings", crossings);
+    CHECK(intersecting == 0, "%ld intersecting triangle pairs after the passes, summed over the steps", intersecting);
     CHECK(pairs > 0, "the layers never met (the test tests nothing)");
     CHECK(vmax < 1e-3, "top layer still moving vertically at %.3g m/s after 1 s", vmax);
     cloth_self_collision_destroy(sc);
