@@ -16,7 +16,13 @@
  * floor and the limit holds; pulled 0.1 mm, none slides. One edge lifted
  * 10 cm in a step: the floor's planes under the vertices next to it, pulling
  * them down against links past the limit, let go, and the limit holds.
- * Bad candidates are refused naming the argument, the cloth unchanged.
+ * A cloth held on the floor by sliding contacts, no gravity, each vertex
+ * pulled up by m_i a (a rigid acceleration): with a pull limit
+ * (cloth_set_contact_pull) over m_i a, or none, the contacts hold it
+ * (z 0, each pulling m_i a back); under it they let go within the step
+ * and the cloth moves off rigidly, v = a h (closed forms).
+ * Bad candidates and pull limits are refused naming the argument, the cloth
+ * unchanged.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -241,6 +247,48 @@ static void lifted(double lift)
     cloth_destroy(c);
 }
 
+/* limit: the pull limit over m_i a (< 0: none set) */
+static void pull_limited(double limit)
+{
+    cloth *c = make(CLOTH_NEWTON, 0.0);
+    if (!c) return;
+    const double a = 2.0, zero[3] = {0, 0, 0}, up[3] = {0, 0, 1};
+    int n = cloth_vertex_count(c);
+    double *f = calloc(3 * (size_t)n, sizeof *f), *x = malloc(3 * (size_t)n * sizeof *x);
+    memcpy(x, cloth_positions(c), 3 * (size_t)n * sizeof *x);
+    for (int i = 0; i < n; i++) x[3 * i + 2] = 0.0;
+    cloth_set_positions(c, x);
+    cloth_set_velocities(c, f);
+    cloth_set_gravity(c, zero);
+    for (int i = 0; i < n; i++) {
+        const double m = cloth_masses(c)[i];
+        cloth_constraint k = {.vertex = i, .ndof = 1, .axis = {0, 0, 1}, .target = {x[3 * i], x[3 * i + 1], 0.0}};
+        cloth_set_constraint(c, &k);
+        cloth_set_contact(c, i, up, k.target);
+        if (limit >= 0.0) CHECK(cloth_set_contact_pull(c, i, limit * m * a) == CLOTH_OK, "pull limit refused");
+        f[3 * i + 2] = m * a;
+    }
+    cloth_set_external_forces(c, f);
+    cloth_step_stats st;
+    CHECK(cloth_step(c, H, &st) == CLOTH_OK, "limit %g: %s", limit, cloth_last_error(c));
+    double zerr = 0.0, verr = 0.0, ferr = 0.0;
+    int held = limit < 0.0 || limit > 1.0;
+    for (int i = 0; i < n; i++) {
+        double fc[3], m = cloth_masses(c)[i];
+        cloth_constraint_force(c, i, fc);
+        zerr = fmax(zerr, fabs(cloth_positions(c)[3 * i + 2] - (held ? 0.0 : a * H * H)));
+        verr = fmax(verr, fabs(cloth_velocities(c)[3 * i + 2] - (held ? 0.0 : a * H)));
+        ferr = fmax(ferr, fabs(fc[2] + (held ? m * a : 0.0)) / (m * a));
+    }
+    printf("pull limit %g m a: %s, |z - z*| %.2g m, |v - v*| %.2g m/s, constraint force off by %.2g m a\n", limit,
+           held ? "held" : "let go", zerr, verr, ferr);
+    CHECK(zerr <= 1e-9 && verr <= 1e-6 && ferr <= 1e-6, "limit %g: z off %.3g m, v off %.3g m/s, force off %.3g m a",
+          limit, zerr, verr, ferr);
+    free(f);
+    free(x);
+    cloth_destroy(c);
+}
+
 static void bad_input(void)
 {
     cloth *c = make(CLOTH_NEWTON, 0.0);
@@ -264,6 +312,20 @@ static void bad_input(void)
     CHECK(cloth_set_contact(c, 3, big, p) == CLOTH_OK, "a huge normal refused");
     CHECK(fabs(c->cand[6 * 3 + 2] - 1.0) <= 1e-15, "a huge normal normalised to %.17g", c->cand[6 * 3 + 2]);
     CHECK(cloth_release(c, 3) == CLOTH_OK && c->cand_on[3] == 0, "cloth_release left the candidate");
+    struct {
+        int v;
+        double pull;
+        const char *word;
+    } badp[] = {{0, NAN, "pull"},         {0, -1.0, "pull"},      {-1, 1.0, "vertex"},
+                {N * N, 1.0, "vertex"},   {5, 1.0, "no contact"}};
+    CHECK(cloth_set_contact(c, 0, up, p) == CLOTH_OK && cloth_set_contact_pull(c, 0, 2.0) == CLOTH_OK, "pull set");
+    for (size_t k = 0; k < sizeof badp / sizeof badp[0]; k++) {
+        CHECK(cloth_set_contact_pull(c, badp[k].v, badp[k].pull) == CLOTH_EINVAL, "bad pull %zu accepted", k);
+        CHECK(strstr(cloth_last_error(c), badp[k].word) != NULL, "pull case %zu: '%s' does not name %s", k,
+              cloth_last_error(c), badp[k].word);
+    }
+    CHECK(c->cand_pull[0] == 2.0 && isinf(c->cand_pull[5]), "a refused pull limit changed the cloth");
+    CHECK(cloth_set_contact_pull(NULL, 0, 1.0) == CLOTH_EINVAL, "NULL cloth accepted");
     cloth_destroy(c);
 }
 
@@ -275,6 +337,9 @@ int main(void)
     lifted(0.1);
     sticking_pulled(0.05);
     sticking_pulled(1e-4);
+    pull_limited(-1.0);
+    pull_limited(2.0);
+    pull_limited(0.5);
     bad_input();
     return check_summary();
 }

@@ -179,6 +179,7 @@ void cloth_destroy(cloth *c)
     free(c->con_force);
     free(c->cand);
     free(c->cand_on);
+    free(c->cand_pull);
     free(c->f_ext);
     free(c->body);
     free(c->body_ws);
@@ -287,7 +288,9 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
     c->cflag = calloc((size_t)n, 1);
     c->cand = calloc(6 * (size_t)n, sizeof *c->cand);
     c->cand_on = calloc((size_t)n, 1);
-    if (!c->cand || !c->cand_on) goto nomem;
+    c->cand_pull = malloc((size_t)n * sizeof *c->cand_pull);
+    if (!c->cand || !c->cand_on || !c->cand_pull) goto nomem;
+    for (int i = 0; i < n; i++) c->cand_pull[i] = INFINITY;
     c->clist = calloc((size_t)n, sizeof *c->clist);
     c->sl = malloc(9 * (size_t)c->n_seq * sizeof *c->sl);
     c->sl_act = malloc((size_t)c->n_seq * sizeof *c->sl_act);

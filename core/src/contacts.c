@@ -27,6 +27,20 @@ cloth_status cloth_set_contact(cloth *c, int vertex, const double normal[3], con
         k[3 + r] = point[r];
     }
     c->cand_on[vertex] = 1;
+    c->cand_pull[vertex] = INFINITY;
+    return CLOTH_OK;
+}
+
+cloth_status cloth_set_contact_pull(cloth *c, int vertex, double pull)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (vertex < 0 || vertex >= c->n)
+        return cloth_fail(c, CLOTH_EINVAL, "cloth_set_contact_pull: vertex %d out of range [0, %d)", vertex, c->n);
+    if (!(pull >= 0.0)) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_contact_pull: pull = %g must be >= 0", pull);
+    if (!c->cand_on[vertex])
+        return cloth_fail(c, CLOTH_EINVAL, "cloth_set_contact_pull: vertex %d has no contact (cloth_set_contact)",
+                          vertex);
+    c->cand_pull[vertex] = pull;
     return CLOTH_OK;
 }
 
@@ -86,7 +100,21 @@ int contacts_slide(cloth *c, const double *x)
  * sliding contact set so, 4 a plane the step made, 5 a contact it let slide */
 static const unsigned char released_as[4] = {0, 6, 4, 5};
 
-int contacts_release(cloth *c, const double *x, const double *b)
+/* Releases contact i (a plane: set so, made so or let slide) if its force
+ * b pulls it onto its surface by more than pull_min (an impulse, N s). */
+static int release_if_pulling(cloth *c, int i, const double *b, double pull_min)
+{
+    cloth_constraint *q = &c->con[i];
+    if (c->cand_on[i] < 1 || c->cand_on[i] > 3 || q->ndof != 1) return 0;
+    const double *bi = b + 3 * (size_t)i;
+    if (!(bi[0] * q->axis[0] + bi[1] * q->axis[1] + bi[2] * q->axis[2] > pull_min)) return 0; /* pushes */
+    q->ndof = 0;
+    c->cand_on[i] = released_as[c->cand_on[i]];
+    c->n_con--;
+    return 1;
+}
+
+int contacts_release(cloth *c, const double *x, const double *b, double cfac)
 {
     double lim = (1.0 + c->desc.material.delta) * (1.0 + c->desc.solver.limit_tolerance);
     int changed = 0;
@@ -98,19 +126,10 @@ int contacts_release(cloth *c, const double *x, const double *b)
             d2 += w * w;
         }
         if (d2 <= lim * lim * L->rest * L->rest) continue;
-        int ends[2] = {L->i, L->j};
-        for (int a = 0; a < 2; a++) {
-            int i = ends[a];
-            cloth_constraint *q = &c->con[i];
-            if (c->cand_on[i] < 1 || c->cand_on[i] > 3 || q->ndof != 1) continue;
-            const double *bi = b + 3 * (size_t)i;
-            if (!(bi[0] * q->axis[0] + bi[1] * q->axis[1] + bi[2] * q->axis[2] > 0.0)) continue; /* pushes */
-            q->ndof = 0;
-            c->cand_on[i] = released_as[c->cand_on[i]];
-            c->n_con--;
-            changed++;
-        }
+        changed += release_if_pulling(c, L->i, b, 0.0) + release_if_pulling(c, L->j, b, 0.0);
     }
+    for (int i = 0; i < c->n; i++) /* elsewhere, past the contact's own pull */
+        if (c->cand_pull[i] < INFINITY) changed += release_if_pulling(c, i, b, cfac * c->cand_pull[i]);
     return changed;
 }
 

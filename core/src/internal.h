@@ -102,6 +102,8 @@ struct cloth {
     int n_con;
     double *con_force;         /* 3n, N, from the last step */
     double *cand;              /* 6n: contact candidates (cloth_set_contact): normal, point */
+    double *cand_pull;         /* n: N, a plane contact pulling beyond this lets
+                                  go within the step (cloth_set_contact_pull) */
     unsigned char *cand_on;    /* n: 1 a candidate, 2 made a plane, 3 let slide in a solve,
                                   4 and 5 those released in a solve, 6 a sliding
                                   candidate released */
@@ -244,10 +246,11 @@ void contacts_land(cloth *c, const double *dv);
  * that x puts past its limit (beyond limit_tolerance) slide on their
  * surface's plane; returns how many */
 int contacts_slide(cloth *c, const double *x);
-/* Contacts on a plane (set so, made so or let slide by the step) at an end
- * of a link x puts past the limit, whose force b pulls: released for the
- * step; how many. */
-int contacts_release(cloth *c, const double *x, const double *b);
+/* Contacts on a plane (set so, made so or let slide by the step) whose
+ * force (b / cfac) pulls: at an end of a link x puts past the limit, at
+ * all; elsewhere, by more than their cand_pull. Released for the step;
+ * how many. */
+int contacts_release(cloth *c, const double *x, const double *b, double cfac);
 /* at a step's start: planes kept from the last step stay constraints; on
  * its failure: the planes it made are candidates again */
 void contacts_begin(cloth *c);

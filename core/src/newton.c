@@ -290,9 +290,10 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
                 landed = 0; /* the residual no longer bounds the step */
             } else {
                 /* sticking contacts that hold a link past the limit slide;
-                 * contacts there whose force pulls let go */
+                 * contacts there whose force pulls let go, elsewhere those
+                 * that pull past their own limit */
                 changed = loosened(c, &q, &P, xs, frac, contacts_slide(c, c->x_new), st);
-                if (!changed) changed = loosened(c, &q, &P, xs, frac, contacts_release(c, c->x_new, b), st);
+                if (!changed) changed = loosened(c, &q, &P, xs, frac, contacts_release(c, c->x_new, b, q.cfac), st);
             }
             if (changed) {
                 since = 0;

@@ -401,8 +401,12 @@ cloth_status dClothStep(dClothID c, dReal h)
             nw->active = 1;
             /* the core's step may let a sticking contact slide, and a
              * vertex's sliding one go where it holds a link past the limit */
-            if ((k.ndof == 3 && !nw->anchored && !nw->pinched) || (k.ndof == 1 && !nw->pinched))
+            if ((k.ndof == 3 && !nw->anchored && !nw->pinched) || (k.ndof == 1 && !nw->pinched)) {
                 cloth_set_contact(core, i, nw->normal, k.target);
+                /* Newton lets a triangle's contact go within the step at the
+                 * pull the peel below judges after it */
+                if (nw->from_triangle) cloth_set_contact_pull(core, i, LETGO_PULL * letgo_t);
+            }
             for (int r = 0; r < 3; r++) c->fext[3 * i + r] += nw->friction[r];
             st.contacts++;
             st.sticking += nw->sticking;
@@ -539,8 +543,10 @@ cloth_status dClothStep(dClothID c, dReal h)
      * normal velocity keeps only the body's (an inelastic impact, no pop) */
     for (int i = 0; i < c->n; i++) {
         vcontact *nw = &c->vc_new[i];
+        cloth_constraint k;
         double moved = nw->gap - nw->pinch_shift; /* minus how far the target moved it out */
         if (!nw->active || moved == 0.0) continue;
+        if (cloth_get_constraint(core, i, &k) == CLOTH_OK && k.ndof == 0) continue; /* the step let it go */
         double vi[3];
         memcpy(vi, cloth_velocities(core) + 3 * i, sizeof vi);
         for (int r = 0; r < 3; r++) vi[r] += moved / h * nw->normal[r];
