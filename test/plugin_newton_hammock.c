@@ -1,18 +1,19 @@
 /* Plugin: a heavy body caught by a taut cloth, solved by Newton's method.
  * A 41x41 cotton cloth, 1 m, 0.2 kg, flat at z = 1 m with its four corners
  * pinned to the world; a 1 kg ball (r 0.1 m) starts 15 mm above its shell
- * and falls onto its centre at 5 m/s. 40 steps of 1/60 s (dClothWorldStep,
- * DCLOTH_FAILURE_STOP, solver.nonlinear CLOTH_NEWTON). The cloth can stop
- * the ball only by stretching to its elongation limit, so the limit must
- * hold against the ball's momentum, and the ball's contacts move with it:
+ * (and, a second run, on it) and falls onto its centre at 5 m/s. 40 steps
+ * of 1/60 s (dClothWorldStep, DCLOTH_FAILURE_STOP, solver.nonlinear
+ * CLOTH_NEWTON). The cloth can stop the ball only by stretching to its
+ * elongation limit, so the limit must hold against the ball's momentum, and
+ * the ball's contacts move with it:
  *   - every step succeeds (whole or in substeps);
  *   - the ball is caught: it never ends below the cloth, and from 0.2 s on
  *     it moves at under 0.5 m/s;
- *   - no step after the first contact gains energy (cloth elastic, kinetic
- *     and gravitational plus the ball's) beyond 1e-3 J: the pins are fixed
- *     and do no work. The first contact step is left out: there the
- *     plugin's inelastic stop of vertices the ball reaches within the step
- *     adds its velocity after the step (a known gain of a few 1e-2 J);
+ *   - no step gains energy (cloth elastic, kinetic and gravitational plus
+ *     the ball's) beyond 1e-3 J: the pins are fixed and do no work, and the
+ *     impact is inelastic. The first contact step included: a vertex the
+ *     ball reaches within the step is held on its surface only while it
+ *     pushes (a contact pulling it across the gap would do work);
  *   - no sequential link ends past (1 + delta) l0 by more than 1e-3 of it.
  */
 #include <math.h>
@@ -73,9 +74,9 @@ static double worst_excess(const cloth *core, double delta)
     return worst;
 }
 
-int main(void)
+/* one throw, the ball's shell start_gap above the cloth's */
+static void throw_ball(double start_gap)
 {
-    dInitODE2(0);
     dWorldID w = dWorldCreate();
     dWorldSetGravity(w, 0, 0, -G);
     dSpaceID sp = dHashSpaceCreate(0);
@@ -87,7 +88,7 @@ int main(void)
     d.cloth.origin[2] = Z;
     d.cloth.solver.nonlinear = CLOTH_NEWTON;
     dClothID c = NULL;
-    if (!CHECK(dClothCreate(w, sp, &d, &c, NULL) == CLOTH_OK, "dClothCreate")) return check_summary();
+    if (!CHECK(dClothCreate(w, sp, &d, &c, NULL) == CLOTH_OK, "dClothCreate")) return;
     dClothSetFailureMode(c, DCLOTH_FAILURE_STOP);
     cloth *core = dClothGetCore(c);
     const int corner[4] = {0, N - 1, (N - 1) * N, N * N - 1};
@@ -99,7 +100,7 @@ int main(void)
     dBodySetMass(ball, &m);
     dGeomID g = dCreateSphere(sp, R);
     dGeomSetBody(g, ball);
-    dBodySetPosition(ball, 0, 0, Z + R + 0.02);
+    dBodySetPosition(ball, 0, 0, Z + R + d.thickness + start_gap);
     dBodySetLinearVel(ball, 0, 0, -5.0);
 
     double delta = d.cloth.material.delta, e0 = energy(core, ball), worst_gain = -INFINITY, worst_link = -INFINITY;
@@ -109,22 +110,29 @@ int main(void)
         if (!CHECK(s == CLOTH_OK, "step %d failed: %s", k, dClothGetLastError(c))) break;
         double e1 = energy(core, ball);
         if (touched < 0 && dClothGetStats(c)->contacts > 0) touched = k;
-        if (touched >= 0 && k > touched) worst_gain = fmax(worst_gain, e1 - e0);
+        worst_gain = fmax(worst_gain, e1 - e0);
         e0 = e1;
         CHECK(!below(core, ball), "step %d: the ball below the cloth", k);
         if ((k + 1) * H >= 0.2)
             CHECK(fabs(dBodyGetLinearVel(ball)[2]) < 0.5, "step %d: the ball at %.3f m/s", k, dBodyGetLinearVel(ball)[2]);
         worst_link = fmax(worst_link, worst_excess(core, delta));
     }
-    printf("first contact at step %d; largest gain of a later step %.3g J; ball vz at the end %.3f m/s; "
-           "worst link past the limit %.2e of it\n",
-           touched, worst_gain, dBodyGetLinearVel(ball)[2], worst_link);
+    printf("ball from %.0f mm above the shell: first contact at step %d; largest gain of a step %.3g J; ball vz "
+           "at the end %.3f m/s; worst link past the limit %.2e of it\n",
+           1e3 * start_gap, touched, worst_gain, dBodyGetLinearVel(ball)[2], worst_link);
     CHECK(touched >= 0 && touched < 3, "first contact at step %d", touched);
-    CHECK(worst_gain <= 1e-3, "a step gained %.3g J", worst_gain);
-    CHECK(worst_link <= 1e-3, "a link %.3g past the limit", worst_link);
+    CHECK(worst_gain <= 1e-3, "ball from %g m: a step gained %.3g J", start_gap, worst_gain);
+    CHECK(worst_link <= 1e-3, "ball from %g m: a link %.3g past the limit", start_gap, worst_link);
     dClothDestroy(c);
     dSpaceDestroy(sp);
     dWorldDestroy(w);
+}
+
+int main(void)
+{
+    dInitODE2(0);
+    throw_ball(0.015);
+    throw_ball(0.0);
     dCloseODE();
     return check_summary();
 }

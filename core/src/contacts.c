@@ -128,8 +128,13 @@ int contacts_release(cloth *c, const double *x, const double *b, double cfac)
         if (d2 <= lim * lim * L->rest * L->rest) continue;
         changed += release_if_pulling(c, L->i, b, 0.0) + release_if_pulling(c, L->j, b, 0.0);
     }
-    for (int i = 0; i < c->n; i++) /* elsewhere, past the contact's own pull */
-        if (c->cand_pull[i] < INFINITY) changed += release_if_pulling(c, i, b, cfac * c->cand_pull[i]);
+    /* elsewhere a plane the step made, which is unilateral, at any pull (held
+     * ahead of its surface, a pulling plane would do work on the cloth); a
+     * contact set so, past its own pull */
+    for (int i = 0; i < c->n; i++) {
+        double pull = c->cand_on[i] == 2 ? 0.0 : c->cand_pull[i];
+        if (pull < INFINITY) changed += release_if_pulling(c, i, b, cfac * pull);
+    }
     return changed;
 }
 

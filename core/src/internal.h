@@ -247,9 +247,9 @@ void contacts_land(cloth *c, const double *dv);
  * surface's plane; returns how many */
 int contacts_slide(cloth *c, const double *x);
 /* Contacts on a plane (set so, made so or let slide by the step) whose
- * force (b / cfac) pulls: at an end of a link x puts past the limit, at
- * all; elsewhere, by more than their cand_pull. Released for the step;
- * how many. */
+ * force (b / cfac) pulls: at an end of a link x puts past the limit, and a
+ * plane the step made, at all; elsewhere, by more than their cand_pull.
+ * Released for the step; how many. */
 int contacts_release(cloth *c, const double *x, const double *b, double cfac);
 /* at a step's start: planes kept from the last step stay constraints; on
  * its failure: the planes it made are candidates again */

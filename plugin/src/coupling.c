@@ -79,9 +79,10 @@ static void follow_body(dBodyID b, const double local[3], double h, double w[3],
 }
 
 /* Decide the vertex's contact for this step: none (returns 0), sticking or
- * sliding; fills its constraint and, sliding, its friction force. */
+ * sliding; fills its constraint and, sliding, its friction force. newton:
+ * the core decides contacts within its step (candidates). */
 static int contact_rule(dClothID c, int i, double h, double mass, const double g[3], vcontact *nw,
-                        const vcontact *old, cloth_constraint *k, dClothStepStats *st, int forced)
+                        const vcontact *old, cloth_constraint *k, dClothStepStats *st, int forced, int newton)
 {
     const double *x = cloth_positions(c->core) + 3 * i, *v = cloth_velocities(c->core) + 3 * i;
     const double *n = nw->normal;
@@ -110,6 +111,10 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
     nw->pinch_shift = dmid - d1;
     forced = forced || nw->pinched;
     if (!forced && nw->gap > 0.0 && nw->gap + h * vn > DCLOTH_CONTACT_SLOP * nw->thickness) return 0; /* stays apart */
+    /* apart but approaching: a candidate, which the Newton step holds only
+     * if it would end behind the surface and only while it pushes (held
+     * ahead of the surface, a pulling contact does work across the gap) */
+    if (!forced && newton && nw->gap > DCLOTH_CONTACT_SLOP * nw->thickness) return 0;
     if (!forced && nw->let_go) {
         st->released++;
         return 0;
@@ -365,6 +370,7 @@ cloth_status dClothStep(dClothID c, dReal h)
     cloth_save(core, c->save);
     double spacing = fmin(cd.width / (cd.cols - 1), cd.height / (cd.rows - 1));
     double letgo_t = cd.material.k_t * cd.material.delta * spacing;
+    int newton = cd.solver.nonlinear == CLOTH_NEWTON;
     cloth_status s = CLOTH_OK;
     int passes = 0;
     for (;;) {
@@ -393,9 +399,9 @@ cloth_status dClothStep(dClothID c, dReal h)
             /* a target the core refuses (not finite: a body's velocity
              * NaN) leaves the vertex free; a vertex left free is a
              * candidate the Newton step may hold on the surface */
-            if (!contact_rule(c, i, h, mass[i], cd.gravity, nw, &c->vc[i], &k, &st, nw->forced) ||
+            if (!contact_rule(c, i, h, mass[i], cd.gravity, nw, &c->vc[i], &k, &st, nw->forced, newton) ||
                 cloth_set_constraint(core, &k) != CLOTH_OK) {
-                candidate(c, i, h, nw, cd.solver.nonlinear == CLOTH_NEWTON);
+                candidate(c, i, h, nw, newton);
                 continue;
             }
             nw->active = 1;

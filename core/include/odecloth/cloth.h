@@ -326,7 +326,8 @@ int cloth_constraint_count(const cloth *c);
  * normal (normalised on set), `point` a point of it at the end of the step.
  * CLOTH_NEWTON decides the contact within the step: a free vertex that would
  * end behind the surface by more than h newton_tolerance is held on its
- * plane (a constraint of ndof 1); a pinned one (ndof 3: sticking) at an end
+ * plane (a constraint of ndof 1) while it pushes (it lets go if it pulls:
+ * unilateral); a pinned one (ndof 3: sticking) at an end
  * of a sequential link held past the elongation limit slides on the plane
  * (ndof 1), and a sliding one (ndof 1) there whose force pulls lets go. The
  * constraints it changes stay so after the step, undone if the step fails.
