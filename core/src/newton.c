@@ -283,7 +283,6 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         if (size != size) return CLOTH_FAIL_NAN;
         if (size <= goal && esize <= egoal) {
             potential_state(c, &q, dv);
-            if (rounds++ >= sv->newton_iterations) break; /* the limit left to the projection */
             int changed = decide_contacts(c, &q, &P, dv, xs, frac, st);
             if (changed) {
                 landing = 1;
@@ -295,8 +294,12 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
                 changed = loosened(c, &q, &P, xs, frac, contacts_slide(c, c->x_new), st);
                 if (!changed) changed = loosened(c, &q, &P, xs, frac, contacts_release(c, c->x_new, b, q.cfac), st);
             }
+            /* contact rounds end by themselves (a contact changes at most
+             * twice a step); the multipliers' rounds have a budget */
             if (changed) {
                 since = 0;
+            } else if (rounds++ >= sv->newton_iterations) {
+                break; /* the limit left to the projection */
             } else if (limit_multipliers_update(c, c->x_new, 1) <= sv->limit_tolerance) {
                 *limit_held = 1;
                 break;

@@ -138,10 +138,12 @@ typedef struct cloth_solver {
                                      sequential link went from within its
                                      limit to past 1 + 1.25 delta (0 = off).
                                      CLOTH_NEWTON: the iterations a step may
-                                     take (>= 1); not converged then, the
-                                     step fails (CLOTH_FAIL_NEWTON) and is
-                                     retried in substeps (but see
-                                     keep_unconverged)                    */
+                                     take after its contacts or the limit's
+                                     multipliers last changed, and the
+                                     multipliers' updates (>= 1); not
+                                     converged then, the step fails
+                                     (CLOTH_FAIL_NEWTON) and is retried in
+                                     substeps (but see keep_unconverged)  */
     /* How the implicit methods solve a step's nonlinear equations.
      * CLOTH_LINEARIZED (default): linearised once about the step's start
      * (Baraff-Witkin), the elongation limit by the projection after it.
