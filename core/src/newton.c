@@ -266,7 +266,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     double mt = 0.0;
     for (int i = 0; i < c->n; i++) mt += c->mass[i];
     c->coarse_kept = 0;
-    int it = 0, rounds = 0, assembled = 0, landing = 1;
+    int it = 0, limit_rounds = 0, assembled = 0, landing = 1; /* limit_rounds: the multipliers' updates so far */
     int since = 0; /* iterations since the contacts or multipliers changed */
     double phi = NAN, size = INFINITY, esize = INFINITY, t = 0.0, goal = sv->newton_tolerance, egoal = INFINITY;
     *limit_held = 0;
@@ -298,7 +298,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
              * twice a step); the multipliers' rounds have a budget */
             if (changed) {
                 since = 0;
-            } else if (rounds++ >= sv->newton_iterations) {
+            } else if (limit_rounds++ >= sv->newton_iterations) {
                 break; /* the limit left to the projection */
             } else if (limit_multipliers_update(c, c->x_new, 1) <= sv->limit_tolerance) {
                 *limit_held = 1;
