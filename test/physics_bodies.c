@@ -301,15 +301,16 @@ static void bad_input(void)
     cloth *c = make(3, 1e-3, g);
     if (!CHECK(c != NULL, "cloth created")) return;
     cloth_body good = {.mass = 1, .inertia = {1, 0, 0, 0, 1, 0, 0, 0, 1}};
-    cloth_body bad[5];
-    for (int k = 0; k < 5; k++) bad[k] = good;
+    cloth_body bad[6];
+    for (int k = 0; k < 6; k++) bad[k] = good;
     bad[0].mass = 0;
     bad[1].mass = NAN;
     bad[2].inertia[1] = 0.5; /* not symmetric */
     bad[3].inertia[0] = -1;  /* not definite */
     bad[4].force[2] = INFINITY;
+    bad[5].velocity[4] = NAN;
     CHECK(cloth_set_bodies(c, &good, 1) == CLOTH_OK, "a good body");
-    for (int k = 0; k < 5; k++) {
+    for (int k = 0; k < 6; k++) {
         CHECK(cloth_set_bodies(c, &bad[k], 1) == CLOTH_EINVAL, "bad body %d rejected", k);
         CHECK(cloth_body_count(c) == 1, "bodies unchanged after bad body %d", k);
         CHECK(strlen(cloth_last_error(c)) > 0, "message: %s", cloth_last_error(c));

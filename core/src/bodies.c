@@ -64,8 +64,9 @@ static int body_valid(const cloth_body *b, char *why, size_t len, int k)
         snprintf(why, len, "body %d: inertia must be positive definite", k);
         return 0;
     }
-    if (!finite3(b->com) || !finite3(b->force) || !finite3(b->torque)) {
-        snprintf(why, len, "body %d: com, force and torque must be finite", k);
+    if (!finite3(b->com) || !finite3(b->force) || !finite3(b->torque) || !finite3(b->velocity) ||
+        !finite3(b->velocity + 3)) {
+        snprintf(why, len, "body %d: com, force, torque and velocity must be finite", k);
         return 0;
     }
     return 1;
@@ -568,14 +569,34 @@ void bodies_newton_take(cloth *c, double t)
     for (size_t k = 0; k < 6 * nb; k++) u[k] = u1[k] + t * u[k];
 }
 
+/* Body g's residual r = rhs - M u + sum J^T P b, after bodies_reduce has
+ * put -M u + sum J^T P b in B->r */
+static void body_residual(const mpcg_bodies *B, int g, double r[6])
+{
+    for (int a = 0; a < 6; a++) r[a] = B->r[6 * g + a] + B->rhs[6 * g + a];
+}
+
+double bodies_residual_work(const cloth *c, const mpcg_problem *P, const double *b)
+{
+    const mpcg_bodies *B = P->bodies;
+    bodies_reduce(P, b, B->u, -1.0, B->r);
+    double w = 0.0;
+    for (int g = 0; g < B->nb; g++) {
+        double r[6];
+        body_residual(B, g, r);
+        for (int a = 0; a < 6; a++) w += (c->body[g].velocity[a] + B->u[6 * g + a]) * r[a];
+    }
+    return w;
+}
+
 double bodies_residual_energy(const mpcg_problem *P, const double *b)
 {
     const mpcg_bodies *B = P->bodies;
-    bodies_reduce(P, b, B->u, -1.0, B->r); /* -M u + sum J^T P b */
+    bodies_reduce(P, b, B->u, -1.0, B->r);
     double s = 0.0;
     for (int g = 0; g < B->nb; g++) {
         double r[6], Mi[36];
-        for (int a = 0; a < 6; a++) r[a] = B->r[6 * g + a] + B->rhs[6 * g + a];
+        body_residual(B, g, r);
         if (spd6_inverse(B->M + 36 * (size_t)g, Mi)) continue;
         for (int a = 0; a < 6; a++)
             for (int k = 0; k < 6; k++) s += r[a] * Mi[6 * a + k] * r[k];

@@ -231,6 +231,9 @@ double bodies_energy(const cloth *c);
 /* sum of R_g^T M_g^-1 R_g over the bodies' rows, b = -R the cloth's */
 struct mpcg_problem;
 double bodies_residual_energy(const struct mpcg_problem *P, const double *b);
+/* The bodies' residual's work at their velocities after the iterate,
+ * sum (V0 + u)^T r_g (r_g as above, unsquared; V0 cloth_body.velocity) */
+double bodies_residual_work(const cloth *c, const struct mpcg_problem *P, const double *b);
 
 /* limit_multipliers.c: both ends of a link held in full by the same thing
  * (the world, or one body): its length is their targets', no multiplier

@@ -34,7 +34,7 @@ static double dot(const double *a, const double *b, size_t n)
 mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const double *z,
                        const double *Pinv, double tol, int max_iter, double *x, double *w)
 {
-    mpcg_problem P = {A, b, S, z, Pinv, NULL, 0, NULL, NULL, tol, max_iter, NULL};
+    mpcg_problem P = {A, b, S, z, Pinv, NULL, 0, NULL, NULL, tol, max_iter, NULL, 0.0};
     return mpcg_run(&P, x, w);
 }
 
@@ -42,7 +42,7 @@ mpcg_result mpcg_solve_pc(const bsr *A, const double *b, const double *S, const 
                           const double *Dinv, mpcg_precond_fn pc, void *ctx, double tol, int max_iter,
                           double *x, double *w)
 {
-    mpcg_problem P = {A, b, S, z, Dinv, NULL, 0, pc, ctx, tol, max_iter, NULL};
+    mpcg_problem P = {A, b, S, z, Dinv, NULL, 0, pc, ctx, tol, max_iter, NULL, 0.0};
     return mpcg_run(&P, x, w);
 }
 
@@ -177,6 +177,13 @@ int mpcg_reference(const mpcg_problem *P, double *x, double *r, double *u, doubl
 {
     size_t N = 3 * (size_t)P->A->n;
     const mpcg_bodies *B = P->bodies;
+    double free_ref = INFINITY;
+    if (P->ref_floor > 0.0) {
+        memcpy(r, P->b, N * sizeof *r);
+        filter_inplace(P, r);
+        filter_apply(P->A->n, P->Dinv, r, u);
+        free_ref = fmax(dot(r, u, N), P->ref_floor);
+    }
     /* z is zero but at the constrained vertices */
     bsr_mul_cols(P->A, P->z, P->con, P->ncon, u);
     for (size_t k = 0; k < N; k++) r[k] = P->b[k] - u[k];
@@ -194,7 +201,7 @@ int mpcg_reference(const mpcg_problem *P, double *x, double *r, double *u, doubl
     }
     filter_inplace(P, r);
     filter_apply(P->A->n, P->Dinv, r, u);
-    *ref = dot(r, u, N) + bref;
+    *ref = fmin(dot(r, u, N), free_ref) + bref;
     if (!isfinite(*ref)) {
         res->failure = CLOTH_FAIL_NAN;
         return 1;

@@ -64,6 +64,9 @@ typedef struct mpcg_problem {
     double tol;
     int max_iter;
     const mpcg_bodies *bodies; /* NULL: none */
+    /* > 0: the reference is no more than |S b|_D^2 (the residual before the
+     * constrained components move to z), nor less than this */
+    double ref_floor;
 } mpcg_problem;
 
 /* bodies.c, the solver's body operations (P->bodies not NULL):

@@ -11,14 +11,13 @@
 #include "mat3.h"
 #include "mpcg.h"
 
-/* A step also ends only once its Newton step's energy norm is within this
- * fraction of its velocity change |dv|_M: the energy the iterate may hold too
- * many stays a sixteenth of what the exact step dissipates, 1/2 |dv|_M^2. */
-#define NEWTON_REL_STOP 0.25
+/* A step also ends only once the energy it can have gained, v_new . R (the
+ * residual R's work; backward Euler's potential is a convex majorant), is
+ * within this share of what the exact step dissipates, 1/2 |dv|_M^2. */
+#define NEWTON_GAIN_SHARE 0.25
 
-/* That goal is no less than this fraction of newton_tolerance: at rest
- * |dv|_M is rounding, and an error this small holds no energy that shows (a
- * cloth at rest jitters at about this RMS velocity). */
+/* That bound is no less than the kinetic energy of the cloth moving at this
+ * fraction of newton_tolerance: a cloth at rest jitters at about it. */
 #define NEWTON_REL_FLOOR 1e-4
 
 /* Solve the Newton matrix in c->A for ddv (cold start), rhs P->b, the
@@ -32,18 +31,24 @@ static mpcg_result linear_solve(cloth *c, mpcg_problem *P, double *ddv)
     return r;
 }
 
+/* The free part of vertex i's residual, S_i b_i (b_i where unconstrained) */
+static void free_part(const cloth *c, int i, const double *b, double e[3])
+{
+    const double *Si = c->S + 9 * (size_t)i, *bi = b + 3 * (size_t)i;
+    for (int r = 0; r < 3; r++)
+        e[r] = c->con[i].ndof ? Si[3 * r] * bi[0] + Si[3 * r + 1] * bi[1] + Si[3 * r + 2] * bi[2] : bi[r];
+}
+
 /* The residual's size: sqrt((|S R|^2_{M^-1} + the bodies' |R_g|^2_{M_g^-1})
  * / cloth mass), an RMS velocity (m/s); b = -R. */
 static double residual_norm(cloth *c, const mpcg_problem *P, const double *b)
 {
     double s = 0.0, mt = 0.0;
     for (int i = 0; i < c->n; i++) {
-        const double *Si = c->S + 9 * (size_t)i, *bi = b + 3 * (size_t)i;
+        double e[3];
+        free_part(c, i, b, e);
         mt += c->mass[i];
-        for (int r = 0; r < 3; r++) {
-            double e = c->con[i].ndof ? Si[3 * r] * bi[0] + Si[3 * r + 1] * bi[1] + Si[3 * r + 2] * bi[2] : bi[r];
-            s += e * e / c->mass[i];
-        }
+        s += (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) / c->mass[i];
     }
     if (P->bodies) s += bodies_residual_energy(P, b);
     return sqrt(s / mt);
@@ -159,30 +164,32 @@ static double step_norm(const cloth *c, const mpcg_problem *P, const double *ddv
     return sqrt(s / mt);
 }
 
-/* Its size in the Newton matrix's norm (+ the bodies' M_g), m/s: an iterate that far from the
- * solution holds about half its square times the cloth's mass of energy too many, the stiff
- * links' share included, which the mass norm misses. c->y gets A ddv. */
-static double energy_norm(cloth *c, const mpcg_problem *P, const double *ddv, double mt)
+/* Whether the iterate dv (b = -R there, assembled) can have gained no more
+ * energy than NEWTON_GAIN_SHARE of what the exact step dissipates: the work
+ * of R's free part at v_new, and of each held body's at its velocity. */
+static int energy_bounded(const cloth *c, const mpcg_problem *P, const double *b, const double *dv, double mt)
 {
-    double s = 0.0;
-    bsr_mul(&c->A, ddv, c->y);
-    for (size_t k = 0; k < 3 * (size_t)c->n; k++) s += ddv[k] * c->y[k];
-    if (P->bodies) s += bodies_step_energy(c);
-    return sqrt(fmax(0.0, s) / mt);
-}
-
-/* What the Newton step's energy norm must come within at dv. */
-static double energy_goal(const cloth *c, const double *dv, double mt)
-{
-    return fmax(NEWTON_REL_STOP * dv_size(c, dv, mt), NEWTON_REL_FLOOR * c->desc.solver.newton_tolerance);
+    double work = 0.0, diss = 0.0, tol = NEWTON_REL_FLOOR * c->desc.solver.newton_tolerance;
+    for (int i = 0; i < c->n; i++) {
+        const double *vi = c->v_new + 3 * (size_t)i, *d = dv + 3 * (size_t)i;
+        double e[3];
+        free_part(c, i, b, e);
+        work += vi[0] * e[0] + vi[1] * e[1] + vi[2] * e[2];
+        diss += 0.5 * c->mass[i] * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    }
+    if (P->bodies) {
+        work += bodies_residual_work(c, P, b);
+        diss += 0.5 * bodies_step_energy(c);
+    }
+    double gain = -work;
+    return gain <= NEWTON_GAIN_SHARE * diss + 0.5 * mt * tol * tol;
 }
 
 /* One Newton iteration from dv (b = -R there): solve, search (not on the first, which lands the
- * constraints), take. *size and *esize get the full step's size and energy norm; returns the
- * CG's failure (NONE, or a cut-short solve's, still used). */
+ * constraints), take. *size gets the full step's size; returns the CG's failure (NONE, or a
+ * cut-short solve's, still used). */
 static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *P, double *dv, double *phi,
-                                      int first, double mt, double *t_out, double *size, double *esize,
-                                      cloth_step_stats *st)
+                                      int first, double *t_out, double *size, cloth_step_stats *st)
 {
     size_t n3 = 3 * (size_t)c->n;
     double *ddv = c->ddv;
@@ -195,7 +202,6 @@ static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *
         return r.failure == CLOTH_FAIL_NONE ? CLOTH_FAIL_NAN : r.failure;
     }
     *size = step_norm(c, P, ddv);
-    *esize = energy_norm(c, P, ddv, mt);
     double t = 1.0;
     if (!first) {
         double slope = 0.0, phi1;
@@ -260,32 +266,35 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     memcpy(c->lim_shift, c->st.lim_shift, (size_t)c->n_seq * sizeof *c->lim_shift);
     limit_multipliers_begin(c);
     mpcg_problem P = {&c->A, b, c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL,
-                      sv->newton_cg_tolerance, sv->cg_max_iterations, NULL};
+                      sv->newton_cg_tolerance, sv->cg_max_iterations, NULL, 0.0};
     mpcg_bodies bodies;
     P.bodies = bodies_prepare(c, h, q.cfac, &bodies);
     double mt = 0.0;
     for (int i = 0; i < c->n; i++) mt += c->mass[i];
+    /* a landing's solve needs the residual it leaves no smaller than the one
+     * before it, nor than newton_tolerance's (inexact Newton's forcing) */
+    P.ref_floor = mt * pow(sv->newton_tolerance / sv->newton_cg_tolerance, 2);
     c->coarse_kept = 0;
     int it = 0, limit_rounds = 0, assembled = 0, landing = 1; /* limit_rounds: the multipliers' updates so far */
     int since = 0; /* iterations since the contacts or multipliers changed */
-    double phi = NAN, size = INFINITY, esize = INFINITY, t = 0.0, goal = sv->newton_tolerance, egoal = INFINITY;
+    double phi = NAN, size = INFINITY, rn = INFINITY, t = 0.0, goal = sv->newton_tolerance;
+    int conv = 0, pending = !landed; /* pending: constraints the iterate has not landed */
     *limit_held = 0;
-    potential_state(c, &q, dv);
     for (;;) {
-        if (!assembled) potential_assemble(c, &q, dv, b);
-        assembled = 1;
-        goal = sv->newton_tolerance;
-        egoal = energy_goal(c, dv, mt);
-        if (it == 0 && landed) { /* the residual bounds the step's size, both norms */
-            size = esize = residual_norm(c, &P, b);
-            goal = egoal = warm_goal(c, dv, mt);
-        }
-        if (size != size) return CLOTH_FAIL_NAN;
-        if (size <= goal && esize <= egoal) {
+        if (!assembled) { /* the residual at dv, and whether it is small enough */
             potential_state(c, &q, dv);
+            potential_assemble(c, &q, dv, b);
+            assembled = 1;
+            rn = residual_norm(c, &P, b);
+            goal = it == 0 && landed ? warm_goal(c, dv, mt) : sv->newton_tolerance;
+            if (it == 0) size = rn; /* no step taken yet: the residual bounds it */
+            conv = !pending && fmin(size, rn) <= goal && energy_bounded(c, &P, b, dv, mt);
+        }
+        if (rn != rn) return CLOTH_FAIL_NAN;
+        if (conv) {
             int changed = decide_contacts(c, &q, &P, dv, xs, frac, st);
             if (changed) {
-                landing = 1;
+                landing = pending = 1;
                 landed = 0; /* the residual no longer bounds the step */
             } else {
                 /* sticking contacts that hold a link past the limit slide;
@@ -309,39 +318,37 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
             }
             phi = NAN; /* the potential changed with the multipliers or contacts */
             assembled = 0;
-            size = esize = INFINITY;
+            size = INFINITY;
             continue;
         }
         if (since >= sv->newton_iterations) break;
+        if (it > 0 && !landing && decide_contacts(c, &q, &P, dv, xs, frac, st)) {
+            landing = pending = 1;
+            phi = NAN;
+            since = 0;
+        }
         if (phi != phi && it > 0)
             phi = potential_value(c, &q, dv, c->xt, c->vt) + (P.bodies ? bodies_energy(c) : 0.0);
-        cloth_failure f = newton_iteration(c, &q, &P, dv, &phi, landing, mt, &t, &size, &esize, st);
+        cloth_failure f = newton_iteration(c, &q, &P, dv, &phi, landing, &t, &size, st);
         if (landing) memset(c->z, 0, 3 * (size_t)c->n * sizeof *c->z); /* the constraints landed */
-        landing = 0;
+        landing = pending = 0;
         it++;
         since++;
+        assembled = 0;
         if (f == CLOTH_FAIL_NAN || f == CLOTH_FAIL_CG_INDEFINITE) return f;
-        goal = sv->newton_tolerance;
-        egoal = energy_goal(c, dv, mt);
-        if (size > goal || esize > egoal) {
-            potential_state(c, &q, dv);
-            assembled = 0;
-            if (decide_contacts(c, &q, &P, dv, xs, frac, st)) {
-                landing = 1;
-                phi = NAN;
-                since = 0;
-            }
-        }
     }
     st->newton += it;
-    st->newton_residual = size;
+    st->newton_residual = fmin(size, rn);
     st->newton_goal = goal;
-    if (size != size) return CLOTH_FAIL_NAN;
-    if (!(size <= goal && esize <= egoal)) {
-        constraint_forces(c, b, c->ddv, 0.0, q.cfac); /* b is assembled at the last iterate */
+    if (!assembled) { /* the budget ran out after an iteration: b at the last iterate */
+        potential_state(c, &q, dv);
+        potential_assemble(c, &q, dv, b);
+    }
+    if (!conv) {
+        constraint_forces(c, b, c->ddv, 0.0, q.cfac);
         return CLOTH_FAIL_NEWTON;
     }
-    balance_momentum(c, &q, dv, it > 0 && assembled ? t : 0.0);
-    constraint_forces(c, b, c->ddv, 1.0, q.cfac);
+    balance_momentum(c, &q, dv, 0.0);
+    constraint_forces(c, b, c->ddv, 0.0, q.cfac);
     return CLOTH_FAIL_NONE;
 }

@@ -268,6 +268,8 @@ static int coupled_body(dClothID c, dBodyID b)
         d->com[r] = pos[r];
         d->force[r] = F[r] + m.mass * g[r];
         d->torque[r] = T[r];
+        d->velocity[r] = dBodyGetLinearVel(b)[r];
+        d->velocity[3 + r] = dBodyGetAngularVel(b)[r];
     }
     c->bodies[c->nbodies] = b;
     return c->nbodies++;

@@ -152,14 +152,16 @@ typedef struct cloth_solver {
      * compressed links' push, along the links' directions frozen over the
      * step (backward Euler: at x0, so that no exact step gains energy;
      * BDF2: at x0 + h v0, for its order), which makes the potential convex
-     * and its Hessian A the Newton matrix. A step ends when the Newton
+     * and its Hessian A the Newton matrix. A step ends when the last Newton
      * step's size sqrt(ddv^T M ddv / cloth mass) (+ the bodies'; an RMS
-     * velocity correction) is within newton_tolerance and its energy norm
-     * sqrt(ddv^T A ddv / cloth mass) within a quarter of the step's
-     * velocity change |dv| (same norm; but not below 1e-4 newton_tolerance),
-     * so an inexact step cannot add energy that shows (the warm start is
-     * kept without a solve only when the residual's bound on both is
-     * within newton_tolerance and newton_rtol |dv|, |dv| the warm start's
+     * velocity correction), or the residual R's sqrt(R^T M^-1 R / cloth
+     * mass), is within newton_tolerance; when the energy the iterate can
+     * have gained, v_new . R (+ each held body's, at its new velocity), is within
+     * a quarter of what the exact step dissipates, |dv|_M^2 / 2 (but not
+     * below the kinetic energy at 1e-4 newton_tolerance), so an inexact
+     * step adds no energy that shows (the warm start is kept without a
+     * solve only when its residual is within newton_tolerance and
+     * newton_rtol |dv|, |dv| the warm start's
      * velocity change), and no sequential link is past its limit
      * (1 + delta) l0 by more than limit_tolerance of it: the limit is a
      * constraint held by multipliers (augmented Lagrangian on the k_delta
@@ -179,7 +181,11 @@ typedef struct cloth_solver {
                                      linear solves stop here, in cg_tolerance's
                                      norm (which they do not use): an
                                      inexact Newton step, the next
-                                     iterations correcting what it leaves  */
+                                     iterations correcting what it leaves;
+                                     relative to the residual with the
+                                     constraints landed or, if smaller, the
+                                     one before (but not below a residual of
+                                     newton_tolerance's size)              */
     int keep_unconverged;         /* 0 (default) or 1. CLOTH_NEWTON: 1 keeps
                                      the last iterate of a solve that runs
                                      out of newton_iterations at the
@@ -366,6 +372,9 @@ typedef struct cloth_body {
     double force[3];   /* N, everything but the cloth acting on the body
                           during the step (gravity, the user's forces) */
     double torque[3];  /* N m, about com, likewise */
+    double velocity[6];/* m/s then rad/s (about com): the body's velocity at
+                          the start of the step, which bounds the work an
+                          inexact Newton step does on it (zeros: at rest) */
 } cloth_body;
 
 /* Replace the bodies (count 0: none). Rejected, with nothing changed, when
