@@ -43,6 +43,10 @@
  * step's dv agrees (1e-10 relative) with the dense reduced solve of the
  * step's own A, b, z (left in the cloth's workspace, internal.h). Also on a
  * 9 x 9 cloth with each preconditioner (block, Jacobi, multigrid).
+ * A landing (pins moved far, z large, against a small b): with
+ * mpcg_problem.ref_floor the solve leaves at most 2 tol of |S b|_P, which
+ * without it (tol of |S (b - A z)|_P) it does not; a floor above the
+ * landing's reference changes nothing.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -575,6 +579,59 @@ static void all_constrained(const sys *s, rng *g)
     free(w);
 }
 
+/* A landing: pinned vertices moved far (z large) against a small b. With
+ * ref_floor set, the reference is no more than |S b|^2 (nor less than the
+ * floor), so the solve leaves no more than tol of the residual before the
+ * landing; without it, tol of the landing's own |S (b - A z)|, which here
+ * is far more. A floor above the landing's reference changes nothing. */
+static void landing_reference(const sys *s, rng *g)
+{
+    int n = s->n, N = s->N;
+    double *S = malloc(sizeof(double) * 9 * n), *z = calloc((size_t)N, sizeof *z), *b = malloc(sizeof(double) * N);
+    double *P = malloc(sizeof(double) * 9 * n), *x = malloc(sizeof(double) * N), *w = malloc(sizeof(double) * 8 * N);
+    double *r = malloc(sizeof(double) * N), *Az = malloc(sizeof(double) * N);
+    const double axis[3] = {0, 0, 1}, tol = 1e-3;
+    for (int i = 0; i < n; i++) {
+        int pin = i % 3 == 0;
+        filter_block(pin ? PIN : FREE, axis, S + 9 * i);
+        for (int a = 0; a < 3; a++) z[3 * i + a] = pin ? rng_range(g, -1e3, 1e3) : 0.0;
+    }
+    for (int k = 0; k < N; k++) b[k] = rng_range(g, -1, 1);
+    make_precond(&s->A, S, 1, P);
+    bsr_mul(&s->A, z, Az);
+    for (int k = 0; k < N; k++) r[k] = b[k] - Az[k];
+    double before = pnorm2(n, S, P, b), landing = pnorm2(n, S, P, r);
+    CHECK(landing > 1e4 * before, "the test's premise: the landing's residual %.3g against %.3g before", landing,
+          before);
+    double left[3];
+    int iters[3];
+    const double floors[3] = {0.0, 1e-300, 1e3 * landing};
+    for (int v = 0; v < 3; v++) {
+        mpcg_problem pr = {&s->A, b, S, z, P, NULL, 0, NULL, NULL, tol, 10 * N, NULL, floors[v]};
+        memset(x, 0, sizeof(double) * N);
+        mpcg_result res = mpcg_run(&pr, x, w);
+        CHECK(res.failure == CLOTH_FAIL_NONE, "landing (floor %g): failure %d", floors[v], (int)res.failure);
+        bsr_mul(&s->A, x, r);
+        for (int k = 0; k < N; k++) r[k] = b[k] - r[k];
+        left[v] = sqrt(pnorm2(n, S, P, r));
+        iters[v] = res.iterations;
+    }
+    printf("landing: residual left %.3g (no cap, %d iterations), %.3g (capped, %d), %.3g (floor above, %d); "
+           "before the landing %.3g\n", left[0], iters[0], left[1], iters[1], left[2], iters[2], sqrt(before));
+    CHECK(left[1] <= 2 * tol * sqrt(before), "capped: %.3g left, over 2 tol of %.3g", left[1], sqrt(before));
+    CHECK(left[0] > 2 * tol * sqrt(before), "uncapped: %.3g left, within 2 tol of %.3g (the cap untested)", left[0],
+          sqrt(before));
+    CHECK(iters[2] == iters[0] && left[2] == left[0], "a floor above the landing's reference changed the solve");
+    free(S);
+    free(z);
+    free(b);
+    free(P);
+    free(x);
+    free(w);
+    free(r);
+    free(Az);
+}
+
 /* ---------------------------------------------------------- a real cloth */
 
 static void cloth_case(cloth_method method, cloth_precond precond, int R, rng *g)
@@ -672,6 +729,8 @@ int main(void)
                    grids[t][0], grids[t][1], mix < 0 ? "mixed" : kind_name[mix], it[0], it[1], it[2], it[3], it[4]);
         }
         all_constrained(&s, &g);
+        rng gl = rng_seed(0x6c616e64u + (unsigned)t); /* its own draws: the other cases' stay as they were */
+        landing_reference(&s, &gl);
         if (t == 0) not_definite(&s, &g);
         free_system(&s);
     }
