@@ -73,18 +73,17 @@ static double line_search(cloth *c, const step_eq *q, const double *dv, const do
     return t;
 }
 
-/* Constraint forces at the solution, R = -b + t A ddv there (the linear
- * model of the last step t ddv; t 0: none): the constrained components of
- * R are the impulse the constraints applied, cfac f_c. */
-static void constraint_forces(cloth *c, const double *b, const double *ddv, double t, double cfac)
+/* Constraint forces at the iterate, R = -b (assembled there): the
+ * constrained components of R are the impulse the constraints applied,
+ * cfac f_c. */
+static void constraint_forces(cloth *c, const double *b, double cfac)
 {
-    if (t != 0.0 && c->n_con) bsr_mul_rows(&c->A, ddv, c->clist, c->n_con, c->y);
     for (int i = 0; i < c->n; i++) {
         double *f = c->con_new + 3 * (size_t)i, R[3];
         f[0] = f[1] = f[2] = 0.0;
         if (c->con[i].ndof == 0) continue;
         const double *Si = c->S + 9 * (size_t)i;
-        for (int r = 0; r < 3; r++) R[r] = -b[3 * i + r] + (t != 0.0 ? t * c->y[3 * i + r] : 0.0);
+        for (int r = 0; r < 3; r++) R[r] = -b[3 * i + r];
         for (int r = 0; r < 3; r++)
             f[r] = (R[r] - (Si[3 * r] * R[0] + Si[3 * r + 1] * R[1] + Si[3 * r + 2] * R[2])) / cfac;
     }
@@ -92,20 +91,15 @@ static void constraint_forces(cloth *c, const double *b, const double *ddv, doub
 
 /* A free cloth's converged step keeps linear momentum exactly: the sum of
  * the residual the solves leave goes by one rigid velocity change (no link
- * feels it); not with constraints or air drag. ddv becomes t ddv plus it. */
-static void balance_momentum(cloth *c, const step_eq *q, double *dv, double t)
+ * feels it); not with constraints or air drag. */
+static void balance_momentum(cloth *c, const step_eq *q, double *dv)
 {
-    size_t n3 = 3 * (size_t)c->n;
-    double *ddv = c->ddv, W[3], mt = 0.0;
-    for (size_t k = 0; k < n3; k++) ddv[k] *= t;
+    double W[3], mt = 0.0;
     if (c->n_con || air_on(c)) return;
     potential_momentum_residual(c, q, dv, W);
     for (int i = 0; i < c->n; i++) mt += c->mass[i];
     if (!(mt > 0.0)) return;
-    for (size_t k = 0; k < n3; k++) {
-        dv[k] -= W[k % 3] / mt;
-        ddv[k] -= W[k % 3] / mt;
-    }
+    for (size_t k = 0; k < 3 * (size_t)c->n; k++) dv[k] -= W[k % 3] / mt;
     potential_state(c, q, dv); /* x_new, v_new, which the step commits */
 }
 
@@ -189,11 +183,10 @@ static int energy_bounded(const cloth *c, const mpcg_problem *P, const double *b
  * constraints), take. *size gets the full step's size; returns the CG's failure (NONE, or a
  * cut-short solve's, still used). */
 static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *P, double *dv, double *phi,
-                                      int first, double *t_out, double *size, cloth_step_stats *st)
+                                      int first, double *size, cloth_step_stats *st)
 {
     size_t n3 = 3 * (size_t)c->n;
     double *ddv = c->ddv;
-    *t_out = 0.0;
     mpcg_result r = linear_solve(c, P, ddv);
     st->iterations += r.iterations;
     if (!(st->residual >= r.residual)) st->residual = r.residual;
@@ -215,7 +208,6 @@ static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *
     }
     for (size_t k = 0; k < n3; k++) dv[k] += t * ddv[k];
     if (P->bodies) bodies_newton_take(c, t);
-    *t_out = t;
     return r.failure;
 }
 
@@ -277,7 +269,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     c->coarse_kept = 0;
     int it = 0, limit_rounds = 0, assembled = 0, landing = 1; /* limit_rounds: the multipliers' updates so far */
     int since = 0; /* iterations since the contacts or multipliers changed */
-    double phi = NAN, size = INFINITY, rn = INFINITY, t = 0.0, goal = sv->newton_tolerance;
+    double phi = NAN, size = INFINITY, rn = INFINITY, goal = sv->newton_tolerance;
     int conv = 0, pending = !landed; /* pending: constraints the iterate has not landed */
     *limit_held = 0;
     for (;;) {
@@ -329,7 +321,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         }
         if (phi != phi && it > 0)
             phi = potential_value(c, &q, dv, c->xt, c->vt) + (P.bodies ? bodies_energy(c) : 0.0);
-        cloth_failure f = newton_iteration(c, &q, &P, dv, &phi, landing, &t, &size, st);
+        cloth_failure f = newton_iteration(c, &q, &P, dv, &phi, landing, &size, st);
         if (landing) memset(c->z, 0, 3 * (size_t)c->n * sizeof *c->z); /* the constraints landed */
         landing = pending = 0;
         it++;
@@ -345,10 +337,10 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         potential_assemble(c, &q, dv, b);
     }
     if (!conv) {
-        constraint_forces(c, b, c->ddv, 0.0, q.cfac);
+        constraint_forces(c, b, q.cfac);
         return CLOTH_FAIL_NEWTON;
     }
-    balance_momentum(c, &q, dv, 0.0);
-    constraint_forces(c, b, c->ddv, 0.0, q.cfac);
+    balance_momentum(c, &q, dv);
+    constraint_forces(c, b, q.cfac);
     return CLOTH_FAIL_NONE;
 }
