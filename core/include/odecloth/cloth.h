@@ -155,7 +155,7 @@ typedef struct cloth_solver {
      * and its Hessian A the Newton matrix. A step ends when the last Newton
      * step's size sqrt(ddv^T M ddv / cloth mass) (+ the bodies'; an RMS
      * velocity correction), or the residual R's sqrt(R^T M^-1 R / cloth
-     * mass), is within newton_tolerance; when the energy the iterate can
+     * mass), is within newton_tolerance, and the energy the iterate can
      * have gained, v_new . R (+ each held body's, at its new velocity), is within
      * a quarter of what the exact step dissipates, |dv|_M^2 / 2 (but not
      * below the kinetic energy at 1e-4 newton_tolerance), so an inexact
