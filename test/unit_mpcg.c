@@ -587,9 +587,8 @@ static void all_constrained(const sys *s, rng *g)
 static void landing_reference(const sys *s, rng *g)
 {
     int n = s->n, N = s->N;
-    double *S = malloc(sizeof(double) * 9 * n), *z = calloc((size_t)N, sizeof *z), *b = malloc(sizeof(double) * N);
-    double *P = malloc(sizeof(double) * 9 * n), *x = malloc(sizeof(double) * N), *w = malloc(sizeof(double) * 8 * N);
-    double *r = malloc(sizeof(double) * N), *Az = malloc(sizeof(double) * N);
+    double *buf = calloc(19 * (size_t)N, sizeof *buf); /* S, P (3N each), z, b, x, r, Az (N each), w (8N) */
+    double *S = buf, *P = S + 3 * N, *z = P + 3 * N, *b = z + N, *x = b + N, *r = x + N, *Az = r + N, *w = Az + N;
     const double axis[3] = {0, 0, 1}, tol = 1e-3;
     for (int i = 0; i < n; i++) {
         int pin = i % 3 == 0;
@@ -622,14 +621,7 @@ static void landing_reference(const sys *s, rng *g)
     CHECK(left[0] > 2 * tol * sqrt(before), "uncapped: %.3g left, within 2 tol of %.3g (the cap untested)", left[0],
           sqrt(before));
     CHECK(iters[2] == iters[0] && left[2] == left[0], "a floor above the landing's reference changed the solve");
-    free(S);
-    free(z);
-    free(b);
-    free(P);
-    free(x);
-    free(w);
-    free(r);
-    free(Az);
+    free(buf);
 }
 
 /* ---------------------------------------------------------- a real cloth */

@@ -40,14 +40,13 @@ static void free_part(const cloth *c, int i, const double *b, double e[3])
 }
 
 /* The residual's size: sqrt((|S R|^2_{M^-1} + the bodies' |R_g|^2_{M_g^-1})
- * / cloth mass), an RMS velocity (m/s); b = -R. */
-static double residual_norm(cloth *c, const mpcg_problem *P, const double *b)
+ * / mt), an RMS velocity (m/s); b = -R, mt the cloth's mass. */
+static double residual_norm(const cloth *c, const mpcg_problem *P, const double *b, double mt)
 {
-    double s = 0.0, mt = 0.0;
+    double s = 0.0;
     for (int i = 0; i < c->n; i++) {
         double e[3];
         free_part(c, i, b, e);
-        mt += c->mass[i];
         s += (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) / c->mass[i];
     }
     if (P->bodies) s += bodies_residual_energy(P, b);
@@ -263,8 +262,8 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     P.bodies = bodies_prepare(c, h, q.cfac, &bodies);
     double mt = 0.0;
     for (int i = 0; i < c->n; i++) mt += c->mass[i];
-    /* a landing's solve needs the residual it leaves no smaller than the one
-     * before it, nor than newton_tolerance's (inexact Newton's forcing) */
+    /* a landing's solve is measured against the residual before it where
+     * that is smaller (inexact Newton's forcing), down to newton_tolerance's */
     P.ref_floor = mt * pow(sv->newton_tolerance / sv->newton_cg_tolerance, 2);
     c->coarse_kept = 0;
     int it = 0, limit_rounds = 0, assembled = 0, landing = 1; /* limit_rounds: the multipliers' updates so far */
@@ -277,7 +276,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
             potential_state(c, &q, dv);
             potential_assemble(c, &q, dv, b);
             assembled = 1;
-            rn = residual_norm(c, &P, b);
+            rn = residual_norm(c, &P, b, mt);
             goal = it == 0 && landed ? warm_goal(c, dv, mt) : sv->newton_tolerance;
             if (it == 0) size = rn; /* no step taken yet: the residual bounds it */
             conv = !pending && fmin(size, rn) <= goal && energy_bounded(c, &P, b, dv, mt);
@@ -332,11 +331,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     st->newton += it;
     st->newton_residual = fmin(size, rn);
     st->newton_goal = goal;
-    if (!assembled) { /* the budget ran out after an iteration: b at the last iterate */
-        potential_state(c, &q, dv);
-        potential_assemble(c, &q, dv, b);
-    }
-    if (!conv) {
+    if (!conv) { /* b is assembled at the last iterate: every exit follows an assembly */
         constraint_forces(c, b, q.cfac);
         return CLOTH_FAIL_NEWTON;
     }
