@@ -140,7 +140,6 @@ struct cloth {
     unsigned char *cflag;      /* n: vertex constrained (filter needed) */
     int *clist;                /* n_con: the constrained vertices, ascending */
     multigrid mg;              /* levels sized at creation */
-    int coarse_kept;           /* 1: its coarse levels fit this Newton step's constraints */
     double *con_new;           /* 3n: constraint forces of the step being taken */
     double *pre;               /* 9n: preconditioner blocks */
     double *S;                 /* 9n: per-vertex filter (I - constrained projector) */

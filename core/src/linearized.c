@@ -172,7 +172,7 @@ cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, do
                       sv->cg_tolerance, sv->cg_max_iterations, NULL, 0.0};
     mpcg_bodies bodies;
     P.bodies = bodies_prepare(c, h, cfac, &bodies);
-    mpcg_result r = linsolve_run(c, &P, c->dv, 0);
+    mpcg_result r = linsolve_run(c, &P, c->dv);
     st->iterations += r.iterations;
     if (!(st->residual >= r.residual)) st->residual = r.residual;
     if (r.failure != CLOTH_FAIL_NONE) return r.failure;
@@ -252,7 +252,7 @@ cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, do
         memset(c->z, 0, n3 * sizeof *c->z);
         memset(ddv, 0, n3 * sizeof *ddv);
         bodies_newton_begin(c);
-        mpcg_result r2 = linsolve_run(c, &P, ddv, 0);
+        mpcg_result r2 = linsolve_run(c, &P, ddv);
         bodies_newton_take(c, r2.failure == CLOTH_FAIL_NONE ? 1.0 : 0.0);
         st->iterations += r2.iterations;
         st->newton++;

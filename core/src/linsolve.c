@@ -40,7 +40,7 @@ static void jacobi_apply(void *ctx, const double *r, double *s)
     for (size_t k = 0; k < 3 * (size_t)j->n; k++) s[k] = j->d[k] * r[k];
 }
 
-mpcg_result linsolve_run(cloth *c, mpcg_problem *P, double *x, int keep_coarse)
+mpcg_result linsolve_run(cloth *c, mpcg_problem *P, double *x)
 {
     const cloth_solver *sv = &c->desc.solver;
     jacobi_ctx j = {c->n, c->jac};
@@ -48,8 +48,7 @@ mpcg_result linsolve_run(cloth *c, mpcg_problem *P, double *x, int keep_coarse)
     P->pc = NULL;
     P->ctx = NULL;
     if (sv->precond == CLOTH_PRECOND_MULTIGRID) {
-        if (keep_coarse) mg_refresh_fine(&c->mg, &c->A, c->S, c->cflag, c->pre);
-        else mg_setup(&c->mg, &c->A, c->S, c->cflag, c->pre);
+        mg_setup(&c->mg, &c->A, c->S, c->cflag, c->pre);
         P->pc = mg_apply;
         P->ctx = &c->mg;
     } else if (sv->precond == CLOTH_PRECOND_JACOBI) {

@@ -7,9 +7,8 @@
 #include "internal.h"
 #include "mpcg.h"
 
-/* x: in, the guess for the free components; out, the solution.
- * keep_coarse: 1 if the constraints are those of the last solve, so the
- * multigrid may keep its coarse levels (a Newton step's later iterations). */
-mpcg_result linsolve_run(cloth *c, mpcg_problem *P, double *x, int keep_coarse);
+/* x: in, the guess for the free components; out, the solution. The
+ * multigrid's coarse levels are built anew from c->A for every solve. */
+mpcg_result linsolve_run(cloth *c, mpcg_problem *P, double *x);
 
 #endif

@@ -6,8 +6,9 @@
  * How (as measured on the prototype in DESIGN.md):
  *  - coarsen by two in each grid direction (node 2I of a level is node I of
  *    the next), bilinear prolongation W, restriction W^T;
- *  - Galerkin coarse operators W^T A W rebuilt every step (springs rotate, so
- *    reusing them across steps costs iterations);
+ *  - Galerkin coarse operators W^T A W rebuilt for every solve: a Newton
+ *    iterate can put thousands of links on another branch of their law,
+ *    and coarse levels kept from an earlier matrix then cost iterations;
  *  - constraints removed before coarsening: the fine operator coarsened is
  *    S A S (Tamstorf, Jones, McCormick 2015), and the fine smoother works on
  *    S A S + (I - S), so the coarse levels never fight a constraint;
@@ -372,18 +373,6 @@ static int row_symmetric(const bsr *A, const double *Dinv, int i)
     int sym = mat3_is_sym(Dinv + 9 * (size_t)i);
     for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++) sym = sym && mat3_is_sym(A->val + 9 * (size_t)k);
     return sym;
-}
-
-void mg_refresh_fine(multigrid *mg, const bsr *A, const double *S, const unsigned char *constrained,
-                     double *Dinv0)
-{
-    if (mg->nlev == 1) { /* the dense level is the fine one: no coarse part to keep */
-        mg_setup(mg, A, S, constrained, Dinv0);
-        return;
-    }
-    mg->A0 = A;
-    mg->lev[0].Dinv = Dinv0;
-    for (int i = 0; i < A->n; i++) mg->lev[0].symrow[i] = (unsigned char)row_symmetric(A, Dinv0, i);
 }
 
 void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char *constrained, double *Dinv0)

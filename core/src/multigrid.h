@@ -51,12 +51,6 @@ void mg_free(multigrid *mg);
 void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char *constrained,
               double *Dinv0);
 
-/* The fine level alone, the coarse levels kept from the last mg_setup: for
- * a matrix that changed but kept its filter (a Newton step's iterations).
- * The cycle stays symmetric positive definite, only a weaker one. */
-void mg_refresh_fine(multigrid *mg, const bsr *A, const double *S, const unsigned char *constrained,
-                     double *Dinv0);
-
 /* s = V(r): one V(1,1)-cycle, forward block Gauss-Seidel before and backward
  * after the coarse correction, so the operator is symmetric and positive
  * definite (a valid CG preconditioner). ctx is the multigrid. */

@@ -26,9 +26,7 @@ static mpcg_result linear_solve(cloth *c, mpcg_problem *P, double *ddv)
 {
     memset(ddv, 0, 3 * (size_t)c->n * sizeof *ddv);
     if (P->bodies) bodies_newton_begin(c);
-    mpcg_result r = linsolve_run(c, P, ddv, c->coarse_kept);
-    c->coarse_kept = 1;
-    return r;
+    return linsolve_run(c, P, ddv);
 }
 
 /* The free part of vertex i's residual, S_i b_i (b_i where unconstrained) */
@@ -211,12 +209,11 @@ static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *
 }
 
 /* The constraints again after the contacts changed (contacts.c): the
- * filter and targets, and the multigrid's coarse levels with them. */
+ * filter and targets. */
 static void contacts_changed(cloth *c, const step_eq *q, mpcg_problem *P, const double *xs, double frac, int n,
                              cloth_step_stats *st)
 {
     st->contacts_decided += n;
-    c->coarse_kept = 0;
     constraints_build(c, q->a, c->st.v, q->cfac, xs, frac);
     P->ncon = c->n_con;
 }
@@ -265,7 +262,6 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     /* a landing's solve is measured against the residual before it where
      * that is smaller (inexact Newton's forcing), down to newton_tolerance's */
     P.ref_floor = mt * pow(sv->newton_tolerance / sv->newton_cg_tolerance, 2);
-    c->coarse_kept = 0;
     int it = 0, limit_rounds = 0, assembled = 0, landing = 1; /* limit_rounds: the multipliers' updates so far */
     int since = 0; /* iterations since the contacts or multipliers changed */
     double phi = NAN, size = INFINITY, rn = INFINITY, goal = sv->newton_tolerance;
