@@ -16,11 +16,11 @@
  * floor and the limit holds; pulled 0.1 mm, none slides. One edge lifted
  * 10 cm in a step: the floor's planes under the vertices next to it, pulling
  * them down against links past the limit, let go, and the limit holds.
- * A cloth held on the floor by sliding contacts, no gravity, each vertex
- * pulled up by m_i a (a rigid acceleration): with a pull limit
- * (cloth_set_contact_pull) over m_i a, or none, the contacts hold it
- * (z 0, each pulling m_i a back); under it they let go within the step
- * and the cloth moves off rigidly, v = a h (closed forms).
+ * A cloth held on the floor by sliding contacts, or by sticking ones, no
+ * gravity, each vertex pulled up by m_i a (a rigid acceleration): with a
+ * pull limit (cloth_set_contact_pull) over m_i a, or none, the contacts
+ * hold it (z 0, each pulling m_i a back); under it they let go within the
+ * step and the cloth moves off rigidly, v = a h (closed forms).
  * Bad candidates and pull limits are refused naming the argument, the cloth
  * unchanged.
  */
@@ -247,8 +247,9 @@ static void lifted(double lift)
     cloth_destroy(c);
 }
 
-/* limit: the pull limit over m_i a (< 0: none set) */
-static void pull_limited(double limit)
+/* limit: the pull limit over m_i a (< 0: none set); ndof: 1 sliding
+ * contacts, 3 sticking */
+static void pull_limited(double limit, int ndof)
 {
     cloth *c = make(CLOTH_NEWTON, 0.0);
     if (!c) return;
@@ -262,7 +263,8 @@ static void pull_limited(double limit)
     cloth_set_gravity(c, zero);
     for (int i = 0; i < n; i++) {
         const double m = cloth_masses(c)[i];
-        cloth_constraint k = {.vertex = i, .ndof = 1, .axis = {0, 0, 1}, .target = {x[3 * i], x[3 * i + 1], 0.0}};
+        cloth_constraint k = {.vertex = i, .ndof = ndof, .axis = {0, 0, 1}, .target = {x[3 * i], x[3 * i + 1], 0.0}};
+        if (ndof == 3) k.axis[2] = 0.0;
         cloth_set_constraint(c, &k);
         cloth_set_contact(c, i, up, k.target);
         if (limit >= 0.0) CHECK(cloth_set_contact_pull(c, i, limit * m * a) == CLOTH_OK, "pull limit refused");
@@ -280,10 +282,10 @@ static void pull_limited(double limit)
         verr = fmax(verr, fabs(cloth_velocities(c)[3 * i + 2] - (held ? 0.0 : a * H)));
         ferr = fmax(ferr, fabs(fc[2] + (held ? m * a : 0.0)) / (m * a));
     }
-    printf("pull limit %g m a: %s, |z - z*| %.2g m, |v - v*| %.2g m/s, constraint force off by %.2g m a\n", limit,
-           held ? "held" : "let go", zerr, verr, ferr);
-    CHECK(zerr <= 1e-9 && verr <= 1e-6 && ferr <= 1e-6, "limit %g: z off %.3g m, v off %.3g m/s, force off %.3g m a",
-          limit, zerr, verr, ferr);
+    printf("pull limit %g m a, ndof %d: %s, |z - z*| %.2g m, |v - v*| %.2g m/s, constraint force off by %.2g m a\n",
+           limit, ndof, held ? "held" : "let go", zerr, verr, ferr);
+    CHECK(zerr <= 1e-9 && verr <= 1e-6 && ferr <= 1e-6,
+          "limit %g, ndof %d: z off %.3g m, v off %.3g m/s, force off %.3g m a", limit, ndof, zerr, verr, ferr);
     free(f);
     free(x);
     cloth_destroy(c);
@@ -337,9 +339,11 @@ int main(void)
     lifted(0.1);
     sticking_pulled(0.05);
     sticking_pulled(1e-4);
-    pull_limited(-1.0);
-    pull_limited(2.0);
-    pull_limited(0.5);
+    for (int ndof = 1; ndof <= 3; ndof += 2) {
+        pull_limited(-1.0, ndof);
+        pull_limited(2.0, ndof);
+        pull_limited(0.5, ndof);
+    }
     bad_input();
     return check_summary();
 }

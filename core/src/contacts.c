@@ -97,19 +97,22 @@ int contacts_slide(cloth *c, const double *x)
 }
 
 /* cand_on of a contact released by the step, by what it was: 6 a
- * sliding contact set so, 4 a plane the step made, 5 a contact it let slide */
+ * sliding contact set so, 4 a plane the step made, 5 a contact it let slide
+ * (7: a sticking contact set so) */
 static const unsigned char released_as[4] = {0, 6, 4, 5};
 
-/* Releases contact i (a plane: set so, made so or let slide) if its force
- * b pulls it onto its surface by more than pull_min (an impulse, N s). */
+/* Releases contact i (a plane: set so, made so or let slide; or sticking,
+ * set so) if its force b pulls it onto its surface by more than pull_min
+ * (an impulse, N s). */
 static int release_if_pulling(cloth *c, int i, const double *b, double pull_min)
 {
     cloth_constraint *q = &c->con[i];
-    if (c->cand_on[i] < 1 || c->cand_on[i] > 3 || q->ndof != 1) return 0;
-    const double *bi = b + 3 * (size_t)i;
-    if (!(bi[0] * q->axis[0] + bi[1] * q->axis[1] + bi[2] * q->axis[2] > pull_min)) return 0; /* pushes */
+    int stuck = q->ndof == 3 && c->cand_on[i] == 1; /* sticking: pulls along its candidate's normal */
+    if (c->cand_on[i] < 1 || c->cand_on[i] > 3 || (q->ndof != 1 && !stuck)) return 0;
+    const double *bi = b + 3 * (size_t)i, *ax = stuck ? c->cand + 6 * (size_t)i : q->axis;
+    if (!(bi[0] * ax[0] + bi[1] * ax[1] + bi[2] * ax[2] > pull_min)) return 0; /* pushes */
     q->ndof = 0;
-    c->cand_on[i] = released_as[c->cand_on[i]];
+    c->cand_on[i] = stuck ? 7 : released_as[c->cand_on[i]];
     c->n_con--;
     return 1;
 }
@@ -171,8 +174,8 @@ void contacts_undo(cloth *c)
         } else if (c->cand_on[i] == 6) {
             c->con[i].ndof = 1;
             c->n_con++;
-        } else if (c->cand_on[i] == 3 || c->cand_on[i] == 5) {
-            if (c->cand_on[i] == 5) c->n_con++;
+        } else if (c->cand_on[i] == 3 || c->cand_on[i] == 5 || c->cand_on[i] == 7) {
+            if (c->cand_on[i] != 3) c->n_con++;
             c->con[i].ndof = 3;
             memset(c->con[i].axis, 0, sizeof c->con[i].axis);
         } else {

@@ -341,9 +341,10 @@ int cloth_constraint_count(const cloth *c);
  * constraints it changes stay so after the step, undone if the step fails.
  * CLOTH_LINEARIZED ignores it. Cleared by cloth_release(_all). */
 cloth_status cloth_set_contact(cloth *c, int vertex, const double normal[3], const double point[3]);
-/* After cloth_set_contact: a sliding contact (ndof 1) whose force pulls the
- * vertex onto the surface by more than `pull` (N, >= 0) lets go within the
- * step wherever it is (default: infinite, only as above). Newton only. */
+/* After cloth_set_contact: a sliding (ndof 1) or sticking (ndof 3) contact
+ * whose force pulls the vertex onto the surface by more than `pull` (N,
+ * >= 0) lets go within the step wherever it is (default: infinite, only as
+ * above). Newton only. */
 cloth_status cloth_set_contact_pull(cloth *c, int vertex, double pull);
 
 /* Force (N) the vertex's constraint exerted on it, averaged over the last
