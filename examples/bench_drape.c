@@ -160,8 +160,8 @@ static void near_callback(void *ctx, dGeomID a, dGeomID b)
 /* how the implicit steps solve their equations in this run (--solver,
  * --precond) */
 static cloth_nonlinear g_solver = CLOTH_LINEARIZED;
-static cloth_precond g_precond = CLOTH_PRECOND_BLOCK_JACOBI;
-static const char *const precond_name[] = {"block-jacobi", "jacobi", "multigrid", "ssor"};
+static cloth_precond g_precond = CLOTH_PRECOND_AUTO;
+static const char *const precond_name[] = {"block-jacobi", "jacobi", "multigrid", "ssor", "auto"};
 
 static cloth_desc cotton_desc(int N, double z)
 {
@@ -645,8 +645,9 @@ static const char usage[] =
     "--grid N   only that N, for every scene run\n"
     "--solver S  linearized, newton or both (default): how the implicit steps solve their\n"
     "           equations (cloth_solver.nonlinear)\n"
-    "--precond P  block-jacobi (the default), jacobi, multigrid or ssor: the linear\n"
-    "           solves' preconditioner (cloth_solver.precond; the CSV's precond column)\n"
+    "--precond P  auto (the default: multigrid for Newton, block Jacobi for the linearized\n"
+    "           step), block-jacobi, jacobi, multigrid or ssor: the linear solves'\n"
+    "           preconditioner (cloth_solver.precond; the CSV's precond column)\n"
     "--max-wall S  wall-clock budget per run in seconds (default 120; --fast 3): a run\n"
     "           past it stops with status timeout and its figures so far\n"
     "--fast     N <= 41 only, 0.5 s simulated (a smoke test)\n"
@@ -710,9 +711,10 @@ static int parse_options(options *o, int argc, char **argv)
             o->solvers[1] = k != 0;
         } else if (v && !strcmp(argv[a], "--precond")) {
             int k = 0;
-            while (k < 4 && strcmp(v, precond_name[k])) k++;
-            if (k == 4) {
-                fprintf(stderr, "bench_drape: --precond '%s' must be block-jacobi, jacobi, multigrid or ssor\n", v);
+            while (k < 5 && strcmp(v, precond_name[k])) k++;
+            if (k == 5) {
+                fprintf(stderr, "bench_drape: --precond '%s' must be auto, block-jacobi, jacobi, multigrid or ssor\n",
+                        v);
                 return 2;
             }
             g_precond = (cloth_precond)k;

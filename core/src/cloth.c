@@ -27,7 +27,7 @@ cloth_desc cloth_default_desc(void)
     d.gravity[2] = -9.81;
     d.material = cloth_material_preset(CLOTH_COTTON);
     d.solver.method = CLOTH_BACKWARD_EULER;
-    d.solver.precond = CLOTH_PRECOND_BLOCK_JACOBI;
+    d.solver.precond = CLOTH_PRECOND_AUTO;
     d.solver.cg_tolerance = 1e-3;
     d.solver.cg_max_iterations = 2000;
     d.solver.definiteness_rule = 1;
@@ -206,6 +206,18 @@ void cloth_destroy(cloth *c)
     free(c);
 }
 
+/* The multigrid's levels where the solver uses them: always for
+ * CLOTH_PRECOND_MULTIGRID, for CLOTH_PRECOND_AUTO under Newton where the
+ * grid coarsens. 0, -1 (out of memory) or -2 (the grid does not coarsen). */
+static int multigrid_levels(cloth *c, const cloth_solver *s)
+{
+    int want = s->precond == CLOTH_PRECOND_MULTIGRID ||
+               (s->precond == CLOTH_PRECOND_AUTO && s->nonlinear == CLOTH_NEWTON);
+    if (!want || c->mg.nlev > 0) return 0;
+    int r = mg_create(&c->mg, c->rows, c->cols);
+    return r == -2 && s->precond == CLOTH_PRECOND_AUTO ? 0 : r;
+}
+
 cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
 {
     if (err) {
@@ -298,10 +310,10 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
     c->sl_held = calloc((size_t)c->n_seq + (size_t)n, 1);
     if (!c->sl || !c->sl_act || !c->sl_vtx || !c->sl_held) goto nomem;
     if (!c->cflag || !c->clist) goto nomem;
-    /* the multigrid's levels only for the multigrid preconditioner (made
-     * later by cloth_set_solver if it is chosen then) */
-    if (d->solver.precond == CLOTH_PRECOND_MULTIGRID) {
-        int r = mg_create(&c->mg, R, C);
+    /* the multigrid's levels only where the solves use them (made later by
+     * cloth_set_solver if it is chosen then) */
+    {
+        int r = multigrid_levels(c, &d->solver);
         if (r == -2) {
             cloth_destroy(c);
             return error_set(err, CLOTH_EINVAL,
@@ -395,8 +407,8 @@ cloth_status cloth_set_solver(cloth *c, const cloth_solver *s)
     if (!c) return CLOTH_EINVAL;
     cloth_error e;
     if (cloth_solver_validate(s, &e) != CLOTH_OK) return cloth_fail(c, e.code, "%s", e.message);
-    if (s->precond == CLOTH_PRECOND_MULTIGRID && c->mg.nlev == 0) {
-        int r = mg_create(&c->mg, c->rows, c->cols);
+    {
+        int r = multigrid_levels(c, s);
         if (r == -2)
             return cloth_fail(c, CLOTH_EINVAL,
                               "cloth_set_solver: the multigrid preconditioner needs a grid that coarsens (%d x %d "

@@ -40,22 +40,32 @@ static void jacobi_apply(void *ctx, const double *r, double *s)
     for (size_t k = 0; k < 3 * (size_t)j->n; k++) s[k] = j->d[k] * r[k];
 }
 
-mpcg_result linsolve_run(cloth *c, mpcg_problem *P, double *x)
+/* The preconditioner the solve uses, CLOTH_PRECOND_AUTO resolved:
+ * multigrid for Newton where its levels were made (cloth.c), else block
+ * Jacobi. */
+static cloth_precond precond_used(const cloth *c)
 {
     const cloth_solver *sv = &c->desc.solver;
+    if (sv->precond != CLOTH_PRECOND_AUTO) return sv->precond;
+    return sv->nonlinear == CLOTH_NEWTON && c->mg.nlev > 0 ? CLOTH_PRECOND_MULTIGRID : CLOTH_PRECOND_BLOCK_JACOBI;
+}
+
+mpcg_result linsolve_run(cloth *c, mpcg_problem *P, double *x)
+{
+    cloth_precond pc = precond_used(c);
     jacobi_ctx j = {c->n, c->jac};
     build_preconditioner(c);
     P->pc = NULL;
     P->ctx = NULL;
-    if (sv->precond == CLOTH_PRECOND_MULTIGRID) {
+    if (pc == CLOTH_PRECOND_MULTIGRID) {
         mg_setup(&c->mg, &c->A, c->S, c->cflag, c->pre);
         P->pc = mg_apply;
         P->ctx = &c->mg;
-    } else if (sv->precond == CLOTH_PRECOND_JACOBI) {
+    } else if (pc == CLOTH_PRECOND_JACOBI) {
         P->pc = jacobi_apply;
         P->ctx = &j;
     }
-    mpcg_result r = sv->precond == CLOTH_PRECOND_SSOR ? ssor_run(P, c->cflag, c->Ah, x, c->cg) : mpcg_run(P, x, c->cg);
+    mpcg_result r = pc == CLOTH_PRECOND_SSOR ? ssor_run(P, c->cflag, c->Ah, x, c->cg) : mpcg_run(P, x, c->cg);
     P->ctx = NULL;
     P->pc = NULL;
     return r;

@@ -84,7 +84,7 @@ cloth_status cloth_solver_validate(const cloth_solver *s, cloth_error *err)
     if (!s) return error_set(err, CLOTH_EINVAL, "solver is NULL");
     if ((int)s->method < CLOTH_BACKWARD_EULER || (int)s->method > CLOTH_BDF2)
         return error_set(err, CLOTH_EINVAL, "solver.method = %d is not a cloth_method", (int)s->method);
-    if ((int)s->precond < CLOTH_PRECOND_BLOCK_JACOBI || (int)s->precond > CLOTH_PRECOND_SSOR)
+    if ((int)s->precond < CLOTH_PRECOND_BLOCK_JACOBI || (int)s->precond > CLOTH_PRECOND_AUTO)
         return error_set(err, CLOTH_EINVAL, "solver.precond = %d is not a cloth_precond", (int)s->precond);
     if (!(s->cg_tolerance > 0.0 && s->cg_tolerance < 1.0))
         return error_set(err, CLOTH_EINVAL, "solver.cg_tolerance = %g must be in (0, 1)", s->cg_tolerance);

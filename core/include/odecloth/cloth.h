@@ -98,8 +98,11 @@ typedef enum cloth_precond {
     CLOTH_PRECOND_BLOCK_JACOBI = 0, /* inverse 3x3 diagonal blocks                */
     CLOTH_PRECOND_JACOBI,           /* inverse scalar diagonal (Baraff-Witkin)    */
     CLOTH_PRECOND_MULTIGRID,        /* geometric multigrid V-cycle on the grid    */
-    CLOTH_PRECOND_SSOR              /* symmetric block Gauss-Seidel, Eisenstat's
+    CLOTH_PRECOND_SSOR,             /* symmetric block Gauss-Seidel, Eisenstat's
                                        trick (about one matrix pass per iteration) */
+    CLOTH_PRECOND_AUTO              /* default: multigrid for CLOTH_NEWTON's solves
+                                       where the grid coarsens (both sides >= 5
+                                       nodes), else block Jacobi */
 } cloth_precond;
 
 typedef enum cloth_nonlinear {
