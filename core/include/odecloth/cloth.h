@@ -101,8 +101,9 @@ typedef enum cloth_precond {
     CLOTH_PRECOND_SSOR,             /* symmetric block Gauss-Seidel, Eisenstat's
                                        trick (about one matrix pass per iteration) */
     CLOTH_PRECOND_AUTO              /* default: multigrid for CLOTH_NEWTON's solves
-                                       where the grid coarsens (both sides >= 5
-                                       nodes), else block Jacobi */
+                                       where MULTIGRID would be accepted (its
+                                       coarsest level small enough to solve
+                                       densely), else block Jacobi */
 } cloth_precond;
 
 typedef enum cloth_nonlinear {
