@@ -55,7 +55,7 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
     dBodySetPosition(ball, 0, BALL_Y0, BALL_R);
     dBodySetLinearVel(ball, 0, BALL_SPEED, 0);
     dBodySetAngularVel(ball, BALL_SPEED / BALL_R, 0, 0); /* rolling: w x (0, 0, -r) = v */
-    dClothDesc d = dClothDefaultDesc();
+    dClothDesc d = demo_desc(o);
     d.cloth.rows = d.cloth.cols = o->grid;
     d.cloth.origin[0] = -0.5;
     d.cloth.origin[1] = 0;

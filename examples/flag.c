@@ -54,7 +54,7 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
     dGeomID pole = dCreateCylinder(space, POLE_R, POLE_Z);
     dGeomSetPosition(pole, -POLE_R, 0, POLE_Z / 2);
     dGeomSetData(pole, (void *)pole_rgb);
-    dClothDesc d = dClothDefaultDesc();
+    dClothDesc d = demo_desc(o);
     d.cloth.rows = (int)lround((o->grid - 1) * FLAG_H / FLAG_W) + 1;
     d.cloth.cols = o->grid;
     d.cloth.width = FLAG_W;

@@ -81,7 +81,7 @@ static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v,
     dGeomSetBody(bg, box);
     dGeomSetData(bg, (void *)box_rgb);
     dBodySetPosition(box, 0, 0, PIN_Z + DROP + BOX_SIDE / 2);
-    dClothDesc d = dClothDefaultDesc();
+    dClothDesc d = demo_desc(o);
     d.cloth.rows = d.cloth.cols = o->grid;
     d.cloth.origin[0] = d.cloth.origin[1] = -0.5;
     d.cloth.origin[2] = PIN_Z;

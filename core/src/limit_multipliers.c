@@ -40,15 +40,16 @@ static int dictated(const cloth *c, int e) { return c->lim_viol[e] < 0.0; }
 /* the penalty of link e after a round left it violated by viol (of lmax) */
 static void grow_penalty(cloth *c, int e, double viol)
 {
-    if (viol > c->desc.solver.limit_tolerance && c->lim_rho[e] > 1.0 &&
-        viol > (1.0 - DICTATED_SHRINK) * c->lim_viol[e]) {
+    double tol = c->desc.solver.limit_tolerance, prev = c->lim_viol[e];
+    /* judged only against a round that left the link violated too: one
+     * within the limit then was moved past it by its neighbours since */
+    if (viol > tol && prev > tol && c->lim_rho[e] > 1.0 && viol > (1.0 - DICTATED_SHRINK) * prev) {
         c->lim_shift[e] = 0.0;
         c->lim_rho[e] = 1.0;
         c->lim_viol[e] = -1.0;
         return;
     }
-    if (viol > c->desc.solver.limit_tolerance && viol > RHO_SHRINK * c->lim_viol[e])
-        c->lim_rho[e] = fmin(RHO_MAX, c->lim_rho[e] * RHO_GROWTH);
+    if (viol > tol && prev > tol && viol > RHO_SHRINK * prev) c->lim_rho[e] = fmin(RHO_MAX, c->lim_rho[e] * RHO_GROWTH);
     c->lim_viol[e] = viol;
 }
 

@@ -49,6 +49,8 @@ typedef struct demo_opts {
     int box_table;                /* --box-table: the table as a dBox       */
     int selftest;                 /* --selftest: check the metrics, exit    */
     int sleep;                    /* --sleep: dClothSetAutoSleep (1 cm/s, 10 steps) */
+    int solver;                   /* --solver: 0 the library's default, else
+                                     1 + the cloth_nonlinear chosen           */
     int view;                     /* --view: a live window (view.h)         */
     int view_frames;              /* --view-frames N: close it after N frames
                                      (0: when the user closes it)          */
@@ -62,6 +64,8 @@ int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char
 /* What a demo's main calls: demo_parse, and when it returns 0 ODE's
  * initialisation (dInitODE2, with dCloseODE at exit). Same returns. */
 int demo_begin(demo_opts *o, const char *prog, const char *usage, int argc, char **argv);
+/* The plugin's default descriptor with the demo's --solver applied. */
+dClothDesc demo_desc(const demo_opts *o);
 /* The alphas asked for, or the defaults given (n of them). */
 int demo_alphas(const demo_opts *o, const double *defaults, int n, double *out);
 /* Create o->out (and its parents); 0 on success, else prints why. */

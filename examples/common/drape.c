@@ -149,7 +149,7 @@ int drape_run(const demo_opts *o, const demo_scene *scene, const drape_variant *
     memset(r, 0, sizeof *r);
     double settle = o->short_run ? 2.5 : 4.0;
     double move = o->short_run ? 1.0 : 1.5;
-    dClothDesc d = dClothDefaultDesc();
+    dClothDesc d = demo_desc(o);
     r->delta = v->material.delta;
     r->strain_allow = drape_strain_allowance(&d.cloth.solver, r->delta);
     r->thickness = d.thickness;

@@ -22,6 +22,8 @@ static const char common_usage[] =
     "                         curtain, trampoline: 0)\n"
     "  --self-collision T     drape_table, drape_sphere: keep the cloth's vertices T m (0, 0.1]\n"
     "                         from its own triangles after each step (off by default)\n"
+    "  --solver S             linearized | newton: how the implicit steps solve their equations\n"
+    "                         (solver.nonlinear; default: the library's)\n"
     "  --grid N               nodes per side, 3..161 (default 21)\n"
     "  --steps-per-second F   steps per simulated second, 10..10000 (default 60; curtain 240)\n"
     "  --out DIR              where pictures and OBJ files go (default out/<demo>)\n"
@@ -156,6 +158,10 @@ int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char
         } else if (!strcmp(opt, "--bending")) {
             if (parse_double(v, &o->k_b) || !(o->k_b > 0.0) || o->k_b > 1e4)
                 return bad(o, opt, v, "want a number in (0, 10000]");
+        } else if (!strcmp(opt, "--solver")) {
+            if (!strcmp(v, "linearized")) o->solver = 1 + CLOTH_LINEARIZED;
+            else if (!strcmp(v, "newton")) o->solver = 1 + CLOTH_NEWTON;
+            else return bad(o, opt, v, "want linearized or newton");
         } else if (!strcmp(opt, "--grid")) {
             if (parse_int(v, 3, 161, &o->grid)) return bad(o, opt, v, "want a whole number in 3..161");
         } else if (!strcmp(opt, "--steps-per-second") || !strcmp(opt, "--hz")) {
@@ -187,6 +193,13 @@ int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char
         }
     }
     return 0;
+}
+
+dClothDesc demo_desc(const demo_opts *o)
+{
+    dClothDesc d = dClothDefaultDesc();
+    if (o->solver) d.cloth.solver.nonlinear = (cloth_nonlinear)(o->solver - 1);
+    return d;
 }
 
 int demo_begin(demo_opts *o, const char *prog, const char *usage, int argc, char **argv)

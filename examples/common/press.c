@@ -75,7 +75,7 @@ static int press_run(const demo_opts *o, const demo_scene *sc, const drape_varia
     dBodySetPosition(plate[1], 0, 0, bottom - PLATE_T / 2);
     dBodySetPosition(plate[2], 0, -(side + PLATE_T / 2), TOP_Z - SIDE_H / 2);
     dBodySetPosition(plate[3], 0, side + PLATE_T / 2, TOP_Z - SIDE_H / 2);
-    dClothDesc d = dClothDefaultDesc();
+    dClothDesc d = demo_desc(o);
     d.cloth.rows = d.cloth.cols = o->grid;
     /* hanging: rows run down from the top plate, columns along x */
     d.cloth.origin[0] = -0.5;
