@@ -100,14 +100,23 @@ static void balance_momentum(cloth *c, const step_eq *q, double *dv)
     potential_state(c, q, dv); /* x_new, v_new, which the step commits */
 }
 
-/* The start: dv the warm start (or 0), and z what the first iteration must
- * add to its constrained components to land them on their targets; 1 if
- * that is nothing. */
-static int newton_start(cloth *c, double *dv)
+/* The start: of no change (the motion carried on), rest (v = 0: the cloth
+ * where it is) and, with warm_start, the last step's dv, the one of lowest
+ * potential; and z what the first iteration must add to its constrained
+ * components to land them on their targets. Returns 1 if that is nothing. */
+static int newton_start(cloth *c, const step_eq *q, double *dv)
 {
     size_t n3 = 3 * (size_t)c->n;
-    if (c->desc.solver.warm_start) memcpy(dv, c->st.dv_prev, n3 * sizeof *dv);
-    else memset(dv, 0, n3 * sizeof *dv);
+    memset(dv, 0, n3 * sizeof *dv);
+    double best = potential_value(c, q, dv, c->xt, c->vt);
+    for (int k = c->desc.solver.warm_start ? 0 : 1; k < 2; k++) {
+        for (size_t j = 0; j < n3; j++) c->dvt[j] = k ? -c->st.v[j] : c->st.dv_prev[j];
+        double phi = potential_value(c, q, c->dvt, c->xt, c->vt);
+        if (phi < best) {
+            best = phi;
+            memcpy(dv, c->dvt, n3 * sizeof *dv);
+        }
+    }
     int none = 1;
     for (int i = 0; i < c->n; i++) {
         if (!c->con[i].ndof) continue;
@@ -250,9 +259,9 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     potential_begin(c, h, bdf2, &q);
     constraints_build(c, q.a, c->st.v, q.cfac, xs, frac);
     double *dv = c->dv, *b = c->b;
-    int landed = newton_start(c, dv);
     memcpy(c->lim_shift, c->st.lim_shift, (size_t)c->n_seq * sizeof *c->lim_shift);
     limit_multipliers_begin(c);
+    int landed = newton_start(c, &q, dv);
     mpcg_problem P = {&c->A, b, c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL,
                       sv->newton_cg_tolerance, sv->cg_max_iterations, NULL, 0.0};
     mpcg_bodies bodies;
