@@ -1026,8 +1026,15 @@ static void test_vertex_contact(void)
     for (int s = 0; s < 60; s++) dClothWorldStep(w, &c, 1, H, 0);
     int on_box = 0, on_plane = 0, wrong = 0;
     const dReal *x = dClothGetPositions(c);
+    double off_max = 0.0; /* the largest distance of a contact point from under its vertex */
     for (int i = 0; i < n; i++) {
         CHECK(dClothGetVertexContact(c, i, &g, p, nrm) == CLOTH_OK, "vertex %d: %s", i, dClothGetLastError(c));
+        if (g) {
+            double d[3] = {x[3 * i] - p[0], x[3 * i + 1] - p[1], x[3 * i + 2] - p[2]};
+            double dn = d[0] * nrm[0] + d[1] * nrm[1] + d[2] * nrm[2];
+            for (int k = 0; k < 3; k++) d[k] -= dn * nrm[k];
+            off_max = fmax(off_max, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+        }
         if (x[3 * i] > -0.1 && x[3 * i] < 0.3) continue; /* near the box's edge: its sides and corners */
         dGeomID want = x[3 * i] < 0 ? box : plane;
         double top = want == box ? 0.2 : 0.0;
@@ -1039,7 +1046,9 @@ static void test_vertex_contact(void)
         bad = bad || (g && (fabs(p[2] - top) > 1e-9 || fabs(nrm[2] - 1.0) > 1e-9));
         wrong += bad;
     }
-    printf("vertex contacts after 1 s: %d on the box, %d on the plane, %d wrong\n", on_box, on_plane, wrong);
+    printf("vertex contacts after 1 s: %d on the box, %d on the plane, %d wrong; a point %.3g m from under its "
+           "vertex\n", on_box, on_plane, wrong, off_max);
+    CHECK(off_max < 1e-3, "a contact point %g m from under its vertex", off_max);
     CHECK(on_box > 50 && on_plane > 20 && wrong == 0, "contacts: %d box, %d plane, %d wrong", on_box, on_plane, wrong);
     CHECK(dClothGetVertexContact(c, n, &g, NULL, NULL) == CLOTH_EINVAL && dClothGetLastError(c)[0],
           "vertex n accepted");

@@ -419,13 +419,19 @@ static int triangle_query(dClothID c, const convex_query *q, int k, double h, cc
          * bench_contact: measured, and reverted.) */
         dcloth_offer_opposite(vc, q->g, q->body, n, gap, pos.v);
         if (vc->geom && vc->gap <= gap) continue;
+        /* the point reported (and pushed at while asleep): under the vertex
+         * on the geom's face (support) where measured, else on the plane
+         * through EPA's point, which may be any point of the overlap */
+        double under[3], hv = (clear || ahead) ? support : dcloth_dot3(n, pos.v);
+        hv = dcloth_dot3(n, ts.v[a]) - hv;
+        for (int r = 0; r < 3; r++) under[r] = ts.v[a][r] - hv * n[r];
         vc->geom = q->g;
         vc->thickness = q->surf->thickness;
         vc->mu = q->surf->mu;
         vc->body = q->body;
         for (int r = 0; r < 3; r++) {
             vc->normal[r] = n[r];
-            vc->point[r] = pos.v[r];
+            vc->point[r] = under[r];
             vc->vbody[r] = 0.0;
         }
         vc->gap = gap;
