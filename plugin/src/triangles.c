@@ -422,9 +422,9 @@ static int triangle_query(dClothID c, const convex_query *q, int k, double h, cc
         /* the point reported (and pushed at while asleep): under the vertex
          * on the geom's face (support) where measured, else on the plane
          * through EPA's point, which may be any point of the overlap */
-        double under[3], hv = (clear || ahead) ? support : dcloth_dot3(n, pos.v);
-        hv = dcloth_dot3(n, ts.v[a]) - hv;
-        for (int r = 0; r < 3; r++) under[r] = ts.v[a][r] - hv * n[r];
+        double plane = (clear || ahead) ? support : dcloth_dot3(n, pos.v), under[3];
+        double height = dcloth_dot3(n, ts.v[a]) - plane;
+        for (int r = 0; r < 3; r++) under[r] = ts.v[a][r] - height * n[r];
         vc->geom = q->g;
         vc->thickness = q->surf->thickness;
         vc->mu = q->surf->mu;
