@@ -267,18 +267,6 @@ static int facing(const convex_query *q, const tri_shape *ts, const double n[3],
     return ntl > 0.0 && fabs(dcloth_dot3(nt, n)) >= AHEAD_PARALLEL * ntl && flat_face(q, n, face);
 }
 
-/* The shapes' overlap along unit direction u: an upper bound of their
- * penetration depth (EPA's is a lower one), equal to it along the least
- * separating direction. */
-static double overlap_along(const convex_query *q, const tri_shape *ts, const double u[3])
-{
-    ccd_vec3_t ud = {{u[0], u[1], u[2]}}, sp;
-    q->support(q->shape, &ud, &sp);
-    double low = INFINITY;
-    for (int k = 0; k < 3; k++) low = fmin(low, dcloth_dot3(u, ts->v[k]));
-    return dcloth_dot3(u, sp.v) - low + ts->radius;
-}
-
 /* Cloth triangle k against the shape: sets its vertices' contacts where
  * deeper than what they have; returns how many it set. */
 static int triangle_query(dClothID c, const convex_query *q, int k, double h, ccd_t *ccd, ccd_t *fine)
@@ -338,7 +326,6 @@ static int triangle_query(dClothID c, const convex_query *q, int k, double h, cc
      * triangle in the same step (plugin_colliders: a box's and a
      * cylinder's edge through a triangle at impact, measured). */
     int clear = (!swept || q->moving) && depth < ts.radius, shell_hit = 0;
-    tri_shape found = ts; /* the shape the kept direction was found against */
     if (swept) {
         tri_shape shell = ts;
         shell.radius = shell_r;
@@ -350,8 +337,6 @@ static int triangle_query(dClothID c, const convex_query *q, int k, double h, cc
             pos = pos2;
             clear = d2 < shell_r;
             shell_hit = 1;
-            found.radius = shell_r;
-            depth = d2;
         } else if (!q->moving) {
             /* still apart from a static geom: the geometry converged
              * tightly. The loose EPA's direction leaned by up to 0.2
@@ -372,8 +357,6 @@ static int triangle_query(dClothID c, const convex_query *q, int k, double h, cc
     double nl = sqrt(dir.v[0] * dir.v[0] + dir.v[1] * dir.v[1] + dir.v[2] * dir.v[2]);
     if (!(nl > 0.0)) return 0;
     double n[3] = {dir.v[0] / nl, dir.v[1] / nl, dir.v[2] / nl}, support = 0.0;
-    /* how far EPA's depth may be from the true one: its bracket */
-    double unsure = fmax(0.0, overlap_along(q, &found, n) - depth);
     if (q->face && !mesh_direction(q, n)) return 0;
     /* barycentric weights of the contact point, projected on the
      * triangle and clamped into it */
@@ -436,10 +419,6 @@ static int triangle_query(dClothID c, const convex_query *q, int k, double h, cc
          * bench_contact: measured, and reverted.) */
         dcloth_offer_opposite(vc, q->g, q->body, n, gap, pos.v);
         if (vc->geom && vc->gap <= gap) continue;
-        /* the vertex's own contact with the geom, exact, stays unless the
-         * triangle's is deeper beyond EPA's bracket on it */
-        double share = w[a] > 0.0 ? fmax(1.0, w[a] / w2) : 1.0;
-        if (vc->geom == q->g && !vc->from_triangle && vc->gap <= gap + share * unsure) continue;
         /* the point reported (and pushed at while asleep): under the vertex
          * on the geom's face (support) where measured, else on the plane
          * through EPA's point, which may be any point of the overlap */
