@@ -163,7 +163,6 @@ struct cloth {
     double *K_seq, *K_int;     /* per-link 3x3 df_i/dx_j (linearized.c's K v products) */
 
     cloth_step_stats stats;
-    double step_h;             /* s, the last successful cloth_step's h (0 before any) */
     char err[256];
 };
 

@@ -25,7 +25,6 @@ struct cloth_self_collision {
     double *x, *v;     /* 3n: working copies of the state */
     double *xprev;     /* 3n: positions after the last apply (the sides) */
     double *winv;      /* n: inverse mass, 0 for a constrained vertex */
-    double step;       /* s, the step the cloth last took: how far ahead pairs are looked at */
     int have_prev;
 };
 
@@ -170,6 +169,8 @@ static int separate(cloth_self_collision *s, int p, int t, cloth_self_collision_
      * vertex that went round the triangle's edge did not pass through it */
     if (gap < 0.0 && !over_before) return 0;
     if (gap < st->closest) st->closest = gap;
+    double depth = s->thickness - gap;
+    if (!(depth > 0.0)) return 0;
     /* a held vertex is left to the pairs where its neighbours are the
      * vertex: moving only a triangle's corners to clear a point near
      * another corner would throw them by depth / w */
@@ -177,26 +178,19 @@ static int separate(cloth_self_collision *s, int p, int t, cloth_self_collision_
     double denom = s->winv[p];
     for (int k = 0; k < 3; k++) denom += w[k] * w[k] * s->winv[tv[k]];
     double dir[3] = {side * nrm[0], side * nrm[1], side * nrm[2]};
-    double vrel = 0.0; /* the normal velocity apart (negative: approaching) */
+    double lam = depth / denom;
+    for (int a = 0; a < 3; a++) {
+        x[3 * p + a] += lam * s->winv[p] * dir[a];
+        for (int k = 0; k < 3; k++) x[3 * tv[k] + a] -= lam * w[k] * s->winv[tv[k]] * dir[a];
+    }
+    /* inelastic: cancel the approaching normal velocity */
+    double vrel = 0.0;
     for (int a = 0; a < 3; a++) {
         double vt = w[0] * v[3 * tv[0] + a] + w[1] * v[3 * tv[1] + a] + w[2] * v[3 * tv[2] + a];
         vrel += (v[3 * p + a] - vt) * dir[a];
     }
-    double depth = s->thickness - gap, want;
-    if (depth > 0.0) {
-        double lam = depth / denom;
-        for (int a = 0; a < 3; a++) {
-            x[3 * p + a] += lam * s->winv[p] * dir[a];
-            for (int k = 0; k < 3; k++) x[3 * tv[k] + a] -= lam * w[k] * s->winv[tv[k]] * dir[a];
-        }
-        want = 0.0; /* inelastic: the approach cancelled */
-    } else if (vrel * s->step < depth) {
-        want = depth / s->step; /* slowed to reach the thickness in a step, not cross it */
-    } else {
-        return 0;
-    }
-    if (vrel < want) {
-        double mu = (want - vrel) / denom;
+    if (vrel < 0.0) {
+        double mu = -vrel / denom;
         for (int a = 0; a < 3; a++) {
             v[3 * p + a] += mu * s->winv[p] * dir[a];
             for (int k = 0; k < 3; k++) v[3 * tv[k] + a] -= mu * w[k] * s->winv[tv[k]] * dir[a];
@@ -224,20 +218,16 @@ cloth_status cloth_self_collision_apply(cloth_self_collision *s, cloth *c, cloth
     }
     memcpy(s->v, cloth_velocities(c), 3 * n * sizeof *s->v);
     const double *m = cloth_masses(c);
-    double vmax = 0.0;
     for (int i = 0; i < s->n; i++) {
         cloth_constraint k;
         int held = cloth_get_constraint(c, i, &k) == CLOTH_OK && k.ndof > 0;
         s->winv[i] = held || !(m[i] > 0.0) ? 0.0 : 1.0 / m[i];
-        vmax = fmax(vmax, sqrt(vec3_dot(s->v + 3 * i, s->v + 3 * i)));
     }
-    s->step = c->step_h;
     /* the hash, once per apply (the passes move vertices by millimetres):
      * each triangle in the cells its box overlaps, the box over its
      * corners now and at the last apply (a vertex that crossed it is
-     * within the sweep) and a step ahead, widened by the thickness and a
-     * step of the fastest vertex, and clamped to one cell's size so that
-     * it meets at most 8 cells */
+     * within the sweep), widened by the thickness, and clamped to one
+     * cell's size so that it meets at most 8 cells */
     for (int b = 0; b < s->nbucket; b++) s->head[b] = -1;
     int nent = 0;
     for (int t = 0; t < s->ntri; t++) {
@@ -245,15 +235,14 @@ cloth_status cloth_self_collision_apply(cloth_self_collision *s, cloth *c, cloth
         for (int a = 0; a < 3; a++) lo[a] = hi[a] = s->x[3 * s->tri[3 * t] + a];
         for (int k = 0; k < 3; k++)
             for (int a = 0; a < 3; a++) {
-                int j = 3 * s->tri[3 * t + k] + a;
-                double u = s->x[j], w = s->xprev[j], ahead = u + s->step * s->v[j];
-                lo[a] = fmin(lo[a], fmin(u, fmin(w, ahead)));
-                hi[a] = fmax(hi[a], fmax(u, fmax(w, ahead)));
+                double u = s->x[3 * s->tri[3 * t + k] + a], w = s->xprev[3 * s->tri[3 * t + k] + a];
+                lo[a] = fmin(lo[a], fmin(u, w));
+                hi[a] = fmax(hi[a], fmax(u, w));
             }
         long c0[3], c1[3];
         for (int a = 0; a < 3; a++) {
-            lo[a] -= s->thickness + s->step * vmax;
-            hi[a] += s->thickness + s->step * vmax;
+            lo[a] -= s->thickness;
+            hi[a] += s->thickness;
             if (hi[a] - lo[a] > s->cell) {
                 double mid = 0.5 * (lo[a] + hi[a]);
                 lo[a] = mid - 0.5 * s->cell;

@@ -244,7 +244,6 @@ cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
                               cloth_failure_string(fail), 1L << st.halvings);
         return cloth_fail(c, CLOTH_ESTEP, "cloth_step: %s (state unchanged)", cloth_failure_string(fail));
     }
-    c->step_h = h;
     fill_stats(c, &st, &ms); /* the committed positions are x_new */
     return finish(c, &st, out, CLOTH_OK);
 }

@@ -13,11 +13,8 @@
  * (the corners weighted by the barycentric coordinates of the closest
  * point; Bridson, Fedkiw, Anderson 2002, sec. 7), and their relative
  * velocity along the normal, if approaching, is cancelled the same way (an
- * inelastic contact). A pair further apart whose approach would bring it
- * within the thickness in a step of the cloth's last h has that approach
- * slowed the same way, so that it stops at the thickness rather than
- * crossing within the step. Vertices held by a constraint (pins, body
- * contacts) are not moved. Edge-against-edge crossings are not detected.
+ * inelastic contact). Vertices held by a constraint (pins, body contacts)
+ * are not moved. Edge-against-edge crossings are not detected.
  *
  *   cloth_self_collision *sc;
  *   cloth_self_collision_create(c, 0.005, &sc, &err);
