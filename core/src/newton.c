@@ -11,9 +11,9 @@
 #include "mat3.h"
 #include "mpcg.h"
 
-/* A step also ends only once the energy it can have gained, v_new . R (the
- * residual R's work; backward Euler's potential is a convex majorant), is
- * within this share of what the exact step dissipates, 1/2 |dv|_M^2. */
+/* A step also ends only once the energy it can have made (the residual R's
+ * work at v_new, and the leftover momentum's on the bodies) is within this
+ * share of what the exact step dissipates (potential_dissipation too). */
 #define NEWTON_GAIN_SHARE 0.25
 
 /* That bound is no less than the kinetic energy of the cloth moving at this
@@ -164,10 +164,34 @@ static double step_norm(const cloth *c, const mpcg_problem *P, const double *ddv
     return sqrt(s / mt);
 }
 
-/* Whether the iterate dv (b = -R there, assembled) can have gained no more
- * energy than NEWTON_GAIN_SHARE of what the exact step dissipates: the work
- * of R's free part at v_new, and of each held body's at its velocity. */
-static int energy_bounded(const cloth *c, const mpcg_problem *P, const double *b, const double *dv, double mt)
+/* The work the momentum the solve leaves over (the free residual's sum, an
+ * impulse) can do on the bodies: shared among the constraints by the size of
+ * their forces, as the plugin gives it, each moving at its held velocity. */
+static double leftover_work(const cloth *c, const double *b)
+{
+    double F[3] = {0.0, 0.0, 0.0}, fsum = 0.0, fv = 0.0;
+    for (int i = 0; i < c->n; i++) {
+        const double *vi = c->v_new + 3 * (size_t)i, *bi = b + 3 * (size_t)i;
+        double e[3], vf[3], f2 = 0.0, v2 = 0.0;
+        free_part(c, i, b, e);
+        for (int r = 0; r < 3; r++) F[r] += e[r];
+        if (!c->con[i].ndof) continue;
+        free_part(c, i, vi, vf);
+        for (int r = 0; r < 3; r++) {
+            f2 += (bi[r] - e[r]) * (bi[r] - e[r]);
+            v2 += (vi[r] - vf[r]) * (vi[r] - vf[r]);
+        }
+        fsum += sqrt(f2);
+        fv += sqrt(f2 * v2);
+    }
+    return fsum > 0.0 ? sqrt(F[0] * F[0] + F[1] * F[1] + F[2] * F[2]) * fv / fsum : 0.0;
+}
+
+/* Whether the iterate dv (b = -R there, assembled) can have made no more
+ * energy than NEWTON_GAIN_SHARE of what the exact step dissipates: the work of
+ * R's free part at v_new, each held body's at its velocity, the leftover's. */
+static int energy_bounded(const cloth *c, const step_eq *q, const mpcg_problem *P, const double *b, const double *dv,
+                          double mt)
 {
     double work = 0.0, diss = 0.0, tol = NEWTON_REL_FLOOR * c->desc.solver.newton_tolerance;
     for (int i = 0; i < c->n; i++) {
@@ -181,7 +205,8 @@ static int energy_bounded(const cloth *c, const mpcg_problem *P, const double *b
         work += bodies_residual_work(c, P, b);
         diss += 0.5 * bodies_step_energy(c);
     }
-    double gain = -work;
+    double gain = leftover_work(c, b) - work;
+    diss += potential_dissipation(c, q);
     return gain <= NEWTON_GAIN_SHARE * diss + 0.5 * mt * tol * tol;
 }
 
@@ -284,7 +309,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
             rn = residual_norm(c, &P, b, mt);
             goal = it == 0 && landed ? warm_goal(c, dv, mt) : sv->newton_tolerance;
             if (it == 0) size = rn; /* no step taken yet: the residual bounds it */
-            conv = !pending && fmin(size, rn) <= goal && energy_bounded(c, &P, b, dv, mt);
+            conv = !pending && fmin(size, rn) <= goal && energy_bounded(c, &q, &P, b, dv, mt);
         }
         if (rn != rn) return CLOTH_FAIL_NAN;
         if (conv) {

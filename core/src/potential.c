@@ -145,3 +145,31 @@ double potential_value(const cloth *c, const step_eq *q, const double *dv, doubl
     if (air_on(c)) P += cf * air_eval(c, c->st.x, c->st.v, q->h, v, 0.0, NULL, NULL, 0.0);
     return P;
 }
+
+double potential_dissipation(const cloth *c, const step_eq *q)
+{
+    if (q->bdf2) return 0.0;
+    const cloth_material *m = &c->desc.material;
+    const double *x0 = c->st.x, *x = c->x_new, *v = c->v_new;
+    double D = 0.0, f[3];
+    for (int t = 0; t < 2; t++) {
+        int ne = t ? c->n_int : c->n_seq;
+        const link_topo *L = t ? c->lint : c->seq;
+        const double *ut = c->ut + (t ? 3 * (size_t)c->n_seq : 0);
+        double damp = q->cfac * (t ? m->c_b : m->c_t);
+        for (int e = 0; e < ne; e++) {
+            int i = L[e].i, j = L[e].j;
+            const double *u = ut + 3 * (size_t)e;
+            spring_law s = law_of(c, t, e);
+            s.k_lim = 0.0;
+            double gap = spring_eval_predicted(x0 + 3 * i, x0 + 3 * j, u, s, NULL, NULL) -
+                         spring_eval_predicted(x + 3 * i, x + 3 * j, u, s, f, NULL), rate = 0.0;
+            for (int r = 0; r < 3; r++) {
+                gap -= f[r] * ((x0[3 * j + r] - x0[3 * i + r]) - (x[3 * j + r] - x[3 * i + r]));
+                rate += (v[3 * j + r] - v[3 * i + r]) * u[r];
+            }
+            D += gap + damp * rate * rate;
+        }
+    }
+    return D;
+}

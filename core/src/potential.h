@@ -40,4 +40,9 @@ void potential_momentum_residual(const cloth *c, const step_eq *q, const double 
  * computed into x and v (3n each). */
 double potential_value(const cloth *c, const step_eq *q, const double *dv, double *x, double *v);
 
+/* What backward Euler's step to c->x_new, c->v_new dissipates besides 1/2 |dv|_M^2 (0 for
+ * BDF2): the dampers' work and the links' Bregman gaps U(x0) - U(x) - grad U(x).(x0 - x),
+ * without the elongation limit's piece (its multiplier shifts it off the springs' energy). */
+double potential_dissipation(const cloth *c, const step_eq *q);
+
 #endif
