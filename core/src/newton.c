@@ -313,17 +313,18 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         }
         if (rn != rn) return CLOTH_FAIL_NAN;
         if (conv) {
-            int changed = decide_contacts(c, &q, &P, dv, xs, frac, st);
-            if (changed) {
+            /* every change the converged iterate calls for, at once: contacts
+             * on a link past the limit slide or (pulling) let go, others pulling
+             * past their own limit let go, candidates behind their surface hold */
+            int loose = contacts_slide(c, c->x_new);
+            loose += contacts_release(c, c->x_new, b, q.cfac);
+            int changed = loosened(c, &q, &P, xs, frac, loose, st);
+            int added = decide_contacts(c, &q, &P, dv, xs, frac, st);
+            if (added) {
                 landing = pending = 1;
                 landed = 0; /* the residual no longer bounds the step */
-            } else {
-                /* sticking contacts that hold a link past the limit slide;
-                 * contacts there whose force pulls let go, elsewhere those
-                 * that pull past their own limit */
-                changed = loosened(c, &q, &P, xs, frac, contacts_slide(c, c->x_new), st);
-                if (!changed) changed = loosened(c, &q, &P, xs, frac, contacts_release(c, c->x_new, b, q.cfac), st);
             }
+            changed += added;
             /* contact rounds end by themselves (a contact changes at most
              * twice a step); the multipliers' rounds have a budget */
             if (changed) {
