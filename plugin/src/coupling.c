@@ -347,6 +347,22 @@ static void took_candidates(dClothID c, dClothStepStats *st)
     }
 }
 
+/* A held step changes what the next one solves: from rest, and retried in
+ * one more substep halving for each step held in a row (up to the solver's
+ * bound), so a failure that smaller steps pass does not repeat for ever. */
+#define HOLD_MAX_HALVINGS 16
+static cloth_status held_run_step(dClothID c, cloth *core, double h, cloth_step_stats *st)
+{
+    if (!c->held_run) return cloth_step(core, h, st);
+    cloth_solver sv0 = cloth_get_desc(core).solver, sv = sv0;
+    sv.max_substep_halvings = sv0.max_substep_halvings + c->held_run;
+    if (sv.max_substep_halvings > HOLD_MAX_HALVINGS) sv.max_substep_halvings = HOLD_MAX_HALVINGS;
+    cloth_set_solver(core, &sv);
+    cloth_status s = cloth_step(core, h, st);
+    cloth_set_solver(core, &sv0);
+    return s;
+}
+
 cloth_status dClothStep(dClothID c, dReal h)
 {
     if (!c) return CLOTH_EINVAL;
@@ -422,7 +438,7 @@ cloth_status dClothStep(dClothID c, dReal h)
         }
         cloth_set_external_forces(core, c->fext);
         couple_bodies(c);
-        s = cloth_step(core, h, &st.core);
+        s = held_run_step(c, core, h, &st.core);
         passes++;
         st.newton_all += st.core.newton;
         st.cg_all += st.core.iterations;
@@ -536,6 +552,7 @@ cloth_status dClothStep(dClothID c, dReal h)
         cloth_restore(core, c->save);
         st.contacts = st.sticking = 0;
         st.held = s == CLOTH_ESTEP && c->on_failure == DCLOTH_FAILURE_HOLD;
+        if (st.held && c->held_run < HOLD_MAX_HALVINGS) c->held_run++;
         if (st.held) { /* stopped where it was: the failed step's motion dropped, no energy added */
             memset(c->v0, 0, 3 * (size_t)c->n * sizeof *c->v0);
             cloth_set_velocities(core, c->v0);
@@ -629,6 +646,7 @@ cloth_status dClothStep(dClothID c, dReal h)
     c->vc_new = t;
     memset(c->fadd, 0, 3 * (size_t)c->n * sizeof *c->fadd); /* applied: cleared, as ODE clears a body's */
     st.seconds_total = wall() - t0;
+    c->held_run = 0;
     c->stats = st;
     dcloth_sleep_after(c);
     return CLOTH_OK;

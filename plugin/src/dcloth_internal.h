@@ -101,6 +101,8 @@ struct dxCloth {
     /* moving bodies solved with the cloth this step (coupling.c) */
     int implicit;        /* 1: couple dynamic bodies implicitly (default)   */
     dClothFailureMode on_failure; /* what a failed solve gives (dcloth.h)   */
+    int held_run;        /* steps held in a row: each retries the next in one
+                            more substep halving (coupling.c)               */
     dClothFrictionFn *friction_fn; /* per-geom friction (NULL: mu for all)  */
     void *friction_data;
     dClothSurfaceFn *surface_fn;   /* per-geom mu and thickness (NULL: none) */

@@ -97,7 +97,10 @@ cloth_status dClothStep(dClothID c, dReal h);
 /* A step whose solve fails even in the core's substeps:
  *  DCLOTH_FAILURE_HOLD (default): the cloth stops where it was (velocities
  *    zeroed: no energy added, no force on bodies); CLOTH_OK, with stats
- *    held set and dClothGetLastError saying why; the world steps on.
+ *    held set and dClothGetLastError saying why; the world steps on. Each
+ *    step held in a row retries the next in one more substep halving than
+ *    solver.max_substep_halvings allows (up to 16), so a failure that
+ *    smaller steps pass does not repeat for ever.
  *  DCLOTH_FAILURE_STOP: CLOTH_ESTEP, and dClothWorldStep steps nothing. */
 typedef enum dClothFailureMode { DCLOTH_FAILURE_HOLD = 0, DCLOTH_FAILURE_STOP } dClothFailureMode;
 cloth_status dClothSetFailureMode(dClothID c, dClothFailureMode mode);
