@@ -11,8 +11,9 @@
  *     in a row (without the halvings both scenes stop for good: their last
  *     175 and 97 steps held);
  *   - the world steps on (every call CLOTH_OK) and the cloth ends at rest
- *     on the box: mean vertex speed under 0.01 m/s, no vertex over the top
- *     deeper than half the thickness into its shell;
+ *     on the box: mean vertex speed after the last step not held under
+ *     0.01 m/s, no vertex over the top deeper than half the thickness into
+ *     its shell;
  *   - the user's solver settings are as set (max_substep_halvings 0).
  */
 #include <math.h>
@@ -26,6 +27,15 @@
 #define TOP 0.2
 #define HALF 0.25
 #define STEPS 180
+
+static double mean_speed(const cloth *core)
+{
+    const double *v = cloth_velocities(core);
+    int n = cloth_vertex_count(core);
+    double s = 0.0;
+    for (int i = 0; i < n; i++) s += sqrt(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
+    return s / n;
+}
 
 static void scene(int n_side, int iterations)
 {
@@ -48,6 +58,7 @@ static void scene(int n_side, int iterations)
     if (!CHECK(dClothCreate(w, sp, &d, &c, &err) == CLOTH_OK, "create: %s", err.message)) return;
     cloth *core = dClothGetCore(c);
     int n = cloth_vertex_count(core), held = 0, run = 0, longest = 0, ok = 1;
+    double speed = INFINITY;
     double *v = calloc(3 * (size_t)n, sizeof *v);
     for (int i = 0; i < n; i++) v[3 * i + 2] = -5.0;
     cloth_set_velocities(core, v);
@@ -58,16 +69,16 @@ static void scene(int n_side, int iterations)
         held += hd;
         run = hd ? run + 1 : 0;
         if (run > longest) longest = run;
+        if (!hd) speed = mean_speed(core); /* a held step's zeroed velocities say nothing */
     }
-    const double *x = cloth_positions(core), *vv = cloth_velocities(core);
-    double speed = 0.0, low = INFINITY;
+    const double *x = cloth_positions(core);
+    double low = INFINITY;
     for (int i = 0; i < n; i++) {
-        const double *p = x + 3 * i, *u = vv + 3 * i;
-        speed += sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]) / n;
+        const double *p = x + 3 * i;
         if (fabs(p[0]) < HALF - 0.01 && fabs(p[1]) < HALF - 0.01) low = fmin(low, p[2] - TOP);
     }
-    printf("%dx%d, %d Newton iterations: %d of %d steps held, at most %d in a row; mean speed %.2e m/s, lowest "
-           "vertex over the top %.2f mm above it\n",
+    printf("%dx%d, %d Newton iterations: %d of %d steps held, at most %d in a row; mean speed after the last step "
+           "not held %.2e m/s, lowest vertex over the top %.2f mm above it\n",
            n_side, n_side, iterations, held, STEPS, longest, speed, 1e3 * low);
     CHECK(held > 0, "%dx%d: no step held (the test tests nothing)", n_side, n_side);
     CHECK(longest <= 4, "%dx%d: %d steps held in a row", n_side, n_side, longest);
