@@ -16,7 +16,10 @@
  * 3. In-plane motion with drag_tangent c_t decays as (1 + h k)^-n with
  *    implicit Euler, (1 - h k)^n with symplectic Euler (k = c_t A / m):
  *    rigid up to the corners' uneven share of the drag: 1e-5.
- * 4. Bad settings are refused with a message naming the field and leave
+ * 4. cloth_air_force is the force the step applied: a free cloth tumbling
+ *    in a wind gains h (M g + F_air) a step (BDF2: its momentum equation),
+ *    to 1e-9 of the air's impulse.
+ * 5. Bad settings are refused with a message naming the field and leave
  *    the settings as they were. */
 #include <math.h>
 #include <stdlib.h>
@@ -138,6 +141,42 @@ static void tangential(int s)
     cloth_destroy(c);
 }
 
+/* 4: the cloth spinning about x and y through a slanted wind, 20 steps */
+static void reported(int s)
+{
+    const double g[3] = {0.0, 0.0, -9.81}, h = 0.01;
+    cloth *c = make(s, g);
+    if (!c) return;
+    cloth_air air = {{2.0, -1.0, 3.0}, drag_for(c, 0.1), 0.3 * drag_for(c, 0.1)};
+    cloth_set_air(c, &air);
+    int n = cloth_vertex_count(c);
+    double *v = calloc(3 * (size_t)n, sizeof *v), M = total_mass(c), worst = 0.0, dP0[3] = {0.0, 0.0, 0.0};
+    const double *x = cloth_positions(c);
+    for (int i = 0; i < n; i++) {
+        v[3 * i + 1] = -4.0 * (x[3 * i + 2] - x[2]);
+        v[3 * i + 2] = 4.0 * (x[3 * i + 1] - SIDE / 2) - 3.0 * (x[3 * i] - SIDE / 2);
+    }
+    cloth_set_velocities(c, v);
+    for (int k = 0; k < 20; k++) {
+        double P0[3], F[3], dP[3];
+        for (int r = 0; r < 3; r++) P0[r] = momentum(c, r);
+        if (!run(c, s, h, 1)) break;
+        cloth_air_force(c, F);
+        /* BDF2 after its first step: dP - dP_prev / 3 = 2/3 h f */
+        int bdf2 = methods[s] == CLOTH_BDF2 && k > 0;
+        for (int r = 0; r < 3; r++) {
+            dP[r] = momentum(c, r) - P0[r];
+            double lhs = bdf2 ? dP[r] - dP0[r] / 3.0 : dP[r], rhs = (bdf2 ? 2.0 / 3.0 : 1.0) * h * (M * g[r] + F[r]);
+            worst = fmax(worst, fabs(lhs - rhs) / (h * sqrt(F[0] * F[0] + F[1] * F[1] + F[2] * F[2])));
+        }
+        memcpy(dP0, dP, sizeof dP);
+    }
+    printf("%-17s reported air force: worst momentum error %.2e of the step's air impulse\n", names[s], worst);
+    CHECK(worst <= 1e-9, "%s: the momentum change differs from h (M g + air force) by %.3g", names[s], worst);
+    free(v);
+    cloth_destroy(c);
+}
+
 static int same(cloth_air a, cloth_air b) { return !memcmp(&a, &b, sizeof a); }
 
 static void bad_input(void)
@@ -162,6 +201,10 @@ static void bad_input(void)
     CHECK(cloth_set_air(c, &a) == CLOTH_EINVAL && strstr(cloth_last_error(c), "drag_tangent"),
           "infinite drag_tangent refused: %s", cloth_last_error(c));
     CHECK(cloth_set_air(NULL, &good) == CLOTH_EINVAL, "NULL cloth must be refused");
+    double f[3];
+    CHECK(cloth_air_force(NULL, f) == CLOTH_EINVAL, "cloth_air_force: NULL cloth must be refused");
+    CHECK(cloth_air_force(c, NULL) == CLOTH_EINVAL && strstr(cloth_last_error(c), "f is NULL"),
+          "cloth_air_force: NULL f refused: %s", cloth_last_error(c));
     cloth_air none = cloth_get_air(NULL);
     CHECK(none.drag_normal == 0.0 && none.drag_tangent == 0.0 && none.wind[2] == 0.0, "NULL cloth: no air");
     cloth_destroy(c);
@@ -174,6 +217,7 @@ int main(void)
         terminal(s, 1);
         wind(s);
         tangential(s);
+        reported(s);
     }
     bad_input();
     return check_summary();

@@ -14,7 +14,10 @@
  *   2. the same sphere held at its centre by a ball joint to the world;
  *   3. the same sphere on a hinge along y through its centre;
  *   4. gravity on: the cloth dropped flat and centred onto a 2 kg box
- *      resting on a plane, with friction.
+ *      resting on a plane, with friction;
+ *   5. zero gravity, a wind (cloth_set_air): the free sphere of 1 holding
+ *      the cloth at rest; cloth + sphere gain, each step, the air's impulse
+ *      h cloth_air_force and nothing else (to 1e-6 of it).
  * The box's largest torque about its vertical axis in 4 is printed, not
  * asserted: positions off the origin are not mirror-symmetric to the bit,
  * and the default step's elongation-limit projection and the triangle
@@ -223,6 +226,55 @@ static double landing(double cx, double cy, int newton, int tri)
     return worst_tz / (weight * side);
 }
 
+/* Linear momentum of the cloth and body b */
+static void momentum(dClothID c, dBodyID b, double P[3])
+{
+    const cloth *core = dClothGetCore(c);
+    const double *v = cloth_velocities(core), *m = cloth_masses(core);
+    const dReal *vb = dBodyGetLinearVel(b);
+    dMass mb;
+    dBodyGetMass(b, &mb);
+    for (int r = 0; r < 3; r++) P[r] = mb.mass * vb[r];
+    for (int i = 0; i < dClothGetVertexCount(c); i++)
+        for (int r = 0; r < 3; r++) P[r] += m[i] * v[3 * i + r];
+}
+
+/* 5: the air's push on a cloth held by a free body moves both */
+static void windy(void)
+{
+    dWorldID w = dWorldCreate();
+    dWorldSetGravity(w, 0, 0, 0);
+    dClothID c = make_cloth(w, 0, 1.0, 1.1, 1.2, 0, 0);
+    if (!c) {
+        dWorldDestroy(w);
+        return;
+    }
+    dBodyID b = sphere_holding(w, c, 0.5);
+    cloth_air air = {{3.0, 0.0, 4.0}, 1.0, 0.5};
+    CHECK(cloth_set_air(dClothGetCore(c), &air) == CLOTH_OK, "cloth_set_air");
+    double worst = 0.0, total = 0.0, P0[3], P1[3];
+    for (int s = 0; s < STEPS; s++) {
+        momentum(c, b, P0);
+        if (!CHECK(dClothStep(c, H) == CLOTH_OK, "wind, step %d: %s", s, dClothGetLastError(c))) break;
+        dWorldStep(w, H);
+        double fa[3], e[3];
+        cloth_air_force(dClothGetCore(c), fa);
+        momentum(c, b, P1);
+        for (int r = 0; r < 3; r++) e[r] = P1[r] - P0[r] - H * fa[r];
+        worst = fmax(worst, norm3(e) / (H * norm3(fa)));
+        total += H * norm3(fa);
+    }
+    const dReal *vb = dBodyGetLinearVel(b);
+    printf("wind on a cloth held by a free sphere: air impulse %.3g N s over the run; worst momentum error %.2e "
+           "of the step's air impulse; sphere moving at (%.3g, %.3g, %.3g) m/s\n",
+           total, worst, vb[0], vb[1], vb[2]);
+    CHECK(total > 1e-2, "wind: the air's impulse %.3g N s is too small to test", total);
+    CHECK(worst <= 1e-6, "wind: cloth + sphere gained %.3g of the air's impulse beyond it", worst);
+    CHECK(vb[0] > 0.0 && vb[2] > 0.0, "wind: the sphere is not carried downwind");
+    dClothDestroy(c);
+    dWorldDestroy(w);
+}
+
 int main(void)
 {
     dInitODE2(0);
@@ -232,6 +284,7 @@ int main(void)
      * the box's torque about its axis stays at the solves' rounding */
     double tz = landing(0.0, 0.0, 1, 0);
     CHECK(tz <= 1e-9, "symmetric landing: the box's torque about z reached %.3g of weight x size", tz);
+    windy();
     dCloseODE();
     return check_summary();
 }

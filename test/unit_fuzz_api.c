@@ -356,7 +356,11 @@ static void walk(void)
             mutates = 0;
             break;
         }
-        case 12: s = cloth_constraint_force(c, index_of(&g, n), rng_u64(&g) % 8 ? v3 : NULL); mutates = 0; break;
+        case 12:
+            if (rng_u64(&g) % 4) s = cloth_constraint_force(c, index_of(&g, n), rng_u64(&g) % 8 ? v3 : NULL);
+            else s = cloth_air_force(c, rng_u64(&g) % 8 ? v3 : NULL);
+            mutates = 0;
+            break;
         case 13: {
             cloth_link l;
             int t = rng_u64(&g) % 4 ? (int)(rng_u64(&g) % 2) : xi(&g);
@@ -547,6 +551,7 @@ static void null_cloth(void)
           "gravity/forces");
     cloth_air air = cloth_get_air(NULL);
     CHECK(cloth_set_air(NULL, &air) == CLOTH_EINVAL && air.drag_normal == 0.0 && air.drag_tangent == 0.0, "air");
+    CHECK(cloth_air_force(NULL, v) == CLOTH_EINVAL, "air_force");
     CHECK(cloth_link_count(NULL, CLOTH_SEQUENTIAL) == 0 && cloth_get_link(NULL, CLOTH_SEQUENTIAL, 0, &l) != CLOTH_OK,
           "links");
     CHECK(cloth_update_plastic(NULL) == 0, "update_plastic");

@@ -3,6 +3,7 @@
  * its vertices, with its velocity Jacobian for the implicit steps. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 #include "internal.h"
 #include "mat3.h"
 
@@ -76,21 +77,33 @@ static void add_blocks(const cloth *c, bsr *A, const int p[3], const int *blk, c
     for (int k = 0; k < 6; k++) mat3_axpy(A->val + 9 * (size_t)blk[k], B, 1.0);
 }
 
+/* Triangle k's vertices p, area and unit normal n (frame at xf + hf vf), its
+ * velocity r relative to the wind and drag density Dr = D r, whose force is
+ * -area Dr; area 0 if degenerate. */
+static double tri_drag(const cloth *c, const double *xf, const double *vf, double hf, const double *v, int k,
+                       int p[3], double n[3], double r[3], double Dr[3])
+{
+    const double *w = c->air.wind;
+    double cn = c->air.drag_normal, ct = c->air.drag_tangent;
+    tri_vertices(c, k, p);
+    double area = tri_frame(xf, vf, hf, p, n);
+    if (area == 0.0) return 0.0;
+    for (int q = 0; q < 3; q++) r[q] = (v[3 * p[0] + q] + v[3 * p[1] + q] + v[3 * p[2] + q]) / 3.0 - w[q];
+    double rn = r[0] * n[0] + r[1] * n[1] + r[2] * n[2];
+    for (int q = 0; q < 3; q++) Dr[q] = ct * r[q] + (cn - ct) * rn * n[q];
+    return area;
+}
+
 double air_eval(const cloth *c, const double *xf, const double *vf, double hf, const double *v, double s, double *f,
                 bsr *A, double t)
 {
-    const double *w = c->air.wind;
-    double cn = c->air.drag_normal, ct = c->air.drag_tangent, P = 0.0;
+    double P = 0.0;
     int nt = tri_count(c);
     for (int k = 0; k < nt; k++) {
         int p[3];
         double n[3], r[3], Dr[3];
-        tri_vertices(c, k, p);
-        double area = tri_frame(xf, vf, hf, p, n);
+        double area = tri_drag(c, xf, vf, hf, v, k, p, n, r, Dr);
         if (area == 0.0) continue;
-        for (int q = 0; q < 3; q++) r[q] = (v[3 * p[0] + q] + v[3 * p[1] + q] + v[3 * p[2] + q]) / 3.0 - w[q];
-        double rn = r[0] * n[0] + r[1] * n[1] + r[2] * n[2];
-        for (int q = 0; q < 3; q++) Dr[q] = ct * r[q] + (cn - ct) * rn * n[q];
         P += 0.5 * area * (r[0] * Dr[0] + r[1] * Dr[1] + r[2] * Dr[2]);
         if (f)
             for (int a = 0; a < 3; a++)
@@ -98,6 +111,34 @@ double air_eval(const cloth *c, const double *xf, const double *vf, double hf, c
         if (A) add_blocks(c, A, p, c->air_blk + 6 * (size_t)k, n, t * area / 9.0);
     }
     return P;
+}
+
+void air_step_force(const cloth *c, double h, double out[3])
+{
+    const cloth_solver *sv = &c->desc.solver;
+    const double *x0 = c->st.x, *v0 = c->st.v;
+    int implicit = sv->method == CLOTH_BACKWARD_EULER || sv->method == CLOTH_BDF2;
+    /* Newton's frame at x0 + h v0 (potential.c), the linearized step's at x0,
+     * both at v_new; the explicit steppers' at x0 with v0 */
+    int newton = implicit && sv->nonlinear == CLOTH_NEWTON;
+    const double *v = implicit ? c->v_new : v0;
+    out[0] = out[1] = out[2] = 0.0;
+    if (!air_on(c)) return;
+    for (int k = 0, nt = tri_count(c); k < nt; k++) {
+        int p[3];
+        double n[3], r[3], Dr[3];
+        double area = tri_drag(c, x0, newton ? v0 : NULL, newton ? h : 0.0, v, k, p, n, r, Dr);
+        if (area == 0.0) continue;
+        for (int q = 0; q < 3; q++) out[q] -= area * Dr[q];
+    }
+}
+
+cloth_status cloth_air_force(const cloth *c, double f[3])
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!f) return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_air_force: f is NULL");
+    memcpy(f, c->air_force, sizeof c->air_force);
+    return CLOTH_OK;
 }
 
 cloth_status cloth_set_air(cloth *c, const cloth_air *air)

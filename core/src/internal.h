@@ -110,6 +110,7 @@ struct cloth {
     double *f_ext;             /* 3n, N, external forces (cloth_set_external_forces) */
     cloth_air air;             /* air drag and wind (cloth_set_air; air.c) */
     int *air_blk;              /* 6 per grid triangle: its pairs' blocks in A (air.c) */
+    double air_force[3];       /* the air's total force over the last step (N; air.c) */
     /* rigid bodies solved with the cloth (bodies.c) */
     int nbody;
     cloth_body *body;          /* nbody, as set */
@@ -275,6 +276,9 @@ int air_blocks(cloth *c);
 /* Frames at xf + hf vf, velocities v: f += s F_air, A += t (area/9) D on each
  * triangle's vertex pairs (f, A may be NULL; -dF_a/dv_b = (area/9) D).
  * Returns the dissipation potential 1/2 sum area r^T D r. */
+/* The air's total force on the attempt's solution (x_new, v_new from the
+ * state), in the frame the method's solve used, into out. */
+void air_step_force(const cloth *c, double h, double out[3]);
 double air_eval(const cloth *c, const double *xf, const double *vf, double hf, const double *v, double s, double *f,
                 bsr *A, double t);
 

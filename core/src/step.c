@@ -173,7 +173,7 @@ static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failu
 {
     size_t n3 = 3 * (size_t)c->n;
     struct cloth_state *bk = &c->retry_bk;
-    double *xs = c->retry_xs, *fsum = c->retry_fsum;
+    double *xs = c->retry_xs, *fsum = c->retry_fsum, air[3], asum[3];
     state_copy(bk, &c->st);
     memcpy(xs, c->st.x, n3 * sizeof *xs);
     long k = 0;
@@ -184,6 +184,7 @@ static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failu
         st->residual = 0.0; /* of this depth's substeps */
         st->strain_limited = 0;
         memset(fsum, 0, n3 * sizeof *fsum);
+        memset(asum, 0, sizeof asum);
         /* bodies solved with the cloth: their du carries from substep to
          * substep (bodies.c) */
         bodies_retry_reset(c);
@@ -192,6 +193,8 @@ static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failu
         for (k = 0; k < parts; k++) {
             fail = attempt(c, hs, xs, (double)(k + 1) / (double)parts, d == halvings, st, ms);
             if (fail != CLOTH_FAIL_NONE) break;
+            air_step_force(c, hs, air);
+            for (int r = 0; r < 3; r++) asum[r] += air[r] / (double)parts;
             commit(c, hs, ms);
             bodies_retry_commit(c, hs);
             for (size_t q = 0; q < n3; q++) fsum[q] += c->con_new[q] / (double)parts;
@@ -204,6 +207,7 @@ static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failu
     st->substeps = fail == CLOTH_FAIL_NONE ? (int)k : (int)k + 1;
     if (fail == CLOTH_FAIL_NONE) {
         memcpy(c->con_force, fsum, n3 * sizeof *fsum);
+        memcpy(c->air_force, asum, sizeof asum);
         bodies_retry_finish(c);
     }
     return fail;
@@ -227,6 +231,7 @@ cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
     contacts_begin(c);
     cloth_failure fail = attempt(c, h, NULL, 1.0, sv->max_substep_halvings == 0, &st, &ms);
     if (fail == CLOTH_FAIL_NONE) {
+        air_step_force(c, h, c->air_force);
         commit(c, h, &ms);
         memcpy(c->con_force, c->con_new, 3 * (size_t)c->n * sizeof *c->con_force);
     } else {

@@ -578,24 +578,14 @@ cloth_status dClothStep(dClothID c, dReal h)
         cloth_set_vertex(core, i, cloth_positions(core) + 3 * i, vi);
     }
 
-    /* reactions: the constraint force (and friction) on each vertex, back
-     * onto its body at the pin or contact point. Momentum is exchanged, not
-     * created: what the cloth gained over the step beyond gravity, its
-     * external forces and the solve's constraint forces (the CG residual
-     * left on free vertices, the elongation limit's pull on held ones, the
-     * inelastic stop of contacts) was given by the constraints too, and is
-     * shared among them by the size of their forces; the shares of those on
-     * moving bodies go to the bodies (measured before: a
-     * body holding a hanging cloth drifted up at 9 cm/s with the residual of
-     * tolerance 1e-3 alone) */
-    /* Each body takes, at each of its vertices, the force the cloth felt
-     * there: the constraint's, friction, and a share of F, what no force
-     * explains (the CG residual, the inelastic stops, the elongation limit's
-     * pull on held vertices). A body solved with the cloth so moves by the
-     * velocity change the core found for it, to second order in h. */
+    /* Each body takes, at each of its vertices, the force the cloth felt there
+     * (constraint, friction) and a share, by force size, of F: the momentum
+     * the cloth gained that gravity, f_ext, the air and those do not explain. */
     double F[3] = {0.0, 0.0, 0.0}, wsum = 0.0;
     {
         const double *v1 = cloth_velocities(core), *fe = c->fext;
+        cloth_air_force(core, F); /* the air's push is explained: no body's share */
+        for (int r = 0; r < 3; r++) F[r] = -F[r];
         for (int i = 0; i < c->n; i++)
             for (int r = 0; r < 3; r++)
                 F[r] += mass[i] * (v1[3 * i + r] - c->v0[3 * i + r]) / h - mass[i] * cd.gravity[r] - fe[3 * i + r];

@@ -271,6 +271,10 @@ typedef struct cloth_air {
 /* Validated (finite, drags >= 0); on error the cloth keeps its settings. */
 cloth_status cloth_set_air(cloth *c, const cloth_air *air);
 cloth_air cloth_get_air(const cloth *c); /* all zeros if c is NULL */
+/* The air's total force on the cloth (N), averaged over the last step as
+ * the step applied it; zero without drag. With the constraint forces it
+ * accounts for the cloth's momentum change beyond gravity and f_ext. */
+cloth_status cloth_air_force(const cloth *c, double f[3]);
 
 /* ------------------------------------------------------------------ links */
 
