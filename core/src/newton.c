@@ -53,20 +53,31 @@ static double residual_norm(const cloth *c, const mpcg_problem *P, const double 
 
 /* Backtracking (Armijo) along ddv from dv: the step t taken. phi0 is the
  * potential at dv (with the bodies'), slope its derivative along ddv; on
- * return *phi is the potential at the step taken. */
+ * return *phi is the potential at the step taken. The full step's potential
+ * comes with its assembly (c->A, c->b); *ready says whether that step was
+ * taken, so the next iteration needs no assembly. */
 static double line_search(cloth *c, const step_eq *q, const double *dv, const double *ddv, int bodies,
-                          double phi0, double slope, double *phi)
+                          double phi0, double slope, double *phi, int *ready)
 {
     size_t n3 = 3 * (size_t)c->n;
     double t = 1.0;
+    *ready = 0;
     for (int k = 0; k < 16; k++, t *= 0.5) {
         for (size_t j = 0; j < n3; j++) c->dvt[j] = dv[j] + t * ddv[j];
-        *phi = potential_value(c, q, c->dvt, c->xt, c->vt) + (bodies ? bodies_newton_energy(c, t) : 0.0);
+        if (k == 0) {
+            potential_state(c, q, c->dvt);
+            *phi = potential_assemble(c, q, c->dvt, c->b);
+        } else {
+            *phi = potential_value(c, q, c->dvt, c->xt, c->vt);
+        }
+        *phi += bodies ? bodies_newton_energy(c, t) : 0.0;
+        *ready = k == 0;
         if (!(slope < 0.0)) break; /* not a descent direction (CG cut short): the full step */
         if (*phi <= phi0 + 1e-4 * t * slope) break;
         /* the change is within the potential's rounding: nothing to decide */
         if (fabs(t * slope) <= 1e-13 * (fabs(phi0) + fabs(*phi))) break;
     }
+    if (t < 1.0) *ready = 0;
     return t;
 }
 
@@ -211,14 +222,15 @@ static int energy_bounded(const cloth *c, const step_eq *q, const mpcg_problem *
 }
 
 /* One Newton iteration from dv (b = -R there): solve, search (not on the first, which lands the
- * constraints), take. *size gets the full step's size; returns the CG's failure (NONE, or a
- * cut-short solve's, still used). */
+ * constraints), take. *size gets the full step's size, *ready whether c->A and b are assembled
+ * at the new dv; returns the CG's failure (NONE, or a cut-short solve's, still used). */
 static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *P, double *dv, double *phi,
-                                      int first, double *size, cloth_step_stats *st)
+                                      int first, double *size, int *ready, cloth_step_stats *st)
 {
     size_t n3 = 3 * (size_t)c->n;
     double *ddv = c->ddv;
     mpcg_result r = linear_solve(c, P, ddv);
+    *ready = 0;
     st->iterations += r.iterations;
     if (!(st->residual >= r.residual)) st->residual = r.residual;
     if (r.failure == CLOTH_FAIL_NAN || r.failure == CLOTH_FAIL_CG_INDEFINITE || !all_finite(ddv, n3)) {
@@ -231,7 +243,7 @@ static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *
         double slope = 0.0, phi1;
         for (size_t k = 0; k < n3; k++) slope -= c->b[k] * ddv[k];
         if (P->bodies) slope += bodies_newton_slope(c);
-        t = line_search(c, q, dv, ddv, P->bodies != NULL, *phi, slope, &phi1);
+        t = line_search(c, q, dv, ddv, P->bodies != NULL, *phi, slope, &phi1, ready);
         if (t < 1.0) st->line_search_cuts++;
         *phi = phi1;
     } else {
@@ -297,14 +309,18 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
      * that is smaller (inexact Newton's forcing), down to newton_tolerance's */
     P.ref_floor = mt * pow(sv->newton_tolerance / sv->newton_cg_tolerance, 2);
     int it = 0, limit_rounds = 0, assembled = 0, landing = 1; /* limit_rounds: the multipliers' updates so far */
+    int ready = 0; /* c->A and b already at dv (the line search's full step) */
     int since = 0; /* iterations since the contacts or multipliers changed */
     double phi = NAN, size = INFINITY, rn = INFINITY, goal = sv->newton_tolerance;
     int conv = 0, pending = !landed; /* pending: constraints the iterate has not landed */
     *limit_held = 0;
     for (;;) {
         if (!assembled) { /* the residual at dv, and whether it is small enough */
-            potential_state(c, &q, dv);
-            potential_assemble(c, &q, dv, b);
+            if (!ready) {
+                potential_state(c, &q, dv);
+                potential_assemble(c, &q, dv, b);
+            }
+            ready = 0;
             assembled = 1;
             rn = residual_norm(c, &P, b, mt);
             goal = it == 0 && landed ? warm_goal(c, dv, mt) : sv->newton_tolerance;
@@ -351,7 +367,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         }
         if (phi != phi && it > 0)
             phi = potential_value(c, &q, dv, c->xt, c->vt) + (P.bodies ? bodies_energy(c) : 0.0);
-        cloth_failure f = newton_iteration(c, &q, &P, dv, &phi, landing, &size, st);
+        cloth_failure f = newton_iteration(c, &q, &P, dv, &phi, landing, &size, &ready, st);
         if (landing) memset(c->z, 0, 3 * (size_t)c->n * sizeof *c->z); /* the constraints landed */
         landing = pending = 0;
         it++;

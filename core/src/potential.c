@@ -65,11 +65,11 @@ static spring_law law_of(const cloth *c, int t, int e)
     return s;
 }
 
-void potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b)
+double potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b)
 {
     const cloth_material *m = &c->desc.material;
     const double *x = c->x_new, *v = c->v_new;
-    double cf = q->cfac, cf2 = cf * cf;
+    double cf = q->cfac, cf2 = cf * cf, P = 0.0;
     bsr *A = &c->A;
     assemble_zero(c);
     for (int i = 0; i < c->n; i++) {
@@ -77,8 +77,9 @@ void potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b)
         B[0] = B[4] = B[8] = c->mass[i];
         for (int r = 0; r < 3; r++) {
             size_t k = 3 * (size_t)i + (size_t)r;
-            double fc = c->mass[i] * c->desc.gravity[r] + c->f_ext[k];
-            b[k] = cf * fc + bdf2_extra(c, q, k) - c->mass[i] * dv[k];
+            double fc = c->mass[i] * c->desc.gravity[r] + c->f_ext[k], e = bdf2_extra(c, q, k);
+            b[k] = cf * fc + e - c->mass[i] * dv[k];
+            P += (0.5 * c->mass[i] * dv[k] - e) * dv[k] - cf * fc * v[k];
         }
     }
     double f[3], K[9], blk[9];
@@ -87,12 +88,13 @@ void potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b)
         const link_topo *L = t ? c->lint : c->seq;
         const int *bl = t ? c->int_blk : c->seq_blk;
         const double *ut = c->ut + (t ? 3 * (size_t)c->n_seq : 0);
-        double damp = t ? m->c_b : m->c_t;
+        double damp = t ? m->c_b : m->c_t, hdamp = 0.5 * cf * damp;
         for (int e = 0; e < ne; e++) {
             int i = L[e].i, j = L[e].j;
             const double *u = ut + 3 * (size_t)e, *vi = v + 3 * i, *vj = v + 3 * j;
-            spring_eval_predicted(x + 3 * i, x + 3 * j, u, law_of(c, t, e), f, K);
-            double rate = damp * ((vj[0] - vi[0]) * u[0] + (vj[1] - vi[1]) * u[1] + (vj[2] - vi[2]) * u[2]);
+            double E = spring_eval_predicted(x + 3 * i, x + 3 * j, u, law_of(c, t, e), f, K);
+            double vu = (vj[0] - vi[0]) * u[0] + (vj[1] - vi[1]) * u[1] + (vj[2] - vi[2]) * u[2], rate = damp * vu;
+            P += E + hdamp * vu * vu;
             for (int r = 0; r < 3; r++) {
                 double fr = cf * (f[r] + rate * u[r]);
                 b[3 * i + r] += fr;
@@ -103,7 +105,8 @@ void potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b)
         }
     }
     /* air drag, a damper with its normals and areas at x~ */
-    if (air_on(c)) air_eval(c, c->st.x, c->st.v, q->h, v, cf, b, A, cf);
+    if (air_on(c)) P += cf * air_eval(c, c->st.x, c->st.v, q->h, v, cf, b, A, cf);
+    return P;
 }
 
 void potential_momentum_residual(const cloth *c, const step_eq *q, const double *dv, double out[3])

@@ -28,8 +28,9 @@ void potential_begin(cloth *c, double h, int bdf2, step_eq *q);
 void potential_state(cloth *c, const step_eq *q, const double *dv);
 
 /* At c->x_new, c->v_new (potential_state first): b = -R, and the Newton
- * matrix M + cfac C + cfac^2 K (Phi's Hessian, positive definite) into c->A. */
-void potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b);
+ * matrix M + cfac C + cfac^2 K (Phi's Hessian, positive definite) into c->A.
+ * Returns Phi there, bit for bit as potential_value. */
+double potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b);
 
 /* The sum of R over every row at dv, out (3): M dv - e - cfac f_c summed,
  * as the links' forces and dampers cancel in pairs (not with air drag, an
