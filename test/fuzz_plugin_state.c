@@ -79,7 +79,8 @@ static int same(const dClothState *a, const dClothState *b)
 {
     size_t n = (size_t)a->n;
     return cloth_state_diff(a->core, b->core) == 0.0 && memcmp(a->vc, b->vc, n * sizeof *a->vc) == 0 &&
-           memcmp(a->pin, b->pin, n * sizeof *a->pin) == 0 && a->sleep.on == b->sleep.on &&
+           memcmp(a->pin, b->pin, n * sizeof *a->pin) == 0 && memcmp(a->fadd, b->fadd, 3 * n * sizeof *a->fadd) == 0 &&
+           a->held_run == b->held_run && a->sleep.on == b->sleep.on &&
            a->sleep.asleep == b->sleep.asleep && a->sleep.n == b->sleep.n && a->sleep.still == b->sleep.still;
 }
 
@@ -157,8 +158,9 @@ static int write_seed(const char *dir, const char *name, int mode, scene *r)
     return rc;
 }
 
-/* Seeds: the rest state; hung 30 steps (contacts, the pin's force);
- * without the body, asleep on the table (the sleep snapshot). */
+/* Seeds: the rest state; hung 30 steps (contacts, the pin's force) with a
+ * force pending for the next step; without the body, asleep on the table
+ * (the sleep snapshot). */
 static int write_corpus(const char *dir)
 {
     dInitODE2(0);
@@ -166,6 +168,7 @@ static int write_corpus(const char *dir)
     if (make(&a, 1) || make(&b, 0)) return 1;
     int rc = write_seed(dir, "rest", 0, &a);
     for (int k = 0; k < 30; k++) dClothWorldStep(a.world, &a.cloth, 1, 1.0 / 60, 0);
+    rc |= dClothAddVertexForce(a.cloth, 4, 0.01, -0.02, 0.03) != CLOTH_OK;
     rc |= write_seed(dir, "hung", 2, &a);
     dClothSetAutoSleep(b.cloth, 1, 0.05, 10);
     for (int k = 0; k < 300 && !dClothIsSleeping(b.cloth); k++) dClothWorldStep(b.world, &b.cloth, 1, 1.0 / 60, 0);

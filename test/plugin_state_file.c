@@ -4,22 +4,29 @@
  * 0.5: contacts, sticking, triangle contacts at the edges), its corner
  * vertex pinned to a free 50 g body that hangs off the table.
  *
- * 1. A 9 x 9 cloth run 60 steps, its state written (the body's pose and
- *    velocities kept by hand, bit for bit), then run 40 more. A second scene
- *    built from scratch reads the file (with its own table and body in the
- *    arrays) and runs 40 steps: positions and velocities bitwise the first
- *    run's. Both with the linearised step and with Newton's (under which
- *    the body turns: its orientation must go back bit for bit).
+ * 1. A 9 x 9 cloth run 60 steps, forces added to a few vertices for the
+ *    next step (dClothAddVertexForce), its state written (the body's pose
+ *    and velocities kept by hand, bit for bit), then run 40 more. A second
+ *    scene built from scratch reads the file (with its own table and body in
+ *    the arrays) and runs 40 steps: positions and velocities bitwise the
+ *    first run's. Both with the linearised step and with Newton's (under
+ *    which the body turns: its orientation must go back bit for bit).
+ *    Held steps: a cloth thrown onto a box with Newton's budget cut
+ *    (DCLOTH_FAILURE_HOLD, as plugin_failure_hold) written after the second
+ *    of a run of held steps: read into a new scene, it continues bitwise
+ *    (the run decides the next step's substep halvings).
  * 2. Sleep: a 3 x 3 cloth without the body falls asleep on the table; the
  *    file carries the sleep snapshot (the table by index): read into a
  *    fresh scene, it sleeps, and wakes as the first does when the table moves.
  * 3. Refused, with a message and the cloth unchanged (its state written
  *    again gives the same bytes): a missing file, every truncation of a
- *    3 x 3 cloth's file, a bad magic, version 2, a file of another vertex
+ *    3 x 3 cloth's file, a bad magic, version 3, a file of another vertex
  *    count, a geom and a body index out of range, NaN in a contact's normal,
- *    a damaged byte (checksum), a trailing byte, NULL path and negative
- *    counts. Writing with the body or table left out of the arrays is
- *    refused naming the pin or contact, and the existing file is untouched.
+ *    a held run out of range, NaN in a pending force, a damaged byte
+ *    (checksum), a trailing byte, NULL path and negative counts. Writing
+ *    with the body or table left out of the arrays is refused naming the pin
+ *    or contact, and the existing file is untouched. A version 1 file (no
+ *    held run, no pending forces) is read, both zero.
  */
 #include "odecloth/dcloth.h"
 #include "check.h"
@@ -31,6 +38,8 @@
 #define PIN_BYTES 80
 #define SLEEP_BYTES 52
 #define SLEEP_ENTRY 28
+#define HELD_BYTES 4
+#define FORCE_BYTES 24
 
 typedef struct scene {
     dWorldID world;
@@ -154,9 +163,9 @@ static void bad_input(void)
     blob ref = snapshot(&r), b = snapshot(&r);
     CHECK(dClothGetStats(r.cloth)->contacts > 0, "the small scene has no contacts");
     int n = dClothGetVertexCount(r.cloth);
-    size_t c0 = contacts_at(&b);
-    CHECK(b.n == c0 + (size_t)n * (CONTACT_BYTES + PIN_BYTES) + 8, "file of %zu bytes, the layout says %zu", b.n,
-          c0 + (size_t)n * (CONTACT_BYTES + PIN_BYTES) + 8);
+    size_t c0 = contacts_at(&b), held = c0 + (size_t)n * (CONTACT_BYTES + PIN_BYTES);
+    CHECK(b.n == held + HELD_BYTES + (size_t)n * FORCE_BYTES + 8, "file of %zu bytes, the layout says %zu", b.n,
+          held + HELD_BYTES + (size_t)n * FORCE_BYTES + 8);
 
     CHECK(dClothReadState(r.cloth, "no_such_dir/none.state", NULL, 0, NULL, 0) == CLOTH_EINVAL &&
               strstr(dClothGetLastError(r.cloth), "no_such_dir/none.state"),
@@ -175,10 +184,10 @@ static void bad_input(void)
     m.p[0] ^= 1;
     refused(&r, &ref, m.p, m.n, "magic", "bad magic");
     m.p[0] ^= 1;
-    put_le(m.p + 8, 2, 4);
+    put_le(m.p + 8, 3, 4);
     reseal(m.p, m.n);
-    refused(&r, &ref, m.p, m.n, "version 2", "version 2");
-    put_le(m.p + 8, 1, 4);
+    refused(&r, &ref, m.p, m.n, "format version 3, this library reads 1 and 2", "version 3");
+    put_le(m.p + 8, 2, 4);
     put_le(m.p + 12, 10, 4);
     reseal(m.p, m.n);
     refused(&r, &ref, m.p, m.n, "for 10 vertices", "vertex count 10");
@@ -227,6 +236,22 @@ static void bad_input(void)
     reseal(m.p, m.n);
     refused(&r, &ref, m.p, m.n, "pin of vertex 0: body = -2 is outside [-1, 0]", "body index -2");
     memcpy(m.p, ref.p, ref.n);
+    put_le(m.p + held, 17, 4);
+    reseal(m.p, m.n);
+    refused(&r, &ref, m.p, m.n, "held run = 17 is outside [0, 16]", "held run 17");
+    put_le(m.p + held, (uint64_t)-1, 4);
+    reseal(m.p, m.n);
+    refused(&r, &ref, m.p, m.n, "held run = -1 is outside [0, 16]", "held run -1");
+    memcpy(m.p, ref.p, ref.n);
+    {
+        double nan = NAN;
+        uint64_t u;
+        memcpy(&u, &nan, 8);
+        put_le(m.p + held + HELD_BYTES + 2 * FORCE_BYTES + 8, u, 8);
+        reseal(m.p, m.n);
+        refused(&r, &ref, m.p, m.n, "pending force of vertex 2: force[1] = nan is not finite", "NaN pending force");
+        memcpy(m.p, ref.p, ref.n);
+    }
     m.p[c0 + 20] ^= 0x10;
     refused(&r, &ref, m.p, m.n, "checksum", "damaged byte");
     memcpy(m.p, ref.p, ref.n);
@@ -235,8 +260,28 @@ static void bad_input(void)
     longer[m.n - 8] = 0;
     blob lb = {longer, m.n + 1};
     reseal(lb.p, lb.n);
-    refused(&r, &ref, lb.p, lb.n, "1 bytes after the last pin record", "a trailing byte");
+    refused(&r, &ref, lb.p, lb.n, "1 bytes after the last pending force record", "a trailing byte");
     free(longer);
+
+    /* version 1: no held run, no pending forces; read, both zero (a force
+     * added before reading is gone) */
+    memcpy(m.p + held, m.p + m.n - 8, 8);
+    blob v1 = {m.p, held + 8};
+    put_le(v1.p + 8, 1, 4);
+    reseal(v1.p, v1.n);
+    dClothAddVertexForce(r.cloth, 1, 0.5, 0, 0);
+    store("plugin_state_file.bad", v1.p, v1.n);
+    CHECK(read_state(&r, "plugin_state_file.bad") == CLOTH_OK, "a version 1 file: %s", dClothGetLastError(r.cloth));
+    now = snapshot(&r);
+    CHECK(now.n == ref.n && memcmp(now.p, ref.p, now.n) == 0, "a version 1 file read is not the state it holds");
+    free(now.p);
+    v1.p[v1.n - 9] ^= 1;
+    refused(&r, &ref, v1.p, v1.n, "checksum", "a damaged version 1 file");
+    v1.p[v1.n - 9] ^= 1;
+    v1.n += 4;
+    reseal(v1.p, v1.n);
+    refused(&r, &ref, v1.p, v1.n, "4 bytes after the last pin record", "a version 1 file with a held run");
+    memcpy(m.p, ref.p, ref.n);
 
     CHECK(dClothReadState(r.cloth, NULL, NULL, 0, NULL, 0) == CLOTH_EINVAL &&
               dClothWriteState(r.cloth, NULL, NULL, 0, NULL, 0) == CLOTH_EINVAL &&
@@ -255,8 +300,8 @@ static void bad_input(void)
           "a contact with an unnamed geom: %s", dClothGetLastError(r.cloth));
     now = read_all("plugin_state_file.ref");
     CHECK(now.n == ref.n && memcmp(now.p, ref.p, now.n) == 0, "a refused write changed the file");
-    printf("refused: a missing file, %d truncations, magic, version, vertex count, indices, NaN, checksum, a "
-           "trailing byte; writes naming no body or geom\n",
+    printf("refused: a missing file, %d truncations, magic, version, vertex count, indices, NaN, held run, "
+           "checksum, a trailing byte; writes naming no body or geom; a version 1 file read\n",
            truncs);
     free(now.p);
     free(m.p);
@@ -274,6 +319,10 @@ static void round_trip(int n, int m, cloth_nonlinear nl)
     if (make(&a, 9, 1, nl) || make(&b, 9, 1, nl)) return;
     size_t n3 = 3 * (size_t)dClothGetVertexCount(a.cloth);
     run(&a, n);
+    /* forces for the next step, pending when the file is written */
+    for (int i = 40; i < 44; i++)
+        CHECK(dClothAddVertexForce(a.cloth, i, 0.02, -0.01 * (i - 41), 0.05) == CLOTH_OK, "add force: %s",
+              dClothGetLastError(a.cloth));
     CHECK(write_state(&a, "plugin_state_file.state") == CLOTH_OK, "write: %s", dClothGetLastError(a.cloth));
     body_state bs;
     body_save(a.body, &bs);
@@ -290,10 +339,95 @@ static void round_trip(int n, int m, cloth_nonlinear nl)
                memcmp(cloth_velocities(dClothGetCore(a.cloth)), cloth_velocities(dClothGetCore(b.cloth)),
                       n3 * sizeof(double)) == 0;
     CHECK(same, "%s: read into a new scene and run %d steps: differs from the uninterrupted run", name, m);
-    printf("%s: written at step %d, read into a new scene, %d steps on: %s\n", name, n, m,
+    printf("%s: written at step %d with forces pending, read into a new scene, %d steps on: %s\n", name, n, m,
            same ? "bitwise the uninterrupted run" : "DIFFERS");
     destroy(&a);
     destroy(&b);
+}
+
+/* A cloth thrown onto a box, Newton's budget cut so that steps are held
+ * (plugin_failure_hold's scene); geoms[0] the box, geoms[1] the ground. */
+typedef struct held_scene {
+    dWorldID world;
+    dSpaceID space;
+    dGeomID geoms[2];
+    dClothID cloth;
+} held_scene;
+
+static int held_make(held_scene *r)
+{
+    r->world = dWorldCreate();
+    dWorldSetGravity(r->world, 0, 0, -9.81);
+    r->space = dHashSpaceCreate(0);
+    r->geoms[0] = dCreateBox(r->space, 0.5, 0.5, 0.2);
+    dGeomSetPosition(r->geoms[0], 0, 0, 0.1);
+    r->geoms[1] = dCreatePlane(r->space, 0, 0, 1, 0);
+    dClothDesc d = dClothDefaultDesc();
+    d.cloth.rows = d.cloth.cols = 21;
+    d.cloth.material.density = 0.2;
+    d.cloth.origin[0] = d.cloth.origin[1] = -0.5;
+    d.cloth.origin[2] = 0.2 + d.thickness + 0.01;
+    d.cloth.solver.nonlinear = CLOTH_NEWTON;
+    d.cloth.solver.newton_iterations = 1;
+    d.cloth.solver.max_substep_halvings = 0;
+    cloth_error err;
+    if (!CHECK(dClothCreate(r->world, r->space, &d, &r->cloth, &err) == CLOTH_OK, "held scene: %s", err.message))
+        return -1;
+    cloth *core = dClothGetCore(r->cloth);
+    size_t n3 = 3 * (size_t)dClothGetVertexCount(r->cloth);
+    double *v = calloc(n3, sizeof *v);
+    for (size_t q = 2; q < n3; q += 3) v[q] = -5.0;
+    cloth_set_velocities(core, v);
+    free(v);
+    return 0;
+}
+
+static void held_destroy(held_scene *r)
+{
+    dClothDestroy(r->cloth);
+    dGeomDestroy(r->geoms[0]);
+    dGeomDestroy(r->geoms[1]);
+    dSpaceDestroy(r->space);
+    dWorldDestroy(r->world);
+}
+
+/* Written after the second step held in a row, read into a new scene, m
+ * steps on: bitwise the same, held steps included */
+static void held_round_trip(int m)
+{
+    held_scene a, b;
+    if (held_make(&a) || held_make(&b)) return;
+    size_t n3 = 3 * (size_t)dClothGetVertexCount(a.cloth);
+    int s = 0, in_row = 0, held_a = 0, held_b = 0;
+    for (; s < 120 && in_row < 2; s++) {
+        dClothWorldStep(a.world, &a.cloth, 1, H, 0);
+        in_row = dClothGetStats(a.cloth)->held ? in_row + 1 : 0;
+    }
+    if (!CHECK(in_row == 2, "no two steps of the thrown cloth held in a row in %d", s)) return;
+    CHECK(dClothWriteState(a.cloth, "plugin_state_file.state", a.geoms, 2, NULL, 0) == CLOTH_OK, "write held: %s",
+          dClothGetLastError(a.cloth));
+    dClothWorldStep(b.world, &b.cloth, 1, H, 0); /* somewhere else, to be overwritten */
+    CHECK(dClothReadState(b.cloth, "plugin_state_file.state", b.geoms, 2, NULL, 0) == CLOTH_OK, "read held: %s",
+          dClothGetLastError(b.cloth));
+    for (int k = 0; k < m; k++) {
+        CHECK(dClothWorldStep(a.world, &a.cloth, 1, H, 0) == CLOTH_OK, "held, step %d: %s", k,
+              dClothGetLastError(a.cloth));
+        CHECK(dClothWorldStep(b.world, &b.cloth, 1, H, 0) == CLOTH_OK, "held, read, step %d: %s", k,
+              dClothGetLastError(b.cloth));
+        held_a += dClothGetStats(a.cloth)->held;
+        held_b += dClothGetStats(b.cloth)->held;
+    }
+    int same = memcmp(dClothGetPositions(a.cloth), dClothGetPositions(b.cloth), n3 * sizeof(double)) == 0 &&
+               memcmp(cloth_velocities(dClothGetCore(a.cloth)), cloth_velocities(dClothGetCore(b.cloth)),
+                      n3 * sizeof(double)) == 0;
+    CHECK(same && held_a == held_b, "held: read after two held steps and run %d steps: differs from the "
+          "uninterrupted run (%d and %d steps held)", m, held_a, held_b);
+    CHECK(held_a > 0, "held: no step held after the file was written: the run's count is not tested");
+    printf("held: written after step %d, the second held in a row, read into a new scene, %d steps on (%d held): "
+           "%s\n", s, m, held_a,
+           same ? "bitwise the uninterrupted run" : "DIFFERS");
+    held_destroy(&a);
+    held_destroy(&b);
 }
 
 int main(void)
@@ -304,6 +438,7 @@ int main(void)
     /* 1. written at step N, read into a new scene: bitwise the same */
     round_trip(N, M, CLOTH_LINEARIZED);
     round_trip(N, M, CLOTH_NEWTON);
+    held_round_trip(12);
     scene a, b;
     size_t n3;
 

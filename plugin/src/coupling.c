@@ -350,13 +350,12 @@ static void took_candidates(dClothID c, dClothStepStats *st)
 /* A held step changes what the next one solves: from rest, and retried in
  * one more substep halving for each step held in a row (up to the solver's
  * bound), so a failure that smaller steps pass does not repeat for ever. */
-#define HOLD_MAX_HALVINGS 16
 static cloth_status held_run_step(dClothID c, cloth *core, double h, cloth_step_stats *st)
 {
     if (!c->held_run) return cloth_step(core, h, st);
     cloth_solver sv0 = cloth_get_desc(core).solver, sv = sv0;
     sv.max_substep_halvings = sv0.max_substep_halvings + c->held_run;
-    if (sv.max_substep_halvings > HOLD_MAX_HALVINGS) sv.max_substep_halvings = HOLD_MAX_HALVINGS;
+    if (sv.max_substep_halvings > DCLOTH_HOLD_MAX_HALVINGS) sv.max_substep_halvings = DCLOTH_HOLD_MAX_HALVINGS;
     cloth_set_solver(core, &sv);
     cloth_status s = cloth_step(core, h, st);
     cloth_set_solver(core, &sv0);
@@ -552,7 +551,7 @@ cloth_status dClothStep(dClothID c, dReal h)
         cloth_restore(core, c->save);
         st.contacts = st.sticking = 0;
         st.held = s == CLOTH_ESTEP && c->on_failure == DCLOTH_FAILURE_HOLD;
-        if (st.held && c->held_run < HOLD_MAX_HALVINGS) c->held_run++;
+        if (st.held && c->held_run < DCLOTH_HOLD_MAX_HALVINGS) c->held_run++;
         if (st.held) { /* stopped where it was: the failed step's motion dropped, no energy added */
             memset(c->v0, 0, 3 * (size_t)c->n * sizeof *c->v0);
             cloth_set_velocities(core, c->v0);

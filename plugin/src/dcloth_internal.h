@@ -174,6 +174,8 @@ struct dClothState {
     double *sleep_geoms;
     dGeomID *sleep_ids;
     double surf_tmax; /* the broadphase's reach for the surface callback's geoms */
+    int held_run;     /* steps held in a row (the next step's extra halvings) */
+    double *fadd;     /* 3n: dClothAddVertexForce's, not yet applied          */
 };
 
 /* statefile.c: dClothReadState on a file already in memory (name: for the
@@ -199,6 +201,10 @@ static inline double dcloth_dot3(const double *a, const double *b)
 {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
+
+/* coupling.c: a held run retries in at most this many substep halvings,
+ * so held_run never exceeds it (statefile.c checks it on reading). */
+#define DCLOTH_HOLD_MAX_HALVINGS 16
 
 /* Set c->err and return code (printf-style). */
 cloth_status dcloth_fail(dClothID c, cloth_status code, const char *fmt, ...);

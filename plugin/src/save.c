@@ -2,8 +2,10 @@
  * core's state and what the plugin carries from one step to the next: each
  * vertex's contact history (whether it was in contact, sticking, its last
  * force and slip: they decide release and the friction cone), the pins and
- * their forces, the sleep state and the last stats. A restore then continues
- * exactly as the uninterrupted run (plugin_determinism). */
+ * their forces, the sleep state, the steps held in a row, the forces
+ * dClothAddVertexForce added for the next step and the last stats. A
+ * restore then continues exactly as the uninterrupted run
+ * (plugin_determinism, plugin_state_file). */
 #include <stdlib.h>
 #include <string.h>
 #include "dcloth_internal.h"
@@ -17,7 +19,8 @@ dClothState *dClothStateCreate(dClothID c)
     s->core = cloth_state_create(c->core);
     s->vc = malloc((size_t)c->n * sizeof *s->vc);
     s->pin = malloc((size_t)c->n * sizeof *s->pin);
-    if (!s->core || !s->vc || !s->pin) {
+    s->fadd = calloc(3 * (size_t)c->n, sizeof *s->fadd);
+    if (!s->core || !s->vc || !s->pin || !s->fadd) {
         dClothStateDestroy(s);
         return NULL;
     }
@@ -30,6 +33,7 @@ void dClothStateDestroy(dClothState *s)
     cloth_state_destroy(s->core);
     free(s->vc);
     free(s->pin);
+    free(s->fadd);
     free(s->sleep_geoms);
     free(s->sleep_ids);
     free(s);
@@ -62,6 +66,8 @@ cloth_status dClothSave(dClothID c, dClothState *s)
     if (r != CLOTH_OK) return dcloth_fail(c, r, "dClothSave: %s", cloth_last_error(c->core));
     memcpy(s->vc, c->vc, (size_t)c->n * sizeof *s->vc);
     memcpy(s->pin, c->pin, (size_t)c->n * sizeof *s->pin);
+    memcpy(s->fadd, c->fadd, 3 * (size_t)c->n * sizeof *s->fadd);
+    s->held_run = c->held_run;
     s->stats = c->stats;
     s->sleep = c->sleep;
     s->surf_tmax = c->surf_tmax;
@@ -87,6 +93,8 @@ cloth_status dClothRestore(dClothID c, const dClothState *s)
     if (r != CLOTH_OK) return dcloth_fail(c, r, "dClothRestore: %s", cloth_last_error(c->core));
     memcpy(c->vc, s->vc, (size_t)c->n * sizeof *c->vc);
     memcpy(c->pin, s->pin, (size_t)c->n * sizeof *c->pin);
+    memcpy(c->fadd, s->fadd, 3 * (size_t)c->n * sizeof *c->fadd);
+    c->held_run = s->held_run;
     c->stats = s->stats;
     c->sleep = s->sleep;
     c->surf_tmax = s->surf_tmax;

@@ -2,10 +2,10 @@
  * a versioned binary file, geoms and bodies stored as indices into arrays
  * the caller names, so that a run continues bitwise in a new process.
  *
- * Format version 1, every number little-endian (u32, i32, u64, f64 as
+ * Format version 2, every number little-endian (u32, i32, u64, f64 as
  * IEEE 754 bits); geom and body fields are i32 indices, -1 for none:
  *   0   8   magic "ODCLPLUG"
- *   8   4   u32 format version (1)
+ *   8   4   u32 format version (2; 1 is read too: no held run, no forces)
  *   12  4   u32 vertex count n
  *   16  8   u64 length L of the core's record
  *   24  L   the core's state record (cloth_state_write, its own format; an
@@ -16,6 +16,9 @@
  *       n contact records (308 bytes each, fields in xfer_contact's order)
  *       n pin records (80 bytes each: i32 active, i32 body, f64 local[3],
  *           world[3], force[3])
+ *       i32 steps held in a row, 0 to DCLOTH_HOLD_MAX_HALVINGS (version 2 only)
+ *       n f64[3] forces dClothAddVertexForce added for the next step
+ *           (version 2 only)
  *   end-8 8 u64 FNV-1a 64 of every byte before it
  * The last step's stats are not kept: they describe a step, not the state. */
 #include <errno.h>
@@ -28,7 +31,7 @@
 #include "dcloth_internal.h"
 
 #define PSTATE_MAGIC "ODCLPLUG"
-#define PSTATE_VERSION 1u
+#define PSTATE_VERSION 2u
 #define PSTATE_HEADER 24u
 
 /* One pass over a state's fields, writing them to buf or reading them from
@@ -253,8 +256,10 @@ static uint64_t fnv1a(const unsigned char *p, size_t n)
 }
 
 /* Everything after the header's fixed part: the core record (length L
- * already known), sleep, contacts, pins. */
-static void xfer_body(io *s, dClothState *st, size_t core_len)
+ * already known), sleep, contacts, pins, then from version 2 the held run
+ * and the pending forces (version 1: left as dClothStateCreate made them,
+ * zero). */
+static void xfer_body(io *s, dClothState *st, size_t core_len, uint32_t version)
 {
     unsigned char *core = io_room(s, core_len, "core state");
     if (!core) return;
@@ -278,6 +283,14 @@ static void xfer_body(io *s, dClothState *st, size_t core_len)
     for (int i = 0; i < st->n && !s->err[0]; i++) {
         snprintf(s->where, sizeof s->where, "pin of vertex %d", i);
         xfer_pin(s, &st->pin[i]);
+    }
+    if (version >= 2u) {
+        s->where[0] = 0;
+        io_int(s, &st->held_run, 0, DCLOTH_HOLD_MAX_HALVINGS, "held run");
+        for (int i = 0; i < st->n && !s->err[0]; i++) {
+            snprintf(s->where, sizeof s->where, "pending force of vertex %d", i);
+            io_f64(s, &st->fadd[3 * i], 3, "force");
+        }
     }
     s->where[0] = 0;
 }
@@ -317,7 +330,7 @@ cloth_status dClothWriteState(dClothID c, const char *path, const dGeomID *geoms
         io_raw32(&s, PSTATE_VERSION, "version");
         io_raw32(&s, (uint32_t)c->n, "vertex count");
         io_u64(&s, &core_len, "core length");
-        xfer_body(&s, st, (size_t)core_len);
+        xfer_body(&s, st, (size_t)core_len, PSTATE_VERSION);
         uint64_t sum = s.err[0] ? 0 : fnv1a(s.buf, s.at);
         io_u64(&s, &sum, "checksum");
         if (s.err[0]) {
@@ -372,8 +385,9 @@ static void decode(io *s, dClothID c, dClothState *st)
     uint32_t ver = io_raw32(s, 0, "version"), n = io_raw32(s, 0, "vertex count");
     uint64_t core_len = 0;
     io_u64(s, &core_len, "core length");
-    if (ver != PSTATE_VERSION) {
-        snprintf(s->err, sizeof s->err, "format version %u, this library reads %u", (unsigned)ver, PSTATE_VERSION);
+    if (ver != 1u && ver != PSTATE_VERSION) {
+        snprintf(s->err, sizeof s->err, "format version %u, this library reads 1 and %u", (unsigned)ver,
+                 PSTATE_VERSION);
         return;
     }
     if (n != (uint32_t)c->n) {
@@ -395,9 +409,10 @@ static void decode(io *s, dClothID c, dClothState *st)
     }
     s->at = PSTATE_HEADER;
     s->len -= 8;
-    xfer_body(s, st, (size_t)core_len);
+    xfer_body(s, st, (size_t)core_len, ver);
     if (!s->err[0] && s->at != s->len)
-        snprintf(s->err, sizeof s->err, "%zu bytes after the last pin record", s->len - s->at);
+        snprintf(s->err, sizeof s->err, "%zu bytes after the last %s record", s->len - s->at,
+                 ver == 1u ? "pin" : "pending force");
 }
 
 cloth_status dcloth_read_state(dClothID c, const char *name, const unsigned char *buf, size_t len,
