@@ -15,12 +15,16 @@
  *    releases, forces, normals, friction, thickness, bits, space changes
  *    (a geom as the space included), vertex forces for the next step,
  *    failure modes (valid and not), vertex contact queries, per-geom
- *    friction and surface callbacks answering any value,
+ *    friction and surface callbacks answering any value, triangle test
+ *    queries, sleeping queries and wake-ups, state files written and read
+ *    (NULL, empty, in a directory that does not exist, a directory, good;
+ *    geom and body arrays full, none or of negative count),
  *    dClothStep and dClothWorldStep with good and bad h and bad cloth
  *    arrays. After each call: a status of the enum; positions finite; after
  *    a failure the core state, the bodies' poses, velocities and forces
  *    unchanged (both cloths' for dClothWorldStep, which is all or nothing)
- *    and a message set.
+ *    and a message set; a bad path refused with a message naming the path,
+ *    the good path's file untouched by a failed write.
  */
 #include <float.h>
 #include <limits.h>
@@ -31,6 +35,7 @@
 #include "odecloth/dcloth.h"
 #include "check.h"
 #include "body_state.h"
+#include "records.h"
 
 static const double XD[] = {NAN, INFINITY, -INFINITY, 0.0, -0.0, -1.0, 1e-300, 1e300, DBL_MAX, -1e300, 1e-12, 1e6, 0.5};
 #define NXD (sizeof XD / sizeof XD[0])
@@ -159,6 +164,14 @@ static void null_cloth(void)
     CHECK(dClothGetVertexContact(NULL, 0, NULL, NULL, NULL) == CLOTH_EINVAL, "dClothGetVertexContact(NULL) accepted");
     CHECK(dClothSetFrictionCallback(NULL, NULL, NULL) == CLOTH_EINVAL, "dClothSetFrictionCallback(NULL) accepted");
     CHECK(dClothSetSurfaceCallback(NULL, NULL, NULL) == CLOTH_EINVAL, "dClothSetSurfaceCallback(NULL) accepted");
+    CHECK(dClothWriteState(NULL, "plugin_fuzz_api.state", NULL, 0, NULL, 0) == CLOTH_EINVAL &&
+              dClothReadState(NULL, "plugin_fuzz_api.state", NULL, 0, NULL, 0) == CLOTH_EINVAL &&
+              dClothWriteState(NULL, NULL, NULL, -1, NULL, -1) == CLOTH_EINVAL &&
+              dClothReadState(NULL, NULL, NULL, -1, NULL, -1) == CLOTH_EINVAL,
+          "state files of NULL accepted");
+    CHECK(dClothGetTriangleTests(NULL, 0) == 0, "dClothGetTriangleTests(NULL) is not 0");
+    CHECK(dClothIsSleeping(NULL) == 0, "dClothIsSleeping(NULL) is not 0");
+    dClothWake(NULL);
     dClothDestroy(NULL);
 }
 
@@ -219,6 +232,10 @@ static void descriptors(scene *s)
 }
 
 static long ncalls, nfail, steps_ok, steps_fail;
+static long files_written, files_read, files_refused; /* the state file calls' outcomes */
+static long file_calls;                               /* picks the next path in turn        */
+static int bad_paths[4][2];                           /* each bad path refused, read, written */
+static const char *const STATE_FILE[2] = {"plugin_fuzz_api0.state", "plugin_fuzz_api1.state"};
 
 static void walk(scene *s)
 {
@@ -233,6 +250,8 @@ static void walk(scene *s)
         d.cloth.solver.cg_max_iterations = 400;
         if (!CHECK(dClothCreate(s->world, s->space, &d, &cl[k], NULL) == CLOTH_OK, "walk cloth")) return;
     }
+    int tri_on[2][5]; /* what dClothSetTriangleTests made each geom's (case 17's and 25's order) */
+    for (int k = 0; k < 10; k++) tri_on[k / 5][k % 5] = 1;
     rng g = rng_seed(0x9a1cu);
     for (int it = 0; it < 1000; it++) {
         int ci = (int)(rng_u64(&g) % 2);
@@ -251,7 +270,7 @@ static void walk(scene *s)
         const double *x = dClothGetPositions(c);
         int vi = index_of(&g, n), vv = vi >= 0 && vi < n ? vi : 0;
         for (int r = 0; r < 3; r++) p[r] = rng_u64(&g) % 12 ? x[3 * vv + r] : xd(&g);
-        int op = (int)(rng_u64(&g) % 28); /* 0-22 the calls, the rest steps */
+        int op = (int)(rng_u64(&g) % 31); /* 0-25 the calls, the rest steps */
         cloth_status st = CLOTH_OK;
         int is_step = 0;
         switch (op) {
@@ -313,7 +332,9 @@ static void walk(scene *s)
         case 17: { /* triangle tests off and on, for a box, a mesh, a sphere or none */
             unsigned k = (unsigned)(rng_u64(&g) % 4);
             dGeomID gg = k == 0 ? 0 : k == 1 ? s->box : k == 2 ? s->mesh : s->sph;
-            st = dClothSetTriangleTests(c, gg, (int)(rng_u64(&g) % 3));
+            int enable = (int)(rng_u64(&g) % 3);
+            st = dClothSetTriangleTests(c, gg, enable);
+            if (st == CLOTH_OK) tri_on[ci][k] = enable != 0;
             break;
         }
         case 16: { /* save, then restore into itself (nothing changes) or the other cloth (another size) */
@@ -364,6 +385,59 @@ static void walk(scene *s)
             fuzz_surf.only = rng_u64(&g) % 2 ? s->box : 0;
             st = dClothSetSurfaceCallback(c, rng_u64(&g) % 4 ? fuzz_surface : NULL, &fuzz_surf);
             break;
+        case 23: { /* a state file written or read: bad paths, this cloth's file or the other's (another
+                    * size: refused), arrays full, none or of negative count */
+            const char *paths[] = {NULL, "", "plugin_fuzz_api_no_dir/x.state", ".", STATE_FILE[ci], STATE_FILE[1 - ci]};
+            /* the paths in turn, each written then read (every bad one reached) */
+            unsigned k = (unsigned)(file_calls % 8);
+            int writing = (int)(file_calls++ / 8 % 2);
+            const char *path = paths[k < 4 ? k : k < 7 ? 4 : 5];
+            dGeomID geoms[] = {s->plane, s->box, s->mesh, s->sph, s->cap};
+            dBodyID bodies[] = {s->ball, s->kin};
+            unsigned a = (unsigned)(rng_u64(&g) % 6);
+            int ng = a == 0 ? 0 : a == 1 ? xi(&g) : 5, nb = a == 0 ? 0 : a == 1 ? xi(&g) : 2;
+            if (ng > 5) ng = 5;
+            if (nb > 2) nb = 2;
+            blob file = read_all(path && path[0] ? path : STATE_FILE[ci]);
+            st = writing ? dClothWriteState(c, path, a ? geoms : NULL, ng, a ? bodies : NULL, nb)
+                         : dClothReadState(c, path, a ? geoms : NULL, ng, a ? bodies : NULL, nb);
+            /* NULL and empty paths are named before negative counts, the rest after */
+            const char *field = k < 2 || (k < 4 && ng >= 0 && nb >= 0) ? "path" : ng < 0 || nb < 0 ? "ngeoms" : NULL;
+            if (k < 4 && !strcmp(field, "path")) bad_paths[k][writing]++;
+            if (field)
+                CHECK(st == CLOTH_EINVAL && strstr(dClothGetLastError(c), field),
+                      "call %d: %s with path %s%s%s: status %d, \"%s\"", it, writing ? "write" : "read",
+                      path ? "\"" : "", path ? path : "NULL", path ? "\"" : "", (int)st, dClothGetLastError(c));
+            files_written += st == CLOTH_OK && writing;
+            files_read += st == CLOTH_OK && !writing;
+            files_refused += st != CLOTH_OK;
+            if (st != CLOTH_OK && writing) {
+                blob now = read_all(path && path[0] ? path : STATE_FILE[ci]);
+                CHECK(now.n == file.n && (!now.n || memcmp(now.p, file.p, now.n) == 0),
+                      "call %d: a refused write changed the state file", it);
+                free(now.p);
+            }
+            free(file.p);
+            break;
+        }
+        case 24: { /* asleep or not, and woken: the core untouched */
+            int was = dClothIsSleeping(c);
+            CHECK(was == 0 || was == 1, "call %d: dClothIsSleeping gave %d", it, was);
+            if (rng_u64(&g) % 2) {
+                dClothWake(c);
+                cloth_save(core, after);
+                CHECK(!dClothIsSleeping(c) && cloth_state_diff(before, after) == 0.0,
+                      "call %d: dClothWake left it asleep or changed the cloth", it);
+            }
+            break;
+        }
+        case 25: { /* triangle tests as case 17 left them, for none, a geom it sets, or one it never does */
+            unsigned k = (unsigned)(rng_u64(&g) % 5);
+            dGeomID gg = k == 0 ? 0 : k == 1 ? s->box : k == 2 ? s->mesh : k == 3 ? s->sph : s->cap;
+            int on = dClothGetTriangleTests(c, gg);
+            CHECK(on == (gg ? tri_on[ci][k] : 0), "call %d: dClothGetTriangleTests of geom %u gave %d", it, k, on);
+            break;
+        }
         case 19: /* hold or stop on a failed step, or a mode that does not exist */
             st = dClothSetFailureMode(c, (dClothFailureMode)(rng_u64(&g) % 4 ? (int)(rng_u64(&g) % 2) : xi(&g)));
             break;
@@ -421,6 +495,12 @@ static void walk(scene *s)
     }
     printf("random walk: %ld calls, %ld refused or failed; dClothStep %ld ok, %ld failed\n", ncalls, nfail, steps_ok,
            steps_fail);
+    printf("state files: %ld written, %ld read, %ld refused\n", files_written, files_read, files_refused);
+    CHECK(files_written > 0 && files_read > 0 && files_refused > 0, "the state file calls do not reach every outcome");
+    for (int k = 0; k < 8; k++)
+        CHECK(bad_paths[k / 2][k % 2] > 0, "bad path %d never %s", k / 2, k % 2 ? "written" : "read");
+    remove(STATE_FILE[0]);
+    remove(STATE_FILE[1]);
     CHECK(steps_ok > 50, "too few successful steps (%ld) for the walk to mean much", steps_ok);
     dClothDestroy(cl[0]);
     dClothDestroy(cl[1]);

@@ -308,6 +308,7 @@ static cloth_status check_args(dClothID c, const char *fn, const char *path, int
 {
     if (!c) return CLOTH_EINVAL;
     if (!path) return dcloth_fail(c, CLOTH_EINVAL, "%s: path is NULL", fn);
+    if (!path[0]) return dcloth_fail(c, CLOTH_EINVAL, "%s: path is empty", fn);
     if (ngeoms < 0 || nbodies < 0)
         return dcloth_fail(c, CLOTH_EINVAL, "%s: ngeoms = %d and nbodies = %d must be >= 0", fn, ngeoms, nbodies);
     return CLOTH_OK;
@@ -339,9 +340,10 @@ cloth_status dClothWriteState(dClothID c, const char *path, const dGeomID *geoms
         } else {
             FILE *f = fopen(path, "wb");
             if (!f)
-                r = dcloth_fail(c, CLOTH_EINVAL, "dClothWriteState: cannot open %s: %s", path, strerror(errno));
+                r = dcloth_fail(c, CLOTH_EINVAL, "dClothWriteState: path %s cannot be opened: %s", path,
+                                strerror(errno));
             else if ((fwrite(s.buf, 1, s.at, f) != s.at) | (fclose(f) != 0))
-                r = dcloth_fail(c, CLOTH_EINVAL, "dClothWriteState: writing %s failed", path);
+                r = dcloth_fail(c, CLOTH_EINVAL, "dClothWriteState: writing path %s failed", path);
         }
     }
     free(s.buf);
@@ -369,9 +371,9 @@ static const char *read_all(const char *path, unsigned char **buf, size_t *len)
         got = fread(*buf + *len, 1, cap - *len, f);
         *len += got;
     } while (got > 0);
-    int bad = ferror(f);
+    int bad = ferror(f), why = errno; /* a directory opens, then fails to read */
     fclose(f);
-    return bad ? "read error" : NULL;
+    return bad ? strerror(why) : NULL;
 }
 
 /* Check and decode the file s into st (made for c); s->err says why not. */
@@ -448,7 +450,7 @@ cloth_status dClothReadState(dClothID c, const char *path, const dGeomID *geoms,
     unsigned char *buf;
     size_t len;
     const char *why = read_all(path, &buf, &len);
-    r = why ? dcloth_fail(c, CLOTH_EINVAL, "dClothReadState: cannot read %s: %s", path, why)
+    r = why ? dcloth_fail(c, CLOTH_EINVAL, "dClothReadState: path %s cannot be read: %s", path, why)
             : dcloth_read_state(c, path, buf, len, geoms, ngeoms, bodies, nbodies);
     free(buf);
     return r;
