@@ -2,7 +2,8 @@
 # Install odecloth into a scratch prefix (BUILD_DIR/_install) and prove that
 # a user can build against it both ways:
 #   1. CMake: find_package(odecloth), every imported target (CONSUMER_DIR),
-#   2. pkg-config: odecloth and odecloth-ode,
+#   2. pkg-config: odecloth and odecloth-ode, with the rpath the README
+#      tells users to add, run without LD_LIBRARY_PATH,
 #   3. a program linked to the plugin alone, run without LD_LIBRARY_PATH.
 #
 # usage: check.sh CMAKE BUILD_DIR CONSUMER_DIR CC PKG_CONFIG
@@ -46,15 +47,18 @@ fi
 export PKG_CONFIG_PATH=$(dirname "$pc")${PKG_CONFIG_PATH:+:$PKG_CONFIG_PATH}
 libdir=$("$pkgconfig" --variable=libdir odecloth)
 
+# As README.md says: the .pc files carry no rpath, the user adds libdir's.
 # shellcheck disable=SC2086 # flags are word lists
 "$cc" $cflags -Wall -Wextra -Werror -o "$work/pc_consumer" "$src/consumer.c" \
-    $("$pkgconfig" --cflags --libs odecloth)
+    $("$pkgconfig" --cflags --libs odecloth) \
+    -Wl,-rpath,"$("$pkgconfig" --variable=libdir odecloth)"
 # shellcheck disable=SC2086
 "$cc" $cflags -Wall -Wextra -Werror -o "$work/pc_consumer_ode" "$src/consumer_ode.c" \
-    $("$pkgconfig" --cflags --libs odecloth-ode)
+    $("$pkgconfig" --cflags --libs odecloth-ode) \
+    -Wl,-rpath,"$("$pkgconfig" --variable=libdir odecloth-ode)"
 for exe in pc_consumer pc_consumer_ode; do
     echo "-- $exe"
-    LD_LIBRARY_PATH=$libdir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} "$work/$exe"
+    env -u LD_LIBRARY_PATH "$work/$exe"
 done
 
 echo "== the plugin alone, no LD_LIBRARY_PATH (its RUNPATH finds the core)"
