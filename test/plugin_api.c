@@ -1059,6 +1059,21 @@ static void test_vertex_contact(void)
     dWorldDestroy(w);
 }
 
+/* whether two files hold the same bytes */
+static int same_file(const char *p, const char *q)
+{
+    FILE *f = fopen(p, "rb"), *g = fopen(q, "rb");
+    int same = f && g;
+    for (int a = 0, b = 0; same && (a != EOF || b != EOF);) {
+        a = fgetc(f);
+        b = fgetc(g);
+        same = a == b;
+    }
+    if (f) fclose(f);
+    if (g) fclose(g);
+    return same;
+}
+
 static void test_world_step_undo(void)
 {
     dWorldID w = dWorldCreate(), w2 = dWorldCreate();
@@ -1091,7 +1106,9 @@ static void test_world_step_undo(void)
     CHECK(cloth_set_solver(dClothGetCore(b), &sb) == CLOTH_OK, "cap B's CG");
     CHECK(dClothSetFailureMode(b, DCLOTH_FAILURE_STOP) == CLOTH_OK, "B stops on failure");
     cloth_state *sa = cloth_state_create(dClothGetCore(a)), *sa2 = cloth_state_create(dClothGetCore(a));
+    CHECK(dClothAddVertexForce(a, 7, 0.1, 0.0, 0.2) == CLOTH_OK, "a force pending on A");
     cloth_save(dClothGetCore(a), sa);
+    CHECK(dClothWriteState(a, "undo_a0.state", NULL, 0, &body, 1) == CLOTH_OK, "A's state: %s", dClothGetLastError(a));
     body_state b0, b1;
     dBodyAddForce(body, 0.5, 0, 0); /* the user's own force, before the step */
     body_save(body, &b0);
@@ -1100,6 +1117,10 @@ static void test_world_step_undo(void)
     body_save(body, &b1);
     CHECK(s == CLOTH_ESTEP, "B's step fails: status %d (%s)", s, dClothGetLastError(b));
     CHECK(cloth_state_diff(sa, sa2) == 0.0, "A is back as before the call (diff %g)", cloth_state_diff(sa, sa2));
+    CHECK(dClothWriteState(a, "undo_a1.state", NULL, 0, &body, 1) == CLOTH_OK, "A's state: %s", dClothGetLastError(a));
+    CHECK(same_file("undo_a0.state", "undo_a1.state"), "A's plugin state (contacts, pins, pending forces) is back");
+    remove("undo_a0.state");
+    remove("undo_a1.state");
     CHECK(memcmp(&b0, &b1, sizeof b0) == 0, "the body A pulls on is as before, force accumulator included");
     dReal pin[3];
     CHECK(dClothGetPinForce(a, 0, pin) == CLOTH_OK, "pin force");

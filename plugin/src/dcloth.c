@@ -125,9 +125,7 @@ void dClothDestroy(dClothID c)
     free(c->bodies);
     free(c->bdesc);
     free(c->journal);
-    cloth_state_destroy(c->undo_core);
-    free(c->undo_vc);
-    free(c->undo_pin);
+    dClothStateDestroy(c->undo);
     free(c->sleep_geoms);
     free(c->sleep_ids);
     for (int k = 0; k < c->ncvx; k++) free(c->cvx[k].p);

@@ -143,10 +143,8 @@ struct dxCloth {
         dReal f[3], t[3], lv[3], av[3];
     } *journal;
     int njournal, journal_cap;
-    /* a copy of the cloth's state, for dClothWorldStep's undo (world.c) */
-    cloth_state *undo_core;
-    vcontact *undo_vc;
-    vpin *undo_pin;
+    /* the cloth's whole state before a step, for dClothWorldStep's undo (world.c) */
+    struct dClothState *undo;
     /* sleeping (sleep.c): the settings and state, and the geoms near it
      * when it fell asleep (sleep.n of them) */
     struct sleep_state {

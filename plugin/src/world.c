@@ -31,29 +31,17 @@ int dcloth_touch(dClothID c, dBodyID b)
     return 0;
 }
 
-/* The cloth's own state before a step (core and plugin), for undo. */
+/* The cloth's whole state before a step (dClothSave), for undo. */
 static int save_undo(dClothID c)
 {
-    size_t n = (size_t)c->n;
-    if (!c->undo_core) c->undo_core = cloth_state_create(c->core);
-    if (!c->undo_vc) c->undo_vc = malloc(n * sizeof *c->undo_vc);
-    if (!c->undo_pin) c->undo_pin = malloc(n * sizeof *c->undo_pin);
-    if (!c->undo_core || !c->undo_vc || !c->undo_pin) return -1;
-    cloth_save(c->core, c->undo_core);
-    memcpy(c->undo_vc, c->vc, n * sizeof *c->vc);
-    memcpy(c->undo_pin, c->pin, n * sizeof *c->pin);
-    return 0;
+    if (!c->undo) c->undo = dClothStateCreate(c);
+    return c->undo && dClothSave(c, c->undo) == CLOTH_OK ? 0 : -1;
 }
 
 /* Undo a step taken since save_undo: the cloth, then the bodies it touched. */
-static void undo(dClothID c, const dClothStepStats *stats, const struct sleep_state *sleep)
+static void undo(dClothID c)
 {
-    size_t n = (size_t)c->n;
-    cloth_restore(c->core, c->undo_core);
-    memcpy(c->vc, c->undo_vc, n * sizeof *c->vc);
-    memcpy(c->pin, c->undo_pin, n * sizeof *c->pin);
-    c->stats = *stats;
-    c->sleep = *sleep;
+    dClothRestore(c, c->undo);
     for (int k = c->njournal - 1; k >= 0; k--) {
         const struct body_rec *r = &c->journal[k];
         dBodySetForce(r->b, r->f[0], r->f[1], r->f[2]);
@@ -86,20 +74,14 @@ cloth_status dClothWorldStep(dWorldID world, dClothID *cloths, int n, dReal h, i
     if (n > WORLD_STEP_MAX_UNDO)
         return dcloth_fail(cloths[0], CLOTH_EINVAL, "dClothWorldStep: %d cloths, at most %d at once", n,
                            WORLD_STEP_MAX_UNDO);
-    /* what undo needs beyond save_undo: each cloth's stats and sleep state */
-    dClothStepStats stats[WORLD_STEP_MAX_UNDO];
-    struct sleep_state sleep[WORLD_STEP_MAX_UNDO];
     for (int k = 0; k < n; k++) {
         dClothID c = cloths[k];
         cloth_status s = CLOTH_OK;
-        if (n > 1) {
-            stats[k] = c->stats;
-            sleep[k] = c->sleep;
-            if (save_undo(c) != 0) s = dcloth_fail(c, CLOTH_ENOMEM, "dClothWorldStep: out of memory for the undo copy");
-        }
+        if (n > 1 && save_undo(c) != 0)
+            s = dcloth_fail(c, CLOTH_ENOMEM, "dClothWorldStep: out of memory for the undo copy");
         if (s == CLOTH_OK) s = dClothStep(c, h);
         if (s != CLOTH_OK) {
-            for (int j = k - 1; j >= 0; j--) undo(cloths[j], &stats[j], &sleep[j]);
+            for (int j = k - 1; j >= 0; j--) undo(cloths[j]);
             return s;
         }
     }
