@@ -5,9 +5,14 @@
  *
  * 1. The stability map's scene (examples/bench_stability.c: 21x21, 0.2 kg,
  *    pinned at two corners 0.8 m apart, shrunk to 0.8 and rumpled, gravity),
- *    at k_t 20 N/m, BDF2 at h = 1/760, 1/900, 1/1000 s for 0.2 s: every step
- *    succeeds and the total energy never rises above its start (nothing in
- *    the scene adds energy). With dx / (2h/3) these blow up or fail on strain.
+ *    at k_t 20 N/m, BDF2 at h = 1/760, 1/800, 1/827, 1/860, 1/900, 1/1000
+ *    and 1/1100 s for 0.15 s: every step succeeds (no strain failure) and
+ *    the total energy, elastic included, never rises above its start by
+ *    more than 1e-3 of it. Nothing in the scene adds energy (pins do no
+ *    work, damping and the projection take it out), so the allowance only
+ *    covers round-off and a multistep method's energy not falling at every
+ *    step; a blow-up passes it by orders of magnitude. With dx / (2h/3) and
+ *    BDF2's history left as it was, four of these cells blow up.
  * 2. A closed form: a 3x3 cloth with no forces at all (k_t 1e-12, no
  *    damping, bending or gravity), its first row pinned and the other rows
  *    moving away at 0.07 m/s. The projection stops each row where its link
@@ -66,12 +71,13 @@ static cloth *map_scene(void)
 
 static void map_cells(void)
 {
-    const double inv_h[] = {760.0, 900.0, 1000.0};
-    for (int q = 0; q < 3; q++) {
+    const double inv_h[] = {760.0, 800.0, 827.0, 860.0, 900.0, 1000.0, 1100.0};
+    const int cells = (int)(sizeof inv_h / sizeof *inv_h);
+    for (int q = 0; q < cells; q++) {
         cloth *c = map_scene();
         if (!c) return;
-        double h = 1.0 / inv_h[q], e0 = total_energy(c), emax = e0;
-        long steps = lround(0.2 / h), s, failed = -1;
+        double h = 1.0 / inv_h[q], e0 = total_energy(c), emax = -HUGE_VAL, tol = 1e-3 * e0;
+        long steps = lround(0.15 / h), s, failed = -1;
         for (s = 0; s < steps; s++) {
             cloth_step_stats st;
             if (cloth_step(c, h, &st) != CLOTH_OK) {
@@ -81,10 +87,12 @@ static void map_cells(void)
             double e = total_energy(c);
             if (!(e <= emax)) emax = e;
         }
-        printf("map scene, k_t 20, BDF2, h 1/%.0f: energy %.4f J at the start, at most %.4f J, %.4f J at the end%s\n",
-               inv_h[q], e0, emax, total_energy(c), failed >= 0 ? " (failed)" : "");
+        printf("map scene, k_t 20, BDF2, h 1/%.0f: energy %.4f J at the start, at most %+.4f J of it after a step, "
+               "%.4f J at the end%s\n",
+               inv_h[q], e0, emax - e0, total_energy(c), failed >= 0 ? " (failed)" : "");
         CHECK(failed < 0, "h 1/%.0f: step %ld failed: %s", inv_h[q], failed, cloth_last_error(c));
-        CHECK(emax <= e0, "h 1/%.0f: energy rose to %.6g J from %.6g J", inv_h[q], emax, e0);
+        CHECK(emax <= e0 + tol, "h 1/%.0f: energy rose to %.6g J from %.6g J (allowed %.3g J)", inv_h[q], emax, e0,
+              tol);
         cloth_destroy(c);
     }
 }
