@@ -138,8 +138,10 @@ static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, 
 }
 
 /* Make the attempt of size h the state (constraint forces apart); ms, from
- * the attempt, gets the elastic energy and the plastic links. v_prev takes
- * the projection's impulse too: BDF2 then reads no acceleration into it. */
+ * the attempt, gets the elastic energy and the plastic links.
+ * The projection's dx with dv = dx / h keeps x - x_prev - h v and v - v_prev
+ * as they were when v_prev takes dv and x_prev stays: BDF2's a and e then
+ * read no velocity or acceleration from the correction. */
 static void commit(cloth *c, double h, measured *ms)
 {
     size_t n3 = 3 * (size_t)c->n;

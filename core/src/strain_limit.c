@@ -35,7 +35,8 @@
  * constraints are not linear: a link that turns lengthens); mu falls after a
  * kept step and rises after a refused one (Levenberg-Marquardt). Velocities take
  * dx / h with every method, the impulse that stops the link within the step
- * (BDF2's recurrence carries a jump in v on at 3/2: dx / (2h/3) rebounds). */
+ * (BDF2's too: dx / (2h/3), even with x_prev moved by -dx/2 to match, sends a
+ * link stopped at the step's start back at half its speed). */
 #include <math.h>
 #include <string.h>
 #include "internal.h"
