@@ -186,7 +186,7 @@ int main(int argc, char **argv)
     long mutations = argc > 2 ? atol(argv[2]) : FUZZ_MUTATIONS;
     blob seeds[64];
     int ns = load_seeds(dir, seeds, 64);
-    if (!CHECK(ns >= 3, "%d corpus files in %s, expected the 3 seeds", ns, dir)) return check_summary();
+    if (!CHECK(ns >= 6, "%d corpus files in %s, expected the 6 seeds", ns, dir)) return check_summary();
     long before = n_accepted;
     for (int k = 0; k < ns; k++) LLVMFuzzerTestOneInput(seeds[k].p, seeds[k].n);
     CHECK(n_accepted - before == ns, "only %ld of the %d seeds are valid files", n_accepted - before, ns);
