@@ -606,7 +606,7 @@ static void landing_reference(const sys *s, rng *g)
     int iters[3];
     const double floors[3] = {0.0, 1e-300, 1e3 * landing};
     for (int v = 0; v < 3; v++) {
-        mpcg_problem pr = {&s->A, b, S, z, P, NULL, 0, NULL, NULL, tol, 10 * N, NULL, floors[v]};
+        mpcg_problem pr = {&s->A, b, S, z, P, NULL, 0, NULL, NULL, tol, 10 * N, NULL, floors[v], 0};
         memset(x, 0, sizeof(double) * N);
         mpcg_result res = mpcg_run(&pr, x, w);
         CHECK(res.failure == CLOTH_FAIL_NONE, "landing (floor %g): failure %d", floors[v], (int)res.failure);

@@ -34,7 +34,7 @@ static double dot(const double *a, const double *b, size_t n)
 mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const double *z,
                        const double *Pinv, double tol, int max_iter, double *x, double *w)
 {
-    mpcg_problem P = {A, b, S, z, Pinv, NULL, 0, NULL, NULL, tol, max_iter, NULL, 0.0};
+    mpcg_problem P = {A, b, S, z, Pinv, NULL, 0, NULL, NULL, tol, max_iter, NULL, 0.0, 0};
     return mpcg_run(&P, x, w);
 }
 
@@ -42,7 +42,7 @@ mpcg_result mpcg_solve_pc(const bsr *A, const double *b, const double *S, const 
                           const double *Dinv, mpcg_precond_fn pc, void *ctx, double tol, int max_iter,
                           double *x, double *w)
 {
-    mpcg_problem P = {A, b, S, z, Dinv, NULL, 0, pc, ctx, tol, max_iter, NULL, 0.0};
+    mpcg_problem P = {A, b, S, z, Dinv, NULL, 0, pc, ctx, tol, max_iter, NULL, 0.0, 0};
     return mpcg_run(&P, x, w);
 }
 
@@ -303,7 +303,7 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
             break;
         }
         if (pq <= 0.0) { /* non-positive curvature: A is not definite on the free space */
-            res.failure = CLOTH_FAIL_CG_INDEFINITE;
+            res.failure = P->definite ? CLOTH_FAIL_CG_MAX_ITER : CLOTH_FAIL_CG_INDEFINITE;
             break;
         }
         double alpha = delta / pq, dnew;

@@ -67,6 +67,10 @@ typedef struct mpcg_problem {
     /* > 0: the reference is no more than |S b|_D^2 (the residual before the
      * constrained components move to z), nor less than this */
     double ref_floor;
+    /* 1: A is positive definite by construction (Newton's matrix), so a
+     * non-positive curvature is a stalled recurrence's rounding: the solve
+     * stops there, cut short (CLOTH_FAIL_CG_MAX_ITER), not failed */
+    int definite;
 } mpcg_problem;
 
 /* bodies.c, the solver's body operations (P->bodies not NULL):

@@ -225,8 +225,8 @@ MAT3_INLINE mpcg_result ssor_run_k(int avx, const mpcg_problem *P, const unsigne
             res.failure = CLOTH_FAIL_NAN;
             break;
         }
-        if (pq <= 0.0) {
-            res.failure = CLOTH_FAIL_CG_INDEFINITE;
+        if (pq <= 0.0) { /* mpcg.h: P->definite */
+            res.failure = P->definite ? CLOTH_FAIL_CG_MAX_ITER : CLOTH_FAIL_CG_INDEFINITE;
             break;
         }
         double alpha = delta / pq, dnew = 0.0;
