@@ -55,7 +55,7 @@ static int make_plane(cloth *c, int i, const double *k, const double *x, double 
     q->ndof = 1;
     memcpy(q->axis, k, 3 * sizeof *k);
     memcpy(q->target, k + 3, 3 * sizeof *k);
-    c->cand_on[i] = 2; /* held by the body cloth_hold_by_body named, if any */
+    c->cand_on[i] = c->cand_on[i] == 8 ? 9 : 2; /* held by the body cloth_hold_by_body named, if any */
     c->n_con++;
     return 1;
 }
@@ -64,7 +64,8 @@ int contacts_decide(cloth *c, const double *x, double tol)
 {
     int changed = 0;
     for (int i = 0; i < c->n; i++)
-        if (c->cand_on[i] == 1 && c->con[i].ndof == 0) changed += make_plane(c, i, c->cand + 6 * (size_t)i, x, tol);
+        if ((c->cand_on[i] == 1 || c->cand_on[i] == 8) && c->con[i].ndof == 0)
+            changed += make_plane(c, i, c->cand + 6 * (size_t)i, x, tol);
     return changed;
 }
 
@@ -96,10 +97,11 @@ int contacts_slide(cloth *c, const double *x)
     return changed;
 }
 
-/* cand_on of a contact released by the step, by what it was: 6 a
- * sliding contact set so, 4 a plane the step made, 5 a contact it let slide
- * (7: a sticking contact set so) */
-static const unsigned char released_as[4] = {0, 6, 4, 5};
+/* cand_on of a contact released by the step, by what it was: 6 a sliding
+ * contact set so, 8 a plane the step made (a candidate again: a later
+ * iterate behind the surface holds it once more), 4 such a plane made
+ * again, 5 a contact it let slide (7: a sticking contact set so) */
+static unsigned char released_as(unsigned char on) { return on == 1 ? 6 : on == 2 ? 8 : on == 9 ? 4 : 5; }
 
 /* Releases contact i (a plane: set so, made so or let slide; or sticking,
  * set so) if its force b pulls it onto its surface by more than pull_min
@@ -108,11 +110,12 @@ static int release_if_pulling(cloth *c, int i, const double *b, double pull_min)
 {
     cloth_constraint *q = &c->con[i];
     int stuck = q->ndof == 3 && c->cand_on[i] == 1; /* sticking: pulls along its candidate's normal */
-    if (c->cand_on[i] < 1 || c->cand_on[i] > 3 || (q->ndof != 1 && !stuck)) return 0;
+    int on = c->cand_on[i];
+    if (((on < 1 || on > 3) && on != 9) || (q->ndof != 1 && !stuck)) return 0;
     const double *bi = b + 3 * (size_t)i, *ax = stuck ? c->cand + 6 * (size_t)i : q->axis;
     if (!(bi[0] * ax[0] + bi[1] * ax[1] + bi[2] * ax[2] > pull_min)) return 0; /* pushes */
     q->ndof = 0;
-    c->cand_on[i] = stuck ? 7 : released_as[c->cand_on[i]];
+    c->cand_on[i] = stuck ? 7 : released_as(c->cand_on[i]);
     c->n_con--;
     return 1;
 }
@@ -135,7 +138,7 @@ int contacts_release(cloth *c, const double *x, const double *b, double cfac)
      * ahead of its surface, a pulling plane would do work on the cloth); a
      * contact set so, past its own pull */
     for (int i = 0; i < c->n; i++) {
-        double pull = c->cand_on[i] == 2 ? 0.0 : c->cand_pull[i];
+        double pull = c->cand_on[i] == 2 || c->cand_on[i] == 9 ? 0.0 : c->cand_pull[i];
         if (pull < INFINITY) changed += release_if_pulling(c, i, b, cfac * pull);
     }
     return changed;
@@ -145,7 +148,7 @@ void contacts_land(cloth *c, const double *dv)
 {
     for (int i = 0; i < c->n; i++) {
         double *z = c->z + 3 * (size_t)i;
-        if (c->cand_on[i] != 2 || !c->con[i].ndof) {
+        if ((c->cand_on[i] != 2 && c->cand_on[i] != 9) || !c->con[i].ndof) {
             z[0] = z[1] = z[2] = 0.0;
             continue;
         }
@@ -168,8 +171,8 @@ void contacts_begin(cloth *c)
 void contacts_undo(cloth *c)
 {
     for (int i = 0; i < c->n; i++) {
-        if (c->cand_on[i] == 2 || c->cand_on[i] == 4) {
-            if (c->cand_on[i] == 2) c->n_con--;
+        if (c->cand_on[i] == 2 || c->cand_on[i] == 9 || c->cand_on[i] == 4 || c->cand_on[i] == 8) {
+            if (c->cand_on[i] == 2 || c->cand_on[i] == 9) c->n_con--;
             memset(&c->con[i], 0, sizeof c->con[i]);
         } else if (c->cand_on[i] == 6) {
             c->con[i].ndof = 1;

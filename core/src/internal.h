@@ -105,8 +105,9 @@ struct cloth {
     double *cand_pull;         /* n: N, a plane contact pulling beyond this lets
                                   go within the step (cloth_set_contact_pull) */
     unsigned char *cand_on;    /* n: 1 a candidate, 2 made a plane, 3 let slide in a solve,
-                                  4 and 5 those released in a solve, 6 a sliding
-                                  candidate released */
+                                  8 a plane released (a candidate again), 9 made again,
+                                  4 and 5 released for good, 6 a sliding candidate released,
+                                  7 a sticking one (contacts.c) */
     double *f_ext;             /* 3n, N, external forces (cloth_set_external_forces) */
     cloth_air air;             /* air drag and wind (cloth_set_air; air.c) */
     int *air_blk;              /* 6 per grid triangle: its pairs' blocks in A (air.c) */
