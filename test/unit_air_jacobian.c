@@ -116,7 +116,7 @@ static void newton(cloth *c, rng *g)
         fd[k] = -(Pp - Pm) / (2.0 * eps);
     }
     potential_state(c, &q, dv);
-    potential_assemble(c, &q, dv, b);
+    potential_assemble(c, &q, dv, b, 0);
     double e = maxdiff(b, fd, n3, &sc);
     printf("Newton: b vs -dPhi/ddv: %.3g of %.3g\n", e, sc);
     CHECK(e <= 1e-6 * sc, "b is not -grad Phi with air");
@@ -124,7 +124,7 @@ static void newton(cloth *c, rng *g)
     for (int s = 0; s < 2; s++) {
         for (int k = 0; k < n3; k++) x[k] = dv[k] + (s ? -eps : eps) * w[k];
         potential_state(c, &q, x);
-        potential_assemble(c, &q, x, s ? bm : bp);
+        potential_assemble(c, &q, x, s ? bm : bp, 0);
     }
     for (int k = 0; k < n3; k++) fd[k] = -(bp[k] - bm[k]) / (2.0 * eps);
     e = maxdiff(Aw, fd, n3, &sc);

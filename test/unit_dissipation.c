@@ -71,7 +71,7 @@ static double mismatch(cloth *c, int bdf2, double dvs, rng *s, double *D, double
     limit_multipliers_begin(c);
     for (size_t k = 0; k < n3; k++) dv[k] = dvs * rng_range(s, -1.0, 1.0);
     potential_state(c, &q, dv);
-    potential_assemble(c, &q, dv, b);
+    potential_assemble(c, &q, dv, b, 0);
     *D = potential_dissipation(c, &q);
     double work = 0.0, kin = 0.0;
     for (size_t k = 0; k < n3; k++) {

@@ -492,11 +492,30 @@ static void check_predicted_links(const cloth_material *m)
     printf("predicted-direction form, %d regions: worst rel err of f, K vs FD %.2e\n", NREGION, worst);
 }
 
+/* spring_slack_stiffen: a slack link's K gains exactly w k_hi u u^T (so it
+ * stays symmetric semidefinite), a taut one's nothing */
+static void check_slack_stiffen(const cloth_material *m)
+{
+    spring_law s = seq_law(m, 0.1);
+    const double xi[3] = {0.01, -0.02, 0.03}, dir[3] = {0.6, 0.0, 0.8};
+    for (int taut = 0; taut < 2; taut++) {
+        double len = taut ? 0.1 : 0.097, xj[3], K[9] = {0}, w = 0.1;
+        for (int r = 0; r < 3; r++) xj[r] = xi[r] + len * dir[r];
+        int slack = spring_slack_stiffen(xi, xj, s, w, K);
+        double err = 0.0;
+        for (int a = 0; a < 3; a++)
+            for (int b = 0; b < 3; b++) err = fmax(err, fabs(K[3 * a + b] - (taut ? 0.0 : w * s.k_hi * dir[a] * dir[b])));
+        CHECK(slack == !taut && err <= 1e-12 * s.k_hi, "slack stiffening (%s): returned %d, K off by %g",
+              taut ? "at rest length" : "slack", slack, err);
+    }
+}
+
 int main(void)
 {
     cloth_material m = test_material();
     check_link_jacobians(&m);
     check_predicted_links(&m);
+    check_slack_stiffen(&m);
     check_cloth_gradient();
     return check_summary();
 }

@@ -46,6 +46,8 @@ void link_eval(const double xi[3], const double xj[3], const double vi[3], const
  * E >= spring_energy, equal where u0 is the link's direction. Returns E; f_i, K may be NULL. */
 double spring_eval_predicted(const double xi[3], const double xj[3], const double u0[3], spring_law s, double f_i[3],
                              double K[9]);
+/* Whether the link is shorter than its rest length (slack); if so, K += w k_hi u u^T. */
+int spring_slack_stiffen(const double xi[3], const double xj[3], spring_law s, double w, double K[9]);
 
 /* ------------------------------------------------------- link topology */
 
@@ -160,6 +162,8 @@ struct cloth {
                                   (limit_multipliers.c; 1 at the step's start) */
     double *lim_viol;          /* n_seq: its violation at the last multiplier update (< 0:
                                   dictated by the constraints, left to the plain law) */
+    unsigned char *slack_age;  /* n_seq: the Newton iterates in a row each link has been
+                                  slack in this step (potential.c) */
     double *dv_saved, *con_saved; /* 3n each (linearized.c): dv and con_new when the
                                   corrections last converged */
     double *K_seq, *K_int;     /* per-link 3x3 df_i/dx_j (linearized.c's K v products) */

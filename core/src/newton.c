@@ -66,7 +66,7 @@ static double line_search(cloth *c, const step_eq *q, const double *dv, const do
         for (size_t j = 0; j < n3; j++) c->dvt[j] = dv[j] + t * ddv[j];
         if (k == 0) {
             potential_state(c, q, c->dvt);
-            *phi = potential_assemble(c, q, c->dvt, c->b);
+            *phi = potential_assemble(c, q, c->dvt, c->b, 1);
         } else {
             *phi = potential_value(c, q, c->dvt, c->xt, c->vt);
         }
@@ -318,7 +318,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         if (!assembled) { /* the residual at dv, and whether it is small enough */
             if (!ready) {
                 potential_state(c, &q, dv);
-                potential_assemble(c, &q, dv, b);
+                potential_assemble(c, &q, dv, b, 1);
             }
             ready = 0;
             assembled = 1;

@@ -16,6 +16,7 @@ void potential_begin(cloth *c, double h, int bdf2, step_eq *q)
     q->cfac = q->beta * h;
     for (size_t k = 0; k < n3; k++) c->na[k] = bdf2 ? s->x[k] + (s->x[k] - s->x_prev[k]) / 3.0 : s->x[k];
     q->a = c->na;
+    memset(c->slack_age, 0, (size_t)c->n_seq * sizeof *c->slack_age);
     /* the links' directions, damping's and compression's: backward Euler's at
      * x0, where the step's energy equals the springs' and elsewhere bounds it
      * (no exact step gains energy); BDF2's at x0 + h v0, for its order */
@@ -65,7 +66,13 @@ static spring_law law_of(const cloth *c, int t, int e)
     return s;
 }
 
-double potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b)
+/* Newton's matrix gives a slack sequential link this share of its taut stiffness
+ * along itself, halved each iterate it stays slack: the exact Hessian's zero would
+ * carry it far past its kink, and the exact Hessian returns for Newton's last steps. */
+#define SLACK_SHARE 0.1
+#define SLACK_AGE_MAX 60
+
+double potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b, int stiffen)
 {
     const cloth_material *m = &c->desc.material;
     const double *x = c->x_new, *v = c->v_new;
@@ -92,7 +99,13 @@ double potential_assemble(cloth *c, const step_eq *q, const double *dv, double *
         for (int e = 0; e < ne; e++) {
             int i = L[e].i, j = L[e].j;
             const double *u = ut + 3 * (size_t)e, *vi = v + 3 * i, *vj = v + 3 * j;
-            double E = spring_eval_predicted(x + 3 * i, x + 3 * j, u, law_of(c, t, e), f, K);
+            spring_law law = law_of(c, t, e);
+            double E = spring_eval_predicted(x + 3 * i, x + 3 * j, u, law, f, K);
+            if (stiffen && !t) {
+                unsigned char *age = c->slack_age + e;
+                if (!spring_slack_stiffen(x + 3 * i, x + 3 * j, law, ldexp(SLACK_SHARE, -*age), K)) *age = 0;
+                else if (*age < SLACK_AGE_MAX) (*age)++;
+            }
             double vu = (vj[0] - vi[0]) * u[0] + (vj[1] - vi[1]) * u[1] + (vj[2] - vi[2]) * u[2], rate = damp * vu;
             P += E + hdamp * vu * vu;
             for (int r = 0; r < 3; r++) {

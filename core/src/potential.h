@@ -28,9 +28,10 @@ void potential_begin(cloth *c, double h, int bdf2, step_eq *q);
 void potential_state(cloth *c, const step_eq *q, const double *dv);
 
 /* At c->x_new, c->v_new (potential_state first): b = -R, and the Newton
- * matrix M + cfac C + cfac^2 K (Phi's Hessian, positive definite) into c->A.
+ * matrix M + cfac C + cfac^2 K (Phi's Hessian, positive definite) into c->A,
+ * with stiffen, slack sequential links stiffened (potential.c: SLACK_SHARE).
  * Returns Phi there, bit for bit as potential_value. */
-double potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b);
+double potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b, int stiffen);
 
 /* The sum of R over every row at dv, out (3): M dv - e - cfac f_c summed,
  * as the links' forces and dampers cancel in pairs (not with air drag, an

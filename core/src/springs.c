@@ -134,3 +134,13 @@ double spring_eval_predicted(const double xi[3], const double xj[3], const doubl
         }
     return E;
 }
+
+int spring_slack_stiffen(const double xi[3], const double xj[3], spring_law s, double w, double K[9])
+{
+    double u[3], d = link_vec(xi, xj, u), k = w * s.k_hi;
+    if (d >= s.rest) return 0;
+    if (d > SPRING_MIN_LENGTH && k > 0.0)
+        for (int a = 0; a < 3; a++)
+            for (int b = 0; b < 3; b++) K[3 * a + b] += k * (u[a] * u[b]);
+    return 1;
+}
