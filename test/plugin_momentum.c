@@ -130,19 +130,28 @@ static void run(const char *name, dWorldID w, dSpaceID sp, dClothID c, dBodyID b
     CHECK(*wf <= 1e-6 && *wt <= 1e-6, "%s: momentum created: force %.3g, torque %.3g of sum |f_i|", name, *wf, *wt);
 }
 
+/* In zero gravity, make_cloth's cloth held by a free 0.5 kg sphere at two
+ * vertices into *b (NULL if the cloth could not be made). */
+static dClothID held_by_sphere(dWorldID w, dBodyID *b)
+{
+    dWorldSetGravity(w, 0, 0, 0);
+    dClothID c = make_cloth(w, 0, 1.0, 1.1, 1.2, 0, 0);
+    if (c) *b = sphere_holding(w, c, 0.5);
+    return c;
+}
+
 /* 1-3: the sphere holding the cloth by two vertices; joint 0 none, 1 ball,
  * 2 hinge */
 static void held(int joint)
 {
     static const char *const name[3] = {"free sphere", "sphere in a ball joint", "sphere on a hinge"};
     dWorldID w = dWorldCreate();
-    dWorldSetGravity(w, 0, 0, 0);
-    dClothID c = make_cloth(w, 0, 1.0, 1.1, 1.2, 0, 0);
+    dBodyID b = 0;
+    dClothID c = held_by_sphere(w, &b);
     if (!c) {
         dWorldDestroy(w);
         return;
     }
-    dBodyID b = sphere_holding(w, c, 0.5);
     const dReal *p0 = dBodyGetPosition(b);
     dBodySetLinearVel(b, joint ? 0.0 : 1.0, joint ? 0.0 : 0.5, joint ? 0.0 : 2.0);
     dBodySetAngularVel(b, 0, joint == 2 ? 3.0 : 0.0, joint == 2 ? 0.0 : 3.0);
@@ -244,13 +253,12 @@ static void momentum(dClothID c, dBodyID b, double P[3])
 static void windy(void)
 {
     dWorldID w = dWorldCreate();
-    dWorldSetGravity(w, 0, 0, 0);
-    dClothID c = make_cloth(w, 0, 1.0, 1.1, 1.2, 0, 0);
+    dBodyID b = 0;
+    dClothID c = held_by_sphere(w, &b);
     if (!c) {
         dWorldDestroy(w);
         return;
     }
-    dBodyID b = sphere_holding(w, c, 0.5);
     cloth_air air = {{3.0, 0.0, 4.0}, 1.0, 0.5};
     CHECK(cloth_set_air(dClothGetCore(c), &air) == CLOTH_OK, "cloth_set_air");
     double worst = 0.0, total = 0.0, P0[3], P1[3];

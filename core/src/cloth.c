@@ -289,8 +289,8 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
     c->slack_age = calloc((size_t)c->n_seq + 1, sizeof *c->slack_age);
     c->K_seq = malloc(9 * (size_t)c->n_seq * sizeof *c->K_seq);
     c->K_int = malloc(9 * (size_t)c->n_int * sizeof *c->K_int);
-    if (!c->con || !c->con_force || !c->seq_blk || !c->int_blk || !c->lim_shift || !c->lim_rho || !c->lim_viol || !c->slack_age ||
-        !c->K_seq || !c->K_int)
+    if (!c->con || !c->con_force || !c->seq_blk || !c->int_blk || !c->lim_shift || !c->lim_rho || !c->lim_viol ||
+        !c->slack_age || !c->K_seq || !c->K_int)
         goto nomem;
     if (links_to_blocks(&c->A, n, c->seq, c->n_seq, c->lint, c->n_int, c->seq_blk, c->int_blk,
                         &c->links_own_blocks) != 0)

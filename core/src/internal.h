@@ -281,11 +281,11 @@ int air_blocks(cloth *c);
 /* Frames at xf + hf vf, velocities v: f += s F_air, A += t (area/9) D on each
  * triangle's vertex pairs (f, A may be NULL; -dF_a/dv_b = (area/9) D).
  * Returns the dissipation potential 1/2 sum area r^T D r. */
+double air_eval(const cloth *c, const double *xf, const double *vf, double hf, const double *v, double s, double *f,
+                bsr *A, double t);
 /* The air's total force on the attempt's solution (x_new, v_new from the
  * state), in the frame the method's solve used, into out. */
 void air_step_force(const cloth *c, double h, double out[3]);
-double air_eval(const cloth *c, const double *xf, const double *vf, double hf, const double *v, double s, double *f,
-                bsr *A, double t);
 
 /* state.c */
 int state_alloc(struct cloth_state *s, int n, int n_int, int n_seq);

@@ -248,9 +248,8 @@ int dClothGetTriangleTests(dClothID c, dGeomID g);
  * cone), the pins and their forces, the sleep state, the steps held in a row
  * (DCLOTH_FAILURE_HOLD) and the forces dClothAddVertexForce added for the
  * next step. Restoring it (and your bodies) continues bitwise as the
- * uninterrupted run; restoring the core alone does not (measured: 2.8 cm
- * apart 80 steps on). Geoms and bodies are referred to, not copied: they
- * must still exist. */
+ * uninterrupted run; restoring the core alone does not. Geoms and bodies
+ * are referred to, not copied: they must still exist. */
 typedef struct dClothState dClothState;
 dClothState *dClothStateCreate(dClothID c); /* for c's vertex count; NULL on no memory */
 void dClothStateDestroy(dClothState *s);    /* NULL is fine */
