@@ -450,7 +450,7 @@ static double predicted_at(const link_case *lc, const double *u0, int wrt, int b
     memcpy(xi, lc->xi, sizeof xi);
     memcpy(xj, lc->xj, sizeof xj);
     (wrt ? xj : xi)[b] += e;
-    double E = spring_eval_predicted(xi, xj, u0, lc->law, f, NULL);
+    double E = spring_eval_predicted(xi, xj, u0, lc->law, 0.0, f, NULL, NULL);
     return what ? f[a] : E;
 }
 
@@ -467,7 +467,7 @@ static void check_predicted_links(const cloth_material *m)
             for (int a = 0; a < 3; a++) u0[a] = lc.u[a] + 0.2 * rng_unit(&r) * w[a];
             double n0 = norm3(u0);
             for (int a = 0; a < 3; a++) u0[a] /= n0;
-            spring_eval_predicted(lc.xi, lc.xj, u0, lc.law, f, K);
+            spring_eval_predicted(lc.xi, lc.xj, u0, lc.law, 0.0, f, K, NULL);
             double nK = fmax(fro9(K), 1e-3 * lc.k), nf = fmax(norm3(f), 1e-3 * lc.k * lc.d), eg = 0.0, ek = 0.0;
             for (int b = 0; b < 3; b++) {
                 double g = (predicted_at(&lc, u0, 0, b, h, 0, 0) - predicted_at(&lc, u0, 0, b, -h, 0, 0)) / (2 * h);
@@ -484,7 +484,7 @@ static void check_predicted_links(const cloth_material *m)
             sym3_eigenvalues(K, ev);
             CHECK(ev[0] >= -1e-12 * nK && fabs(K[1] - K[3]) + fabs(K[2] - K[6]) + fabs(K[5] - K[7]) <= 1e-12 * nK,
                   "%s, predicted: K not symmetric semidefinite (eigenvalue %g)", region_name[region], ev[0]);
-            spring_eval_predicted(lc.xi, lc.xj, lc.u, lc.law, fp, Kp);
+            spring_eval_predicted(lc.xi, lc.xj, lc.u, lc.law, 0.0, fp, Kp, NULL);
             spring_eval(lc.xi, lc.xj, lc.law, 0, f, NULL);
             CHECK(norm3((double[3]){fp[0] - f[0], fp[1] - f[1], fp[2] - f[2]}) <= 1e-12 * nf,
                   "%s, predicted along u: force differs from spring_eval's", region_name[region]);
@@ -492,20 +492,25 @@ static void check_predicted_links(const cloth_material *m)
     printf("predicted-direction form, %d regions: worst rel err of f, K vs FD %.2e\n", NREGION, worst);
 }
 
-/* spring_slack_stiffen: a slack link's K gains exactly w k_hi u u^T (so it
- * stays symmetric semidefinite), a taut one's nothing */
+/* spring_eval_predicted's slack weight w: a slack link's K gains exactly
+ * w k_hi u u^T (so it stays symmetric semidefinite), a taut one's nothing;
+ * the energy and force are unchanged */
 static void check_slack_stiffen(const cloth_material *m)
 {
     spring_law s = seq_law(m, 0.1);
-    const double xi[3] = {0.01, -0.02, 0.03}, dir[3] = {0.6, 0.0, 0.8};
+    const double xi[3] = {0.01, -0.02, 0.03}, dir[3] = {0.6, 0.0, 0.8}, u0[3] = {0.0, 0.6, 0.8};
     for (int taut = 0; taut < 2; taut++) {
-        double len = taut ? 0.1 : 0.097, xj[3], K[9] = {0}, w = 0.1;
+        double len = taut ? 0.1 : 0.097, xj[3], K0[9], K[9], f0[3], f[3], w = 0.1;
         for (int r = 0; r < 3; r++) xj[r] = xi[r] + len * dir[r];
-        int slack = spring_slack_stiffen(xi, xj, s, w, K);
-        double err = 0.0;
+        int slack = -1;
+        double E0 = spring_eval_predicted(xi, xj, u0, s, 0.0, f0, K0, NULL);
+        double E = spring_eval_predicted(xi, xj, u0, s, w, f, K, &slack);
+        double err = fabs(E - E0);
+        for (int r = 0; r < 3; r++) err = fmax(err, fabs(f[r] - f0[r]));
         for (int a = 0; a < 3; a++)
-            for (int b = 0; b < 3; b++) err = fmax(err, fabs(K[3 * a + b] - (taut ? 0.0 : w * s.k_hi * dir[a] * dir[b])));
-        CHECK(slack == !taut && err <= 1e-12 * s.k_hi, "slack stiffening (%s): returned %d, K off by %g",
+            for (int b = 0; b < 3; b++)
+                err = fmax(err, fabs(K[3 * a + b] - K0[3 * a + b] - (taut ? 0.0 : w * s.k_hi * dir[a] * dir[b])));
+        CHECK(slack == !taut && err <= 1e-12 * s.k_hi, "slack stiffening (%s): slack %d, off by %g",
               taut ? "at rest length" : "slack", slack, err);
     }
 }

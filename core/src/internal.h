@@ -43,11 +43,10 @@ void link_eval(const double xi[3], const double xj[3], const double vi[3], const
 
 /* A link in the Newton step (springs.c): tension and the limit along its direction, compression along
  * u0 (unit, frozen over the step: potential.h), so E is convex, K = df_i/dx_j semidefinite and
- * E >= spring_energy, equal where u0 is the link's direction. Returns E; f_i, K may be NULL. */
-double spring_eval_predicted(const double xi[3], const double xj[3], const double u0[3], spring_law s, double f_i[3],
-                             double K[9]);
-/* Whether the link is shorter than its rest length (slack); if so, K += w k_hi u u^T. */
-int spring_slack_stiffen(const double xi[3], const double xj[3], spring_law s, double w, double K[9]);
+ * E >= spring_energy, equal where u0 is the link's direction. Returns E; f_i, K, slack may be NULL.
+ * A slack link (shorter than its rest length: *slack) gets w k_hi u u^T added to K. */
+double spring_eval_predicted(const double xi[3], const double xj[3], const double u0[3], spring_law s, double w,
+                             double f_i[3], double K[9], int *slack);
 
 /* ------------------------------------------------------- link topology */
 

@@ -54,8 +54,8 @@ static double residual_norm(const cloth *c, const mpcg_problem *P, const double 
 /* Backtracking (Armijo) along ddv from dv: the step t taken. phi0 is the
  * potential at dv (with the bodies'), slope its derivative along ddv; on
  * return *phi is the potential at the step taken. The full step's potential
- * comes with its assembly (c->A, c->b); *ready says whether that step was
- * taken, so the next iteration needs no assembly. */
+ * comes with its residual (c->b); *ready says whether that step was taken,
+ * so the next iteration needs no residual. */
 static double line_search(cloth *c, const step_eq *q, const double *dv, const double *ddv, int bodies,
                           double phi0, double slope, double *phi, int *ready)
 {
@@ -66,7 +66,7 @@ static double line_search(cloth *c, const step_eq *q, const double *dv, const do
         for (size_t j = 0; j < n3; j++) c->dvt[j] = dv[j] + t * ddv[j];
         if (k == 0) {
             potential_state(c, q, c->dvt);
-            *phi = potential_assemble(c, q, c->dvt, c->b, 1);
+            *phi = potential_residual(c, q, c->dvt, c->b);
         } else {
             *phi = potential_value(c, q, c->dvt, c->xt, c->vt);
         }
@@ -222,13 +222,14 @@ static int energy_bounded(const cloth *c, const step_eq *q, const mpcg_problem *
 }
 
 /* One Newton iteration from dv (b = -R there): solve, search (not on the first, which lands the
- * constraints), take. *size gets the full step's size, *ready whether c->A and b are assembled
+ * constraints), take. *size gets the full step's size, *ready whether b is assembled
  * at the new dv; returns the CG's failure (NONE, or a cut-short solve's, still used). */
 static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *P, double *dv, double *phi,
                                       int first, double *size, int *ready, cloth_step_stats *st)
 {
     size_t n3 = 3 * (size_t)c->n;
     double *ddv = c->ddv;
+    potential_matrix(c, q, 1); /* at dv: c->x_new, c->v_new are its */
     mpcg_result r = linear_solve(c, P, ddv);
     *ready = 0;
     st->iterations += r.iterations;
@@ -309,7 +310,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
      * that is smaller (inexact Newton's forcing), down to newton_tolerance's */
     P.ref_floor = mt * pow(sv->newton_tolerance / sv->newton_cg_tolerance, 2);
     int it = 0, limit_rounds = 0, assembled = 0, landing = 1; /* limit_rounds: the multipliers' updates so far */
-    int ready = 0; /* c->A and b already at dv (the line search's full step) */
+    int ready = 0; /* b already at dv (the line search's full step) */
     int since = 0; /* iterations since the contacts or multipliers changed */
     double phi = NAN, size = INFINITY, rn = INFINITY, goal = sv->newton_tolerance;
     int conv = 0, pending = !landed; /* pending: constraints the iterate has not landed */
@@ -318,7 +319,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         if (!assembled) { /* the residual at dv, and whether it is small enough */
             if (!ready) {
                 potential_state(c, &q, dv);
-                potential_assemble(c, &q, dv, b, 1);
+                potential_residual(c, &q, dv, b);
             }
             ready = 0;
             assembled = 1;

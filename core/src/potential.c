@@ -5,6 +5,7 @@
 #include "potential.h"
 #include "assembly.h"
 #include "mat3.h"
+#include "spring_predicted.h"
 
 void potential_begin(cloth *c, double h, int bdf2, step_eq *q)
 {
@@ -56,69 +57,113 @@ static double bdf2_extra(const cloth *c, const step_eq *q, size_t k)
 
 /* the law of link e of type t as the step uses it (the limit shifted by
  * its multiplier) */
-static spring_law law_of(const cloth *c, int t, int e)
+MAT3_INLINE spring_law law_of(const cloth *c, int t, int e)
 {
     const cloth_material *m = &c->desc.material;
     if (t) return int_law(m, c->lint[e].rest, c->st.plastic[e], c->st.l1[e]);
     spring_law s = seq_law(m, c->seq[e].rest);
-    s.k_lim *= c->lim_rho[e];
-    s.lim -= c->lim_shift[e] / c->lim_rho[e];
+    double rho = c->lim_rho[e], shift = c->lim_shift[e];
+    s.k_lim *= rho;
+    if (shift != 0.0) s.lim -= shift / rho;
     return s;
 }
 
+/* The links in node-major order, both types merged (each type's array is
+ * node-major), so the matrix's rows are written in one pass: the next link
+ * into *t, *e; returns 0 when none is left. */
+MAT3_INLINE int next_link(const cloth *c, int *es, int *ei, int *t, int *e)
+{
+    if (*es < c->n_seq && (*ei >= c->n_int || c->seq[*es].i <= c->lint[*ei].i)) {
+        *t = 0;
+        *e = (*es)++;
+        return 1;
+    }
+    if (*ei >= c->n_int) return 0;
+    *t = 1;
+    *e = (*ei)++;
+    return 1;
+}
+
+/* link e of type t: its endpoints and its frozen direction */
+MAT3_INLINE const double *link_ends(const cloth *c, int t, int e, int *i, int *j)
+{
+    const link_topo *L = (t ? c->lint : c->seq) + e;
+    *i = L->i;
+    *j = L->j;
+    return c->ut + 3 * (t ? (size_t)c->n_seq + (size_t)e : (size_t)e);
+}
+
+/* The rate of link (i, j) along u at velocities v */
+MAT3_INLINE double link_rate(const double *v, int i, int j, const double *u)
+{
+    return (v[3 * j] - v[3 * i]) * u[0] + (v[3 * j + 1] - v[3 * i + 1]) * u[1] + (v[3 * j + 2] - v[3 * i + 2]) * u[2];
+}
+
 /* Newton's matrix gives a slack sequential link this share of its taut stiffness
- * along itself, halved each iterate it stays slack: the exact Hessian's zero would
- * carry it far past its kink, and the exact Hessian returns for Newton's last steps. */
+ * along itself, halved for each matrix in a row it stays slack: the exact Hessian's
+ * zero would carry it far past its kink, and the exact Hessian returns for Newton's
+ * last steps. */
 #define SLACK_SHARE 0.1
 #define SLACK_AGE_MAX 60
 
-double potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b, int stiffen)
+double potential_residual(cloth *c, const step_eq *q, const double *dv, double *b)
 {
     const cloth_material *m = &c->desc.material;
     const double *x = c->x_new, *v = c->v_new;
-    double cf = q->cfac, cf2 = cf * cf, P = 0.0;
-    bsr *A = &c->A;
-    assemble_zero(c);
-    for (int i = 0; i < c->n; i++) {
-        double *B = A->val + 9 * (size_t)A->diag[i];
-        B[0] = B[4] = B[8] = c->mass[i];
+    double cf = q->cfac, P = 0.0, f[3];
+    for (int i = 0; i < c->n; i++)
         for (int r = 0; r < 3; r++) {
             size_t k = 3 * (size_t)i + (size_t)r;
             double fc = c->mass[i] * c->desc.gravity[r] + c->f_ext[k], e = bdf2_extra(c, q, k);
             b[k] = cf * fc + e - c->mass[i] * dv[k];
             P += (0.5 * c->mass[i] * dv[k] - e) * dv[k] - cf * fc * v[k];
         }
-    }
-    double f[3], K[9], blk[9];
-    for (int t = 0; t < 2; t++) {
-        int ne = t ? c->n_int : c->n_seq;
-        const link_topo *L = t ? c->lint : c->seq;
-        const int *bl = t ? c->int_blk : c->seq_blk;
-        const double *ut = c->ut + (t ? 3 * (size_t)c->n_seq : 0);
-        double damp = t ? m->c_b : m->c_t, hdamp = 0.5 * cf * damp;
-        for (int e = 0; e < ne; e++) {
-            int i = L[e].i, j = L[e].j;
-            const double *u = ut + 3 * (size_t)e, *vi = v + 3 * i, *vj = v + 3 * j;
-            spring_law law = law_of(c, t, e);
-            double E = spring_eval_predicted(x + 3 * i, x + 3 * j, u, law, f, K);
-            if (stiffen && !t) {
-                unsigned char *age = c->slack_age + e;
-                if (!spring_slack_stiffen(x + 3 * i, x + 3 * j, law, ldexp(SLACK_SHARE, -*age), K)) *age = 0;
-                else if (*age < SLACK_AGE_MAX) (*age)++;
-            }
-            double vu = (vj[0] - vi[0]) * u[0] + (vj[1] - vi[1]) * u[1] + (vj[2] - vi[2]) * u[2], rate = damp * vu;
-            P += E + hdamp * vu * vu;
-            for (int r = 0; r < 3; r++) {
-                double fr = cf * (f[r] + rate * u[r]);
-                b[3 * i + r] += fr;
-                b[3 * j + r] -= fr;
-                for (int s = 0; s < 3; s++) blk[3 * r + s] = cf2 * K[3 * r + s] + cf * damp * u[r] * u[s];
-            }
-            assemble_link(c, i, j, bl + 2 * e, blk);
+    for (int es = 0, ei = 0, t, e; next_link(c, &es, &ei, &t, &e);) {
+        int i, j;
+        const double *u = link_ends(c, t, e, &i, &j);
+        double damp = t ? m->c_b : m->c_t, vu = link_rate(v, i, j, u), rate = damp * vu;
+        P += spring_predicted(x + 3 * i, x + 3 * j, u, law_of(c, t, e), 0.0, f, NULL, NULL) + 0.5 * cf * damp * vu * vu;
+        for (int r = 0; r < 3; r++) {
+            double fr = cf * (f[r] + rate * u[r]);
+            b[3 * i + r] += fr;
+            b[3 * j + r] -= fr;
         }
     }
     /* air drag, a damper with its normals and areas at x~ */
-    if (air_on(c)) P += cf * air_eval(c, c->st.x, c->st.v, q->h, v, cf, b, A, cf);
+    if (air_on(c)) P += cf * air_eval(c, c->st.x, c->st.v, q->h, v, cf, b, NULL, 0.0);
+    return P;
+}
+
+void potential_matrix(cloth *c, const step_eq *q, int stiffen)
+{
+    const cloth_material *m = &c->desc.material;
+    const double *x = c->x_new;
+    double cf = q->cfac, cf2 = cf * cf, K[9], blk[9];
+    bsr *A = &c->A;
+    if (!c->links_own_blocks) bsr_zero(A);
+    for (int i = 0; i < c->n; i++) {
+        double *B = A->val + 9 * (size_t)A->diag[i];
+        memset(B, 0, 9 * sizeof *B);
+        B[0] = B[4] = B[8] = c->mass[i];
+    }
+    for (int es = 0, ei = 0, t, e; next_link(c, &es, &ei, &t, &e);) {
+        int i, j, slack;
+        const double *u = link_ends(c, t, e, &i, &j);
+        unsigned char *age = t || !stiffen ? NULL : c->slack_age + e;
+        double damp = t ? m->c_b : m->c_t, w = age ? ldexp(SLACK_SHARE, -*age) : 0.0;
+        spring_predicted(x + 3 * i, x + 3 * j, u, law_of(c, t, e), w, NULL, K, &slack);
+        if (age) *age = slack ? (unsigned char)(*age < SLACK_AGE_MAX ? *age + 1 : *age) : 0;
+        for (int r = 0; r < 3; r++)
+            for (int s = 0; s < 3; s++) blk[3 * r + s] = cf2 * K[3 * r + s] + cf * damp * u[r] * u[s];
+        assemble_link(c, i, j, (t ? c->int_blk : c->seq_blk) + 2 * e, blk);
+    }
+    if (air_on(c)) air_eval(c, c->st.x, c->st.v, q->h, c->v_new, 0.0, NULL, A, cf);
+}
+
+double potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b, int stiffen)
+{
+    double P = potential_residual(c, q, dv, b);
+    potential_matrix(c, q, stiffen);
     return P;
 }
 
@@ -145,18 +190,12 @@ double potential_value(const cloth *c, const step_eq *q, const double *dv, doubl
             double fc = c->mass[i] * c->desc.gravity[r] + c->f_ext[k];
             P += (0.5 * c->mass[i] * dv[k] - bdf2_extra(c, q, k)) * dv[k] - cf * fc * v[k];
         }
-    for (int t = 0; t < 2; t++) {
-        int ne = t ? c->n_int : c->n_seq;
-        const link_topo *L = t ? c->lint : c->seq;
-        const double *ut = c->ut + (t ? 3 * (size_t)c->n_seq : 0);
-        double damp = 0.5 * cf * (t ? m->c_b : m->c_t);
-        for (int e = 0; e < ne; e++) {
-            int i = L[e].i, j = L[e].j;
-            const double *u = ut + 3 * (size_t)e;
-            double rate = (v[3 * j] - v[3 * i]) * u[0] + (v[3 * j + 1] - v[3 * i + 1]) * u[1] +
-                          (v[3 * j + 2] - v[3 * i + 2]) * u[2];
-            P += spring_eval_predicted(x + 3 * i, x + 3 * j, u, law_of(c, t, e), NULL, NULL) + damp * rate * rate;
-        }
+    for (int es = 0, ei = 0, t, e; next_link(c, &es, &ei, &t, &e);) {
+        int i, j;
+        const double *u = link_ends(c, t, e, &i, &j);
+        double damp = t ? m->c_b : m->c_t, vu = link_rate(v, i, j, u);
+        P += spring_predicted(x + 3 * i, x + 3 * j, u, law_of(c, t, e), 0.0, NULL, NULL, NULL) +
+             0.5 * cf * damp * vu * vu;
     }
     if (air_on(c)) P += cf * air_eval(c, c->st.x, c->st.v, q->h, v, 0.0, NULL, NULL, 0.0);
     return P;
@@ -178,8 +217,8 @@ double potential_dissipation(const cloth *c, const step_eq *q)
             const double *u = ut + 3 * (size_t)e;
             spring_law s = law_of(c, t, e);
             s.k_lim = 0.0;
-            double gap = spring_eval_predicted(x0 + 3 * i, x0 + 3 * j, u, s, NULL, NULL) -
-                         spring_eval_predicted(x + 3 * i, x + 3 * j, u, s, f, NULL), rate = 0.0;
+            double gap = spring_predicted(x0 + 3 * i, x0 + 3 * j, u, s, 0.0, NULL, NULL, NULL) -
+                         spring_predicted(x + 3 * i, x + 3 * j, u, s, 0.0, f, NULL, NULL), rate = 0.0;
             for (int r = 0; r < 3; r++) {
                 gap -= f[r] * ((x0[3 * j + r] - x0[3 * i + r]) - (x[3 * j + r] - x[3 * i + r]));
                 rate += (v[3 * j + r] - v[3 * i + r]) * u[r];

@@ -27,10 +27,16 @@ void potential_begin(cloth *c, double h, int bdf2, step_eq *q);
 /* x = a + cfac (v0 + dv) and v = v0 + dv into c->x_new, c->v_new. */
 void potential_state(cloth *c, const step_eq *q, const double *dv);
 
-/* At c->x_new, c->v_new (potential_state first): b = -R, and the Newton
- * matrix M + cfac C + cfac^2 K (Phi's Hessian, positive definite) into c->A,
- * with stiffen, slack sequential links stiffened (potential.c: SLACK_SHARE).
- * Returns Phi there, bit for bit as potential_value. */
+/* At c->x_new, c->v_new (potential_state first): b = -R; returns Phi there,
+ * bit for bit as potential_value. */
+double potential_residual(cloth *c, const step_eq *q, const double *dv, double *b);
+
+/* At c->x_new, c->v_new: the Newton matrix M + cfac C + cfac^2 K (Phi's
+ * Hessian, positive definite) into c->A, with stiffen, slack sequential links
+ * stiffened (potential.c: SLACK_SHARE). */
+void potential_matrix(cloth *c, const step_eq *q, int stiffen);
+
+/* potential_residual and potential_matrix at once */
 double potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b, int stiffen);
 
 /* The sum of R over every row at dv, out (3): M dv - e - cfac f_c summed,

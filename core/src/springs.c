@@ -14,12 +14,7 @@
  * the force gains k_lim (d - lim) u, K's along-u stiffness k_lim and its
  * across-u term (force magnitude / d) stays positive. */
 #include <math.h>
-#include "internal.h"
-
-/* Below this length a link has no direction; it exerts no force. Only
- * reachable by collapsing two nodes onto each other. */
-
-#define SPRING_MIN_LENGTH 1e-12
+#include "spring_predicted.h"
 
 static inline double link_vec(const double xi[3], const double xj[3], double u[3])
 {
@@ -100,47 +95,8 @@ void link_eval(const double xi[3], const double xj[3], const double vi[3], const
         }
 }
 
-double spring_eval_predicted(const double xi[3], const double xj[3], const double u0[3], spring_law s, double f_i[3],
-                             double K[9])
+double spring_eval_predicted(const double xi[3], const double xj[3], const double u0[3], spring_law s, double w,
+                             double f_i[3], double K[9], int *slack)
 {
-    double u[3];
-    double d = link_vec(xi, xj, u);
-    double fe = 0.0, k = 0.0, E = 0.0;
-    if (d >= s.rest) { /* at rest length too: a cloth at rest is stiff */
-        fe = s.k_hi * (d - s.rest);
-        k = s.k_hi;
-        E = 0.5 * fe * (d - s.rest);
-    }
-    if (d > s.lim) {
-        fe += s.k_lim * (d - s.lim);
-        k += s.k_lim;
-        E += 0.5 * s.k_lim * (d - s.lim) * (d - s.lim);
-    }
-    /* compression: the length along u0, (x_j - x_i) . u0 = d (u . u0) */
-    double sc = d * (u[0] * u0[0] + u[1] * u0[1] + u[2] * u0[2]) - s.rest, kc = 0.0;
-    if (sc < 0.0) {
-        kc = s.k_lo;
-        E += 0.5 * kc * sc * sc;
-    }
-    if (d <= SPRING_MIN_LENGTH) fe = k = 0.0;
-    if (f_i)
-        for (int r = 0; r < 3; r++) f_i[r] = fe * u[r] + kc * sc * u0[r];
-    if (!K) return E;
-    double kt = d > SPRING_MIN_LENGTH ? fe / d : 0.0;
-    for (int a = 0; a < 3; a++)
-        for (int b = 0; b < 3; b++) {
-            double uu = u[a] * u[b], vv = u0[a] * u0[b]; /* bitwise symmetric blocks */
-            K[3 * a + b] = (k - kt) * uu + (a == b ? kt : 0.0) + kc * vv;
-        }
-    return E;
-}
-
-int spring_slack_stiffen(const double xi[3], const double xj[3], spring_law s, double w, double K[9])
-{
-    double u[3], d = link_vec(xi, xj, u), k = w * s.k_hi;
-    if (d >= s.rest) return 0;
-    if (d > SPRING_MIN_LENGTH && k > 0.0)
-        for (int a = 0; a < 3; a++)
-            for (int b = 0; b < 3; b++) K[3 * a + b] += k * (u[a] * u[b]);
-    return 1;
+    return spring_predicted(xi, xj, u0, s, w, f_i, K, slack);
 }
