@@ -564,18 +564,20 @@ cloth_status dClothStep(dClothID c, dReal h)
 
     /* the target moved the vertex across its gap (or out of its shell), less
      * a pinched vertex's midway shift: a displacement, not a velocity; the
-     * normal velocity keeps only the body's (an inelastic impact, no pop) */
+     * normal velocity keeps only the body's (an inelastic impact, no pop);
+     * all set at once, as setting velocities resets the core's history */
+    int fixed = 0;
+    memcpy(c->vfix, cloth_velocities(core), 3 * (size_t)c->n * sizeof *c->vfix);
     for (int i = 0; i < c->n; i++) {
         vcontact *nw = &c->vc_new[i];
         cloth_constraint k;
         double moved = nw->gap - nw->pinch_shift; /* minus how far the target moved it out */
         if (!nw->active || moved == 0.0) continue;
         if (cloth_get_constraint(core, i, &k) == CLOTH_OK && k.ndof == 0) continue; /* the step let it go */
-        double vi[3];
-        memcpy(vi, cloth_velocities(core) + 3 * i, sizeof vi);
-        for (int r = 0; r < 3; r++) vi[r] += moved / h * nw->normal[r];
-        cloth_set_vertex(core, i, cloth_positions(core) + 3 * i, vi);
+        for (int r = 0; r < 3; r++) c->vfix[3 * i + r] += moved / h * nw->normal[r];
+        fixed = 1;
     }
+    if (fixed) cloth_set_velocities(core, c->vfix);
 
     /* Each body takes, at each of its vertices, the force the cloth felt there
      * (constraint, friction) and a share, by force size, of F: the momentum

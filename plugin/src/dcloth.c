@@ -79,11 +79,13 @@ cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *d, d
     c->fadd = calloc(3 * (size_t)c->n, sizeof *c->fadd);
     c->x0 = calloc(3 * (size_t)c->n, sizeof *c->x0);
     c->v0 = calloc(3 * (size_t)c->n, sizeof *c->v0);
+    c->vfix = calloc(3 * (size_t)c->n, sizeof *c->vfix);
     c->save = cloth_state_create(c->core);
     c->box = dCreateBox(0, 1, 1, 1);
     c->sphere = dCreateSphere(0, c->thickness);
     c->ray = dCreateRay(0, 1.0);
-    if (!c->tri || !c->vc || !c->vc_new || !c->pin || !c->fext || !c->fuser || !c->fadd || !c->x0 || !c->v0 || !c->save || !c->box || !c->sphere || !c->ray) {
+    if (!c->tri || !c->vc || !c->vc_new || !c->pin || !c->fext || !c->fuser || !c->fadd || !c->x0 || !c->v0 ||
+        !c->vfix || !c->save || !c->box || !c->sphere || !c->ray) {
         dClothDestroy(c);
         return create_fail(err, CLOTH_ENOMEM, "out of memory");
     }
@@ -118,6 +120,7 @@ void dClothDestroy(dClothID c)
     free(c->fadd);
     free(c->x0);
     free(c->v0);
+    free(c->vfix);
     cloth_state_destroy(c->save);
     free(c->cand);
     free(c->surf);

@@ -85,6 +85,7 @@ struct dxCloth {
     double *fadd;        /* 3n: dClothAddVertexForce's, for the next step    */
     double *x0;          /* 3n: positions at the step's start               */
     double *v0;          /* 3n: velocities at the step's start              */
+    double *vfix;        /* 3n: velocities after the step's contact fix-up  */
     cloth_state *save;   /* the core's state at the step's start (re-solves) */
     dGeomID *cand;       /* candidate geoms of the step                     */
     int ncand, cand_cap;
