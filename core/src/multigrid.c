@@ -465,6 +465,24 @@ static inline void filter_row(const multigrid *mg, int l, int i, double acc[3])
 
 static inline const bsr *level_matrix(const multigrid *mg, int l) { return l ? &mg->lev[l].M : mg->A0; }
 
+/* A sweep's rows wait on each other, so the core cannot run ahead to fetch
+ * the next rows itself: they are fetched this many rows ahead, far enough to
+ * hide a memory access where the levels do not fit the cache. */
+#define SWEEP_PREFETCH_ROWS 8
+
+/* Fetch row i's blocks and inverse diagonal block into the cache */
+MAT3_INLINE void prefetch_row(const bsr *A, const double *Dinv, int i)
+{
+#if defined(__GNUC__)
+    const char *p = (const char *)(A->val + 9 * (size_t)A->row_ptr[i]);
+    const char *end = (const char *)(A->val + 9 * (size_t)A->row_ptr[i + 1]);
+    for (; p < end; p += 64) __builtin_prefetch(p);
+    __builtin_prefetch(Dinv + 9 * (size_t)i);
+#else
+    (void)A, (void)Dinv, (void)i;
+#endif
+}
+
 /* Backward block Gauss-Seidel: D_i x_i = b_i - sum_{j != i} A_ij x_j, i
  * descending, filtered on level 0. (The sweeps never read a diagonal block
  * with the row loops, so never the matrix's last block, which the AVX loop
@@ -475,6 +493,7 @@ MAT3_INLINE void backward_sweep_k(int avx, const multigrid *mg, int l, double *x
     const double *Dinv = mg->lev[l].Dinv;
     const unsigned char *sym = mg->lev[l].symrow;
     for (int i = A->n - 1; i >= 0; i--) {
+        if (i >= SWEEP_PREFETCH_ROWS) prefetch_row(A, Dinv, i - SWEEP_PREFETCH_ROWS);
         double acc[3] = {b[3 * i], b[3 * i + 1], b[3 * i + 2]};
         level_row_sub(avx, A, sym, i, A->row_ptr[i], A->diag[i], x, acc);
         level_row_sub(avx, A, sym, i, A->diag[i] + 1, A->row_ptr[i + 1], x, acc);
@@ -506,6 +525,7 @@ MAT3_INLINE void forward_sweep_restrict_k(int avx, const multigrid *mg, int l, d
     memset(bc, 0, 3 * (size_t)mg->lev[l + 1].n * sizeof *bc);
     int p = 0; /* the next row whose residual is pending */
     for (int i = 0; i <= A->n; i++) {
+        if (i + SWEEP_PREFETCH_ROWS < A->n) prefetch_row(A, Dinv, i + SWEEP_PREFETCH_ROWS);
         if (i < A->n) {
             double acc[3] = {b[3 * i], b[3 * i + 1], b[3 * i + 2]};
             level_row_sub(avx, A, sym, i, row_ptr[i], diag[i], x, acc);

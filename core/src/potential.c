@@ -106,6 +106,9 @@ MAT3_INLINE double link_rate(const double *v, int i, int j, const double *u)
 #define SLACK_SHARE 0.1
 #define SLACK_AGE_MAX 60
 
+/* The matrix's blocks are fetched this many links of a type ahead */
+#define ASSEMBLY_PREFETCH_LINKS 8
+
 double potential_residual(cloth *c, const step_eq *q, const double *dv, double *b)
 {
     const cloth_material *m = &c->desc.material;
@@ -147,7 +150,9 @@ void potential_matrix(cloth *c, const step_eq *q, int stiffen)
         B[0] = B[4] = B[8] = c->mass[i];
     }
     for (int es = 0, ei = 0, t, e; next_link(c, &es, &ei, &t, &e);) {
-        int i, j, slack;
+        int i, j, slack, ahead = e + ASSEMBLY_PREFETCH_LINKS;
+        if (ahead < (t ? c->n_int : c->n_seq))
+            assemble_prefetch(c, (t ? c->lint : c->seq)[ahead].j, (t ? c->int_blk : c->seq_blk) + 2 * ahead);
         const double *u = link_ends(c, t, e, &i, &j);
         unsigned char *age = t || !stiffen ? NULL : c->slack_age + e;
         double damp = t ? m->c_b : m->c_t, w = age ? ldexp(SLACK_SHARE, -*age) : 0.0;
