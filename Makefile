@@ -7,7 +7,8 @@
 #   make demo       deps + build + drape_table for alpha 0, 0.5, 0.8 and 1:
 #                   pictures and the contact sheet in $(BUILD)/demo/
 #   make sanitize   build into build-san/ with ASan + UBSan and run the tests
-#   make bench      deps + build + run every build/examples/bench_* program
+#   make bench      deps + build + run every build/examples/bench_* program,
+#                   and bench_workprecision --cotton
 #   make fuzz       build the libFuzzer harnesses (clang, ASan + UBSan) into
 #                   build-fuzz/ and run each for FUZZ_SECONDS (default 60)
 #   make install    install into PREFIX (default /usr/local)
@@ -78,6 +79,7 @@ sanitize: deps
 bench: deps build
 	@$(if $(BENCHES),,echo "no benchmarks (examples/bench_*.c) yet")
 	@set -e; for b in $(BENCHES); do echo "== $$b"; $$b; done
+	@echo "== $(BUILD)/examples/bench_workprecision --cotton"; $(BUILD)/examples/bench_workprecision --cotton
 
 # libFuzzer: each test/fuzz_<name>.c defines LLVMFuzzerTestOneInput (its
 # main(), the CTest driver, is left out with -DODECLOTH_LIBFUZZER) and is
