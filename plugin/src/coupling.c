@@ -567,15 +567,15 @@ cloth_status dClothStep(dClothID c, dReal h)
      * normal velocity keeps only the body's (an inelastic impact, no pop);
      * all set at once, as setting velocities resets the core's history */
     int fixed = 0;
-    memcpy(c->vfix, cloth_velocities(core), 3 * (size_t)c->n * sizeof *c->vfix);
     for (int i = 0; i < c->n; i++) {
         vcontact *nw = &c->vc_new[i];
         cloth_constraint k;
         double moved = nw->gap - nw->pinch_shift; /* minus how far the target moved it out */
         if (!nw->active || moved == 0.0) continue;
         if (cloth_get_constraint(core, i, &k) == CLOTH_OK && k.ndof == 0) continue; /* the step let it go */
-        for (int r = 0; r < 3; r++) c->vfix[3 * i + r] += moved / h * nw->normal[r];
+        if (!fixed) memcpy(c->vfix, cloth_velocities(core), 3 * (size_t)c->n * sizeof *c->vfix);
         fixed = 1;
+        for (int r = 0; r < 3; r++) c->vfix[3 * i + r] += moved / h * nw->normal[r];
     }
     if (fixed) cloth_set_velocities(core, c->vfix);
 
