@@ -374,6 +374,14 @@ static double stable_step(cloth_adaptive *a, const cloth *c, int iters)
     return 4.0 / (lc + sqrt(lc * lc + 4.0 * lk));
 }
 
+/* Newton's residual, an impulse of velocity size r a step, is a bias r / h in
+ * the acceleration: held over the horizon it moves the positions by at most
+ * CGF / 2 of the request, as the CG tolerance's bias does (top of the file). */
+static double newton_bound(const cloth_adaptive *a, double h)
+{
+    return CGF * a->d.tolerance * h / fmax(a->d.velocity_weight, a->elapsed);
+}
+
 /* The shadow restarted from the cloth's state at the frame's start (a->snap):
  * the estimate so far is carried (added to what the new run estimates). */
 static void resync(cloth_adaptive *a)
@@ -486,6 +494,7 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
         cloth_solver sv = user;
         sv.method = method;
         sv.cg_tolerance = cg;
+        sv.newton_tolerance = fmin(user.newton_tolerance, newton_bound(a, frame_dt / n));
         cloth_set_solver(c, &sv);
         t = run_substeps(a, c, n, frame_dt / n);
         st.attempts++;

@@ -596,8 +596,10 @@ cloth_status cloth_state_read_file(cloth_state *s, FILE *f, cloth_error *err);
  * that moves the positions by at most cg |a| t^2 / 2 over the simulated time
  * t so far, held to half of tolerance * t: cg = tolerance / (|a| t), t at
  * least velocity_weight (the shadow does not see this error: it makes the
- * same; the bound is pessimistic, see core/src/adaptive.c). The first
- * frame takes at least two substeps and CG tolerance 1e-6. The cloth's own
+ * same; the bound is pessimistic, see core/src/adaptive.c). Under
+ * CLOTH_NEWTON the step's residual r (m/s) is a bias r / h in the
+ * acceleration, so newton_tolerance is held to at most tolerance h / t. The
+ * first frame takes at least two substeps and CG tolerance 1e-6. The cloth's own
  * solver settings are restored after each frame, and after a failed frame
  * its state and constraint forces are as before it. */
 typedef struct cloth_adaptive_desc {
