@@ -28,6 +28,21 @@ static inline dClothID flat_cloth(dWorldID w, dSpaceID s, int n, double L, const
     return c;
 }
 
+/* A box as 12 triangles, counter-clockwise from outside, half sides e:
+ * vertices v and indices t for dGeomTriMeshDataBuildDouble. */
+static inline void box_mesh(const double e[3], dReal v[24], dTriIndex t[36])
+{
+    static const int q[24] = {1, 3, 7, 5, 0, 4, 6, 2, 2, 6, 7, 3, 0, 1, 5, 4, 4, 5, 7, 6, 0, 2, 3, 1};
+    for (int i = 0; i < 8; i++)
+        for (int k = 0; k < 3; k++) v[3 * i + k] = (i >> k & 1) ? e[k] : -e[k];
+    for (int f = 0; f < 6; f++) {
+        const int *a = q + 4 * f;
+        dTriIndex *o = t + 6 * f;
+        o[0] = a[0], o[1] = a[1], o[2] = a[2];
+        o[3] = a[0], o[4] = a[2], o[5] = a[3];
+    }
+}
+
 /* A sphere of mass m (radius 5 cm) in world w holding cloth c by its
  * vertices 0 and 1, its centre halfway between them. */
 static inline dBodyID sphere_holding(dWorldID w, dClothID c, double m)

@@ -34,6 +34,7 @@
 
 #include "odecloth/dcloth.h"
 #include "check.h"
+#include "plugin_cloth.h"
 
 #define GAP 0.006
 #define SPEED 0.5
@@ -44,20 +45,6 @@
 #define LOW_HZ 0.1
 #define TOL_FRAC 0.2
 #define VREST 1e-3
-
-/* a box as 12 triangles, counter-clockwise from outside, half sides e */
-static void box_mesh(const double e[3], dReal v[24], dTriIndex t[36])
-{
-    static const int q[24] = {1, 3, 7, 5, 0, 4, 6, 2, 2, 6, 7, 3, 0, 1, 5, 4, 4, 5, 7, 6, 0, 2, 3, 1};
-    for (int i = 0; i < 8; i++)
-        for (int k = 0; k < 3; k++) v[3 * i + k] = (i >> k & 1) ? e[k] : -e[k];
-    for (int f = 0; f < 6; f++) {
-        const int *a = q + 4 * f;
-        dTriIndex *o = t + 6 * f;
-        o[0] = a[0], o[1] = a[1], o[2] = a[2];
-        o[3] = a[0], o[4] = a[2], o[5] = a[3];
-    }
-}
 
 typedef struct result {
     int failed_step;

@@ -337,6 +337,38 @@ static void set_contact(vcontact *vc, const struct dcloth_surf *sf, dBodyID body
     }
 }
 
+/* Whether x is inside trimesh g: behind its surface seen from outside along
+ * each of the geom's six axis directions (ODE's sphere test misses a centre on
+ * or behind a face); then how deep, to the nearest way out, and that way. */
+static int mesh_inside(dClothID c, dGeomID g, const double *x, double *dist, double nrm[3])
+{
+    dReal aabb[6];
+    dGeomGetAABB(g, aabb);
+    const dReal *R = dGeomGetRotation(g);
+    double L = 1.0, best = INFINITY;
+    for (int k = 0; k < 3; k++) L += aabb[2 * k + 1] - aabb[2 * k];
+    int closest = dGeomRayGetClosestHit(c->ray);
+    dGeomRaySetClosestHit(c->ray, 1);
+    dGeomRaySetLength(c->ray, L);
+    for (int a = 0; a < 6; a++) {
+        double s = a & 1 ? -1.0 : 1.0, d[3] = {s * R[a / 2], s * R[4 + a / 2], s * R[8 + a / 2]};
+        dGeomRaySet(c->ray, x[0] + L * d[0], x[1] + L * d[1], x[2] + L * d[2], -d[0], -d[1], -d[2]);
+        dContactGeom cg;
+        if (dCollide(c->ray, g, 1, &cg, sizeof cg) < 1 || !(cg.depth < L)) {
+            best = INFINITY;
+            break;
+        }
+        if (L - cg.depth < best) {
+            best = L - cg.depth;
+            for (int k = 0; k < 3; k++) nrm[k] = d[k];
+        }
+    }
+    dGeomRaySetClosestHit(c->ray, closest);
+    if (!isfinite(best)) return 0;
+    *dist = -best;
+    return 1;
+}
+
 /* The distance from x to geom g's surface and the outward normal there, if
  * within reach: 1, else 0 */
 static int vertex_query(dClothID c, dGeomID g, const double *x, double reach, double *dist, double nrm[3])
@@ -351,7 +383,7 @@ static int vertex_query(dClothID c, dGeomID g, const double *x, double reach, do
         int best = -1;
         for (int k = 0; k < m; k++)
             if (best < 0 || cg[k].depth > cg[best].depth) best = k;
-        if (best < 0) return 0;
+        if (best < 0) return dGeomGetClass(g) == dTriMeshClass && mesh_inside(c, g, x, dist, nrm);
         double nn = dcloth_dot3(cg[best].normal, cg[best].normal);
         if (!(nn > 0.0)) return 0;
         nn = 1.0 / sqrt(nn);
