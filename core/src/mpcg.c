@@ -275,8 +275,10 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
      * cloth thrown onto a mesh: plugin_mesh_impact), and only a negative
      * norm beyond that means the matrix is not definite */
     while (rr > tol2 || rr < -tol2) {
-        if (!(delta > 0.0) || rr < 0.0) { /* r^T M r <= 0, or a negative norm weight: not definite */
-            res.failure = isfinite(delta) ? CLOTH_FAIL_CG_INDEFINITE : CLOTH_FAIL_NAN;
+        if (!(delta > 0.0) || rr < 0.0) { /* r^T M r <= 0, or a negative norm weight: not definite (mpcg.h) */
+            res.failure = !isfinite(delta) ? CLOTH_FAIL_NAN
+                          : P->definite    ? CLOTH_FAIL_CG_MAX_ITER
+                                           : CLOTH_FAIL_CG_INDEFINITE;
             break;
         }
         if (it >= max_iter) {

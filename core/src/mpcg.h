@@ -68,8 +68,8 @@ typedef struct mpcg_problem {
      * constrained components move to z), nor less than this */
     double ref_floor;
     /* 1: A is positive definite by construction (Newton's matrix), so a
-     * non-positive curvature is a stalled recurrence's rounding: the solve
-     * stops there, cut short (CLOTH_FAIL_CG_MAX_ITER), not failed */
+     * non-positive curvature or residual weight is a stalled recurrence's
+     * rounding: the solve stops there, cut short (CLOTH_FAIL_CG_MAX_ITER) */
     int definite;
 } mpcg_problem;
 

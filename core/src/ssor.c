@@ -209,8 +209,10 @@ MAT3_INLINE mpcg_result ssor_run_k(int avx, const mpcg_problem *P, const unsigne
     double ratio = delta > 0.0 ? true2 / delta : 1.0, beta = 0.0;
     int it = 0;
     while (true2 > tol2) {
-        if (!(delta > 0.0)) {
-            res.failure = isfinite(delta) ? CLOTH_FAIL_CG_INDEFINITE : CLOTH_FAIL_NAN;
+        if (!(delta > 0.0)) { /* mpcg.h: P->definite */
+            res.failure = !isfinite(delta) ? CLOTH_FAIL_NAN
+                          : P->definite    ? CLOTH_FAIL_CG_MAX_ITER
+                                           : CLOTH_FAIL_CG_INDEFINITE;
             break;
         }
         if (it >= P->max_iter) {
