@@ -127,8 +127,11 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
      * held, pulling, for ever); a triangle's contact is judged
      * by its geometry alone (its vertices' forces along the triangle's
      * normal are often negative while the triangle as a whole presses:
-     * releasing them made contacts on curved and edged geoms chatter) */
-    if (!forced && had && fn < 0.0 && nw->gap >= -DCLOTH_TOUCH * nw->thickness && !nw->from_triangle) {
+     * releasing them made contacts on curved and edged geoms chatter), as
+     * is a vertex's own contact whose last force was such a share: it lets
+     * go by the triangles' rule this step (by_triangle_rule) */
+    if (!forced && had && fn < 0.0 && nw->gap >= -DCLOTH_TOUCH * nw->thickness && !nw->from_triangle &&
+        !old->from_triangle) {
         st->released++;
         return 0;
     }
@@ -223,6 +226,15 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
         }
     }
     return 1;
+}
+
+/* Whether vertex i's contact lets go by the triangle contacts' rule (a pull
+ * past LETGO_PULL, within the step): a triangle's, or the vertex's own that
+ * follows one, whose last force was that triangle's share */
+static int by_triangle_rule(dClothID c, int i)
+{
+    const vcontact *nw = &c->vc_new[i], *old = &c->vc[i];
+    return nw->from_triangle || (old->from_triangle && old->geom == nw->geom);
 }
 
 /* The index of body b among this step's coupled bodies, adding it (with
@@ -428,7 +440,7 @@ cloth_status dClothStep(dClothID c, dReal h)
                 cloth_set_contact(core, i, nw->normal, k.target);
                 /* Newton lets a triangle's contact go within the step at the
                  * pull the peel below judges after it */
-                if (nw->from_triangle) cloth_set_contact_pull(core, i, LETGO_PULL * letgo_t);
+                if (by_triangle_rule(c, i)) cloth_set_contact_pull(core, i, LETGO_PULL * letgo_t);
             }
             for (int r = 0; r < 3; r++) c->fext[3 * i + r] += nw->friction[r];
             st.contacts++;
@@ -469,7 +481,7 @@ cloth_status dClothStep(dClothID c, dReal h)
         int peel = 0;
         for (int i = 0; i < c->n; i++) {
             vcontact *nw = &c->vc_new[i];
-            if (!nw->active || !nw->from_triangle || nw->forced || nw->pinched) continue;
+            if (!nw->active || !by_triangle_rule(c, i) || nw->forced || nw->pinched) continue;
             double f[3];
             cloth_constraint_force(core, i, f);
             if (dcloth_dot3(f, nw->normal) < -LETGO_PULL * letgo_t) {

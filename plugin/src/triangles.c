@@ -267,6 +267,35 @@ static int facing(const convex_query *q, const tri_shape *ts, const double n[3],
     return ntl > 0.0 && fabs(dcloth_dot3(nt, n)) >= AHEAD_PARALLEL * ntl && flat_face(q, n, face);
 }
 
+/* A mesh prism against the cloth's triangle ts: EPA's direction n, with
+ * lift and depth from it, replaced by the prism's face normal or an edge
+ * normal the mesh allows there (mesh_direction) whose overlap is less. Each
+ * overlap bounds the penetration from above, and EPA's answer for a flat
+ * triangle over a prism's corner can be far from the least. r: the radius
+ * the query grew the triangle by; clear_ok: whether clear may hold. */
+static void mesh_least(const convex_query *q, const tri_shape *ts, double r, double t, double n[3], double *lift,
+                       int *clear, int clear_ok, ccd_real_t *depth)
+{
+    const double *cand[4] = {q->face, q->out[0], q->out[1], q->out[2]};
+    double d0 = *lift + (r - t), d = d0;
+    for (int k = 0; k < 4; k++) {
+        const double *u = cand[k];
+        if (!mesh_direction(q, u)) continue;
+        ccd_vec3_t ud = {{u[0], u[1], u[2]}}, sp;
+        q->support(q->shape, &ud, &sp);
+        double low = INFINITY;
+        for (int a = 0; a < 3; a++) low = fmin(low, dcloth_dot3(u, ts->v[a]));
+        double o = dcloth_dot3(u, sp.v) - low + r;
+        if (!(o < d)) continue;
+        d = o;
+        for (int e = 0; e < 3; e++) n[e] = u[e];
+    }
+    if (!(d < d0)) return;
+    *lift = d - (r - t);
+    *clear = clear_ok && d < r;
+    if (depth) *depth = d;
+}
+
 /* Cloth triangle k against the shape: sets its vertices' contacts where
  * deeper than what they have; returns how many it set. */
 static int triangle_query(dClothID c, const convex_query *q, int k, double h, ccd_t *ccd, ccd_t *fine)
@@ -358,6 +387,9 @@ static int triangle_query(dClothID c, const convex_query *q, int k, double h, cc
     if (!(nl > 0.0)) return 0;
     double n[3] = {dir.v[0] / nl, dir.v[1] / nl, dir.v[2] / nl}, support = 0.0;
     if (q->face && !mesh_direction(q, n)) return 0;
+    if (q->face)
+        mesh_least(q, &ts, shell_hit ? shell_r : ts.radius, t, n, &lift, &clear, !swept || q->moving || shell_hit,
+                   shell_hit ? NULL : &depth);
     /* barycentric weights of the contact point, projected on the
      * triangle and clamped into it */
     double w[3];
