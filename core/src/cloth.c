@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "internal.h"
+#include "self_contact.h"
 #include "vec3.h"
 
 /* Largest vertex count: keeps every index (3 per vertex, 16 links per vertex,
@@ -168,6 +169,7 @@ static int links_to_blocks(bsr *A, int n, const link_topo *seq, int n_seq, const
 void cloth_destroy(cloth *c)
 {
     if (!c) return;
+    self_contact_unbind_cloth(c);
     free(c->mass);
     free(c->seq);
     free(c->lint);

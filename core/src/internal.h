@@ -124,6 +124,8 @@ struct cloth {
                                   vertices by their bodies' du so far */
     int body_retry;            /* 1 while a step is retried in substeps */
     double body_hs;            /* that substep's size */
+    struct self_contact *self_contact; /* the Newton step's self-contact, bound by a
+                                  self-collision pass (self_contact.h), or NULL */
 
     /* step workspace, sized at creation: the step allocates nothing */
     bsr A;                     /* pattern: diagonal + one block pair per link */

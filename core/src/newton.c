@@ -10,6 +10,7 @@
 #include "potential.h"
 #include "mat3.h"
 #include "mpcg.h"
+#include "self_contact.h"
 
 /* A step also ends only once the energy it can have made (the residual R's
  * work at v_new, and the leftover momentum's on the bodies) is within this
@@ -51,16 +52,16 @@ static double residual_norm(const cloth *c, const mpcg_problem *P, const double 
     return sqrt(s / mt);
 }
 
-/* Backtracking (Armijo) along ddv from dv: the step t taken. phi0 is the
+/* Backtracking (Armijo) along ddv from dv, from t = tmax: the step t taken. phi0 is the
  * potential at dv (with the bodies'), slope its derivative along ddv; on
  * return *phi is the potential at the step taken. The full step's potential
  * comes with its residual (c->b); *ready says whether that step was taken,
  * so the next iteration needs no residual. */
 static double line_search(cloth *c, const step_eq *q, const double *dv, const double *ddv, int bodies,
-                          double phi0, double slope, double *phi, int *ready)
+                          double tmax, double phi0, double slope, double *phi, int *ready)
 {
     size_t n3 = 3 * (size_t)c->n;
-    double t = 1.0;
+    double t = tmax;
     *ready = 0;
     for (int k = 0; k < 16; k++, t *= 0.5) {
         for (size_t j = 0; j < n3; j++) c->dvt[j] = dv[j] + t * ddv[j];
@@ -118,12 +119,18 @@ static void balance_momentum(cloth *c, const step_eq *q, double *dv)
 static int newton_start(cloth *c, const step_eq *q, double *dv)
 {
     size_t n3 = 3 * (size_t)c->n;
+    double best = INFINITY;
     memset(dv, 0, n3 * sizeof *dv);
-    double best = potential_value(c, q, dv, c->xt, c->vt);
-    for (int k = c->desc.solver.warm_start ? 0 : 1; k < 2; k++) {
-        for (size_t j = 0; j < n3; j++) c->dvt[j] = k ? -c->st.v[j] : c->st.dv_prev[j];
+    /* k: no change, the last step's dv, rest, and with self-contact x0 itself, which is
+     * the one start sure to be reached from x0 without a vertex crossing a triangle */
+    for (int k = -1; k < 3; k++) {
+        if ((k == 0 && !c->desc.solver.warm_start) || (k == 2 && !c->self_contact)) continue;
+        for (size_t j = 0; j < n3; j++)
+            c->dvt[j] = k < 0 ? 0.0 : k == 0 ? c->st.dv_prev[j] : k == 1 ? -c->st.v[j]
+                                                 : (c->st.x[j] - q->a[j]) / q->cfac - c->st.v[j];
         double phi = potential_value(c, q, c->dvt, c->xt, c->vt);
-        if (phi < best) {
+        if (c->self_contact && self_contact_max_step(c->self_contact, c->st.x, c->xt) < 1.0) continue;
+        if (phi < best || k < 0) {
             best = phi;
             memcpy(dv, c->dvt, n3 * sizeof *dv);
         }
@@ -221,11 +228,23 @@ static int energy_bounded(const cloth *c, const step_eq *q, const mpcg_problem *
     return gain <= NEWTON_GAIN_SHARE * diss + 0.5 * mt * tol * tol;
 }
 
+/* The share of the update ddv from dv that self-contact lets an iterate take (1 without it):
+ * short of the first vertex-triangle touch on the way. */
+static double contact_free_share(cloth *c, const step_eq *q, const double *dv, const double *ddv)
+{
+    if (!c->self_contact) return 1.0;
+    for (size_t k = 0; k < 3 * (size_t)c->n; k++) {
+        c->xt[k] = q->a[k] + q->cfac * (c->st.v[k] + dv[k]);
+        c->vt[k] = c->xt[k] + q->cfac * ddv[k];
+    }
+    return self_contact_max_step(c->self_contact, c->xt, c->vt);
+}
+
 /* One Newton iteration from dv (b = -R there): solve, search (not on the first, which lands the
- * constraints), take. *size gets the full step's size, *ready whether b is assembled
- * at the new dv; returns the CG's failure (NONE, or a cut-short solve's, still used). */
+ * constraints), take (*taken: the share of the update). *size gets the full step's size, *ready
+ * whether b is assembled at the new dv; returns the CG's failure (NONE, or a cut-short solve's). */
 static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *P, double *dv, double *phi,
-                                      int first, double *size, int *ready, cloth_step_stats *st)
+                                      int first, double *size, int *ready, double *taken, cloth_step_stats *st)
 {
     size_t n3 = 3 * (size_t)c->n;
     double *ddv = c->ddv;
@@ -239,12 +258,12 @@ static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *
         return r.failure == CLOTH_FAIL_NONE ? CLOTH_FAIL_NAN : r.failure;
     }
     *size = step_norm(c, P, ddv);
-    double t = 1.0;
+    double t = contact_free_share(c, q, dv, ddv);
     if (!first) {
         double slope = 0.0, phi1;
         for (size_t k = 0; k < n3; k++) slope -= c->b[k] * ddv[k];
         if (P->bodies) slope += bodies_newton_slope(c);
-        t = line_search(c, q, dv, ddv, P->bodies != NULL, *phi, slope, &phi1, ready);
+        t = line_search(c, q, dv, ddv, P->bodies != NULL, t, *phi, slope, &phi1, ready);
         if (t < 1.0) st->line_search_cuts++;
         *phi = phi1;
     } else {
@@ -252,6 +271,7 @@ static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *
     }
     for (size_t k = 0; k < n3; k++) dv[k] += t * ddv[k];
     if (P->bodies) bodies_newton_take(c, t);
+    *taken = t;
     return r.failure;
 }
 
@@ -368,9 +388,14 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         }
         if (phi != phi && it > 0)
             phi = potential_value(c, &q, dv, c->xt, c->vt) + (P.bodies ? bodies_energy(c) : 0.0);
-        cloth_failure f = newton_iteration(c, &q, &P, dv, &phi, landing, &size, &ready, st);
-        if (landing) memset(c->z, 0, 3 * (size_t)c->n * sizeof *c->z); /* the constraints landed */
-        landing = pending = 0;
+        double taken = 1.0;
+        cloth_failure f = newton_iteration(c, &q, &P, dv, &phi, landing, &size, &ready, &taken, st);
+        /* the constraints landed, or the share taken of the way (self-contact): the next lands the rest */
+        if (landing && taken < 1.0)
+            for (size_t k = 0; k < 3 * (size_t)c->n; k++) c->z[k] *= 1.0 - taken;
+        else if (landing)
+            memset(c->z, 0, 3 * (size_t)c->n * sizeof *c->z);
+        landing = pending = landing && taken < 1.0;
         it++;
         since++;
         assembled = 0;

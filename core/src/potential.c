@@ -6,6 +6,7 @@
 #include "assembly.h"
 #include "mat3.h"
 #include "spring_predicted.h"
+#include "self_contact.h"
 
 void potential_begin(cloth *c, double h, int bdf2, step_eq *q)
 {
@@ -17,6 +18,7 @@ void potential_begin(cloth *c, double h, int bdf2, step_eq *q)
     q->cfac = q->beta * h;
     for (size_t k = 0; k < n3; k++) c->na[k] = bdf2 ? s->x[k] + (s->x[k] - s->x_prev[k]) / 3.0 : s->x[k];
     q->a = c->na;
+    if (c->self_contact) self_contact_begin(c->self_contact, c, q->cfac);
     memset(c->slack_age, 0, (size_t)c->n_seq * sizeof *c->slack_age);
     /* the links' directions, damping's and compression's: backward Euler's at
      * x0, where the step's energy equals the springs' and elsewhere bounds it
@@ -134,6 +136,7 @@ double potential_residual(cloth *c, const step_eq *q, const double *dv, double *
     }
     /* air drag, a damper with its normals and areas at x~ */
     if (air_on(c)) P += cf * air_eval(c, c->st.x, c->st.v, q->h, v, cf, b, NULL, 0.0);
+    if (c->self_contact) P += self_contact_eval(c->self_contact, x, cf, b, NULL);
     return P;
 }
 
@@ -163,6 +166,7 @@ void potential_matrix(cloth *c, const step_eq *q, int stiffen)
         assemble_link(c, i, j, (t ? c->int_blk : c->seq_blk) + 2 * e, blk);
     }
     if (air_on(c)) air_eval(c, c->st.x, c->st.v, q->h, c->v_new, 0.0, NULL, A, cf);
+    if (c->self_contact) self_contact_eval(c->self_contact, x, cf, NULL, A);
 }
 
 double potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b, int stiffen)
@@ -203,6 +207,7 @@ double potential_value(const cloth *c, const step_eq *q, const double *dv, doubl
              0.5 * cf * damp * vu * vu;
     }
     if (air_on(c)) P += cf * air_eval(c, c->st.x, c->st.v, q->h, v, 0.0, NULL, NULL, 0.0);
+    if (c->self_contact) P += self_contact_eval(c->self_contact, x, cf, NULL, NULL);
     return P;
 }
 

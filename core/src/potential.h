@@ -8,6 +8,7 @@
  * x~ = x0 + h v0. Compressed links push along the same directions, which makes Phi convex.
  * Backward Euler's are at x0, where U equals the springs' energy and elsewhere exceeds it (no
  * exact step gains energy); BDF2's at x~, O(h^2) from x, keep it second order.
+ * With a self-contact bound (self_contact.h), Phi also holds its barrier.
  * The residual R = grad Phi = M dv - e - cfac f(x, v) is an impulse. */
 #ifndef ODECLOTH_POTENTIAL_H
 #define ODECLOTH_POTENTIAL_H

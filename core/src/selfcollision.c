@@ -6,6 +6,7 @@
 #include <string.h>
 #include "internal.h"
 #include "vec3.h"
+#include "self_contact.h"
 #include "odecloth/selfcollision.h"
 
 #define SC_PASSES 3
@@ -26,6 +27,7 @@ struct cloth_self_collision {
     double *xprev;     /* 3n: positions after the last apply (the sides) */
     double *winv;      /* n: inverse mass, 0 for a constrained vertex */
     int have_prev;
+    self_contact *contact; /* the Newton step's self-contact, bound to the cloth applied to */
 };
 
 /* Unit normal of triangle (a, b, c) into nrm; 0 if degenerate. */
@@ -104,7 +106,9 @@ cloth_status cloth_self_collision_create(const cloth *c, double thickness, cloth
     s->v = malloc(3 * n * sizeof *s->v);
     s->xprev = malloc(3 * n * sizeof *s->xprev);
     s->winv = malloc(n * sizeof *s->winv);
-    if (!s->tri || !s->stamp || !s->head || !s->ent_tri || !s->ent_next || !s->x || !s->v || !s->xprev || !s->winv) {
+    s->contact = self_contact_create(s->n, s->ntri, s->tri, thickness, s->cell);
+    if (!s->tri || !s->stamp || !s->head || !s->ent_tri || !s->ent_next || !s->x || !s->v || !s->xprev || !s->winv ||
+        !s->contact) {
         cloth_self_collision_destroy(s);
         return error_set(err, CLOTH_ENOMEM, "cloth_self_collision_create: out of memory");
     }
@@ -123,6 +127,7 @@ cloth_status cloth_self_collision_create(const cloth *c, double thickness, cloth
 void cloth_self_collision_destroy(cloth_self_collision *s)
 {
     if (!s) return;
+    self_contact_destroy(s->contact);
     free(s->tri);
     free(s->stamp);
     free(s->head);
@@ -210,6 +215,7 @@ cloth_status cloth_self_collision_apply(cloth_self_collision *s, cloth *c, cloth
         return cloth_fail(c, CLOTH_EINVAL, "cloth_self_collision_apply: the cloth is %d x %d, the pass was made "
                           "for %d x %d", cloth_rows(c), cloth_cols(c), s->rows, s->cols);
     size_t n = (size_t)s->n;
+    self_contact_bind(s->contact, c);
     memcpy(s->x, cloth_positions(c), 3 * n * sizeof *s->x);
     if (!s->have_prev) {
         memcpy(s->xprev, s->x, 3 * n * sizeof *s->x);
