@@ -112,22 +112,34 @@ static void balance_momentum(cloth *c, const step_eq *q, double *dv)
     potential_state(c, q, dv); /* x_new, v_new, which the step commits */
 }
 
+/* Component j of the dv whose positions go share of the way from x0 to those of dv = 0 */
+static double start_share(const cloth *c, const step_eq *q, size_t j, double share)
+{
+    double x = c->st.x[j] + share * (q->a[j] + q->cfac * c->st.v[j] - c->st.x[j]);
+    return (x - q->a[j]) / q->cfac - c->st.v[j];
+}
+
 /* The start: of no change (the motion carried on), rest (v = 0: the cloth
  * where it is) and, with warm_start, the last step's dv, the one of lowest
- * potential; and z what the first iteration must add to its constrained
+ * potential (with self-contact: of those reached from x0 with no vertex-triangle
+ * touch); and z what the first iteration must add to its constrained
  * components to land them on their targets. Returns 1 if that is nothing. */
 static int newton_start(cloth *c, const step_eq *q, double *dv)
 {
     size_t n3 = 3 * (size_t)c->n;
     double best = INFINITY;
     memset(dv, 0, n3 * sizeof *dv);
-    /* k: no change, the last step's dv, rest, and with self-contact x0 itself, which is
-     * the one start sure to be reached from x0 without a vertex crossing a triangle */
+    /* k: no change, the last step's dv, rest, and with self-contact the share of the way
+     * from x0 to no change's positions that stops short of a vertex-triangle touch */
+    double share = 1.0;
+    if (c->self_contact) {
+        for (size_t j = 0; j < n3; j++) c->vt[j] = q->a[j] + q->cfac * c->st.v[j];
+        share = self_contact_max_step(c->self_contact, c->st.x, c->vt);
+    }
     for (int k = -1; k < 3; k++) {
         if ((k == 0 && !c->desc.solver.warm_start) || (k == 2 && !c->self_contact)) continue;
         for (size_t j = 0; j < n3; j++)
-            c->dvt[j] = k < 0 ? 0.0 : k == 0 ? c->st.dv_prev[j] : k == 1 ? -c->st.v[j]
-                                                 : (c->st.x[j] - q->a[j]) / q->cfac - c->st.v[j];
+            c->dvt[j] = k < 0 ? 0.0 : k == 0 ? c->st.dv_prev[j] : k == 1 ? -c->st.v[j] : start_share(c, q, j, share);
         double phi = potential_value(c, q, c->dvt, c->xt, c->vt);
         if (c->self_contact && self_contact_max_step(c->self_contact, c->st.x, c->xt) < 1.0) continue;
         if (phi < best || k < 0) {
@@ -391,11 +403,12 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         double taken = 1.0;
         cloth_failure f = newton_iteration(c, &q, &P, dv, &phi, landing, &size, &ready, &taken, st);
         /* the constraints landed, or the share taken of the way (self-contact): the next lands the rest */
-        if (landing && taken < 1.0)
-            for (size_t k = 0; k < 3 * (size_t)c->n; k++) c->z[k] *= 1.0 - taken;
-        else if (landing)
-            memset(c->z, 0, 3 * (size_t)c->n * sizeof *c->z);
-        landing = pending = landing && taken < 1.0;
+        int rest = 0; /* constrained components still to land */
+        for (size_t k = 0; landing && k < 3 * (size_t)c->n; k++) {
+            c->z[k] = taken < 1.0 ? c->z[k] * (1.0 - taken) : 0.0;
+            rest = rest || c->z[k] != 0.0;
+        }
+        landing = pending = rest;
         it++;
         since++;
         assembled = 0;
