@@ -225,6 +225,12 @@ static void pair_geometry(int kind, const double *x, double *w, double *g)
     if (!(vec3_norm(g) > 1e-12 * vec3_norm(e1) * vec3_norm(e2))) g[0] = g[1] = g[2] = 0.0;
 }
 
+void ccd_pair_weights(int edge_edge, const double *x, double *w)
+{
+    double g[3];
+    pair_geometry(edge_edge ? CCD_EE : CCD_PT, x, w, g);
+}
+
 /* Whether the pair at time t is a hit: within eta and closing. near: a
  * distance with no direction of its own (the plane's normal is used,
  * turned to the side the first primitive started on). */

@@ -121,16 +121,17 @@ static double start_share(const cloth *c, const step_eq *q, size_t j, double sha
 
 /* The start: of no change (the motion carried on), rest (v = 0: the cloth
  * where it is) and, with warm_start, the last step's dv, the one of lowest
- * potential (with self-contact: of those reached from x0 with no vertex-triangle
- * touch); and z what the first iteration must add to its constrained
- * components to land them on their targets. Returns 1 if that is nothing. */
+ * potential (with self-contact: of those reached from x0 with no touch,
+ * self_contact.h); and z what the first iteration must add to its
+ * constrained components to land them on their targets. Returns 1 if that
+ * is nothing. */
 static int newton_start(cloth *c, const step_eq *q, double *dv)
 {
     size_t n3 = 3 * (size_t)c->n;
     double best = INFINITY;
     memset(dv, 0, n3 * sizeof *dv);
     /* k: no change, the last step's dv, rest, and with self-contact the share of the way
-     * from x0 to no change's positions that stops short of a vertex-triangle touch */
+     * from x0 to no change's positions that stops short of a touch */
     double share = 1.0;
     if (c->self_contact) {
         for (size_t j = 0; j < n3; j++) c->vt[j] = q->a[j] + q->cfac * c->st.v[j];
@@ -241,7 +242,7 @@ static int energy_bounded(const cloth *c, const step_eq *q, const mpcg_problem *
 }
 
 /* The share of the update ddv from dv that self-contact lets an iterate take (1 without it):
- * short of the first vertex-triangle touch on the way. */
+ * short of the first touch on the way (vertex-triangle or edge-edge). */
 static double contact_free_share(cloth *c, const step_eq *q, const double *dv, const double *ddv)
 {
     if (!c->self_contact) return 1.0;

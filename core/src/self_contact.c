@@ -7,47 +7,98 @@
 #include "ccd.h"
 #include "vec3.h"
 
-/* A touch is a vertex within this share of the thickness of a triangle's
- * plane inside it; an update stops at this share of the way to its first. */
+/* A touch is a pair within this share of the thickness when coplanar (ccd.h);
+ * an update stops at this share of the way to its first. */
 #define SELF_CONTACT_TOUCH 1e-3
 #define SELF_CONTACT_STOP 0.5
 
+/* Primitives of one kind (triangles or edges) filed in a hashed grid */
+typedef struct prim_set {
+    int k, count;            /* corners per primitive, primitives */
+    const int *idx;          /* k count corners */
+    int *head;               /* nbucket: first entry, -1 none */
+    int *ent, *next;         /* 8 count entries: primitive and next in its bucket */
+    int *big, nbig;          /* boxes over a cell wide: every query meets them */
+    double *box;             /* 6 count: the boxes filed */
+} prim_set;
+
 struct self_contact {
-    int n, ntri;
-    const int *tri;       /* 3 ntri corners */
+    int n, nbucket;
     double D, cell, kappa;
-    int nbucket;
-    int *head;            /* nbucket: first entry, -1 none */
-    int *ent_tri, *ent_next; /* 8 ntri entries */
-    int *big, nbig;       /* triangles whose box is over a cell wide: every query meets them */
-    int *stamp, visit;    /* ntri: the last query that met each triangle */
-    int *cand, ncand;     /* ntri: a query's triangles */
-    double *box;          /* 6 ntri: the boxes filed */
-    cloth *owner;         /* the cloth whose steps feel it, or NULL */
+    prim_set tri, edge;
+    int *edges;              /* 2 per edge of the triangles */
+    int *stamp, visit;       /* per primitive: the last query that met it */
+    int *cand, ncand;        /* a query's primitives */
+    cloth *owner;            /* the cloth whose steps feel it, or NULL */
 };
+
+static int set_alloc(prim_set *p, int k, int count, const int *idx, int nbucket)
+{
+    p->k = k;
+    p->count = count;
+    p->idx = idx;
+    p->head = malloc((size_t)nbucket * sizeof *p->head);
+    p->ent = malloc(8 * (size_t)count * sizeof *p->ent);
+    p->next = malloc(8 * (size_t)count * sizeof *p->next);
+    p->big = malloc((size_t)count * sizeof *p->big);
+    p->box = malloc(6 * (size_t)count * sizeof *p->box);
+    return p->head && p->ent && p->next && p->big && p->box;
+}
+
+static void set_free(prim_set *p)
+{
+    free(p->head);
+    free(p->ent);
+    free(p->next);
+    free(p->big);
+    free(p->box);
+}
+
+static int cmp_edge(const void *a, const void *b)
+{
+    const int *x = a, *y = b;
+    return x[0] != y[0] ? (x[0] > y[0]) - (x[0] < y[0]) : (x[1] > y[1]) - (x[1] < y[1]);
+}
+
+/* The triangles' edges, each once (ends ascending), into *out; their number, -1 out of memory */
+static int edges_of(int ntri, const int *tri, int **out)
+{
+    int *e = malloc(6 * (size_t)ntri * sizeof *e), m = 0;
+    if (!e) return -1;
+    for (int t = 0; t < 3 * ntri; t++) {
+        int a = tri[t], b = tri[t % 3 == 2 ? t - 2 : t + 1];
+        e[2 * t] = a < b ? a : b;
+        e[2 * t + 1] = a < b ? b : a;
+    }
+    qsort(e, 3 * (size_t)ntri, 2 * sizeof *e, cmp_edge);
+    for (int t = 0; t < 3 * ntri; t++)
+        if (m == 0 || e[2 * t] != e[2 * m - 2] || e[2 * t + 1] != e[2 * m - 1]) {
+            e[2 * m] = e[2 * t];
+            e[2 * m + 1] = e[2 * t + 1];
+            m++;
+        }
+    *out = e;
+    return m;
+}
 
 self_contact *self_contact_create(int n, int ntri, const int *tri, double thickness, double cell)
 {
     self_contact *s = calloc(1, sizeof *s);
     if (!s) return NULL;
     s->n = n;
-    s->ntri = ntri;
-    s->tri = tri;
     s->D = thickness;
     s->cell = cell;
     s->nbucket = 4 * ntri + 1;
-    s->head = malloc((size_t)s->nbucket * sizeof *s->head);
-    s->ent_tri = malloc(8 * (size_t)ntri * sizeof *s->ent_tri);
-    s->ent_next = malloc(8 * (size_t)ntri * sizeof *s->ent_next);
-    s->big = malloc((size_t)ntri * sizeof *s->big);
-    s->stamp = malloc((size_t)ntri * sizeof *s->stamp);
-    s->cand = malloc((size_t)ntri * sizeof *s->cand);
-    s->box = malloc(6 * (size_t)ntri * sizeof *s->box);
-    if (!s->head || !s->ent_tri || !s->ent_next || !s->big || !s->stamp || !s->cand || !s->box) {
+    int ne = tri ? edges_of(ntri, tri, &s->edges) : -1;
+    int most = ne > ntri ? ne : ntri;
+    s->stamp = malloc((size_t)(most > 0 ? most : 1) * sizeof *s->stamp);
+    s->cand = malloc((size_t)(most > 0 ? most : 1) * sizeof *s->cand);
+    if (ne < 0 || !s->stamp || !s->cand || !set_alloc(&s->tri, 3, ntri, tri, s->nbucket) ||
+        !set_alloc(&s->edge, 2, ne, s->edges, s->nbucket)) {
         self_contact_destroy(s);
         return NULL;
     }
-    for (int t = 0; t < ntri; t++) s->stamp[t] = -1;
+    for (int t = 0; t < most; t++) s->stamp[t] = -1;
     return s;
 }
 
@@ -55,13 +106,11 @@ void self_contact_destroy(self_contact *s)
 {
     if (!s) return;
     if (s->owner) s->owner->self_contact = NULL;
-    free(s->head);
-    free(s->ent_tri);
-    free(s->ent_next);
-    free(s->big);
+    set_free(&s->tri);
+    set_free(&s->edge);
+    free(s->edges);
     free(s->stamp);
     free(s->cand);
-    free(s->box);
     free(s);
 }
 
@@ -100,44 +149,50 @@ static int bucket(const self_contact *s, long i, long j, long k)
     return (int)(h % (uint64_t)s->nbucket);
 }
 
-/* File every triangle by its box over its corners at x0 and x1 (x1 NULL:
- * x0 only), widened by pad: into the cells it overlaps, or the big list. */
-static void file_triangles(self_contact *s, const double *x0, const double *x1, double pad)
+/* The box over primitive j's corners at x0 and x1 (x1 NULL: x0 only) into bx */
+static void prim_box(const prim_set *p, int j, const double *x0, const double *x1, double *bx)
 {
-    for (int b = 0; b < s->nbucket; b++) s->head[b] = -1;
+    for (int a = 0; a < 3; a++) {
+        bx[a] = HUGE_VAL;
+        bx[3 + a] = -HUGE_VAL;
+    }
+    for (int k = 0; k < p->k; k++)
+        for (int f = 0; f < (x1 ? 2 : 1); f++) {
+            const double *q = (f ? x1 : x0) + 3 * p->idx[p->k * j + k];
+            for (int a = 0; a < 3; a++) {
+                bx[a] = q[a] < bx[a] ? q[a] : bx[a];
+                bx[3 + a] = q[a] > bx[3 + a] ? q[a] : bx[3 + a];
+            }
+        }
+}
+
+/* File every primitive of p by its box over x0 and x1, widened by pad: into
+ * the cells it overlaps, or the big list. */
+static void file_set(const self_contact *s, prim_set *p, const double *x0, const double *x1, double pad)
+{
+    for (int b = 0; b < s->nbucket; b++) p->head[b] = -1;
     int nent = 0;
-    s->nbig = 0;
-    for (int t = 0; t < s->ntri; t++) {
-        double *bx = s->box + 6 * (size_t)t;
+    p->nbig = 0;
+    for (int j = 0; j < p->count; j++) {
+        double *bx = p->box + 6 * (size_t)j;
+        prim_box(p, j, x0, x1, bx);
         int wide = 0;
         for (int a = 0; a < 3; a++) {
-            bx[a] = HUGE_VAL;
-            bx[3 + a] = -HUGE_VAL;
-            for (int k = 0; k < 3; k++) {
-                const double *p = x0 + 3 * s->tri[3 * t + k];
-                bx[a] = fmin(bx[a], p[a]);
-                bx[3 + a] = fmax(bx[3 + a], p[a]);
-                if (x1) {
-                    p = x1 + 3 * s->tri[3 * t + k];
-                    bx[a] = fmin(bx[a], p[a]);
-                    bx[3 + a] = fmax(bx[3 + a], p[a]);
-                }
-            }
             bx[a] -= pad;
             bx[3 + a] += pad;
             wide = wide || !(bx[3 + a] - bx[a] <= s->cell);
         }
         if (wide) {
-            s->big[s->nbig++] = t;
+            p->big[p->nbig++] = j;
             continue;
         }
         for (long i = cell_index(s, bx[0]); i <= cell_index(s, bx[3]); i++)
-            for (long j = cell_index(s, bx[1]); j <= cell_index(s, bx[4]); j++)
-                for (long k = cell_index(s, bx[2]); k <= cell_index(s, bx[5]); k++) {
-                    int b = bucket(s, i, j, k);
-                    s->ent_tri[nent] = t;
-                    s->ent_next[nent] = s->head[b];
-                    s->head[b] = nent++;
+            for (long k = cell_index(s, bx[1]); k <= cell_index(s, bx[4]); k++)
+                for (long l = cell_index(s, bx[2]); l <= cell_index(s, bx[5]); l++) {
+                    int b = bucket(s, i, k, l);
+                    p->ent[nent] = j;
+                    p->next[nent] = p->head[b];
+                    p->head[b] = nent++;
                 }
     }
 }
@@ -147,83 +202,40 @@ static int overlaps(const double *a, const double *b)
     return a[0] <= b[3] && b[0] <= a[3] && a[1] <= b[4] && b[1] <= a[4] && a[2] <= b[5] && b[2] <= a[5];
 }
 
-static void take(self_contact *s, int t, const double *q)
+static void take(self_contact *s, const prim_set *p, int j, const double *q)
 {
-    if (s->stamp[t] == s->visit || !overlaps(s->box + 6 * (size_t)t, q)) return;
-    s->stamp[t] = s->visit;
-    s->cand[s->ncand++] = t;
+    if (s->stamp[j] == s->visit || !overlaps(p->box + 6 * (size_t)j, q)) return;
+    s->stamp[j] = s->visit;
+    s->cand[s->ncand++] = j;
 }
 
-/* The triangles filed whose box overlaps box q (6), not having p as a
- * corner, into s->cand; returns their number. */
-static int gather(self_contact *s, int p, const double *q)
+/* The primitives of p filed whose box overlaps box q (6), above index from and
+ * with neither u nor v as a corner, into s->cand; returns their number. */
+static int gather(self_contact *s, const prim_set *p, const double *q, int from, int u, int v)
 {
     s->ncand = 0;
     if (++s->visit == INT32_MAX) {
-        for (int t = 0; t < s->ntri; t++) s->stamp[t] = -1;
+        int most = s->tri.count > s->edge.count ? s->tri.count : s->edge.count;
+        for (int t = 0; t < most; t++) s->stamp[t] = -1;
         s->visit = 0;
     }
-    for (int e = 0; e < s->nbig; e++) take(s, s->big[e], q);
+    for (int e = 0; e < p->nbig; e++) take(s, p, p->big[e], q);
     if (!(q[3] - q[0] <= s->cell && q[4] - q[1] <= s->cell && q[5] - q[2] <= s->cell)) {
-        for (int t = 0; t < s->ntri; t++) take(s, t, q);
+        for (int t = 0; t < p->count; t++) take(s, p, t, q);
     } else {
         for (long i = cell_index(s, q[0]); i <= cell_index(s, q[3]); i++)
             for (long j = cell_index(s, q[1]); j <= cell_index(s, q[4]); j++)
                 for (long k = cell_index(s, q[2]); k <= cell_index(s, q[5]); k++)
-                    for (int e = s->head[bucket(s, i, j, k)]; e >= 0; e = s->ent_next[e]) take(s, s->ent_tri[e], q);
+                    for (int e = p->head[bucket(s, i, j, k)]; e >= 0; e = p->next[e]) take(s, p, p->ent[e], q);
     }
     int m = 0;
-    for (int k = 0; k < s->ncand; k++) {
-        const int *tv = s->tri + 3 * s->cand[k];
-        if (tv[0] != p && tv[1] != p && tv[2] != p) s->cand[m++] = s->cand[k];
+    for (int c = 0; c < s->ncand; c++) {
+        const int *tv = p->idx + p->k * s->cand[c];
+        int shared = 0;
+        for (int k = 0; k < p->k; k++) shared = shared || tv[k] == u || tv[k] == v;
+        if (!shared && s->cand[c] > from) s->cand[m++] = s->cand[c];
     }
     return s->ncand = m;
-}
-
-/* The point of triangle (a, b, c) closest to p as weights w on its corners
- * (Ericson, Real-Time Collision Detection, 5.1.5). */
-static void closest_weights(const double *p, const double *a, const double *b, const double *c, double *w)
-{
-    double ab[3], ac[3], ap[3], bp[3], cp[3];
-    vec3_sub(b, a, ab);
-    vec3_sub(c, a, ac);
-    vec3_sub(p, a, ap);
-    double d1 = vec3_dot(ab, ap), d2 = vec3_dot(ac, ap);
-    w[0] = 1.0;
-    w[1] = w[2] = 0.0;
-    if (d1 <= 0.0 && d2 <= 0.0) return;
-    vec3_sub(p, b, bp);
-    double d3 = vec3_dot(ab, bp), d4 = vec3_dot(ac, bp);
-    w[0] = 0.0;
-    w[1] = 1.0;
-    if (d3 >= 0.0 && d4 <= d3) return;
-    double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
-        double v = d1 / (d1 - d3);
-        w[0] = 1.0 - v, w[1] = v, w[2] = 0.0;
-        return;
-    }
-    vec3_sub(p, c, cp);
-    double d5 = vec3_dot(ab, cp), d6 = vec3_dot(ac, cp);
-    w[0] = w[1] = 0.0;
-    w[2] = 1.0;
-    if (d6 >= 0.0 && d5 <= d6) return;
-    double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
-        double v = d2 / (d2 - d6);
-        w[0] = 1.0 - v, w[1] = 0.0, w[2] = v;
-        return;
-    }
-    double va = d3 * d6 - d5 * d4;
-    if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
-        double v = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        w[0] = 0.0, w[1] = 1.0 - v, w[2] = v;
-        return;
-    }
-    double den = 1.0 / (va + vb + vc);
-    w[1] = vb * den;
-    w[2] = vc * den;
-    w[0] = 1.0 - w[1] - w[2];
 }
 
 /* Add h n n^T to A's diagonal block of vertex i */
@@ -234,78 +246,118 @@ static void add_diag(bsr *A, int i, double h, const double *n)
         for (int k = 0; k < 3; k++) B[3 * r + k] += h * n[r] * n[k];
 }
 
-/* Pair (p, t) at distance d along unit n (from the triangle to p), the
- * closest point's weights w: its energy, its share of b and A. */
-static double pair_terms(const self_contact *s, int p, const int *tv, double d, const double *n, const double *w,
-                         double cfac, double *b, bsr *A)
+/* A pair of vertices v (4) whose closest points differ by sum_k c_k x_k = d n
+ * (n unit, sum |c_k| = 2): the barrier's energy at d, its share of b and A
+ * if d < D; 0 otherwise. */
+static double pair_terms(const self_contact *s, const int *v, const double *c, const double *x, double cfac,
+                         double *b, bsr *A)
 {
-    double D = s->D, lr = log(d / D), g = d - D;
+    double n[3] = {0.0, 0.0, 0.0}, D = s->D;
+    for (int k = 0; k < 4; k++) vec3_axpy(n, c[k], x + 3 * v[k]);
+    double d = vec3_norm(n);
+    /* on the other primitive to rounding: no direction; the updates never
+     * take a pair there (self_contact_max_step) */
+    if (!(d < D) || !(d > 1e-9 * D)) return 0.0;
+    for (int r = 0; r < 3; r++) n[r] /= d;
+    double lr = log(d / D), g = d - D;
     double e = -g * g * lr, d1 = -2.0 * g * lr - g * g / d, d2 = -2.0 * lr - 4.0 * g / d + g * g / (d * d);
-    if (b) {
-        double f = -cfac * s->kappa * d1; /* along n on p, -w_k of it on corner k */
-        vec3_axpy(b + 3 * p, f, n);
-        for (int k = 0; k < 3; k++) vec3_axpy(b + 3 * tv[k], -f * w[k], n);
-    }
-    if (A) {
-        /* (a - sum w_k b_k)^2 <= 2 (a^2 + sum w_k b_k^2), the weights summing to 1: blocks
-         * that bound the pair's Gauss-Newton Hessian, so an update cannot overshoot it */
-        double hh = 2.0 * cfac * cfac * s->kappa * d2;
-        add_diag(A, p, hh, n);
-        for (int k = 0; k < 3; k++) add_diag(A, tv[k], hh * w[k], n);
+    /* (sum c_k a_k)^2 <= (sum |c_k|) sum |c_k| a_k^2: blocks that bound the pair's
+     * Gauss-Newton Hessian, so an update cannot overshoot it */
+    double hh = 2.0 * cfac * cfac * s->kappa * d2;
+    for (int k = 0; k < 4; k++) {
+        if (b) vec3_axpy(b + 3 * v[k], -cfac * s->kappa * d1 * c[k], n);
+        if (A) add_diag(A, v[k], hh * fabs(c[k]), n);
     }
     return s->kappa * e;
 }
 
-double self_contact_eval(self_contact *s, const double *x, double cfac, double *b, bsr *A)
+/* Pair v (4 vertices: a point and a triangle, or with edge_edge two edges) at x */
+static double pair_at(const self_contact *s, const int *v, int edge_edge, const double *x, double cfac, double *b,
+                      bsr *A)
 {
-    double E = 0.0, D = s->D;
-    file_triangles(s, x, NULL, D);
+    double y[12], c[4];
+    for (int k = 0; k < 4; k++)
+        for (int r = 0; r < 3; r++) y[3 * k + r] = x[3 * v[k] + r];
+    ccd_pair_weights(edge_edge, y, c);
+    return pair_terms(s, v, c, x, cfac, b, A);
+}
+
+static double vertex_triangle(self_contact *s, const double *x, double cfac, double *b, bsr *A)
+{
+    double E = 0.0;
     for (int p = 0; p < s->n; p++) {
         const double *xp = x + 3 * p;
         double q[6] = {xp[0], xp[1], xp[2], xp[0], xp[1], xp[2]};
-        int m = gather(s, p, q);
+        int m = gather(s, &s->tri, q, -1, p, p);
         for (int k = 0; k < m; k++) {
-            const int *tv = s->tri + 3 * s->cand[k];
-            const double *a = x + 3 * tv[0], *bb = x + 3 * tv[1], *c = x + 3 * tv[2];
-            double w[3], n[3];
-            closest_weights(xp, a, bb, c, w);
-            for (int r = 0; r < 3; r++) n[r] = xp[r] - (w[0] * a[r] + w[1] * bb[r] + w[2] * c[r]);
-            double d = vec3_norm(n);
-            /* a vertex on the triangle to rounding has no direction: the
-             * updates never take it there (self_contact_max_step) */
-            if (!(d < D) || !(d > 1e-9 * D)) continue;
-            for (int r = 0; r < 3; r++) n[r] /= d;
-            E += pair_terms(s, p, tv, d, n, w, cfac, b, A);
+            const int *tv = s->tri.idx + 3 * s->cand[k], v[4] = {p, tv[0], tv[1], tv[2]};
+            E += pair_at(s, v, 0, x, cfac, b, A);
         }
     }
     return E;
 }
 
+static double edge_edge(self_contact *s, const double *x, double cfac, double *b, bsr *A)
+{
+    double E = 0.0;
+    for (int e = 0; e < s->edge.count; e++) {
+        const int *ev = s->edges + 2 * e;
+        double q[6];
+        prim_box(&s->edge, e, x, NULL, q);
+        int m = gather(s, &s->edge, q, e, ev[0], ev[1]);
+        for (int k = 0; k < m; k++) {
+            const int *fv = s->edges + 2 * s->cand[k], v[4] = {ev[0], ev[1], fv[0], fv[1]};
+            E += pair_at(s, v, 1, x, cfac, b, A);
+        }
+    }
+    return E;
+}
+
+double self_contact_eval(self_contact *s, const double *x, double cfac, double *b, bsr *A)
+{
+    file_set(s, &s->tri, x, NULL, s->D);
+    file_set(s, &s->edge, x, NULL, s->D);
+    return vertex_triangle(s, x, cfac, b, A) + edge_edge(s, x, cfac, b, A);
+}
+
+/* The first touch's time over x0 -> x1 of the four vertices v, a point and
+ * a triangle (pt) or two edges; HUGE_VAL if none */
+static double touch(const double *x0, const double *x1, const int *v, int pt, double eta)
+{
+    double y0[12], y1[12];
+    for (int k = 0; k < 4; k++)
+        for (int r = 0; r < 3; r++) {
+            y0[3 * k + r] = x0[3 * v[k] + r];
+            y1[3 * k + r] = x1[3 * v[k] + r];
+        }
+    ccd_hit hit;
+    int h = pt ? ccd_point_triangle(y0, y1, eta, &hit) : ccd_edge_edge(y0, y1, eta, &hit);
+    return h ? hit.t : HUGE_VAL;
+}
+
 double self_contact_max_step(self_contact *s, const double *x0, const double *x1)
 {
-    double eta = SELF_CONTACT_TOUCH * s->D, first = HUGE_VAL;
-    file_triangles(s, x0, x1, eta);
+    double eta = SELF_CONTACT_TOUCH * s->D, first = HUGE_VAL, q[6];
+    file_set(s, &s->tri, x0, x1, eta);
+    file_set(s, &s->edge, x0, x1, eta);
     for (int p = 0; p < s->n; p++) {
-        const double *a0 = x0 + 3 * p, *a1 = x1 + 3 * p;
-        double q[6];
         for (int r = 0; r < 3; r++) {
-            q[r] = fmin(a0[r], a1[r]);
-            q[3 + r] = fmax(a0[r], a1[r]);
+            q[r] = fmin(x0[3 * p + r], x1[3 * p + r]);
+            q[3 + r] = fmax(x0[3 * p + r], x1[3 * p + r]);
         }
-        int m = gather(s, p, q);
+        int m = gather(s, &s->tri, q, -1, p, p);
         for (int k = 0; k < m; k++) {
-            const int *tv = s->tri + 3 * s->cand[k];
-            double y0[12], y1[12];
-            for (int r = 0; r < 3; r++) {
-                y0[r] = a0[r];
-                y1[r] = a1[r];
-                for (int j = 0; j < 3; j++) {
-                    y0[3 + 3 * j + r] = x0[3 * tv[j] + r];
-                    y1[3 + 3 * j + r] = x1[3 * tv[j] + r];
-                }
-            }
-            ccd_hit hit;
-            if (ccd_point_triangle(y0, y1, eta, &hit) && hit.t < first) first = hit.t;
+            const int *tv = s->tri.idx + 3 * s->cand[k], v[4] = {p, tv[0], tv[1], tv[2]};
+            first = fmin(first, touch(x0, x1, v, 1, eta));
+        }
+    }
+    for (int e = 0; e < s->edge.count; e++) {
+        const int *ev = s->edges + 2 * e;
+        prim_box(&s->edge, e, x0, x1, q);
+        int m = gather(s, &s->edge, q, e, ev[0], ev[1]);
+        for (int k = 0; k < m; k++) {
+            const int *fv = s->edges + 2 * s->cand[k], v[4] = {ev[0], ev[1], fv[0], fv[1]};
+            first = fmin(first, touch(x0, x1, v, 0, eta));
         }
     }
     return first <= 1.0 ? SELF_CONTACT_STOP * first : 1.0;

@@ -1,13 +1,15 @@
 /* Self-contact inside the Newton step (Li et al. 2020, Incremental Potential
- * Contact): each vertex-triangle pair of the grid's triangles closer than
- * the thickness D adds kappa b(d) to the step's potential,
+ * Contact): each vertex-triangle pair and each edge-edge pair of the grid's
+ * triangles closer than the thickness D adds kappa b(d) to the step's
+ * potential,
  *   b(d) = -(d - D)^2 ln(d / D),  0 < d < D  (0 beyond D),
- * d the vertex's distance to the triangle (a vertex is not tested against
- * its own triangles). Newton's matrix takes diagonal blocks that bound the
+ * d the distance between the pair's closest points (pairs sharing a vertex
+ * are not tested). Newton's matrix takes diagonal blocks that bound the
  * pairs' Gauss-Newton Hessian (the grid pattern has no others), and every
- * Newton update is cut short of the first vertex-triangle touch on its
- * straight path, so no iterate passes a vertex through a triangle. Edges against edges are not
- * tested. Bound to a cloth by its self-collision pass (selfcollision.c). */
+ * Newton update is cut short of the first vertex-triangle or edge-edge
+ * touch on its straight path, so no iterate passes a vertex through a
+ * triangle or an edge through an edge. Bound to a cloth by its
+ * self-collision pass (selfcollision.c). */
 #ifndef ODECLOTH_SELF_CONTACT_H
 #define ODECLOTH_SELF_CONTACT_H
 
@@ -16,8 +18,8 @@
 typedef struct self_contact self_contact;
 
 /* The grid's triangles as selfcollision.c lists them (3 ntri corners, kept
- * by pointer), thickness D, hash cell no smaller than a triangle's box plus
- * 2 D. NULL: out of memory. */
+ * by pointer; their edges are found here), thickness D, hash cell no smaller
+ * than a triangle's box plus 2 D. NULL: out of memory. */
 self_contact *self_contact_create(int n, int ntri, const int *tri, double thickness, double cell);
 void self_contact_destroy(self_contact *s); /* NULL is fine; unbinds its cloth */
 
@@ -33,8 +35,8 @@ void self_contact_begin(self_contact *s, const cloth *c, double cfac);
  * added, A (NULL: none) cfac^2 times its diagonal blocks. */
 double self_contact_eval(self_contact *s, const double *x, double cfac, double *b, bsr *A);
 
-/* The fraction in (0, 1] of the straight motion x0 -> x1 that stops short
- * of the first vertex-triangle touch (all of it when there is none). */
+/* The fraction in [0, 1] of the straight motion x0 -> x1 that stops short
+ * of the first vertex-triangle or edge-edge touch (all of it when there is none). */
 double self_contact_max_step(self_contact *s, const double *x0, const double *x1);
 
 #endif

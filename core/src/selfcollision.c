@@ -106,9 +106,7 @@ cloth_status cloth_self_collision_create(const cloth *c, double thickness, cloth
     s->v = malloc(3 * n * sizeof *s->v);
     s->xprev = malloc(3 * n * sizeof *s->xprev);
     s->winv = malloc(n * sizeof *s->winv);
-    s->contact = self_contact_create(s->n, s->ntri, s->tri, thickness, s->cell);
-    if (!s->tri || !s->stamp || !s->head || !s->ent_tri || !s->ent_next || !s->x || !s->v || !s->xprev || !s->winv ||
-        !s->contact) {
+    if (!s->tri || !s->stamp || !s->head || !s->ent_tri || !s->ent_next || !s->x || !s->v || !s->xprev || !s->winv) {
         cloth_self_collision_destroy(s);
         return error_set(err, CLOTH_ENOMEM, "cloth_self_collision_create: out of memory");
     }
@@ -120,6 +118,11 @@ cloth_status cloth_self_collision_create(const cloth *c, double thickness, cloth
             for (int h = 0; h < 2; h++, t++)
                 for (int k = 0; k < 3; k++) s->tri[3 * t + k] = corners[h][k];
         }
+    s->contact = self_contact_create(s->n, s->ntri, s->tri, thickness, s->cell); /* after the triangles: their edges */
+    if (!s->contact) {
+        cloth_self_collision_destroy(s);
+        return error_set(err, CLOTH_ENOMEM, "cloth_self_collision_create: out of memory");
+    }
     *out = s;
     return CLOTH_OK;
 }

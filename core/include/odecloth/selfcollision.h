@@ -21,11 +21,11 @@
  *   for (;;) { cloth_step(c, h, NULL); cloth_self_collision_apply(sc, c, NULL); }
  *   cloth_self_collision_destroy(sc);
  *
- * An apply also binds the pass to c: from then on each CLOTH_NEWTON step of c
- * keeps its vertices from passing through its triangles (a barrier
- * within the thickness in the step's potential, every Newton update stopped
- * short of a vertex-triangle touch), until the pass or c is destroyed or the
- * pass is applied to another cloth.
+ * An apply also binds the pass to c: from then on each CLOTH_NEWTON step of
+ * c keeps its vertices from passing through its triangles and its edges
+ * through its edges (a barrier within the thickness in the step's
+ * potential, every Newton update stopped short of a touch), until the pass
+ * or c is destroyed or the pass is applied to another cloth.
  *
  * The first apply only records the positions (the sides). Workspaces are
  * sized at creation; apply allocates nothing. An apply that moves vertices
