@@ -202,9 +202,9 @@ static int overlaps(const double *a, const double *b)
     return a[0] <= b[3] && b[0] <= a[3] && a[1] <= b[4] && b[1] <= a[4] && a[2] <= b[5] && b[2] <= a[5];
 }
 
-static void take(self_contact *s, const prim_set *p, int j, const double *q)
+static void take(self_contact *s, const prim_set *p, int j, const double *q, int from)
 {
-    if (s->stamp[j] == s->visit || !overlaps(p->box + 6 * (size_t)j, q)) return;
+    if (j <= from || s->stamp[j] == s->visit || !overlaps(p->box + 6 * (size_t)j, q)) return;
     s->stamp[j] = s->visit;
     s->cand[s->ncand++] = j;
 }
@@ -219,21 +219,21 @@ static int gather(self_contact *s, const prim_set *p, const double *q, int from,
         for (int t = 0; t < most; t++) s->stamp[t] = -1;
         s->visit = 0;
     }
-    for (int e = 0; e < p->nbig; e++) take(s, p, p->big[e], q);
+    for (int e = 0; e < p->nbig; e++) take(s, p, p->big[e], q, from);
     if (!(q[3] - q[0] <= s->cell && q[4] - q[1] <= s->cell && q[5] - q[2] <= s->cell)) {
-        for (int t = 0; t < p->count; t++) take(s, p, t, q);
+        for (int t = 0; t < p->count; t++) take(s, p, t, q, from);
     } else {
         for (long i = cell_index(s, q[0]); i <= cell_index(s, q[3]); i++)
             for (long j = cell_index(s, q[1]); j <= cell_index(s, q[4]); j++)
                 for (long k = cell_index(s, q[2]); k <= cell_index(s, q[5]); k++)
-                    for (int e = p->head[bucket(s, i, j, k)]; e >= 0; e = p->next[e]) take(s, p, p->ent[e], q);
+                    for (int e = p->head[bucket(s, i, j, k)]; e >= 0; e = p->next[e]) take(s, p, p->ent[e], q, from);
     }
     int m = 0;
     for (int c = 0; c < s->ncand; c++) {
         const int *tv = p->idx + p->k * s->cand[c];
         int shared = 0;
         for (int k = 0; k < p->k; k++) shared = shared || tv[k] == u || tv[k] == v;
-        if (!shared && s->cand[c] > from) s->cand[m++] = s->cand[c];
+        if (!shared) s->cand[m++] = s->cand[c];
     }
     return s->ncand = m;
 }
