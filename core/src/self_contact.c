@@ -129,7 +129,7 @@ void self_contact_unbind_cloth(cloth *c)
     c->self_contact = NULL;
 }
 
-/* b(d) / D^2's derivatives' scale: b''(D / 2) */
+/* b''(D / 2), the same for every D: 2 ln 2 + 4 + 1 */
 static double curvature_at_half(void) { return 2.0 * log(2.0) + 4.0 + 1.0; }
 
 void self_contact_begin(self_contact *s, const cloth *c, double cfac)
