@@ -23,7 +23,7 @@ typedef struct prim_set {
 } prim_set;
 
 struct self_contact {
-    int n, cols, nbucket;
+    int n, nbucket;
     double D, cell, kappa;
     prim_set tri, edge;
     int *edges;              /* 2 per edge of the triangles */
@@ -81,12 +81,11 @@ static int edges_of(int ntri, const int *tri, int **out)
     return m;
 }
 
-self_contact *self_contact_create(int n, int cols, int ntri, const int *tri, double thickness, double cell)
+self_contact *self_contact_create(int n, int ntri, const int *tri, double thickness, double cell)
 {
     self_contact *s = calloc(1, sizeof *s);
     if (!s) return NULL;
     s->n = n;
-    s->cols = cols;
     s->D = thickness;
     s->cell = cell;
     s->nbucket = 4 * ntri + 1;
@@ -211,14 +210,7 @@ static void take(self_contact *s, const prim_set *p, int j, const double *q, int
 }
 
 /* The primitives of p filed whose box overlaps box q (6), above index from and
- * with no corner on or next to (in the grid) u or v, into s->cand; returns their number. */
-/* Vertices i and j one grid step apart or less (diagonals too) */
-static int next_to(const self_contact *s, int i, int j)
-{
-    int dr = i / s->cols - j / s->cols, dq = i % s->cols - j % s->cols;
-    return dr >= -1 && dr <= 1 && dq >= -1 && dq <= 1;
-}
-
+ * with neither u nor v as a corner, into s->cand; returns their number. */
 static int gather(self_contact *s, const prim_set *p, const double *q, int from, int u, int v)
 {
     s->ncand = 0;
@@ -240,7 +232,7 @@ static int gather(self_contact *s, const prim_set *p, const double *q, int from,
     for (int c = 0; c < s->ncand; c++) {
         const int *tv = p->idx + p->k * s->cand[c];
         int shared = 0;
-        for (int k = 0; k < p->k; k++) shared = shared || next_to(s, tv[k], u) || next_to(s, tv[k], v);
+        for (int k = 0; k < p->k; k++) shared = shared || tv[k] == u || tv[k] == v;
         if (!shared) s->cand[m++] = s->cand[c];
     }
     return s->ncand = m;

@@ -20,7 +20,7 @@ typedef struct self_contact self_contact;
 /* The grid's triangles as selfcollision.c lists them (3 ntri corners, kept
  * by pointer; their edges are found here), thickness D, hash cell no smaller
  * than a triangle's box plus 2 D. NULL: out of memory. */
-self_contact *self_contact_create(int n, int cols, int ntri, const int *tri, double thickness, double cell);
+self_contact *self_contact_create(int n, int ntri, const int *tri, double thickness, double cell);
 void self_contact_destroy(self_contact *s); /* NULL is fine; unbinds its cloth */
 
 /* Let the Newton steps of c feel s (s leaves the cloth it was bound to). */
