@@ -114,6 +114,15 @@ static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, 
         /* BDF2's first step, or a step after h changed, is backward Euler */
         if (sv->nonlinear == CLOTH_NEWTON) fail = newton_step(c, h, bdf2, xs, frac, st, &held);
         else fail = linearized_step(c, h, bdf2, xs, frac, st);
+        if (fail != CLOTH_FAIL_NONE && last && c->self_contact && sv->nonlinear == CLOTH_NEWTON) {
+            /* a step the self-contact barrier cannot take, as the smallest substep:
+             * taken without it, its pairs left to the pass after the step */
+            struct self_contact *sc = c->self_contact;
+            c->self_contact = NULL;
+            fail = newton_step(c, h, bdf2, xs, frac, st, &held);
+            c->self_contact = sc;
+            st->self_contact_dropped++;
+        }
         if (fail == CLOTH_FAIL_NEWTON && last && sv->keep_unconverged) {
             fail = CLOTH_FAIL_NONE;
             st->unconverged++;

@@ -454,6 +454,10 @@ typedef struct cloth_step_stats {
                               step changed: free vertices held on the
                               surface, sticking ones let slide; over
                               every attempt                           */
+    int self_contact_dropped; /* smallest substeps that the self-contact
+                              barrier (odecloth/selfcollision.h) could
+                              not take: taken without it, their pairs
+                              left to the pass after the step         */
 } cloth_step_stats;
 
 /* Advance by h seconds. An h that is not finite and > 0 is a bad argument:
