@@ -25,7 +25,9 @@
  * c keeps its vertices from passing through its triangles and its edges
  * through its edges (a barrier within the thickness in the step's
  * potential, every Newton update stopped short of a touch), until the pass
- * or c is destroyed or the pass is applied to another cloth.
+ * or c is destroyed or the pass is applied to another cloth. A smallest
+ * substep the barrier cannot take is taken without it (cloth_step_stats'
+ * self_contact_dropped), its pairs left to the pass.
  *
  * The first apply only records the positions (the sides). Workspaces are
  * sized at creation; apply allocates nothing. An apply that moves vertices
