@@ -267,12 +267,9 @@ static int facing(const convex_query *q, const tri_shape *ts, const double n[3],
     return ntl > 0.0 && fabs(dcloth_dot3(nt, n)) >= AHEAD_PARALLEL * ntl && flat_face(q, n, face);
 }
 
-/* A mesh prism against the cloth's triangle ts: EPA's direction n, with
- * lift and depth from it, replaced by the prism's face normal or an edge
- * normal the mesh allows there (mesh_direction) whose overlap is less. Each
- * overlap bounds the penetration from above, and EPA's answer for a flat
- * triangle over a prism's corner can be far from the least. r: the radius
- * the query grew the triangle by; clear_ok: whether clear may hold. */
+/* EPA's direction n (with lift, depth) for mesh prism vs triangle ts, replaced by the prism's face or
+ * allowed edge normal of least overlap: each overlap bounds the penetration, EPA's can be far above it
+ * over a prism's corner. r: the radius the triangle was grown by; clear_ok: whether clear may hold. */
 static void mesh_least(const convex_query *q, const tri_shape *ts, double r, double t, double n[3], double *lift,
                        int *clear, int clear_ok, ccd_real_t *depth)
 {
