@@ -70,7 +70,7 @@ static void perturb(rng *g, cloth_desc *d, int f)
                      &d->material.k_s, &d->material.alpha, &d->material.delta, &d->material.k_delta,
                      &d->material.c_t, &d->material.c_b, &d->material.density, &d->solver.cg_tolerance,
                      &d->solver.strain_fail, &d->solver.newton_tolerance, &d->solver.newton_rtol, &d->solver.limit_tolerance,
-                     &d->solver.newton_cg_tolerance};
+                     &d->solver.newton_cg_tolerance, &d->solver.newton_cg_share};
     int nd = (int)(sizeof dbl / sizeof dbl[0]);
     if (f < nd) {
         *dbl[f] = xd(g);

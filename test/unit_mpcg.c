@@ -606,7 +606,7 @@ static void landing_reference(const sys *s, rng *g)
     int iters[3];
     const double floors[3] = {0.0, 1e-300, 1e3 * landing};
     for (int v = 0; v < 3; v++) {
-        mpcg_problem pr = {&s->A, b, S, z, P, NULL, 0, NULL, NULL, tol, 10 * N, NULL, floors[v], 0};
+        mpcg_problem pr = {&s->A, b, S, z, P, NULL, 0, NULL, NULL, tol, 10 * N, NULL, floors[v], 0, 0.0, NULL};
         memset(x, 0, sizeof(double) * N);
         mpcg_result res = mpcg_run(&pr, x, w);
         CHECK(res.failure == CLOTH_FAIL_NONE, "landing (floor %g): failure %d", floors[v], (int)res.failure);
@@ -621,6 +621,41 @@ static void landing_reference(const sys *s, rng *g)
     CHECK(left[0] > 2 * tol * sqrt(before), "uncapped: %.3g left, within 2 tol of %.3g (the cap untested)", left[0],
           sqrt(before));
     CHECK(iters[2] == iters[0] && left[2] == left[0], "a floor above the landing's reference changed the solve");
+    free(buf);
+}
+
+/* The error stop (abs_err2, mass): a pinned third, tolerance 1e-10; the
+ * stop at a tenth of the full solve's size |x - z|_M (masses 0.5-2) must
+ * end sooner, within that tenth of the full solve in the mass norm. */
+static void error_stop(const sys *s, rng *g)
+{
+    int n = s->n, N = s->N;
+    double *buf = calloc(19 * (size_t)N, sizeof *buf); /* S, P (3N each), z, b, x, y, m (N each), w (8N) */
+    double *S = buf, *P = S + 3 * N, *z = P + 3 * N, *b = z + N, *x = b + N, *y = x + N, *m = y + N;
+    double *w = m + N;
+    const double axis[3] = {0, 0, 1};
+    for (int i = 0; i < n; i++) {
+        filter_block(i % 3 == 0 ? PIN : FREE, axis, S + 9 * i);
+        m[i] = rng_range(g, 0.5, 2.0);
+    }
+    for (int k = 0; k < N; k++) b[k] = rng_range(g, -1, 1);
+    make_precond(&s->A, S, 1, P);
+    mpcg_problem pr = {&s->A, b, S, z, P, NULL, 0, NULL, NULL, 1e-10, 10 * N, NULL, 0.0, 0, 0.0, m};
+    mpcg_result full = mpcg_run(&pr, x, w);
+    double size = 0.0, err = 0.0;
+    for (int i = 0; i < n; i++)
+        for (int a = 0; a < 3; a++) size += m[i] * x[3 * i + a] * x[3 * i + a];
+    pr.abs_err2 = 0.01 * size;
+    mpcg_result part = mpcg_run(&pr, y, w);
+    for (int i = 0; i < n; i++)
+        for (int a = 0; a < 3; a++) err += m[i] * (y[3 * i + a] - x[3 * i + a]) * (y[3 * i + a] - x[3 * i + a]);
+    printf("error stop at a tenth of the size: %d iterations against %d, error %.3g of the size\n", part.iterations,
+           full.iterations, sqrt(err / size));
+    CHECK(full.failure == CLOTH_FAIL_NONE && part.failure == CLOTH_FAIL_NONE, "failures %d, %d", (int)full.failure,
+          (int)part.failure);
+    CHECK(part.iterations < full.iterations, "the error stop did not shorten the solve (%d iterations)",
+          part.iterations);
+    CHECK(err <= pr.abs_err2, "stopped %.3g of the size from the solution, over the tenth asked", sqrt(err / size));
     free(buf);
 }
 
@@ -723,6 +758,7 @@ int main(void)
         all_constrained(&s, &g);
         rng gl = rng_seed(0x6c616e64u + (unsigned)t); /* its own draws: the other cases' stay as they were */
         landing_reference(&s, &gl);
+        error_stop(&s, &gl);
         if (t == 0) not_definite(&s, &g);
         free_system(&s);
     }

@@ -495,6 +495,9 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
         sv.method = method;
         sv.cg_tolerance = cg;
         sv.newton_tolerance = fmin(user.newton_tolerance, newton_bound(a, frame_dt / n));
+        /* the share's estimate bounds nothing, and its error is a bias the
+         * shadow shares: the solves are held to the bounds above alone */
+        sv.newton_cg_share = 0.0;
         cloth_set_solver(c, &sv);
         t = run_substeps(a, c, n, frame_dt / n);
         st.attempts++;

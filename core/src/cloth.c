@@ -41,6 +41,7 @@ cloth_desc cloth_default_desc(void)
     d.solver.newton_rtol = 1e-2;
     d.solver.limit_tolerance = 1e-3;
     d.solver.newton_cg_tolerance = 1e-2;
+    d.solver.newton_cg_share = 0.25;
     return d;
 }
 

@@ -116,6 +116,8 @@ cloth_status cloth_solver_validate(const cloth_solver *s, cloth_error *err)
     if (!(s->newton_cg_tolerance > 0.0 && s->newton_cg_tolerance < 1.0))
         return error_set(err, CLOTH_EINVAL, "solver.newton_cg_tolerance = %g must be in (0, 1)",
                          s->newton_cg_tolerance);
+    if (!(s->newton_cg_share >= 0.0 && s->newton_cg_share < 1.0))
+        return error_set(err, CLOTH_EINVAL, "solver.newton_cg_share = %g must be in [0, 1)", s->newton_cg_share);
     if (s->keep_unconverged != 0 && s->keep_unconverged != 1)
         return error_set(err, CLOTH_EINVAL, "solver.keep_unconverged = %d must be 0 or 1", s->keep_unconverged);
     return CLOTH_OK;

@@ -71,6 +71,11 @@ typedef struct mpcg_problem {
      * non-positive curvature or residual weight is a stalled recurrence's
      * rounding: the solve stops there, cut short (CLOTH_FAIL_CG_MAX_ITER) */
     int definite;
+    /* > 0 (no bodies): also stop once the error's estimate from the last two
+     * updates, in the norm weighted by mass (n values), is within abs_err2's
+     * root (Newton's share of its goal) */
+    double abs_err2;
+    const double *mass;
 } mpcg_problem;
 
 /* bodies.c, the solver's body operations (P->bodies not NULL):

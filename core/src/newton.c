@@ -334,7 +334,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     limit_multipliers_begin(c);
     int landed = newton_start(c, &q, dv);
     mpcg_problem P = {&c->A, b, c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL,
-                      sv->newton_cg_tolerance, sv->cg_max_iterations, NULL, 0.0, 1};
+                      sv->newton_cg_tolerance, sv->cg_max_iterations, NULL, 0.0, 1, 0.0, NULL};
     mpcg_bodies bodies;
     P.bodies = bodies_prepare(c, h, q.cfac, &bodies);
     double mt = 0.0;
@@ -342,6 +342,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     /* a landing's solve is measured against the residual before it where
      * that is smaller (inexact Newton's forcing), down to newton_tolerance's */
     P.ref_floor = mt * pow(sv->newton_tolerance / sv->newton_cg_tolerance, 2);
+    P.mass = c->mass;
     int it = 0, limit_rounds = 0, assembled = 0, landing = 1; /* limit_rounds: the multipliers' updates so far */
     int ready = 0; /* b already at dv (the line search's full step) */
     int since = 0; /* iterations since the contacts or multipliers changed */
@@ -402,6 +403,9 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         if (phi != phi && it > 0)
             phi = potential_value(c, &q, dv, c->xt, c->vt) + (P.bodies ? bodies_energy(c) : 0.0);
         double taken = 1.0;
+        /* the share serves the size test; iterations after it is met are
+         * for the energy bound, whose residual only a full solve reduces */
+        P.abs_err2 = size > goal ? mt * pow(sv->newton_cg_share * goal, 2) : 0.0;
         cloth_failure f = newton_iteration(c, &q, &P, dv, &phi, landing, &size, &ready, &taken, st);
         /* the constraints landed, or the share taken of the way (self-contact): the next lands the rest */
         int rest = 0; /* constrained components still to land */

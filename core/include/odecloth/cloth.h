@@ -190,6 +190,13 @@ typedef struct cloth_solver {
                                      constraints landed or, if smaller, the
                                      one before (but not below a residual of
                                      newton_tolerance's size)              */
+    double newton_cg_share;       /* 1, in [0, 1) (default 0.25): while a
+                                     Newton step is larger than its goal
+                                     (newton_tolerance), its linear solves
+                                     also stop once their error, estimated
+                                     from CG's last updates in the step's
+                                     norm, is within this share of the goal
+                                     (not with bodies in the solve); 0: off */
     int keep_unconverged;         /* 0 (default) or 1. CLOTH_NEWTON: 1 keeps
                                      the last iterate of a solve that runs
                                      out of newton_iterations at the
