@@ -359,13 +359,27 @@ static void took_candidates(dClothID c, dClothStepStats *st)
     }
 }
 
-/* A held step changes what the next one solves: from rest, and retried in
- * one more substep halving for each step held in a row (up to the solver's
- * bound), so a failure that smaller steps pass does not repeat for ever. */
+/* Whether a dynamic body holds a vertex (a pin, a contact or a candidate's
+ * surface): it takes the cloth's reactions, leftover momentum included. */
+static int body_holds(dClothID c)
+{
+    for (int i = 0; i < c->n; i++) {
+        dBodyID b = c->pin[i].active ? c->pin[i].body : c->vc_new[i].geom ? c->vc_new[i].body : 0;
+        if (b && !dBodyIsKinematic(b)) return 1;
+    }
+    return 0;
+}
+
+/* The core's step with this step's solver. A held step changes what the next
+ * one solves: one more substep halving for each step held in a row (up to the
+ * solver's bound). Newton's solves keep their relative stop while a dynamic
+ * body holds the cloth: what a shorter solve leaves over would move it. */
 static cloth_status held_run_step(dClothID c, cloth *core, double h, cloth_step_stats *st)
 {
-    if (!c->held_run) return cloth_step(core, h, st);
     cloth_solver sv0 = cloth_get_desc(core).solver, sv = sv0;
+    int shared = sv0.nonlinear == CLOTH_NEWTON && sv0.newton_cg_share > 0.0 && body_holds(c);
+    if (!c->held_run && !shared) return cloth_step(core, h, st);
+    if (shared) sv.newton_cg_share = 0.0;
     sv.max_substep_halvings = sv0.max_substep_halvings + c->held_run;
     if (sv.max_substep_halvings > DCLOTH_HOLD_MAX_HALVINGS) sv.max_substep_halvings = DCLOTH_HOLD_MAX_HALVINGS;
     cloth_set_solver(core, &sv);

@@ -196,7 +196,9 @@ typedef struct cloth_solver {
                                      also stop once their error, estimated
                                      from CG's last updates in the step's
                                      norm, is within this share of the goal
-                                     (not with bodies in the solve); 0: off */
+                                     (not with bodies in the solve; the
+                                     plugin turns it off while a dynamic
+                                     body holds the cloth); 0: off        */
     int keep_unconverged;         /* 0 (default) or 1. CLOTH_NEWTON: 1 keeps
                                      the last iterate of a solve that runs
                                      out of newton_iterations at the
