@@ -4,7 +4,9 @@
  * static collider and let settle for 2 s (h = 1/60 up to 41x41, 1/240 above), on: a sphere (radius
  * 0.3 m), a box (0.6 x 0.6 x 0.4 m) and a trimesh sphere of about 1000
  * triangles (radius 0.3 m), with its triangle tests on (the default) and
- * off (trimesh-vtx: dClothSetTriangleTests, vertex contacts only). For each grid and collider: the median wall time
+ * off (trimesh-vtx: dClothSetTriangleTests and dClothSetEdgeTests, vertex
+ * contacts only; trimesh-link and box-link: triangle tests off, the links'
+ * tests against the edges on). For each grid and collider: the median wall time
  * per step spent finding contacts (broadphase + vertex tests + triangle tests),
  * the median whole dClothStep, the contact share, and the contacts per step.
  * Writes DIR/bench_contact.csv and, with gnuplot, DIR/bench_contact.png.
@@ -75,7 +77,7 @@ static int uv_sphere(mesh *m, double r, int rings, int segs)
 }
 
 typedef struct result {
-    double contact_ms, step_ms, contacts, tri_contacts;
+    double contact_ms, step_ms, contacts, tri_contacts, edge_contacts;
     int steps, failed;
 } result;
 
@@ -91,7 +93,7 @@ static result run(int N, int kind, double seconds, double hz, const mesh *sph)
     if (kind == 0) {
         g = dCreateSphere(sp, 0.3);
         top = 0.6;
-    } else if (kind == 1) {
+    } else if (kind == 1 || kind == 5) {
         g = dCreateBox(sp, 0.6, 0.6, 0.4);
         top = 0.4;
     } else {
@@ -101,7 +103,7 @@ static result run(int N, int kind, double seconds, double hz, const mesh *sph)
         g = dCreateTriMesh(sp, td, 0, 0, 0);
         top = 0.6;
     }
-    dGeomSetPosition(g, 0, 0, kind == 1 ? 0.2 : 0.3);
+    dGeomSetPosition(g, 0, 0, kind == 1 || kind == 5 ? 0.2 : 0.3);
     dClothDesc d = dClothDefaultDesc();
     d.cloth.rows = d.cloth.cols = N;
     d.cloth.origin[0] = d.cloth.origin[1] = -0.5;
@@ -112,10 +114,11 @@ static result run(int N, int kind, double seconds, double hz, const mesh *sph)
         fprintf(stderr, "bench_contact: %s\n", err.message);
         r.failed = 1;
     } else {
-        if (kind == 3) dClothSetTriangleTests(c, g, 0); /* the same trimesh, vertex contacts only */
+        if (kind >= 3) dClothSetTriangleTests(c, g, 0); /* vertex contacts, and the links' tests but in 3 */
+        if (kind == 3) dClothSetEdgeTests(c, g, 0);
         int steps = (int)(seconds * hz + 0.5);
         double *tc = malloc((size_t)steps * sizeof *tc), *ts = malloc((size_t)steps * sizeof *ts);
-        long nc = 0, ntc = 0;
+        long nc = 0, ntc = 0, nec = 0;
         for (int s = 0; s < steps && tc && ts; s++) {
             if (dClothWorldStep(w, &c, 1, 1.0 / hz, 0) != CLOTH_OK || dClothGetStats(c)->held) {
                 fprintf(stderr, "bench_contact: %dx%d step %d: %s\n", N, N, s, dClothGetLastError(c));
@@ -127,12 +130,14 @@ static result run(int N, int kind, double seconds, double hz, const mesh *sph)
             ts[s] = 1e3 * st->seconds_total;
             nc += st->contacts;
             ntc += st->triangle_contacts;
+            nec += st->edge_contacts;
             r.steps = s + 1;
         }
         r.contact_ms = median(tc, r.steps);
         r.step_ms = median(ts, r.steps);
         r.contacts = r.steps ? (double)nc / r.steps : 0.0;
         r.tri_contacts = r.steps ? (double)ntc / r.steps : 0.0;
+        r.edge_contacts = r.steps ? (double)nec / r.steps : 0.0;
         free(tc);
         free(ts);
         dClothDestroy(c);
@@ -199,23 +204,24 @@ int main(int argc, char **argv)
         return 1;
     }
     dInitODE2(0);
-    const char *names[4] = {"sphere", "box", "trimesh1000", "trimesh-vtx"};
-    fprintf(csv, "grid,collider,hz,steps,contact_ms,step_ms,contact_share,contacts,triangle_contacts,failed\n");
-    printf("%-8s %-12s %-6s %12s %10s %7s %9s %9s\n", "grid", "collider", "h", "contacts ms", "step ms", "share",
-           "contacts", "tri");
+    const char *names[6] = {"sphere", "box", "trimesh1000", "trimesh-vtx", "trimesh-link", "box-link"};
+    fprintf(csv, "grid,collider,hz,steps,contact_ms,step_ms,contact_share,contacts,triangle_contacts,failed,edge_contacts\n");
+    printf("%-8s %-12s %-6s %12s %10s %7s %9s %9s %9s\n", "grid", "collider", "h", "contacts ms", "step ms", "share",
+           "contacts", "tri", "link");
     for (int gi = 0; gi < ng; gi++)
-        for (int k = 0; k < 4; k++) {
+        for (int k = 0; k < 6; k++) {
             /* h = 1/60 up to 41x41; finer cloths drape off the collider at
              * 1/240 (at 1/60 an 81x81 skirt swings several link lengths per
              * step and the one-Newton-step solve overstretches it) */
             double hz = grids[gi] <= 41 ? 60.0 : 240.0;
             result r = run(grids[gi], k, seconds, hz, &sph);
             double share = r.step_ms > 0 ? r.contact_ms / r.step_ms : NAN;
-            printf("%3dx%-4d %-12s 1/%-4.0f %12.3f %10.3f %6.1f%% %9.1f %9.1f %s\n", grids[gi], grids[gi], names[k],
-                   hz, r.contact_ms, r.step_ms, 100 * share, r.contacts, r.tri_contacts, r.failed ? "FAILED" : "");
+            printf("%3dx%-4d %-12s 1/%-4.0f %12.3f %10.3f %6.1f%% %9.1f %9.1f %9.1f %s\n", grids[gi], grids[gi],
+                   names[k], hz, r.contact_ms, r.step_ms, 100 * share, r.contacts, r.tri_contacts, r.edge_contacts,
+                   r.failed ? "FAILED" : "");
             fflush(stdout);
-            fprintf(csv, "%d,%s,%.0f,%d,%.4f,%.4f,%.4f,%.1f,%.1f,%d\n", grids[gi], names[k], hz, r.steps,
-                    r.contact_ms, r.step_ms, share, r.contacts, r.tri_contacts, r.failed);
+            fprintf(csv, "%d,%s,%.0f,%d,%.4f,%.4f,%.4f,%.1f,%.1f,%d,%.1f\n", grids[gi], names[k], hz, r.steps,
+                    r.contact_ms, r.step_ms, share, r.contacts, r.tri_contacts, r.failed, r.edge_contacts);
         }
     fclose(csv);
     dCloseODE();

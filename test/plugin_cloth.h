@@ -43,6 +43,19 @@ static inline void box_mesh(const double e[3], dReal v[24], dTriIndex t[36])
     }
 }
 
+/* A box of half sides e in space s: ODE's box geom, or (mesh nonzero) the
+ * same box as 12 triangles built from v and t into *td (0 for a box geom). */
+static inline dGeomID box_geom(dSpaceID s, const double e[3], int mesh, dReal v[24], dTriIndex t[36],
+                               dTriMeshDataID *td)
+{
+    *td = 0;
+    if (!mesh) return dCreateBox(s, 2 * e[0], 2 * e[1], 2 * e[2]);
+    box_mesh(e, v, t);
+    *td = dGeomTriMeshDataCreate();
+    dGeomTriMeshDataBuildDouble(*td, v, 3 * sizeof(dReal), 8, t, 36, 3 * sizeof(dTriIndex));
+    return dCreateTriMesh(s, *td, 0, 0, 0);
+}
+
 /* A sphere of mass m (radius 5 cm) in world w holding cloth c by its
  * vertices 0 and 1, its centre halfway between them. */
 static inline dBodyID sphere_holding(dWorldID w, dClothID c, double m)

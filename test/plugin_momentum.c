@@ -196,6 +196,7 @@ static double landing(double cx, double cy, int newton, int tri)
         return NAN;
     }
     dClothSetTriangleTests(c, g, tri);
+    dClothSetEdgeTests(c, g, tri); /* vertex contacts only, or triangle tests */
     dJointGroupID contacts = dJointGroupCreate(0);
     double worst_tz = 0.0, wf = 0.0, wt = 0.0, weight = 0.2 * 0.16 * 9.81;
     int touched = 0;

@@ -21,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "dcloth_internal.h"
+#include "edges.h"
 
 static int bits_meet(dClothID c, dGeomID g)
 {
@@ -502,5 +503,11 @@ int dcloth_find_contacts(dClothID c, double h)
     }
     c->tri_hits = 0;
     for (int a = 0; a < c->ncand; a++) c->tri_hits += dcloth_triangle_contacts(c, &c->surf[a], h);
+    c->edge_hits = 0;
+    for (int a = 0; a < c->ncand; a++) {
+        int e = dcloth_edge_contacts(c, &c->surf[a], h, extra);
+        if (e < 0) return -1;
+        c->edge_hits += e;
+    }
     return c->ncand;
 }

@@ -404,6 +404,7 @@ cloth_status dClothStep(dClothID c, dReal h)
     if (cand < 0) return dcloth_fail(c, CLOTH_ENOMEM, "dClothStep: out of memory for the candidate geoms");
     st.candidates = cand;
     st.triangle_contacts = c->tri_hits;
+    st.edge_contacts = c->edge_hits;
     cloth *core = c->core;
     const double *mass = cloth_masses(core);
     cloth_desc cd = cloth_get_desc(core);

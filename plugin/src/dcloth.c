@@ -133,7 +133,7 @@ void dClothDestroy(dClothID c)
     free(c->sleep_ids);
     for (int k = 0; k < c->ncvx; k++) free(c->cvx[k].p);
     free(c->cvx);
-    free(c->tri_off);
+    free(c->tri_off.g);
     free(c->mesh_v);
     free(c->mesh_convex);
     free(c->mesh_edges);
@@ -143,6 +143,8 @@ void dClothDestroy(dClothID c)
     free(c->grid_next);
     free(c->grid_tri);
     free(c->grid_key);
+    free(c->edge_tri);
+    free(c->edge_off.g);
     free(c);
 }
 
@@ -393,34 +395,43 @@ cloth_status dClothSetSpace(dClothID c, dSpaceID space)
     return CLOTH_OK;
 }
 
-cloth_status dClothSetTriangleTests(dClothID c, dGeomID g, int enable)
+int dcloth_geom_list_set(dClothID c, dcloth_geom_list *l, dGeomID g, int in, const char *who)
 {
-    if (!c) return CLOTH_EINVAL;
-    if (!g) return dcloth_fail(c, CLOTH_EINVAL, "dClothSetTriangleTests: geom is 0");
     int at = 0;
-    while (at < c->ntri_off && c->tri_off[at] != g) at++;
-    if (enable) {
-        if (at < c->ntri_off) c->tri_off[at] = c->tri_off[--c->ntri_off];
-    } else if (at == c->ntri_off) {
-        if (c->ntri_off == c->tri_off_cap) {
-            int cap = c->tri_off_cap ? 2 * c->tri_off_cap : 4;
-            dGeomID *p = realloc(c->tri_off, (size_t)cap * sizeof *p);
-            if (!p) return dcloth_fail(c, CLOTH_ENOMEM, "dClothSetTriangleTests: out of memory");
-            c->tri_off = p;
-            c->tri_off_cap = cap;
+    while (at < l->n && l->g[at] != g) at++;
+    if (!in) {
+        if (at < l->n) l->g[at] = l->g[--l->n];
+    } else if (at == l->n) {
+        if (l->n == l->cap) {
+            int cap = l->cap ? 2 * l->cap : 4;
+            dGeomID *p = realloc(l->g, (size_t)cap * sizeof *p);
+            if (!p) return dcloth_fail(c, CLOTH_ENOMEM, "%s: out of memory", who);
+            l->g = p;
+            l->cap = cap;
         }
-        c->tri_off[c->ntri_off++] = g;
+        l->g[l->n++] = g;
     }
     dClothWake(c);
     return CLOTH_OK;
 }
 
+int dcloth_geom_list_has(const dcloth_geom_list *l, dGeomID g)
+{
+    for (int k = 0; k < l->n; k++)
+        if (l->g[k] == g) return 1;
+    return 0;
+}
+
+cloth_status dClothSetTriangleTests(dClothID c, dGeomID g, int enable)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!g) return dcloth_fail(c, CLOTH_EINVAL, "dClothSetTriangleTests: geom is 0");
+    return dcloth_geom_list_set(c, &c->tri_off, g, !enable, "dClothSetTriangleTests");
+}
+
 int dClothGetTriangleTests(dClothID c, dGeomID g)
 {
-    if (!c || !g) return 0;
-    for (int k = 0; k < c->ntri_off; k++)
-        if (c->tri_off[k] == g) return 0;
-    return 1;
+    return c && g && !dcloth_geom_list_has(&c->tri_off, g);
 }
 
 cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dReal *points, int count)

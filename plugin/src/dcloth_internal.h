@@ -57,6 +57,12 @@ typedef struct vcontact {
 void dcloth_offer_opposite(vcontact *vc, dGeomID g, dBodyID body, const double n[3], double gap,
                            const double point[3]);
 
+/* A set of geoms (dcloth.c): g[0..n) */
+typedef struct dcloth_geom_list {
+    dGeomID *g;
+    int n, cap;
+} dcloth_geom_list;
+
 typedef struct vpin {
     int active;
     dBodyID body;        /* 0: pinned to the world                          */
@@ -119,8 +125,7 @@ struct dxCloth {
     } *cvx;
     int ncvx;
     /* geoms whose triangle tests are off (dClothSetTriangleTests) */
-    dGeomID *tri_off;
-    int ntri_off, tri_off_cap;
+    dcloth_geom_list tri_off;
     /* a trimesh's triangles this step (triangles.c): 9 world coordinates
      * and 3 edge flags (1: the surface turns convexly there, or ends) each,
      * and the edges for matching neighbours */
@@ -138,6 +143,12 @@ struct dxCloth {
     int *grid_next, *grid_tri;
     long long *grid_key;
     int grid_nbuck, grid_cap;
+    /* a box's or trimesh's triangles for the link tests (edges.c): 9 world
+     * coordinates each, then 6 box bounds each */
+    double *edge_tri;
+    int edge_cap;
+    int edge_hits;       /* vertex contacts set by link tests this step     */
+    dcloth_geom_list edge_off; /* geoms whose link tests are off (dClothSetEdgeTests) */
     /* the bodies this step touched, each as it was before (world.c) */
     struct body_rec {
         dBodyID b;
@@ -204,6 +215,11 @@ static inline double dcloth_dot3(const double *a, const double *b)
 /* coupling.c: a held run retries in at most this many substep halvings,
  * so held_run never exceeds it (statefile.c checks it on reading). */
 #define DCLOTH_HOLD_MAX_HALVINGS 16
+
+/* dcloth.c: put g in list l (in nonzero) or take it out, and wake the
+ * cloth; CLOTH_ENOMEM (reported for `who`) when memory ran out */
+int dcloth_geom_list_set(dClothID c, dcloth_geom_list *l, dGeomID g, int in, const char *who);
+int dcloth_geom_list_has(const dcloth_geom_list *l, dGeomID g);
 
 /* Set c->err and return code (printf-style). */
 cloth_status dcloth_fail(dClothID c, cloth_status code, const char *fmt, ...);

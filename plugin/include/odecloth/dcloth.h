@@ -141,6 +141,9 @@ typedef struct dClothStepStats {
     int newton_all;          /* Newton iterations of all the step's solves
                                 (core.newton is the last solve's)             */
     int cg_all;              /* CG iterations of all the step's solves        */
+    int edge_contacts;       /* vertex contacts set by the links' tests against
+                                the edges of boxes and trimeshes whose
+                                triangle tests are off                        */
 } dClothStepStats;
 
 /* Stats of the last dClothStep. */
@@ -233,12 +236,21 @@ cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dReal *points, i
 /* Triangle tests (libccd) for geom g on (enable nonzero, the default) or
  * off. They keep a box's, capsule's, cylinder's, convex's or trimesh's edges
  * and corners from passing between the cloth's vertices; off, g gets vertex
- * contacts only, which is cheaper (a 1000-triangle trimesh under an 81x81
- * cloth: README) and enough where no edge meets the cloth. Other classes
- * have vertex contacts only either way. Forget a geom (enable it) before
- * destroying it. */
+ * contacts, and a box or trimesh the link tests below, which is cheaper (a
+ * 1000-triangle trimesh under an 81x81 cloth: README) and enough where no
+ * edge pokes into a triangle. Other classes have vertex contacts only either
+ * way. Forget a geom (enable it) before destroying it. */
 cloth_status dClothSetTriangleTests(dClothID c, dGeomID g, int enable);
 int dClothGetTriangleTests(dClothID c, dGeomID g);
+
+/* Link tests for a box or trimesh g whose triangle tests are off: on
+ * (enable nonzero, the default) or off (vertex contacts only). Each of the
+ * cloth's sequential links whose middle comes nearer the geom's edge or
+ * corner than its ends, within the thickness, holds both its ends on the
+ * plane through that point, so the edge cannot pass between them
+ * (docs/contacts.md). Forget a geom (enable it) before destroying it. */
+cloth_status dClothSetEdgeTests(dClothID c, dGeomID g, int enable);
+int dClothGetEdgeTests(dClothID c, dGeomID g);
 
 /* ---------------------------------------------------------- save/restore */
 

@@ -1,0 +1,280 @@
+/* The cloth's links against the edges and corners of bodies (edges.h).
+ *
+ * Why: vertex contacts alone let a body's edge pass between two vertices of
+ * a link whose spacing exceeds the body's width (a bar narrower than the
+ * grid's spacing threads the cloth). Where triangle tests run they see the
+ * link as a triangle's edge; elsewhere (a trimesh or box whose tests are
+ * off) each sequential link is a segment tested against the geom's
+ * triangles (a box as its twelve): where its middle is nearer the geom than
+ * both ends, within the shell, the geom's nearest point is an edge or a
+ * corner, and both ends get a contact on the plane through that point
+ * facing the link (the link is parallel to it), at the thickness. A link
+ * already through the geom (the segment meets it) or with an end pinned to
+ * the geom's body is left alone: which side it belongs on is not known, or
+ * the pin decides it. Broadphase: the geom's AABB against each link's box,
+ * grown by the reach, then each triangle's box. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "edges.h"
+
+/* A link's middle counts as nearer than its ends below this fraction of
+ * their squared distance: a link parallel to a face ties with its ends */
+#define EDGE_TIE 1e-6
+
+static void sub3(const double *a, const double *b, double *r)
+{
+    for (int k = 0; k < 3; k++) r[k] = a[k] - b[k];
+}
+
+/* Squared distance from p to triangle (a, b, c); q the nearest point
+ * (Voronoi regions of the corners, edges and face). */
+static double point_triangle(const double *p, const double *a, const double *b, const double *c, double q[3])
+{
+    double ab[3], ac[3], ap[3], bp[3], cp[3];
+    sub3(b, a, ab), sub3(c, a, ac), sub3(p, a, ap);
+    double d1 = dcloth_dot3(ab, ap), d2 = dcloth_dot3(ac, ap), u = 0.0, w = 0.0;
+    sub3(p, b, bp);
+    double d3 = dcloth_dot3(ab, bp), d4 = dcloth_dot3(ac, bp);
+    sub3(p, c, cp);
+    double d5 = dcloth_dot3(ab, cp), d6 = dcloth_dot3(ac, cp);
+    double va = d3 * d6 - d5 * d4, vb = d5 * d2 - d1 * d6, vc = d1 * d4 - d3 * d2;
+    if (d1 <= 0.0 && d2 <= 0.0) {
+        u = 0.0, w = 0.0;
+    } else if (d3 >= 0.0 && d4 <= d3) {
+        u = 1.0, w = 0.0;
+    } else if (d6 >= 0.0 && d5 <= d6) {
+        u = 0.0, w = 1.0;
+    } else if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+        u = d1 / (d1 - d3), w = 0.0;
+    } else if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+        u = 0.0, w = d2 / (d2 - d6);
+    } else if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
+        w = (d4 - d3) / ((d4 - d3) + (d5 - d6)), u = 1.0 - w;
+    } else {
+        double den = 1.0 / (va + vb + vc);
+        u = vb * den, w = vc * den;
+    }
+    double d[3];
+    for (int k = 0; k < 3; k++) {
+        q[k] = a[k] + u * ab[k] + w * ac[k];
+        d[k] = p[k] - q[k];
+    }
+    return dcloth_dot3(d, d);
+}
+
+static double clamp01(double x) { return x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x; }
+
+/* Squared distance between segments [p1, q1] and [p2, q2]; *s along the
+ * first, c1 and c2 the nearest points. */
+static double segment_segment(const double *p1, const double *q1, const double *p2, const double *q2, double *s,
+                              double c1[3], double c2[3])
+{
+    double d1[3], d2[3], r[3];
+    sub3(q1, p1, d1), sub3(q2, p2, d2), sub3(p1, p2, r);
+    double a = dcloth_dot3(d1, d1), e = dcloth_dot3(d2, d2), f = dcloth_dot3(d2, r), t;
+    if (a <= 0.0 && e <= 0.0) {
+        *s = 0.0, t = 0.0;
+    } else if (a <= 0.0) {
+        *s = 0.0, t = clamp01(f / e);
+    } else {
+        double cc = dcloth_dot3(d1, r);
+        if (e <= 0.0) {
+            t = 0.0, *s = clamp01(-cc / a);
+        } else {
+            double b = dcloth_dot3(d1, d2), den = a * e - b * b;
+            *s = den > 0.0 ? clamp01((b * f - cc * e) / den) : 0.0;
+            t = (b * *s + f) / e;
+            if (t < 0.0) t = 0.0, *s = clamp01(-cc / a);
+            else if (t > 1.0) t = 1.0, *s = clamp01((b - cc) / a);
+        }
+    }
+    double d[3];
+    for (int k = 0; k < 3; k++) {
+        c1[k] = p1[k] + *s * d1[k];
+        c2[k] = p2[k] + t * d2[k];
+        d[k] = c1[k] - c2[k];
+    }
+    return dcloth_dot3(d, d);
+}
+
+/* Whether segment [a, b] meets triangle t (its boundary included). */
+static int segment_meets(const double *a, const double *b, const double *t)
+{
+    double e1[3], e2[3], d[3], pv[3], tv[3], qv[3];
+    sub3(t + 3, t, e1), sub3(t + 6, t, e2), sub3(b, a, d);
+    pv[0] = d[1] * e2[2] - d[2] * e2[1], pv[1] = d[2] * e2[0] - d[0] * e2[2], pv[2] = d[0] * e2[1] - d[1] * e2[0];
+    double det = dcloth_dot3(e1, pv);
+    if (det == 0.0) return 0; /* parallel: the edge tests measure it */
+    double inv = 1.0 / det;
+    sub3(a, t, tv);
+    double u = dcloth_dot3(tv, pv) * inv;
+    if (u < 0.0 || u > 1.0) return 0;
+    qv[0] = tv[1] * e1[2] - tv[2] * e1[1], qv[1] = tv[2] * e1[0] - tv[0] * e1[2], qv[2] = tv[0] * e1[1] - tv[1] * e1[0];
+    double v = dcloth_dot3(d, qv) * inv, s = dcloth_dot3(e2, qv) * inv;
+    return v >= 0.0 && u + v <= 1.0 && s >= 0.0 && s <= 1.0;
+}
+
+/* The geom's triangles, world frame, into c->edge_tri (9 each) with their
+ * boxes (6 each); how many, or -1 when memory ran out. */
+static int fetch_triangles(dClothID c, dGeomID g, int cls)
+{
+    int nt = cls == dBoxClass ? 12 : dGeomTriMeshGetTriangleCount(g);
+    if (nt > c->edge_cap) {
+        double *p = realloc(c->edge_tri, 15 * (size_t)nt * sizeof *p);
+        if (!p) return -1;
+        c->edge_tri = p;
+        c->edge_cap = nt;
+    }
+    double *tb = c->edge_tri, *box = c->edge_tri + 9 * (size_t)nt;
+    if (cls == dBoxClass) {
+        dVector3 L;
+        dGeomBoxGetLengths(g, L);
+        const dReal *o = dGeomGetPosition(g), *R = dGeomGetRotation(g);
+        double corner[8][3];
+        for (int k = 0; k < 8; k++) {
+            double l[3] = {(k & 1 ? 0.5 : -0.5) * L[0], (k & 2 ? 0.5 : -0.5) * L[1], (k & 4 ? 0.5 : -0.5) * L[2]};
+            for (int r = 0; r < 3; r++) corner[k][r] = o[r] + R[4 * r] * l[0] + R[4 * r + 1] * l[1] + R[4 * r + 2] * l[2];
+        }
+        /* face (axis a, side s): its corners in turn around it, two triangles */
+        for (int a = 0; a < 3; a++)
+            for (int s = 0; s < 2; s++) {
+                int u = 1 << ((a + 1) % 3), v = 1 << ((a + 2) % 3), base = s << a, q[4] = {base, base | u, base | u | v, base | v};
+                int f = 2 * (2 * a + s), tri[2][3] = {{q[0], q[1], q[2]}, {q[0], q[2], q[3]}};
+                for (int m = 0; m < 2; m++)
+                    for (int e = 0; e < 3; e++) memcpy(tb + 9 * (f + m) + 3 * e, corner[tri[m][e]], sizeof corner[0]);
+            }
+    } else {
+        for (int j = 0; j < nt; j++) {
+            dVector3 a, b, e;
+            dGeomTriMeshGetTriangle(g, j, &a, &b, &e);
+            for (int r = 0; r < 3; r++) tb[9 * j + r] = a[r], tb[9 * j + 3 + r] = b[r], tb[9 * j + 6 + r] = e[r];
+        }
+    }
+    for (int j = 0; j < nt; j++)
+        for (int r = 0; r < 3; r++) {
+            const double *t = tb + 9 * j;
+            box[6 * j + 2 * r] = fmin(t[r], fmin(t[3 + r], t[6 + r]));
+            box[6 * j + 2 * r + 1] = fmax(t[r], fmax(t[3 + r], t[6 + r]));
+        }
+    return nt;
+}
+
+/* Link [a, b] against the nt triangles fetched, within reach r: 1 if its
+ * middle is nearer than its ends (then *d2, p on the link and q on the
+ * geom), 0 if not or if the link meets the geom. */
+static int link_query(const dClothID c, int nt, const double *a, const double *b, double r, double *d2, double p[3],
+                      double q[3])
+{
+    const double *tb = c->edge_tri, *box = c->edge_tri + 9 * (size_t)nt;
+    double lo[3], hi[3], ends = INFINITY, mid = INFINITY;
+    for (int k = 0; k < 3; k++) lo[k] = fmin(a[k], b[k]) - r, hi[k] = fmax(a[k], b[k]) + r;
+    for (int j = 0; j < nt; j++) {
+        const double *bx = box + 6 * j, *t = tb + 9 * j;
+        if (bx[1] < lo[0] || bx[0] > hi[0] || bx[3] < lo[1] || bx[2] > hi[1] || bx[5] < lo[2] || bx[4] > hi[2])
+            continue;
+        if (segment_meets(a, b, t)) return 0;
+        double w[3];
+        ends = fmin(ends, fmin(point_triangle(a, t, t + 3, t + 6, w), point_triangle(b, t, t + 3, t + 6, w)));
+        for (int e = 0; e < 3; e++) {
+            double se, c1[3], c2[3];
+            double de = segment_segment(a, b, t + 3 * e, t + 3 * ((e + 1) % 3), &se, c1, c2);
+            if (!(de < mid)) continue;
+            mid = de;
+            memcpy(p, c1, sizeof c1);
+            memcpy(q, c2, sizeof c2);
+        }
+    }
+    if (!(mid < (1.0 - EDGE_TIE) * ends) || !(mid < r * r) || !(mid > 0.0)) return 0;
+    *d2 = mid;
+    return 1;
+}
+
+/* Vertex i's contact with geom (surface sf, body) on the plane through q
+ * with normal n, where it has none or a shallower one with this geom; 1 if
+ * set. */
+static int offer(dClothID c, int i, const struct dcloth_surf *sf, dBodyID body, const double n[3], const double q[3])
+{
+    const double *x = cloth_positions(c->core) + 3 * i;
+    vcontact *vc = &c->vc_new[i];
+    double d[3];
+    sub3(x, q, d);
+    double height = dcloth_dot3(n, d), gap = height - sf->thickness;
+    /* a vertex keeps another geom's contact: it has one plane, and the
+     * other's may hold it out of that body (a cloth between a bar and a plate) */
+    if (vc->geom && (vc->geom != sf->g || vc->gap <= gap)) return 0;
+    vc->geom = sf->g;
+    vc->thickness = sf->thickness;
+    vc->mu = sf->mu;
+    vc->body = body;
+    for (int r = 0; r < 3; r++) {
+        vc->normal[r] = n[r];
+        vc->point[r] = x[r] - height * n[r];
+        vc->vbody[r] = 0.0;
+    }
+    if (body) { /* the body's velocity under the vertex, as for its own contacts */
+        dVector3 pv;
+        dBodyGetPointVel(body, vc->point[0], vc->point[1], vc->point[2], pv);
+        for (int r = 0; r < 3; r++) vc->vbody[r] = pv[r];
+    }
+    vc->gap = gap;
+    vc->from_triangle = 1; /* a shared contact: the triangles' release rules */
+    vc->weight = 1.0;
+    return 1;
+}
+
+/* Whether vertex i is pinned to body b (not the world) or sits inside the
+ * geom by its own contact with it. */
+static int left_alone(dClothID c, int i, dGeomID g, dBodyID b)
+{
+    const vcontact *vc = &c->vc_new[i];
+    return (c->pin[i].active && b && c->pin[i].body == b) || (vc->geom == g && vc->gap < -vc->thickness);
+}
+
+int dcloth_edge_contacts(dClothID c, const struct dcloth_surf *sf, double h, double extra)
+{
+    dGeomID g = sf->g;
+    int cls = dGeomGetClass(g);
+    if ((cls != dBoxClass && cls != dTriMeshClass) || dClothGetTriangleTests(c, g) || !dClothGetEdgeTests(c, g))
+        return 0;
+    int nt = fetch_triangles(c, g, cls);
+    if (nt < 0) return -1;
+    dReal aabb[6];
+    dGeomGetAABB(g, aabb);
+    dBodyID body = dGeomGetBody(g);
+    const double *x = cloth_positions(c->core), *v = cloth_velocities(c->core);
+    double shell = sf->thickness * (1.0 + DCLOTH_CONTACT_MARGIN);
+    int hits = 0, nl = cloth_link_count(c->core, CLOTH_SEQUENTIAL);
+    for (int e = 0; e < nl; e++) {
+        cloth_link L;
+        cloth_get_link(c->core, CLOTH_SEQUENTIAL, e, &L);
+        const double *a = x + 3 * L.i, *b = x + 3 * L.j;
+        double sp = fmax(dcloth_relative_speed(body, a, v + 3 * L.i), dcloth_relative_speed(body, b, v + 3 * L.j));
+        double r = shell + fmax(h * sp, extra);
+        if (!(r < INFINITY)) continue;
+        if (fmax(a[0], b[0]) + r < aabb[0] || fmin(a[0], b[0]) - r > aabb[1] || fmax(a[1], b[1]) + r < aabb[2] ||
+            fmin(a[1], b[1]) - r > aabb[3] || fmax(a[2], b[2]) + r < aabb[4] || fmin(a[2], b[2]) - r > aabb[5])
+            continue;
+        if (left_alone(c, L.i, g, body) || left_alone(c, L.j, g, body)) continue;
+        double d2, p[3], q[3];
+        if (!link_query(c, nt, a, b, r, &d2, p, q)) continue;
+        double d = sqrt(d2), n[3];
+        for (int k = 0; k < 3; k++) n[k] = (p[k] - q[k]) / d;
+        if (!c->pin[L.i].active) hits += offer(c, L.i, sf, body, n, q);
+        if (!c->pin[L.j].active) hits += offer(c, L.j, sf, body, n, q);
+    }
+    return hits;
+}
+
+
+cloth_status dClothSetEdgeTests(dClothID c, dGeomID g, int enable)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!g) return dcloth_fail(c, CLOTH_EINVAL, "dClothSetEdgeTests: geom is 0");
+    return dcloth_geom_list_set(c, &c->edge_off, g, !enable, "dClothSetEdgeTests");
+}
+
+int dClothGetEdgeTests(dClothID c, dGeomID g)
+{
+    return c && g && !dcloth_geom_list_has(&c->edge_off, g);
+}
