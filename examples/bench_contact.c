@@ -205,7 +205,8 @@ int main(int argc, char **argv)
     }
     dInitODE2(0);
     const char *names[6] = {"sphere", "box", "trimesh1000", "trimesh-vtx", "trimesh-link", "box-link"};
-    fprintf(csv, "grid,collider,hz,steps,contact_ms,step_ms,contact_share,contacts,triangle_contacts,failed,edge_contacts\n");
+    fprintf(csv, "grid,collider,hz,steps,contact_ms,step_ms,contact_share,contacts,triangle_contacts,failed,"
+                 "edge_contacts\n");
     printf("%-8s %-12s %-6s %12s %10s %7s %9s %9s %9s\n", "grid", "collider", "h", "contacts ms", "step ms", "share",
            "contacts", "tri", "link");
     for (int gi = 0; gi < ng; gi++)

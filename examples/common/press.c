@@ -39,6 +39,48 @@ static void plates_at(const double *dur, double t, double *bottom, double *side,
     *slide = t > start[LETGO] ? SLIDE * demo_smoothstep((t - start[LETGO]) / dur[LETGO]) : 0.0;
 }
 
+/* Whether segment [a, b] (relative to the box's centre) passes through the
+ * axis-aligned box of half sides e with neither end inside it. */
+static int through_box(const double *a, const double *b, const double e[3])
+{
+    double t0 = 0.0, t1 = 1.0;
+    int ina = 1, inb = 1;
+    for (int k = 0; k < 3; k++) {
+        ina = ina && fabs(a[k]) < e[k];
+        inb = inb && fabs(b[k]) < e[k];
+    }
+    for (int k = 0; k < 3 && !ina && !inb && t0 <= t1; k++) {
+        double d = b[k] - a[k];
+        if (d == 0.0) {
+            if (fabs(a[k]) >= e[k]) return 0;
+            continue;
+        }
+        double u0 = (-e[k] - a[k]) / d, u1 = (e[k] - a[k]) / d;
+        t0 = fmax(t0, fmin(u0, u1));
+        t1 = fmin(t1, fmax(u0, u1));
+    }
+    return !ina && !inb && t0 <= t1;
+}
+
+/* How many sequential links of the C x C cloth, neither end in a pinned row,
+ * pass through the bottom bar (kinematic, unrotated): the cloth threaded. */
+static int links_through_bar(dClothID c, int C, dBodyID bar)
+{
+    const double e[3] = {PLATE_W / 2, PLATE_D / 2, PLATE_T / 2};
+    const dReal *p = dBodyGetPosition(bar), *x = dClothGetPositions(c);
+    const cloth *core = dClothGetCore(c);
+    int n = 0;
+    for (int k = 0, nl = cloth_link_count(core, CLOTH_SEQUENTIAL); k < nl; k++) {
+        cloth_link L;
+        cloth_get_link(core, CLOTH_SEQUENTIAL, k, &L);
+        if (L.i < C || L.j >= (C - 1) * C) continue;
+        double a[3], b[3];
+        for (int r = 0; r < 3; r++) a[r] = x[3 * L.i + r] - p[r], b[r] = x[3 * L.j + r] - p[r];
+        n += through_box(a, b, e);
+    }
+    return n;
+}
+
 static int press_run(const demo_opts *o, const demo_scene *sc, const drape_variant *v, drape_result *r)
 {
     memset(r, 0, sizeof *r);
@@ -126,7 +168,7 @@ static int press_run(const demo_opts *o, const demo_scene *sc, const drape_varia
         }
     const demo_camera cam = {{0.9, -1.7, 1.15}, {0, 0, 0.8}, 40};
     demo_metrics run = {0};
-    int next_frame = 1;
+    int next_frame = 1, threaded = 0, threaded_steps = 0, threaded_max = 0, threaded_first = -1;
     double t0 = demo_now();
     for (int s = 0; s < n_total; s++) {
         /* the plates' velocities for this step: to where the script has
@@ -141,6 +183,13 @@ static int press_run(const demo_opts *o, const demo_scene *sc, const drape_varia
         }
         if (demo_step(o, world, &c, 1, h, s)) goto done;
         demo_track_step(c, &run);
+        if (s < n_letgo) { /* while the bar holds the cloth */
+            int m = links_through_bar(c, C, plate[1]);
+            threaded += m;
+            threaded_steps += m > 0;
+            if (m > threaded_max) threaded_max = m;
+            if (m > 0 && threaded_first < 0) threaded_first = s + 1;
+        }
         demo_frame_hook(o, v->tag, s + 1, n_total, &next_frame, &cam, space, &c, 1);
         demo_view_frame(o, v->label, s + 1, n_total, &cam, space, &c, 1);
         if (s + 1 == n_pressed || s + 1 == n_total) {
@@ -154,6 +203,8 @@ static int press_run(const demo_opts *o, const demo_scene *sc, const drape_varia
             demo_save_frame(o, name, &cam, space, &c, 1, last ? &r->pic_after : &r->pic_draped);
         }
     }
+    printf("%-8s links through the bar: %d link-steps in %d steps (at most %d at once, the first at step %d)\n",
+           v->tag, threaded, threaded_steps, threaded_max, threaded_first);
     rc = 0;
 done:
     dClothDestroy(c);
