@@ -1,18 +1,6 @@
-/* The cloth's links against the edges and corners of bodies (edges.h).
- *
- * Why: vertex contacts alone let a body's edge pass between two vertices of
- * a link whose spacing exceeds the body's width (a bar narrower than the
- * grid's spacing threads the cloth). Where triangle tests run they see the
- * link as a triangle's edge; elsewhere (a trimesh or box whose tests are
- * off) each sequential link is a segment tested against the geom's
- * triangles (a box as its twelve): where its middle is nearer the geom than
- * both ends, within the shell, the geom's nearest point is an edge or a
- * corner, and both ends get a contact on the plane through that point
- * facing the link (the link is parallel to it), at the thickness. A link
- * already through the geom (the segment meets it) or with an end pinned to
- * the geom's body is left alone: which side it belongs on is not known, or
- * the pin decides it. Broadphase: the geom's AABB against each link's box,
- * grown by the reach, then each triangle's box. */
+/* The cloth's links against the edges and corners of boxes and trimeshes
+ * without triangle tests: vertex contacts let an edge narrower than the
+ * spacing pass between two vertices (docs/contacts.md). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

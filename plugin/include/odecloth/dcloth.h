@@ -243,12 +243,9 @@ cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dReal *points, i
 cloth_status dClothSetTriangleTests(dClothID c, dGeomID g, int enable);
 int dClothGetTriangleTests(dClothID c, dGeomID g);
 
-/* Link tests for a box or trimesh g whose triangle tests are off: on
- * (enable nonzero, the default) or off (vertex contacts only). Each of the
- * cloth's sequential links whose middle comes nearer the geom's edge or
- * corner than its ends, within the thickness, holds both its ends on the
- * plane through that point, so the edge cannot pass between them
- * (docs/contacts.md). Forget a geom (enable it) before destroying it. */
+/* Link tests for a box or trimesh g whose triangle tests are off, on (the default) or off (vertex
+ * contacts only): a link nearing an edge holds its ends on the plane through it (docs/contacts.md).
+ * Forget a geom (enable it) before destroying it. */
 cloth_status dClothSetEdgeTests(dClothID c, dGeomID g, int enable);
 int dClothGetEdgeTests(dClothID c, dGeomID g);
 
