@@ -144,6 +144,9 @@ void dClothDestroy(dClothID c)
     free(c->grid_tri);
     free(c->grid_key);
     free(c->edge_tri);
+    free(c->edge_start);
+    free(c->edge_ent);
+    free(c->edge_stamp);
     free(c->edge_off.g);
     free(c);
 }

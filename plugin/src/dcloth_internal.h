@@ -147,6 +147,8 @@ struct dxCloth {
      * coordinates each, then 6 box bounds each */
     double *edge_tri;
     int edge_cap;
+    int *edge_start, *edge_ent, *edge_stamp; /* their grid (edges.c) and a stamp each */
+    int edge_start_cap, edge_ent_cap, edge_stamp_cap;
     int edge_hits;       /* vertex contacts set by link tests this step     */
     dcloth_geom_list edge_off; /* geoms whose link tests are off (dClothSetEdgeTests) */
     /* the bodies this step touched, each as it was before (world.c) */

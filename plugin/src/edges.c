@@ -150,31 +150,130 @@ static int fetch_triangles(dClothID c, dGeomID g, int cls)
     return nt;
 }
 
-/* Link [a, b] against the nt triangles fetched, within reach r: 1 if its
- * middle is nearer than its ends (then *d2, p on the link and q on the
- * geom), 0 if not or if the link meets the geom. */
-static int link_query(const dClothID c, int nt, const double *a, const double *b, double r, double *d2, double p[3],
-                      double q[3])
+/* The fetched triangles bucketed in a uniform grid over their box, cells
+ * of a triangle's mean size (at most GRID_DIM a side), so a link meets only
+ * the triangles near it. */
+#define GRID_DIM 64
+typedef struct tri_grid {
+    double lo[3], cell;
+    int dim[3], nt;
+    const int *start, *ent; /* CSR: cell k's triangles ent[start[k] .. start[k + 1]) */
+} tri_grid;
+
+static int ensure(int **p, int *cap, int n)
 {
-    const double *tb = c->edge_tri, *box = c->edge_tri + 9 * (size_t)nt;
-    double lo[3], hi[3], ends = INFINITY, mid = INFINITY;
-    for (int k = 0; k < 3; k++) lo[k] = fmin(a[k], b[k]) - r, hi[k] = fmax(a[k], b[k]) + r;
-    for (int j = 0; j < nt; j++) {
-        const double *bx = box + 6 * j, *t = tb + 9 * j;
-        if (bx[1] < lo[0] || bx[0] > hi[0] || bx[3] < lo[1] || bx[2] > hi[1] || bx[5] < lo[2] || bx[4] > hi[2])
-            continue;
-        if (segment_meets(a, b, t)) return 0;
-        double w[3];
-        ends = fmin(ends, fmin(point_triangle(a, t, t + 3, t + 6, w), point_triangle(b, t, t + 3, t + 6, w)));
-        for (int e = 0; e < 3; e++) {
-            double se, c1[3], c2[3];
-            double de = segment_segment(a, b, t + 3 * e, t + 3 * ((e + 1) % 3), &se, c1, c2);
-            if (!(de < mid)) continue;
-            mid = de;
-            memcpy(p, c1, sizeof c1);
-            memcpy(q, c2, sizeof c2);
-        }
+    if (n <= *cap) return 0;
+    int *q = realloc(*p, (size_t)n * sizeof *q);
+    if (!q) return -1;
+    *p = q;
+    *cap = n;
+    return 0;
+}
+
+/* the cell range [c0, c1] a box (lo, hi) covers, clamped to the grid */
+static void cell_range(const tri_grid *gr, const double *lo, const double *hi, int c0[3], int c1[3])
+{
+    for (int k = 0; k < 3; k++) {
+        double a = floor((lo[k] - gr->lo[k]) / gr->cell), b = floor((hi[k] - gr->lo[k]) / gr->cell);
+        c0[k] = !(a > 0.0) ? 0 : a >= gr->dim[k] ? gr->dim[k] - 1 : (int)a; /* NaN: 0 */
+        c1[k] = !(b > 0.0) ? 0 : b >= gr->dim[k] ? gr->dim[k] - 1 : (int)b;
     }
+}
+
+/* Bucket the nt fetched triangles (their boxes after the coordinates) into
+ * gr; -1 when memory ran out. */
+static int grid_build(dClothID c, int nt, tri_grid *gr)
+{
+    const double *box = c->edge_tri + 9 * (size_t)nt;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, size = 0.0;
+    for (int j = 0; j < nt; j++) {
+        double e = 0.0;
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fmin(lo[k], box[6 * j + 2 * k]);
+            hi[k] = fmax(hi[k], box[6 * j + 2 * k + 1]);
+            e = fmax(e, box[6 * j + 2 * k + 1] - box[6 * j + 2 * k]);
+        }
+        size += e / nt;
+    }
+    double ext = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
+    gr->cell = fmax(size, ext / GRID_DIM);
+    if (!(gr->cell > 0.0) || !isfinite(gr->cell) || !isfinite(ext)) gr->cell = INFINITY;
+    long long ncell = 1;
+    for (int k = 0; k < 3; k++) {
+        double d = isfinite(gr->cell) ? floor((hi[k] - lo[k]) / gr->cell) + 1.0 : 1.0;
+        gr->dim[k] = d > GRID_DIM ? GRID_DIM : (int)d;
+        gr->lo[k] = isfinite(lo[k]) ? lo[k] : 0.0;
+        ncell *= gr->dim[k];
+    }
+    if (!isfinite(gr->cell)) gr->cell = 1.0; /* one cell */
+    gr->nt = nt;
+    if (ensure(&c->edge_start, &c->edge_start_cap, (int)ncell + 1) < 0) return -1;
+    int *start = c->edge_start;
+    memset(start, 0, ((size_t)ncell + 1) * sizeof *start);
+    for (int pass = 0; pass < 2; pass++) {
+        for (int j = 0; j < nt; j++) {
+            const double *bx = box + 6 * j;
+            double blo[3] = {bx[0], bx[2], bx[4]}, bhi[3] = {bx[1], bx[3], bx[5]};
+            int c0[3], c1[3];
+            cell_range(gr, blo, bhi, c0, c1);
+            for (int z = c0[2]; z <= c1[2]; z++)
+                for (int y = c0[1]; y <= c1[1]; y++)
+                    for (int x = c0[0]; x <= c1[0]; x++) {
+                        int k = x + gr->dim[0] * (y + gr->dim[1] * z);
+                        if (pass) c->edge_ent[start[k]++] = j;
+                        else start[k + 1]++;
+                    }
+        }
+        if (pass) break;
+        for (long long k = 0; k < ncell; k++) start[k + 1] += start[k];
+        if (ensure(&c->edge_ent, &c->edge_ent_cap, start[ncell] > 0 ? start[ncell] : 1) < 0) return -1;
+    }
+    for (long long k = ncell; k > 0; k--) start[k] = start[k - 1]; /* the fill moved each start to the next */
+    start[0] = 0;
+    gr->start = start;
+    gr->ent = c->edge_ent;
+    if (ensure(&c->edge_stamp, &c->edge_stamp_cap, nt) < 0) return -1;
+    if (nt > 0) memset(c->edge_stamp, 0, (size_t)nt * sizeof *c->edge_stamp);
+    return 0;
+}
+
+/* Link [a, b] against the triangles of gr near it, within reach r: 1 if
+ * its middle is nearer than its ends (then *d2, p on the link and q on the
+ * geom), 0 if not or if the link meets the geom. stamp: a number new to
+ * this link, so each triangle is measured once. */
+static int link_query(const dClothID c, const tri_grid *gr, int stamp, const double *a, const double *b, double r,
+                      double *d2, double p[3], double q[3])
+{
+    const double *tb = c->edge_tri, *box = c->edge_tri + 9 * (size_t)gr->nt;
+    double lo[3], hi[3], ends = INFINITY, mid = INFINITY;
+    int c0[3], c1[3];
+    for (int k = 0; k < 3; k++) lo[k] = fmin(a[k], b[k]) - r, hi[k] = fmax(a[k], b[k]) + r;
+    cell_range(gr, lo, hi, c0, c1);
+    for (int z = c0[2]; z <= c1[2]; z++)
+        for (int y = c0[1]; y <= c1[1]; y++)
+            for (int x = c0[0]; x <= c1[0]; x++) {
+                int k = x + gr->dim[0] * (y + gr->dim[1] * z);
+                for (int m = gr->start[k]; m < gr->start[k + 1]; m++) {
+                    int j = gr->ent[m];
+                    const double *bx = box + 6 * j, *t = tb + 9 * j;
+                    if (c->edge_stamp[j] == stamp || bx[1] < lo[0] || bx[0] > hi[0] || bx[3] < lo[1] ||
+                        bx[2] > hi[1] || bx[5] < lo[2] || bx[4] > hi[2])
+                        continue;
+                    c->edge_stamp[j] = stamp;
+                    if (segment_meets(a, b, t)) return 0;
+                    double w[3];
+                    double ea = point_triangle(a, t, t + 3, t + 6, w), eb = point_triangle(b, t, t + 3, t + 6, w);
+                    ends = fmin(ends, fmin(ea, eb));
+                    for (int e = 0; e < 3; e++) {
+                        double se, c1p[3], c2p[3];
+                        double de = segment_segment(a, b, t + 3 * e, t + 3 * ((e + 1) % 3), &se, c1p, c2p);
+                        if (!(de < mid)) continue;
+                        mid = de;
+                        memcpy(p, c1p, sizeof c1p);
+                        memcpy(q, c2p, sizeof c2p);
+                    }
+                }
+            }
     if (!(mid < (1.0 - EDGE_TIE) * ends) || !(mid < r * r) || !(mid > 0.0)) return 0;
     *d2 = mid;
     return 1;
@@ -228,7 +327,8 @@ int dcloth_edge_contacts(dClothID c, const struct dcloth_surf *sf, double h, dou
     if ((cls != dBoxClass && cls != dTriMeshClass) || dClothGetTriangleTests(c, g) || !dClothGetEdgeTests(c, g))
         return 0;
     int nt = fetch_triangles(c, g, cls);
-    if (nt < 0) return -1;
+    tri_grid gr;
+    if (nt < 0 || grid_build(c, nt, &gr) < 0) return -1;
     dReal aabb[6];
     dGeomGetAABB(g, aabb);
     dBodyID body = dGeomGetBody(g);
@@ -247,7 +347,7 @@ int dcloth_edge_contacts(dClothID c, const struct dcloth_surf *sf, double h, dou
             continue;
         if (left_alone(c, L.i, g, body) || left_alone(c, L.j, g, body)) continue;
         double d2, p[3], q[3];
-        if (!link_query(c, nt, a, b, r, &d2, p, q)) continue;
+        if (!link_query(c, &gr, e + 1, a, b, r, &d2, p, q)) continue;
         double d = sqrt(d2), n[3];
         for (int k = 0; k < 3; k++) n[k] = (p[k] - q[k]) / d;
         if (!c->pin[L.i].active) hits += offer(c, L.i, sf, body, n, q);
