@@ -7,8 +7,9 @@
  * between them, so vertex contacts alone let both rows fall past it and the
  * link joining them through it. The bar's triangle tests are off, so only
  * the links' tests against its edges (plugin/src/edges.c) can hold it; as
- * ODE's box geom and as the same box in 12 triangles; the default
- * (linearised) step and Newton's. Stepped at 1/60 s for 1.5 s.
+ * ODE's box geom, the same box in 12 triangles and as a convex (its points
+ * handed over); the default (linearised) step and Newton's. Stepped at
+ * 1/60 s for 1.5 s.
  *
  * Asserted, every step: the step succeeds and no sequential link, both its
  * ends outside the bar, has its segment through the bar (a slab test in the
@@ -66,7 +67,26 @@ static int through_box(const double *a, const double *b, const double e[3])
     return 1;
 }
 
-static result run(int mesh, int newton)
+/* The bar as a convex (ODE's dConvex, half sides e): its points (handed to
+ * the cloth), planes and faces */
+static dReal cvx_points[24], cvx_planes[24];
+static const unsigned int cvx_polys[30] = {4, 1, 3, 7, 5, 4, 0, 4, 6, 2, 4, 2, 6, 7, 3,
+                                           4, 0, 1, 5, 4, 4, 4, 5, 7, 6, 4, 0, 2, 3, 1};
+
+static dGeomID convex_bar(dSpaceID sp, const double e[3])
+{
+    for (int i = 0; i < 8; i++)
+        for (int k = 0; k < 3; k++) cvx_points[3 * i + k] = (i >> k & 1) ? e[k] : -e[k];
+    for (int f = 0; f < 6; f++) {
+        int k = f / 2;
+        for (int r = 0; r < 3; r++) cvx_planes[4 * f + r] = r == k ? (f & 1 ? -1.0 : 1.0) : 0.0;
+        cvx_planes[4 * f + 3] = e[k];
+    }
+    return dCreateConvex(sp, cvx_planes, 6, cvx_points, 8, cvx_polys);
+}
+
+/* kind: 0 box geom, 1 box mesh, 2 convex */
+static result run(int kind, int newton)
 {
     result r = {-1, 0, -1, -INFINITY, 0};
     dWorldID w = dWorldCreate();
@@ -75,14 +95,17 @@ static result run(int mesh, int newton)
     const double e[3] = {0.5 * BAR_LEN, 0.5 * BAR, 0.5 * BAR}, centre_z = -0.5 * BAR;
     static dReal bv[24];
     static dTriIndex bt[36];
-    dTriMeshDataID md;
-    dGeomID bar = box_geom(sp, e, mesh, bv, bt, &md);
+    dTriMeshDataID md = 0;
+    dGeomID bar = kind == 2 ? convex_bar(sp, e) : box_geom(sp, e, kind, bv, bt, &md);
     dGeomSetPosition(bar, 0, 0, centre_z);
     const double u[3] = {1, 0, 0}, v[3] = {0, 1, 0}, spacing = SIDE / (N - 1);
     const double centre[3] = {0, 0.5 * spacing, DROP}; /* the bar between the middle rows */
     dClothID c = flat_cloth(w, sp, N, SIDE, centre, u, v, 0.3, 0.005);
     if (!c) return r;
     CHECK(dClothSetTriangleTests(c, bar, 0) == CLOTH_OK, "dClothSetTriangleTests: %s", dClothGetLastError(c));
+    if (kind == 2)
+        CHECK(dClothSetConvexPoints(c, bar, cvx_points, 8) == CLOTH_OK, "dClothSetConvexPoints: %s",
+              dClothGetLastError(c));
     cloth_solver sv = cloth_get_desc(dClothGetCore(c)).solver;
     sv.nonlinear = newton ? CLOTH_NEWTON : CLOTH_LINEARIZED;
     CHECK(cloth_set_solver(dClothGetCore(c), &sv) == CLOTH_OK, "cloth_set_solver");
@@ -119,10 +142,11 @@ int main(void)
 {
     dInitODE2(0);
     for (int newton = 0; newton < 2; newton++)
-        for (int mesh = 0; mesh < 2; mesh++) {
+        for (int kind = 0; kind < 3; kind++) {
+            const char *what[3] = {"box geom", "box mesh", "convex"};
             char name[64];
-            snprintf(name, sizeof name, "%s, %s", mesh ? "box mesh" : "box geom", newton ? "Newton" : "linearised");
-            result r = run(mesh, newton);
+            snprintf(name, sizeof name, "%s, %s", what[kind], newton ? "Newton" : "linearised");
+            result r = run(kind, newton);
             printf("%-22s: %d link-steps through the bar (first at step %d); highest vertex at the end %+.1f mm%s\n",
                    name, r.crossings, r.first_step, 1e3 * r.top, r.failed_step >= 0 ? "; a step failed" : "");
             CHECK(r.failed_step < 0, "%s: step %d failed", name, r.failed_step);

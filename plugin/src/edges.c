@@ -1,6 +1,7 @@
-/* The cloth's links against the edges and corners of boxes and trimeshes
- * without triangle tests: vertex contacts let an edge narrower than the
- * spacing pass between two vertices (docs/contacts.md). */
+/* The cloth's links against the edges and corners of boxes, trimeshes and
+ * convexes without triangle tests: vertex contacts let an edge narrower than
+ * the spacing pass between two vertices (docs/contacts.md). */
+#include <ccd/ccd.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -154,6 +155,8 @@ static int fetch_triangles(dClothID c, dGeomID g, int cls)
  * of a triangle's mean size (at most GRID_DIM a side), so a link meets only
  * the triangles near it. */
 #define GRID_DIM 64
+/* EPA's tolerance, of the thickness, for a link against a convex's points */
+#define EDGE_EPA 1e-6
 typedef struct tri_grid {
     double lo[3], cell;
     int dim[3], nt;
@@ -279,6 +282,85 @@ static int link_query(const dClothID c, const tri_grid *gr, int stamp, const dou
     return 1;
 }
 
+/* A convex's points (its frame) and a segment grown by r, as libccd shapes */
+typedef struct cvx_shape {
+    dGeomID g;
+    const double *p;
+    int n;
+} cvx_shape;
+typedef struct seg_shape {
+    const double *a, *b;
+    double r;
+} seg_shape;
+
+static void cvx_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out)
+{
+    const cvx_shape *s = obj;
+    const dReal *o = dGeomGetPosition(s->g), *R = dGeomGetRotation(s->g);
+    const double *d = dir->v;
+    double l[3], best = -INFINITY;
+    int at = 0;
+    for (int k = 0; k < 3; k++) l[k] = R[k] * d[0] + R[4 + k] * d[1] + R[8 + k] * d[2];
+    for (int j = 0; j < s->n; j++) {
+        double e = dcloth_dot3(s->p + 3 * j, l);
+        if (e > best) best = e, at = j;
+    }
+    const double *q = s->p + 3 * at;
+    for (int k = 0; k < 3; k++) out->v[k] = o[k] + R[4 * k] * q[0] + R[4 * k + 1] * q[1] + R[4 * k + 2] * q[2];
+}
+
+static void cvx_center(const void *obj, ccd_vec3_t *out)
+{
+    const dReal *o = dGeomGetPosition(((const cvx_shape *)obj)->g);
+    for (int k = 0; k < 3; k++) out->v[k] = o[k];
+}
+
+static void seg_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out)
+{
+    const seg_shape *s = obj;
+    const double *d = dir->v, *e = dcloth_dot3(s->a, d) >= dcloth_dot3(s->b, d) ? s->a : s->b;
+    double l = sqrt(dcloth_dot3(d, d)), f = l > 0.0 ? s->r / l : 0.0;
+    for (int k = 0; k < 3; k++) out->v[k] = e[k] + f * d[k];
+}
+
+static void seg_center(const void *obj, ccd_vec3_t *out)
+{
+    const seg_shape *s = obj;
+    for (int k = 0; k < 3; k++) out->v[k] = 0.5 * (s->a[k] + s->b[k]);
+}
+
+/* The distance from the convex to segment [a, b] if under r (0 or less:
+ * they meet), with n the way out of the convex toward it; INFINITY if not */
+static double convex_distance(const cvx_shape *cv, const double *a, const double *b, double r, ccd_t *ccd,
+                              double n[3])
+{
+    seg_shape sg = {a, b, r};
+    ccd_real_t depth;
+    ccd_vec3_t dir, pos;
+    if (ccdGJKPenetration(cv, &sg, ccd, &depth, &dir, &pos) != 0 || !(depth > 0.0) || !isfinite(depth)) return INFINITY;
+    double l = sqrt(dcloth_dot3(dir.v, dir.v));
+    if (!(l > 0.0)) return INFINITY;
+    for (int k = 0; k < 3; k++) n[k] = dir.v[k] / l;
+    return r - depth;
+}
+
+/* Link [a, b] against convex cv within reach r, as link_query: 1 if its
+ * middle is nearer than its ends by more than EPA's tolerance (tol), then
+ * n and q, a point of the convex's supporting plane along n. */
+static int convex_query(const cvx_shape *cv, const double *a, const double *b, double r, double tol, ccd_t *ccd,
+                        double n[3], double q[3])
+{
+    double na[3], nb[3];
+    double mid = convex_distance(cv, a, b, r, ccd, n);
+    if (!(mid > 0.0) || !(mid < r)) return 0;
+    double ends = fmin(convex_distance(cv, a, a, r, ccd, na), convex_distance(cv, b, b, r, ccd, nb));
+    if (!(mid < ends - tol)) return 0;
+    ccd_vec3_t d = {{n[0], n[1], n[2]}}, sp;
+    cvx_support(cv, &d, &sp);
+    for (int k = 0; k < 3; k++) q[k] = sp.v[k];
+    return 1;
+}
+
 /* Vertex i's contact with geom (surface sf, body) on the plane through q
  * with normal n, where it has none or a shallower one with this geom; 1 if
  * set. */
@@ -323,12 +405,21 @@ static int left_alone(dClothID c, int i, dGeomID g, dBodyID b)
 int dcloth_edge_contacts(dClothID c, const struct dcloth_surf *sf, double h, double extra)
 {
     dGeomID g = sf->g;
-    int cls = dGeomGetClass(g);
-    if ((cls != dBoxClass && cls != dTriMeshClass) || dClothGetTriangleTests(c, g) || !dClothGetEdgeTests(c, g))
+    int cls = dGeomGetClass(g), k = 0;
+    while (k < c->ncvx && c->cvx[k].g != g) k++;
+    cvx_shape cv = {g, k < c->ncvx ? c->cvx[k].p : NULL, k < c->ncvx ? c->cvx[k].n : 0};
+    if (cls == dConvexClass && cv.n == 0) return 0; /* no points handed over */
+    if ((cls != dBoxClass && cls != dTriMeshClass && cls != dConvexClass) || dClothGetTriangleTests(c, g) ||
+        !dClothGetEdgeTests(c, g))
         return 0;
-    int nt = fetch_triangles(c, g, cls);
+    int nt = cls == dConvexClass ? 0 : fetch_triangles(c, g, cls);
     tri_grid gr;
-    if (nt < 0 || grid_build(c, nt, &gr) < 0) return -1;
+    if (nt < 0 || (cls != dConvexClass && grid_build(c, nt, &gr) < 0)) return -1;
+    ccd_t ccd;
+    CCD_INIT(&ccd);
+    ccd.support1 = cvx_support, ccd.support2 = seg_support, ccd.center1 = cvx_center, ccd.center2 = seg_center;
+    ccd.max_iterations = 40;
+    ccd.epa_tolerance = EDGE_EPA * sf->thickness;
     dReal aabb[6];
     dGeomGetAABB(g, aabb);
     dBodyID body = dGeomGetBody(g);
@@ -346,10 +437,13 @@ int dcloth_edge_contacts(dClothID c, const struct dcloth_surf *sf, double h, dou
             fmin(a[1], b[1]) - r > aabb[3] || fmax(a[2], b[2]) + r < aabb[4] || fmin(a[2], b[2]) - r > aabb[5])
             continue;
         if (left_alone(c, L.i, g, body) || left_alone(c, L.j, g, body)) continue;
-        double d2, p[3], q[3];
-        if (!link_query(c, &gr, e + 1, a, b, r, &d2, p, q)) continue;
-        double d = sqrt(d2), n[3];
-        for (int k = 0; k < 3; k++) n[k] = (p[k] - q[k]) / d;
+        double d2, p[3], q[3], n[3];
+        if (cls == dConvexClass) {
+            if (!convex_query(&cv, a, b, r, 10.0 * ccd.epa_tolerance, &ccd, n, q)) continue;
+        } else {
+            if (!link_query(c, &gr, e + 1, a, b, r, &d2, p, q)) continue;
+            for (int m = 0; m < 3; m++) n[m] = (p[m] - q[m]) / sqrt(d2);
+        }
         if (!c->pin[L.i].active) hits += offer(c, L.i, sf, body, n, q);
         if (!c->pin[L.j].active) hits += offer(c, L.j, sf, body, n, q);
     }

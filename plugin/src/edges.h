@@ -1,6 +1,6 @@
-/* The cloth's links against the edges and corners of boxes and trimeshes
- * (edges.c): the contacts that keep a body's edge from passing between two
- * vertices where no triangle test runs. */
+/* The cloth's links against the edges and corners of boxes, trimeshes and
+ * convexes (edges.c): the contacts that keep a body's edge from passing
+ * between two vertices where no triangle test runs. */
 #ifndef ODECLOTH_EDGES_H
 #define ODECLOTH_EDGES_H
 
@@ -8,7 +8,7 @@
 
 /* Each sequential link whose middle comes nearer geom s->g than its ends, within the shell and the
  * step's approach (at least `extra` m), holds both ends on the plane through the nearest point (c->vc_new).
- * Boxes and trimeshes without triangle tests; the vertex contacts set, or -1 when memory ran out. */
+ * Boxes, trimeshes, convexes without triangle tests; the vertex contacts set, or -1 on no memory. */
 int dcloth_edge_contacts(dClothID c, const struct dcloth_surf *s, double h, double extra);
 
 #endif

@@ -142,8 +142,8 @@ typedef struct dClothStepStats {
                                 (core.newton is the last solve's)             */
     int cg_all;              /* CG iterations of all the step's solves        */
     int edge_contacts;       /* vertex contacts set by the links' tests against
-                                the edges of boxes and trimeshes whose
-                                triangle tests are off                        */
+                                the edges of boxes, trimeshes and convexes
+                                whose triangle tests are off                  */
 } dClothStepStats;
 
 /* Stats of the last dClothStep. */
@@ -236,16 +236,16 @@ cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dReal *points, i
 /* Triangle tests (libccd) for geom g on (enable nonzero, the default) or
  * off. They keep a box's, capsule's, cylinder's, convex's or trimesh's edges
  * and corners from passing between the cloth's vertices; off, g gets vertex
- * contacts, and a box or trimesh the link tests below, which is cheaper (a
+ * contacts, and a box, trimesh or convex the link tests below, cheaper (a
  * 1000-triangle trimesh under an 81x81 cloth: README) and enough where no
  * edge pokes into a triangle. Other classes have vertex contacts only either
  * way. Forget a geom (enable it) before destroying it. */
 cloth_status dClothSetTriangleTests(dClothID c, dGeomID g, int enable);
 int dClothGetTriangleTests(dClothID c, dGeomID g);
 
-/* Link tests for a box or trimesh g whose triangle tests are off, on (the default) or off (vertex
- * contacts only): a link nearing an edge holds its ends on the plane through it (docs/contacts.md).
- * Forget a geom (enable it) before destroying it. */
+/* Link tests for a box, trimesh or convex (points handed over) g whose triangle tests are off, on (the
+ * default) or off (vertex contacts only): a link nearing an edge holds its ends on the plane through it
+ * (docs/contacts.md). Forget a geom (enable it) before destroying it. */
 cloth_status dClothSetEdgeTests(dClothID c, dGeomID g, int enable);
 int dClothGetEdgeTests(dClothID c, dGeomID g);
 
