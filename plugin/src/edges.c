@@ -240,10 +240,9 @@ static int grid_build(dClothID c, int nt, tri_grid *gr)
     return 0;
 }
 
-/* Link [a, b] against the triangles of gr near it, within reach r: 1 if
- * its middle is nearer than its ends (then *d2, p on the link and q on the
- * geom), 0 if not or if the link meets the geom. stamp: a number new to
- * this link, so each triangle is measured once. */
+/* Link [a, b] against gr's triangles within reach r: 1 if its middle is
+ * nearer than its ends (*d2, p on the link, q on the geom), 0 if not or if
+ * it meets the geom; stamp, new per link, measures each triangle once. */
 static int link_query(const dClothID c, const tri_grid *gr, int stamp, const double *a, const double *b, double r,
                       double *d2, double p[3], double q[3])
 {
