@@ -170,6 +170,8 @@ static void null_cloth(void)
               dClothReadState(NULL, NULL, NULL, -1, NULL, -1) == CLOTH_EINVAL,
           "state files of NULL accepted");
     CHECK(dClothGetTriangleTests(NULL, 0) == 0, "dClothGetTriangleTests(NULL) is not 0");
+    CHECK(dClothSetEdgeTests(NULL, 0, 1) == CLOTH_EINVAL && dClothGetEdgeTests(NULL, 0) == 0,
+          "dClothSetEdgeTests(NULL) accepted or dClothGetEdgeTests(NULL) not 0");
     CHECK(dClothIsSleeping(NULL) == 0, "dClothIsSleeping(NULL) is not 0");
     dClothWake(NULL);
     dClothDestroy(NULL);
@@ -250,8 +252,8 @@ static void walk(scene *s)
         d.cloth.solver.cg_max_iterations = 400;
         if (!CHECK(dClothCreate(s->world, s->space, &d, &cl[k], NULL) == CLOTH_OK, "walk cloth")) return;
     }
-    int tri_on[2][5]; /* what dClothSetTriangleTests made each geom's (case 17's and 25's order) */
-    for (int k = 0; k < 10; k++) tri_on[k / 5][k % 5] = 1;
+    int tri_on[2][5], edge_on[2][5]; /* what case 17 made each geom's tests (17's and 25's order) */
+    for (int k = 0; k < 10; k++) tri_on[k / 5][k % 5] = edge_on[k / 5][k % 5] = 1;
     rng g = rng_seed(0x9a1cu);
     for (int it = 0; it < 1000; it++) {
         int ci = (int)(rng_u64(&g) % 2);
@@ -335,6 +337,10 @@ static void walk(scene *s)
             int enable = (int)(rng_u64(&g) % 3);
             st = dClothSetTriangleTests(c, gg, enable);
             if (st == CLOTH_OK) tri_on[ci][k] = enable != 0;
+            /* the links' edge tests where triangle tests are off (as by default): the walk unchanged */
+            cloth_status se = dClothSetEdgeTests(c, gg, enable == 0);
+            CHECK(se == (gg ? CLOTH_OK : CLOTH_EINVAL), "call %d: dClothSetEdgeTests gave %d", it, (int)se);
+            if (se == CLOTH_OK) edge_on[ci][k] = enable == 0;
             break;
         }
         case 16: { /* save, then restore into itself (nothing changes) or the other cloth (another size) */
@@ -437,8 +443,9 @@ static void walk(scene *s)
         case 25: { /* triangle tests as case 17 left them, for none, a geom it sets, or one it never does */
             unsigned k = (unsigned)(rng_u64(&g) % 5);
             dGeomID gg = k == 0 ? 0 : k == 1 ? s->box : k == 2 ? s->mesh : k == 3 ? s->sph : s->cap;
-            int on = dClothGetTriangleTests(c, gg);
+            int on = dClothGetTriangleTests(c, gg), edges = dClothGetEdgeTests(c, gg);
             CHECK(on == (gg ? tri_on[ci][k] : 0), "call %d: dClothGetTriangleTests of geom %u gave %d", it, k, on);
+            CHECK(edges == (gg ? edge_on[ci][k] : 0), "call %d: dClothGetEdgeTests of geom %u gave %d", it, k, edges);
             break;
         }
         case 19: /* hold or stop on a failed step, or a mode that does not exist */
