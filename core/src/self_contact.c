@@ -1,10 +1,11 @@
 /* Self-contact inside the Newton step: see self_contact.h. */
+#include <limits.h>
 #include <math.h>
-#include <stdint.h>
 #include <stdlib.h>
-#include <string.h>
 #include "self_contact.h"
 #include "ccd.h"
+#include "pair_apart.h"
+#include "sweep_grid.h"
 #include "vec3.h"
 
 /* A touch is a pair within this share of the thickness when coplanar (ccd.h);
@@ -12,46 +13,43 @@
 #define SELF_CONTACT_TOUCH 1e-3
 #define SELF_CONTACT_STOP 0.5
 
-/* Primitives of one kind (triangles or edges) filed in a hashed grid */
-typedef struct prim_set {
-    int k, count;            /* corners per primitive, primitives */
-    const int *idx;          /* k count corners */
-    int *head;               /* nbucket: first entry, -1 none */
-    int *ent, *next;         /* 8 count entries: primitive and next in its bucket */
-    int *big, nbig;          /* boxes over a cell wide: every query meets them */
-    double *box;             /* 6 count: the boxes filed */
-} prim_set;
+/* The candidate pairs are those whose boxes at reference positions xr come
+ * within D + 2 r: while every vertex stays within r of xr (each axis), they
+ * hold every pair within D, and every touch of a motion that stays there. */
+#define SELF_CONTACT_SKIN 1.0 /* r beyond the motion asked for, in thicknesses */
+
+/* A growable list of index pairs */
+typedef struct pair_list {
+    int *v, n, cap;
+} pair_list;
 
 struct self_contact {
-    int n, nbucket;
-    double D, cell, kappa;
-    prim_set tri, edge;
+    int n, ntri, nedge;
+    double D, kappa;
+    const int *tri;          /* 3 ntri corners, kept by pointer */
     int *edges;              /* 2 per edge of the triangles */
-    int *stamp, visit;       /* per primitive: the last query that met it */
-    int *cand, ncand;        /* a query's primitives */
+    sweep_grid *grid;        /* the broadphase of a rebuild */
+    double *box;             /* 6 per triangle or edge: boxes */
+    double *frame;           /* 12 per triangle: its frame at the evaluation (pair_apart.h) */
+    double *xr, r;           /* the candidates' reference positions and reach; r < 0: none */
+    pair_list vt, ee;        /* candidates: (vertex, triangle), (edge, later edge) */
+    self_contact_work work;
     cloth *owner;            /* the cloth whose steps feel it, or NULL */
 };
 
-static int set_alloc(prim_set *p, int k, int count, const int *idx, int nbucket)
+static int pair_reserve(pair_list *l, int more)
 {
-    p->k = k;
-    p->count = count;
-    p->idx = idx;
-    p->head = malloc((size_t)nbucket * sizeof *p->head);
-    p->ent = malloc(8 * (size_t)count * sizeof *p->ent);
-    p->next = malloc(8 * (size_t)count * sizeof *p->next);
-    p->big = malloc((size_t)count * sizeof *p->big);
-    p->box = malloc(6 * (size_t)count * sizeof *p->box);
-    return p->head && p->ent && p->next && p->big && p->box;
-}
-
-static void set_free(prim_set *p)
-{
-    free(p->head);
-    free(p->ent);
-    free(p->next);
-    free(p->big);
-    free(p->box);
+    if (l->n + more <= l->cap) return 0;
+    int cap = l->cap ? l->cap : 64;
+    while (cap < l->n + more) {
+        if (cap > INT_MAX / 4) return -1;
+        cap *= 2;
+    }
+    int *v = realloc(l->v, 2 * (size_t)cap * sizeof *v);
+    if (!v) return -1;
+    l->v = v;
+    l->cap = cap;
+    return 0;
 }
 
 static int cmp_edge(const void *a, const void *b)
@@ -63,7 +61,7 @@ static int cmp_edge(const void *a, const void *b)
 /* The triangles' edges, each once (ends ascending), into *out; their number, -1 out of memory */
 static int edges_of(int ntri, const int *tri, int **out)
 {
-    int *e = malloc(6 * (size_t)ntri * sizeof *e), m = 0;
+    int *e = malloc(6 * (size_t)ntri * sizeof *e + 1), m = 0;
     if (!e) return -1;
     for (int t = 0; t < 3 * ntri; t++) {
         int a = tri[t], b = tri[t % 3 == 2 ? t - 2 : t + 1];
@@ -81,24 +79,27 @@ static int edges_of(int ntri, const int *tri, int **out)
     return m;
 }
 
-self_contact *self_contact_create(int n, int ntri, const int *tri, double thickness, double cell)
+self_contact *self_contact_create(int n, int ntri, const int *tri, double thickness)
 {
     self_contact *s = calloc(1, sizeof *s);
     if (!s) return NULL;
     s->n = n;
+    s->ntri = ntri;
+    s->tri = tri;
     s->D = thickness;
-    s->cell = cell;
-    s->nbucket = 4 * ntri + 1;
-    int ne = tri ? edges_of(ntri, tri, &s->edges) : -1;
-    int most = ne > ntri ? ne : ntri;
-    s->stamp = malloc((size_t)(most > 0 ? most : 1) * sizeof *s->stamp);
-    s->cand = malloc((size_t)(most > 0 ? most : 1) * sizeof *s->cand);
-    if (ne < 0 || !s->stamp || !s->cand || !set_alloc(&s->tri, 3, ntri, tri, s->nbucket) ||
-        !set_alloc(&s->edge, 2, ne, s->edges, s->nbucket)) {
+    s->r = -1.0;
+    s->nedge = tri ? edges_of(ntri, tri, &s->edges) : -1;
+    int most = s->nedge > ntri ? s->nedge : ntri;
+    s->box = malloc(6 * (size_t)(most > 0 ? most : 1) * sizeof *s->box);
+    s->xr = malloc(3 * (size_t)(n > 0 ? n : 1) * sizeof *s->xr);
+    s->frame = malloc(12 * (size_t)(ntri > 0 ? ntri : 1) * sizeof *s->frame);
+    s->grid = sweep_grid_create();
+    /* room for a crumpled sheet's candidates, so that steps seldom allocate */
+    if (s->nedge < 0 || !s->box || !s->xr || !s->frame || !s->grid || pair_reserve(&s->vt, 8 * n) ||
+        pair_reserve(&s->ee, 8 * n)) {
         self_contact_destroy(s);
         return NULL;
     }
-    for (int t = 0; t < most; t++) s->stamp[t] = -1;
     return s;
 }
 
@@ -106,11 +107,13 @@ void self_contact_destroy(self_contact *s)
 {
     if (!s) return;
     if (s->owner) s->owner->self_contact = NULL;
-    set_free(&s->tri);
-    set_free(&s->edge);
+    sweep_grid_destroy(s->grid);
     free(s->edges);
-    free(s->stamp);
-    free(s->cand);
+    free(s->box);
+    free(s->xr);
+    free(s->frame);
+    free(s->vt.v);
+    free(s->ee.v);
     free(s);
 }
 
@@ -129,6 +132,8 @@ void self_contact_unbind_cloth(cloth *c)
     c->self_contact = NULL;
 }
 
+self_contact_work self_contact_get_work(const self_contact *s) { return s->work; }
+
 /* b''(D / 2), the same for every D: 2 ln 2 + 4 + 1 */
 static double curvature_at_half(void) { return 2.0 * log(2.0) + 4.0 + 1.0; }
 
@@ -141,101 +146,133 @@ void self_contact_begin(self_contact *s, const cloth *c, double cfac)
     s->kappa = mt / c->n / (cfac * cfac * curvature_at_half());
 }
 
-static long cell_index(const self_contact *s, double u) { return (long)floor(u / s->cell); }
-
-static int bucket(const self_contact *s, long i, long j, long k)
-{
-    uint64_t h = (uint64_t)i * 73856093u ^ (uint64_t)j * 19349663u ^ (uint64_t)k * 83492791u;
-    return (int)(h % (uint64_t)s->nbucket);
-}
-
-/* The box over primitive j's corners at x0 and x1 (x1 NULL: x0 only) into bx */
-static void prim_box(const prim_set *p, int j, const double *x0, const double *x1, double *bx)
+/* The box over the k corners idx at x0 and x1 (x1 NULL: x0 only), widened by pad, into bx */
+static void corners_box(const int *idx, int k, const double *x0, const double *x1, double pad, double *bx)
 {
     for (int a = 0; a < 3; a++) {
         bx[a] = HUGE_VAL;
         bx[3 + a] = -HUGE_VAL;
     }
-    for (int k = 0; k < p->k; k++)
+    for (int j = 0; j < k; j++)
         for (int f = 0; f < (x1 ? 2 : 1); f++) {
-            const double *q = (f ? x1 : x0) + 3 * p->idx[p->k * j + k];
+            const double *q = (f ? x1 : x0) + 3 * idx[j];
             for (int a = 0; a < 3; a++) {
                 bx[a] = q[a] < bx[a] ? q[a] : bx[a];
                 bx[3 + a] = q[a] > bx[3 + a] ? q[a] : bx[3 + a];
             }
         }
+    for (int a = 0; a < 3; a++) {
+        bx[a] -= pad;
+        bx[3 + a] += pad;
+    }
 }
 
-/* File every primitive of p by its box over x0 and x1, widened by pad: into
- * the cells it overlaps, or the big list. */
-static void file_set(const self_contact *s, prim_set *p, const double *x0, const double *x1, double pad)
+/* Boxes a and b within pad of each other on every axis */
+static int near_boxes(const double *a, const double *b, double pad)
 {
-    for (int b = 0; b < s->nbucket; b++) p->head[b] = -1;
-    int nent = 0;
-    p->nbig = 0;
-    for (int j = 0; j < p->count; j++) {
-        double *bx = p->box + 6 * (size_t)j;
-        prim_box(p, j, x0, x1, bx);
-        int wide = 0;
-        for (int a = 0; a < 3; a++) {
-            bx[a] -= pad;
-            bx[3 + a] += pad;
-            wide = wide || !(bx[3 + a] - bx[a] <= s->cell);
+    return a[0] - pad <= b[3] && b[0] - pad <= a[3] && a[1] - pad <= b[4] && b[1] - pad <= a[4] &&
+           a[2] - pad <= b[5] && b[2] - pad <= a[5];
+}
+
+/* Appends (a, b) for the m primitives b of cand above from with none of their kb corners
+ * among the ku corners u, b ascending; -1 out of memory */
+static int append(pair_list *l, int a, const int *cand, int m, const int *idx, int kb, const int *u, int ku, int from)
+{
+    if (pair_reserve(l, m) < 0) return -1;
+    int first = l->n;
+    for (int c = 0; c < m; c++) {
+        const int *bv = idx + kb * cand[c];
+        int shared = cand[c] <= from;
+        for (int i = 0; i < kb; i++)
+            for (int j = 0; j < ku; j++) shared = shared || bv[i] == u[j];
+        if (shared) continue;
+        int j = l->n++;
+        for (; j > first && l->v[2 * j - 1] > cand[c]; j--) {
+            l->v[2 * j] = a;
+            l->v[2 * j + 1] = l->v[2 * j - 1];
         }
-        if (wide) {
-            p->big[p->nbig++] = j;
-            continue;
+        l->v[2 * j] = a;
+        l->v[2 * j + 1] = cand[c];
+    }
+    return 0;
+}
+
+static double touch(const double *x0, const double *x1, const int *v, int pt, double eta);
+
+/* The four vertices of pair i of the list (vertex-triangle, or with ee edge-edge) into v */
+static void pair_vertices(const self_contact *s, int ee, int i, int *v)
+{
+    const pair_list *l = ee ? &s->ee : &s->vt;
+    int a = l->v[2 * i], t = l->v[2 * i + 1];
+    const int *bv = (ee ? s->edges : s->tri) + (ee ? 2 : 3) * t;
+    v[0] = ee ? s->edges[2 * a] : a;
+    v[1] = ee ? s->edges[2 * a + 1] : bv[0];
+    v[2] = bv[ee ? 0 : 1];
+    v[3] = bv[ee ? 1 : 2];
+}
+
+/* The pairs of the vertices and triangles (ee 0) or of the edges and later edges (ee 1)
+ * whose boxes over x0 and x1 (x1 NULL: x0 only) come within pad: listed; with first, each
+ * query's swept from x0 to x1 for the first touch within pad (into *first) and dropped */
+static int list_pairs(self_contact *s, int ee, const double *x0, const double *x1, double pad, double *first)
+{
+    const int *idx = ee ? s->edges : s->tri;
+    int k = ee ? 2 : 3, nf = ee ? s->nedge : s->ntri;
+    pair_list *l = ee ? &s->ee : &s->vt;
+    for (int t = 0; t < nf; t++) corners_box(idx + k * t, k, x0, x1, pad, s->box + 6 * (size_t)t);
+    if (sweep_grid_build(s->grid, s->box, nf) < 0) return -1;
+    for (int a = 0; a < (ee ? s->nedge : s->n); a++) {
+        const int *cand, *u = ee ? idx + 2 * a : &a;
+        double q[6];
+        corners_box(u, ee ? 2 : 1, x0, x1, 0.0, q);
+        int m = sweep_grid_query(s->grid, q, &cand);
+        if (append(l, a, cand, m, idx, k, u, ee ? 2 : 1, ee ? a : -1) < 0) return -1;
+        for (int i = 0; first && i < l->n; i++) {
+            int v[4];
+            pair_vertices(s, ee, i, v);
+            *first = fmin(*first, touch(x0, x1, v, !ee, pad));
         }
-        for (long i = cell_index(s, bx[0]); i <= cell_index(s, bx[3]); i++)
-            for (long k = cell_index(s, bx[1]); k <= cell_index(s, bx[4]); k++)
-                for (long l = cell_index(s, bx[2]); l <= cell_index(s, bx[5]); l++) {
-                    int b = bucket(s, i, k, l);
-                    p->ent[nent] = j;
-                    p->next[nent] = p->head[b];
-                    p->head[b] = nent++;
-                }
+        if (first) l->n = 0;
     }
+    return 0;
 }
 
-static int overlaps(const double *a, const double *b)
+/* The largest move of a vertex from xr to x, on any axis (HUGE_VAL: not finite) */
+static double reach_to(const self_contact *s, const double *x)
 {
-    return a[0] <= b[3] && b[0] <= a[3] && a[1] <= b[4] && b[1] <= a[4] && a[2] <= b[5] && b[2] <= a[5];
+    double r = 0.0;
+    for (int k = 0; k < 3 * s->n; k++) {
+        double d = fabs(x[k] - s->xr[k]);
+        if (!(d <= r)) r = d == d ? d : HUGE_VAL;
+    }
+    return r;
 }
 
-static void take(self_contact *s, const prim_set *p, int j, const double *q, int from)
+/* Candidates that cover x0 and x1 (x1 NULL: x0 only): kept while both are within reach,
+ * else listed from their midpoint. Returns 0; 1 when x0 -> x1 moves a vertex over twice the
+ * skin (none listed: sweep it directly); -1 out of memory (none listed). */
+static int candidates(self_contact *s, const double *x0, const double *x1)
 {
-    if (j <= from || s->stamp[j] == s->visit || !overlaps(p->box + 6 * (size_t)j, q)) return;
-    s->stamp[j] = s->visit;
-    s->cand[s->ncand++] = j;
-}
-
-/* The primitives of p filed whose box overlaps box q (6), above index from and
- * with neither u nor v as a corner, into s->cand; returns their number. */
-static int gather(self_contact *s, const prim_set *p, const double *q, int from, int u, int v)
-{
-    s->ncand = 0;
-    if (++s->visit == INT32_MAX) {
-        int most = s->tri.count > s->edge.count ? s->tri.count : s->edge.count;
-        for (int t = 0; t < most; t++) s->stamp[t] = -1;
-        s->visit = 0;
+    if (s->r >= 0.0 && reach_to(s, x0) <= s->r && (!x1 || reach_to(s, x1) <= s->r)) return 0;
+    double half = 0.0;
+    for (int k = 0; x1 && k < 3 * s->n; k++) {
+        double d = 0.5 * fabs(x1[k] - x0[k]);
+        if (!(d <= half)) half = d == d ? d : HUGE_VAL;
     }
-    for (int e = 0; e < p->nbig; e++) take(s, p, p->big[e], q, from);
-    if (!(q[3] - q[0] <= s->cell && q[4] - q[1] <= s->cell && q[5] - q[2] <= s->cell)) {
-        for (int t = 0; t < p->count; t++) take(s, p, t, q, from);
-    } else {
-        for (long i = cell_index(s, q[0]); i <= cell_index(s, q[3]); i++)
-            for (long j = cell_index(s, q[1]); j <= cell_index(s, q[4]); j++)
-                for (long k = cell_index(s, q[2]); k <= cell_index(s, q[5]); k++)
-                    for (int e = p->head[bucket(s, i, j, k)]; e >= 0; e = p->next[e]) take(s, p, p->ent[e], q, from);
+    if (half > SELF_CONTACT_SKIN * s->D) return 1;
+    for (int k = 0; k < 3 * s->n; k++) s->xr[k] = x1 ? 0.5 * (x0[k] + x1[k]) : x0[k];
+    s->r = half + SELF_CONTACT_SKIN * s->D;
+    s->vt.n = s->ee.n = 0;
+    s->work.rebuilds++;
+    /* a box within D + 2 r of another at xr may be within D of it within r of xr */
+    double pad = s->D + 2.0 * s->r;
+    if (list_pairs(s, 0, s->xr, NULL, pad, NULL) < 0 || list_pairs(s, 1, s->xr, NULL, pad, NULL) < 0) {
+        s->r = -1.0;
+        s->vt.n = s->ee.n = 0;
+        return -1;
     }
-    int m = 0;
-    for (int c = 0; c < s->ncand; c++) {
-        const int *tv = p->idx + p->k * s->cand[c];
-        int shared = 0;
-        for (int k = 0; k < p->k; k++) shared = shared || tv[k] == u || tv[k] == v;
-        if (!shared) s->cand[m++] = s->cand[c];
-    }
-    return s->ncand = m;
+    s->work.candidates = s->vt.n + s->ee.n;
+    return 0;
 }
 
 /* Add h n n^T to A's diagonal block of vertex i */
@@ -282,42 +319,60 @@ static double pair_at(const self_contact *s, const int *v, int edge_edge, const 
     return pair_terms(s, v, c, x, cfac, b, A);
 }
 
-static double vertex_triangle(self_contact *s, const double *x, double cfac, double *b, bsr *A)
+/* Whether point p is within pad of box bx on every axis */
+static int point_near(const double *p, const double *bx, double pad)
 {
-    double E = 0.0;
-    for (int p = 0; p < s->n; p++) {
-        const double *xp = x + 3 * p;
-        double q[6] = {xp[0], xp[1], xp[2], xp[0], xp[1], xp[2]};
-        int m = gather(s, &s->tri, q, -1, p, p);
-        for (int k = 0; k < m; k++) {
-            const int *tv = s->tri.idx + 3 * s->cand[k], v[4] = {p, tv[0], tv[1], tv[2]};
-            E += pair_at(s, v, 0, x, cfac, b, A);
-        }
-    }
-    return E;
+    return bx[0] - pad <= p[0] && p[0] <= bx[3] + pad && bx[1] - pad <= p[1] && p[1] <= bx[4] + pad &&
+           bx[2] - pad <= p[2] && p[2] <= bx[5] + pad;
 }
 
-static double edge_edge(self_contact *s, const double *x, double cfac, double *b, bsr *A)
+/* Whether candidate i (vertex-triangle, or with ee edge-edge) may be within D at x, its four
+ * vertices into v; the boxes at x are in s->box, the triangles' frames in s->frame */
+static int pair_near(const self_contact *s, int ee, int i, const double *x, int *v)
+{
+    const pair_list *l = ee ? &s->ee : &s->vt;
+    int a = l->v[2 * i], t = l->v[2 * i + 1];
+    if (ee) {
+        const int *e = s->edges + 2 * a, *f = s->edges + 2 * t;
+        if (!near_boxes(s->box + 6 * (size_t)a, s->box + 6 * (size_t)t, s->D)) return 0;
+        v[0] = e[0], v[1] = e[1], v[2] = f[0], v[3] = f[1];
+        return !pair_apart_edges(x + 3 * v[0], x + 3 * v[1], x + 3 * v[2], x + 3 * v[3], s->D);
+    }
+    const int *tv = s->tri + 3 * t;
+    if (!point_near(x + 3 * a, s->box + 6 * (size_t)t, s->D)) return 0;
+    v[0] = a, v[1] = tv[0], v[2] = tv[1], v[3] = tv[2];
+    return !pair_apart_point_triangle(x + 3 * a, x + 3 * v[1], x + 3 * v[2], x + 3 * v[3], s->frame + 12 * (size_t)t,
+                                      s->D);
+}
+
+/* The terms of the candidate pairs (vertex-triangle, or with ee edge-edge) within D at x */
+static double pairs_at(self_contact *s, int ee, const double *x, double cfac, double *b, bsr *A)
 {
     double E = 0.0;
-    for (int e = 0; e < s->edge.count; e++) {
-        const int *ev = s->edges + 2 * e;
-        double q[6];
-        prim_box(&s->edge, e, x, NULL, q);
-        int m = gather(s, &s->edge, q, e, ev[0], ev[1]);
-        for (int k = 0; k < m; k++) {
-            const int *fv = s->edges + 2 * s->cand[k], v[4] = {ev[0], ev[1], fv[0], fv[1]};
-            E += pair_at(s, v, 1, x, cfac, b, A);
-        }
+    int v[4], np = ee ? s->ee.n : s->vt.n;
+    for (int i = 0; i < np; i++) {
+        if (!pair_near(s, ee, i, x, v)) continue;
+        double e = pair_at(s, v, ee, x, cfac, b, A);
+        s->work.tested++;
+        s->work.active += e > 0.0;
+        E += e;
     }
     return E;
 }
 
 double self_contact_eval(self_contact *s, const double *x, double cfac, double *b, bsr *A)
 {
-    file_set(s, &s->tri, x, NULL, s->D);
-    file_set(s, &s->edge, x, NULL, s->D);
-    return vertex_triangle(s, x, cfac, b, A) + edge_edge(s, x, cfac, b, A);
+    s->work.evals++;
+    s->work.tested = s->work.active = 0;
+    if (candidates(s, x, NULL) < 0) return NAN;
+    for (int t = 0; t < s->ntri; t++) {
+        const int *tv = s->tri + 3 * t;
+        corners_box(tv, 3, x, NULL, 0.0, s->box + 6 * (size_t)t);
+        pair_apart_frame(x + 3 * tv[0], x + 3 * tv[1], x + 3 * tv[2], s->frame + 12 * (size_t)t);
+    }
+    double E = pairs_at(s, 0, x, cfac, b, A);
+    for (int e = 0; e < s->nedge; e++) corners_box(s->edges + 2 * e, 2, x, NULL, 0.0, s->box + 6 * (size_t)e);
+    return E + pairs_at(s, 1, x, cfac, b, A);
 }
 
 /* The first touch's time over x0 -> x1 of the four vertices v, a point and
@@ -335,30 +390,50 @@ static double touch(const double *x0, const double *x1, const int *v, int pt, do
     return h ? hit.t : HUGE_VAL;
 }
 
+/* The first touch over x0 -> x1 of the candidate pairs (vertex-triangle, or with ee
+ * edge-edge) whose swept boxes in box come within eta */
+static double first_touch(self_contact *s, int ee, const double *x0, const double *x1, double eta)
+{
+    const pair_list *l = ee ? &s->ee : &s->vt;
+    double first = HUGE_VAL, q[6];
+    for (int i = 0; i < l->n; i++) {
+        int a = l->v[2 * i], t = l->v[2 * i + 1], v[4];
+        if (ee) {
+            if (!near_boxes(s->box + 6 * (size_t)a, s->box + 6 * (size_t)t, eta)) continue;
+        } else {
+            corners_box(&a, 1, x0, x1, 0.0, q);
+            if (!near_boxes(q, s->box + 6 * (size_t)t, eta)) continue;
+        }
+        pair_vertices(s, ee, i, v);
+        first = fmin(first, touch(x0, x1, v, !ee, eta));
+    }
+    return first;
+}
+
+/* The first touch over x0 -> x1, the pairs found by their swept boxes alone (no list kept) */
+static double sweep_direct(self_contact *s, const double *x0, const double *x1, double eta)
+{
+    double first = HUGE_VAL;
+    s->r = -1.0;
+    s->vt.n = s->ee.n = 0;
+    if (list_pairs(s, 0, x0, x1, eta, &first) < 0 || list_pairs(s, 1, x0, x1, eta, &first) < 0) return -1.0;
+    return first;
+}
+
 double self_contact_max_step(self_contact *s, const double *x0, const double *x1)
 {
-    double eta = SELF_CONTACT_TOUCH * s->D, first = HUGE_VAL, q[6];
-    file_set(s, &s->tri, x0, x1, eta);
-    file_set(s, &s->edge, x0, x1, eta);
-    for (int p = 0; p < s->n; p++) {
-        for (int r = 0; r < 3; r++) {
-            q[r] = fmin(x0[3 * p + r], x1[3 * p + r]);
-            q[3 + r] = fmax(x0[3 * p + r], x1[3 * p + r]);
-        }
-        int m = gather(s, &s->tri, q, -1, p, p);
-        for (int k = 0; k < m; k++) {
-            const int *tv = s->tri.idx + 3 * s->cand[k], v[4] = {p, tv[0], tv[1], tv[2]};
-            first = fmin(first, touch(x0, x1, v, 1, eta));
-        }
-    }
-    for (int e = 0; e < s->edge.count; e++) {
-        const int *ev = s->edges + 2 * e;
-        prim_box(&s->edge, e, x0, x1, q);
-        int m = gather(s, &s->edge, q, e, ev[0], ev[1]);
-        for (int k = 0; k < m; k++) {
-            const int *fv = s->edges + 2 * s->cand[k], v[4] = {ev[0], ev[1], fv[0], fv[1]};
-            first = fmin(first, touch(x0, x1, v, 0, eta));
-        }
+    double eta = SELF_CONTACT_TOUCH * s->D, first;
+    s->work.sweeps++;
+    int how = candidates(s, x0, x1);
+    if (how < 0) return 0.0;
+    if (how > 0) {
+        first = sweep_direct(s, x0, x1, eta);
+        if (first < 0.0) return 0.0;
+    } else {
+        for (int t = 0; t < s->ntri; t++) corners_box(s->tri + 3 * t, 3, x0, x1, 0.0, s->box + 6 * (size_t)t);
+        first = first_touch(s, 0, x0, x1, eta);
+        for (int e = 0; e < s->nedge; e++) corners_box(s->edges + 2 * e, 2, x0, x1, 0.0, s->box + 6 * (size_t)e);
+        first = fmin(first, first_touch(s, 1, x0, x1, eta));
     }
     return first <= 1.0 ? SELF_CONTACT_STOP * first : 1.0;
 }

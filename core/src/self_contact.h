@@ -17,10 +17,17 @@
 
 typedef struct self_contact self_contact;
 
+/* The work done since creation (for tests and benchmarks) */
+typedef struct self_contact_work {
+    long evals, sweeps; /* self_contact_eval, self_contact_max_step calls */
+    long rebuilds;      /* candidate lists built (broadphase runs) */
+    int candidates;     /* pairs in the last list */
+    int tested, active; /* the last evaluation's pairs whose distance it computed; within D */
+} self_contact_work;
+
 /* The grid's triangles as selfcollision.c lists them (3 ntri corners, kept
- * by pointer; their edges are found here), thickness D, hash cell no smaller
- * than a triangle's box plus 2 D. NULL: out of memory. */
-self_contact *self_contact_create(int n, int ntri, const int *tri, double thickness, double cell);
+ * by pointer; their edges are found here), thickness D. NULL: out of memory. */
+self_contact *self_contact_create(int n, int ntri, const int *tri, double thickness);
 void self_contact_destroy(self_contact *s); /* NULL is fine; unbinds its cloth */
 
 /* Let the Newton steps of c feel s (s leaves the cloth it was bound to). */
@@ -31,12 +38,19 @@ void self_contact_unbind_cloth(cloth *c);
 /* A step's barrier stiffness, for dx/dv = cfac and the cloth's masses. */
 void self_contact_begin(self_contact *s, const cloth *c, double cfac);
 
-/* The barrier's energy at x; b (NULL: none) gets -cfac times its gradient
+/* Both below test only candidate pairs, listed by a broadphase at reference
+ * positions and kept while the positions asked about stay within their reach
+ * (self_contact.c), in vertex and edge order: the sums do not depend on the list. */
+
+/* The barrier's energy at x (NaN: out of memory); b (NULL: none) gets -cfac times its gradient
  * added, A (NULL: none) cfac^2 times its diagonal blocks. */
 double self_contact_eval(self_contact *s, const double *x, double cfac, double *b, bsr *A);
 
 /* The fraction in [0, 1] of the straight motion x0 -> x1 that stops short
- * of the first vertex-triangle or edge-edge touch (all of it when there is none). */
+ * of the first vertex-triangle or edge-edge touch (all of it when there is
+ * none; 0 out of memory). */
 double self_contact_max_step(self_contact *s, const double *x0, const double *x1);
+
+self_contact_work self_contact_get_work(const self_contact *s);
 
 #endif

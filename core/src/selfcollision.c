@@ -118,7 +118,7 @@ cloth_status cloth_self_collision_create(const cloth *c, double thickness, cloth
             for (int h = 0; h < 2; h++, t++)
                 for (int k = 0; k < 3; k++) s->tri[3 * t + k] = corners[h][k];
         }
-    s->contact = self_contact_create(s->n, s->ntri, s->tri, thickness, s->cell); /* after the triangles: their edges */
+    s->contact = self_contact_create(s->n, s->ntri, s->tri, thickness); /* after the triangles: their edges */
     if (!s->contact) {
         cloth_self_collision_destroy(s);
         return error_set(err, CLOTH_ENOMEM, "cloth_self_collision_create: out of memory");

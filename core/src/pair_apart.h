@@ -1,0 +1,23 @@
+/* Cheap proofs that a vertex-triangle or edge-edge pair is farther apart
+ * than a distance D: a unit axis along which the two primitives' projections
+ * are more than D apart bounds their distance from below. A test that
+ * returns 1 has found such an axis, with a relative margin for rounding;
+ * 0 proves nothing. */
+#ifndef ODECLOTH_PAIR_APART_H
+#define ODECLOTH_PAIR_APART_H
+
+/* Triangle (a, b, c)'s frame into f (12): its unit normal, then the unit
+ * normals of its sides (ab, bc, ca) in its plane, outward; zeros when it is
+ * degenerate (its tests then prove nothing). */
+void pair_apart_frame(const double *a, const double *b, const double *c, double *f);
+
+/* Point p beyond D of triangle (a, b, c), f its frame: off its plane or
+ * outside one of its sides. */
+int pair_apart_point_triangle(const double *p, const double *a, const double *b, const double *c, const double *f,
+                              double D);
+
+/* Segment ab beyond D of segment cd: along the normal of both, or along the
+ * normal to one from the other's first end. */
+int pair_apart_edges(const double *a, const double *b, const double *c, const double *d, double D);
+
+#endif
