@@ -150,14 +150,14 @@ static void case_fold(cloth *c)
     double mt = 0.0;
     for (int i = 0; i < NV; i++) mt += c->mass[i];
     double kappa = mt / NV / (CFAC * CFAC * (2.0 * log(2.0) + 5.0));
-    /* the layers 2.5 D apart (rebuild), brought to 0.6 D by moves within the list's reach
+    /* the layers 1.5 D apart (rebuild), brought to 0.6 D by moves within the list's regions
      * (kept), then jittered by 3 D (rebuild) */
-    fold(x, 2.5 * D);
+    fold(x, 1.5 * D);
     const long rebuilt[3] = {1, 0, 1};
     for (int m = 0; m < 3; m++) {
         for (int i = 0; i < NV; i++)
             for (int r = 0; r < 3; r++) {
-                double toward = m == 1 && r == 2 ? (i / N > N / 2 ? -0.95 * D : 0.95 * D) : 0.0;
+                double toward = m == 1 && r == 2 ? (i / N > N / 2 ? -0.45 * D : 0.45 * D) : 0.0;
                 y[3 * i + r] = x[3 * i + r] + toward + jitter(m == 0 ? 0.0 : m == 1 ? 0.04 * D : 3.0 * D);
             }
         long before = self_contact_get_work(s).rebuilds;
@@ -171,11 +171,11 @@ static void case_fold(cloth *c)
         CHECK(w.candidates < all / 2, "move %d: %d candidates of all %d pairs", m, w.candidates, all);
         memcpy(x, y, sizeof x);
     }
-    /* the top layer pushed through the bottom by a move within the list's reach (swept
-     * through the list), and by one beyond it (swept directly); then a rigid lift */
+    /* the top layer pushed through the bottom: swept through a list, and far (swept
+     * directly, no list); then a rigid lift */
     for (int far = 0; far < 2; far++) {
         memcpy(y, x, sizeof y);
-        for (int i = 0; i < NV; i++) y[3 * i + 2] += i / N > N / 2 ? (far ? -4.0 : -1.5) * D : 0.0;
+        for (int i = 0; i < NV; i++) y[3 * i + 2] += i / N > N / 2 ? (far ? -40.0 : -1.5) * D : 0.0;
         long before = self_contact_get_work(s).rebuilds;
         double first = brute_touch(edges, ne, x, y), share = self_contact_max_step(s, x, y);
         CHECK(first < 1.0 && share == 0.5 * first, "pushed %s: share %.17g, brute force's first touch %.17g",

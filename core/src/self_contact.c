@@ -1,6 +1,7 @@
 /* Self-contact inside the Newton step: see self_contact.h. */
 #include <limits.h>
 #include <math.h>
+#include <string.h>
 #include <stdlib.h>
 #include "self_contact.h"
 #include "ccd.h"
@@ -13,10 +14,12 @@
 #define SELF_CONTACT_TOUCH 1e-3
 #define SELF_CONTACT_STOP 0.5
 
-/* The candidate pairs are those whose boxes at reference positions xr come
- * within D + 2 r: while every vertex stays within r of xr (each axis), they
- * hold every pair within D, and every touch of a motion that stays there. */
-#define SELF_CONTACT_SKIN 1.0 /* r beyond the motion asked for, in thicknesses */
+/* The candidate pairs are those whose boxes over a region of each vertex (a
+ * box) come within D: while every vertex stays in its region, they hold every
+ * pair within D, and every touch of a motion that stays there. A motion's
+ * regions are its vertices' paths widened by the skin. */
+#define SELF_CONTACT_SKIN 1.0 /* thicknesses */
+#define SELF_CONTACT_LONG 16.0 /* a motion longer than this many thicknesses is swept without a list */
 
 /* A growable list of index pairs */
 typedef struct pair_list {
@@ -31,8 +34,14 @@ struct self_contact {
     sweep_grid *grid;        /* the broadphase of a rebuild */
     double *box;             /* 6 per triangle or edge: boxes */
     double *frame;           /* 12 per triangle: its frame at the evaluation (pair_apart.h) */
-    double *xr, r;           /* the candidates' reference positions and reach; r < 0: none */
+    double *lo, *hi;         /* 3 n each: the vertices' regions (boxes) the candidates cover */
+    int listed;              /* whether the candidates are listed */
     pair_list vt, ee;        /* candidates: (vertex, triangle), (edge, later edge) */
+    pair_list swept;         /* a direct sweep's pairs of one query */
+    pair_list near;          /* (kind, candidate) of the pairs the last evaluation did not prove apart */
+    double *xnear;           /* 3 n: its positions */
+    long near_at;            /* the list it used (rebuilds then) */
+    int near_ok;             /* whether near holds them all */
     self_contact_work work;
     cloth *owner;            /* the cloth whose steps feel it, or NULL */
 };
@@ -87,15 +96,16 @@ self_contact *self_contact_create(int n, int ntri, const int *tri, double thickn
     s->ntri = ntri;
     s->tri = tri;
     s->D = thickness;
-    s->r = -1.0;
     s->nedge = tri ? edges_of(ntri, tri, &s->edges) : -1;
     int most = s->nedge > ntri ? s->nedge : ntri;
     s->box = malloc(6 * (size_t)(most > 0 ? most : 1) * sizeof *s->box);
-    s->xr = malloc(3 * (size_t)(n > 0 ? n : 1) * sizeof *s->xr);
+    s->lo = malloc(3 * (size_t)(n > 0 ? n : 1) * sizeof *s->lo);
+    s->hi = malloc(3 * (size_t)(n > 0 ? n : 1) * sizeof *s->hi);
+    s->xnear = malloc(3 * (size_t)(n > 0 ? n : 1) * sizeof *s->xnear);
     s->frame = malloc(12 * (size_t)(ntri > 0 ? ntri : 1) * sizeof *s->frame);
     s->grid = sweep_grid_create();
     /* room for a crumpled sheet's candidates, so that steps seldom allocate */
-    if (s->nedge < 0 || !s->box || !s->xr || !s->frame || !s->grid || pair_reserve(&s->vt, 8 * n) ||
+    if (s->nedge < 0 || !s->box || !s->lo || !s->hi || !s->xnear || !s->frame || !s->grid || pair_reserve(&s->vt, 8 * n) ||
         pair_reserve(&s->ee, 8 * n)) {
         self_contact_destroy(s);
         return NULL;
@@ -110,10 +120,14 @@ void self_contact_destroy(self_contact *s)
     sweep_grid_destroy(s->grid);
     free(s->edges);
     free(s->box);
-    free(s->xr);
+    free(s->lo);
+    free(s->hi);
     free(s->frame);
     free(s->vt.v);
     free(s->ee.v);
+    free(s->swept.v);
+    free(s->near.v);
+    free(s->xnear);
     free(s);
 }
 
@@ -199,10 +213,9 @@ static int append(pair_list *l, int a, const int *cand, int m, const int *idx, i
 
 static double touch(const double *x0, const double *x1, const int *v, int pt, double eta);
 
-/* The four vertices of pair i of the list (vertex-triangle, or with ee edge-edge) into v */
-static void pair_vertices(const self_contact *s, int ee, int i, int *v)
+/* The four vertices of pair i of list l (vertex-triangle, or with ee edge-edge) into v */
+static void pair_vertices(const self_contact *s, const pair_list *l, int ee, int i, int *v)
 {
-    const pair_list *l = ee ? &s->ee : &s->vt;
     int a = l->v[2 * i], t = l->v[2 * i + 1];
     const int *bv = (ee ? s->edges : s->tri) + (ee ? 2 : 3) * t;
     v[0] = ee ? s->edges[2 * a] : a;
@@ -218,7 +231,7 @@ static int list_pairs(self_contact *s, int ee, const double *x0, const double *x
 {
     const int *idx = ee ? s->edges : s->tri;
     int k = ee ? 2 : 3, nf = ee ? s->nedge : s->ntri;
-    pair_list *l = ee ? &s->ee : &s->vt;
+    pair_list *l = first ? &s->swept : ee ? &s->ee : &s->vt;
     for (int t = 0; t < nf; t++) corners_box(idx + k * t, k, x0, x1, pad, s->box + 6 * (size_t)t);
     if (sweep_grid_build(s->grid, s->box, nf) < 0) return -1;
     for (int a = 0; a < (ee ? s->nedge : s->n); a++) {
@@ -229,7 +242,7 @@ static int list_pairs(self_contact *s, int ee, const double *x0, const double *x
         if (append(l, a, cand, m, idx, k, u, ee ? 2 : 1, ee ? a : -1) < 0) return -1;
         for (int i = 0; first && i < l->n; i++) {
             int v[4];
-            pair_vertices(s, ee, i, v);
+            pair_vertices(s, l, ee, i, v);
             *first = fmin(*first, touch(x0, x1, v, !ee, pad));
         }
         if (first) l->n = 0;
@@ -237,37 +250,35 @@ static int list_pairs(self_contact *s, int ee, const double *x0, const double *x
     return 0;
 }
 
-/* The largest move of a vertex from xr to x, on any axis (HUGE_VAL: not finite) */
-static double reach_to(const self_contact *s, const double *x)
+/* Whether every vertex of x is in its region */
+static int in_regions(const self_contact *s, const double *x)
 {
-    double r = 0.0;
-    for (int k = 0; k < 3 * s->n; k++) {
-        double d = fabs(x[k] - s->xr[k]);
-        if (!(d <= r)) r = d == d ? d : HUGE_VAL;
-    }
-    return r;
+    for (int k = 0; k < 3 * s->n; k++)
+        if (!(s->lo[k] <= x[k] && x[k] <= s->hi[k])) return 0;
+    return 1;
 }
 
-/* Candidates that cover x0 and x1 (x1 NULL: x0 only): kept while both are within reach,
- * else listed from their midpoint. Returns 0; 1 when x0 -> x1 moves a vertex over twice the
- * skin (none listed: sweep it directly); -1 out of memory (none listed). */
+/* Candidates that cover x0 and x1 (x1 NULL: x0 only): kept while both are in the regions,
+ * else listed for the motion x0 -> x1. Returns 0; 1 when that motion is longer than
+ * SELF_CONTACT_LONG (none listed: sweep it directly); -1 out of memory (none listed). */
 static int candidates(self_contact *s, const double *x0, const double *x1)
 {
-    if (s->r >= 0.0 && reach_to(s, x0) <= s->r && (!x1 || reach_to(s, x1) <= s->r)) return 0;
-    double half = 0.0;
-    for (int k = 0; x1 && k < 3 * s->n; k++) {
-        double d = 0.5 * fabs(x1[k] - x0[k]);
-        if (!(d <= half)) half = d == d ? d : HUGE_VAL;
+    if (s->listed && in_regions(s, x0) && (!x1 || in_regions(s, x1))) return 0;
+    const double *y = x1 ? x1 : x0;
+    double skin = SELF_CONTACT_SKIN * s->D, most = 0.0;
+    for (int k = 0; k < 3 * s->n; k++) {
+        double d = fabs(y[k] - x0[k]);
+        if (!(d <= most)) most = d == d ? d : HUGE_VAL;
     }
-    if (half > SELF_CONTACT_SKIN * s->D) return 1;
-    for (int k = 0; k < 3 * s->n; k++) s->xr[k] = x1 ? 0.5 * (x0[k] + x1[k]) : x0[k];
-    s->r = half + SELF_CONTACT_SKIN * s->D;
+    if (most > SELF_CONTACT_LONG * s->D) return 1;
+    for (int k = 0; k < 3 * s->n; k++) {
+        s->lo[k] = fmin(x0[k], y[k]) - skin;
+        s->hi[k] = fmax(x0[k], y[k]) + skin;
+    }
     s->vt.n = s->ee.n = 0;
     s->work.rebuilds++;
-    /* a box within D + 2 r of another at xr may be within D of it within r of xr */
-    double pad = s->D + 2.0 * s->r;
-    if (list_pairs(s, 0, s->xr, NULL, pad, NULL) < 0 || list_pairs(s, 1, s->xr, NULL, pad, NULL) < 0) {
-        s->r = -1.0;
+    s->listed = list_pairs(s, 0, s->lo, s->hi, s->D, NULL) == 0 && list_pairs(s, 1, s->lo, s->hi, s->D, NULL) == 0;
+    if (!s->listed) {
         s->vt.n = s->ee.n = 0;
         return -1;
     }
@@ -352,6 +363,11 @@ static double pairs_at(self_contact *s, int ee, const double *x, double cfac, do
     int v[4], np = ee ? s->ee.n : s->vt.n;
     for (int i = 0; i < np; i++) {
         if (!pair_near(s, ee, i, x, v)) continue;
+        if (s->near_ok) s->near_ok = pair_reserve(&s->near, 1) == 0;
+        if (s->near_ok) {
+            s->near.v[2 * s->near.n] = ee;
+            s->near.v[2 * s->near.n++ + 1] = i;
+        }
         double e = pair_at(s, v, ee, x, cfac, b, A);
         s->work.tested++;
         s->work.active += e > 0.0;
@@ -360,11 +376,29 @@ static double pairs_at(self_contact *s, int ee, const double *x, double cfac, do
     return E;
 }
 
+/* The terms of the pairs the last evaluation found near, at the same positions */
+static double near_again(self_contact *s, const double *x, double cfac, double *b, bsr *A)
+{
+    double E[2] = {0.0, 0.0};
+    for (int k = 0; k < s->near.n; k++) {
+        int ee = s->near.v[2 * k], v[4];
+        pair_vertices(s, ee ? &s->ee : &s->vt, ee, s->near.v[2 * k + 1], v);
+        E[ee] += pair_at(s, v, ee, x, cfac, b, A);
+    }
+    return E[0] + E[1];
+}
+
 double self_contact_eval(self_contact *s, const double *x, double cfac, double *b, bsr *A)
 {
+    size_t n3 = 3 * (size_t)s->n;
     s->work.evals++;
-    s->work.tested = s->work.active = 0;
     if (candidates(s, x, NULL) < 0) return NAN;
+    /* the matrix follows the residual at the same positions: their pairs again */
+    if (s->near_ok && s->near_at == s->work.rebuilds && !memcmp(x, s->xnear, n3 * sizeof *x))
+        return near_again(s, x, cfac, b, A);
+    s->work.tested = s->work.active = 0;
+    s->near.n = 0;
+    s->near_ok = 1;
     for (int t = 0; t < s->ntri; t++) {
         const int *tv = s->tri + 3 * t;
         corners_box(tv, 3, x, NULL, 0.0, s->box + 6 * (size_t)t);
@@ -372,7 +406,10 @@ double self_contact_eval(self_contact *s, const double *x, double cfac, double *
     }
     double E = pairs_at(s, 0, x, cfac, b, A);
     for (int e = 0; e < s->nedge; e++) corners_box(s->edges + 2 * e, 2, x, NULL, 0.0, s->box + 6 * (size_t)e);
-    return E + pairs_at(s, 1, x, cfac, b, A);
+    E += pairs_at(s, 1, x, cfac, b, A);
+    memcpy(s->xnear, x, n3 * sizeof *x);
+    s->near_at = s->work.rebuilds;
+    return E;
 }
 
 /* The first touch's time over x0 -> x1 of the four vertices v, a point and
@@ -404,7 +441,7 @@ static double first_touch(self_contact *s, int ee, const double *x0, const doubl
             corners_box(&a, 1, x0, x1, 0.0, q);
             if (!near_boxes(q, s->box + 6 * (size_t)t, eta)) continue;
         }
-        pair_vertices(s, ee, i, v);
+        pair_vertices(s, l, ee, i, v);
         first = fmin(first, touch(x0, x1, v, !ee, eta));
     }
     return first;
@@ -414,8 +451,8 @@ static double first_touch(self_contact *s, int ee, const double *x0, const doubl
 static double sweep_direct(self_contact *s, const double *x0, const double *x1, double eta)
 {
     double first = HUGE_VAL;
-    s->r = -1.0;
-    s->vt.n = s->ee.n = 0;
+    s->swept.n = 0;
+    s->work.direct++;
     if (list_pairs(s, 0, x0, x1, eta, &first) < 0 || list_pairs(s, 1, x0, x1, eta, &first) < 0) return -1.0;
     return first;
 }

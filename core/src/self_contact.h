@@ -21,6 +21,7 @@ typedef struct self_contact self_contact;
 typedef struct self_contact_work {
     long evals, sweeps; /* self_contact_eval, self_contact_max_step calls */
     long rebuilds;      /* candidate lists built (broadphase runs) */
+    long direct;        /* sweeps too long for a list, swept by a broadphase of their own */
     int candidates;     /* pairs in the last list */
     int tested, active; /* the last evaluation's pairs whose distance it computed; within D */
 } self_contact_work;
@@ -38,8 +39,8 @@ void self_contact_unbind_cloth(cloth *c);
 /* A step's barrier stiffness, for dx/dv = cfac and the cloth's masses. */
 void self_contact_begin(self_contact *s, const cloth *c, double cfac);
 
-/* Both below test only candidate pairs, listed by a broadphase at reference
- * positions and kept while the positions asked about stay within their reach
+/* Both below test only candidate pairs, listed by a broadphase for regions
+ * around the vertices and kept while the positions asked about stay in them
  * (self_contact.c), in vertex and edge order: the sums do not depend on the list. */
 
 /* The barrier's energy at x (NaN: out of memory); b (NULL: none) gets -cfac times its gradient

@@ -77,10 +77,28 @@ static size_t bucket_of(const sweep_grid *g, int64_t i, int64_t j, int64_t k)
     return (size_t)(h & (g->nbucket - 1));
 }
 
-static int cmp_double(const void *a, const void *b)
+/* The k-th smallest of v[0..m) (0-based), v reordered: quickselect, the pivot a median of three */
+static double kth_smallest(double *v, int m, int k)
 {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
+    int lo = 0, hi = m - 1;
+    while (lo < hi) {
+        double a = v[lo], b = v[lo + (hi - lo) / 2], c = v[hi];
+        double p = a < b ? (b < c ? b : a < c ? c : a) : (a < c ? a : b < c ? c : b);
+        int i = lo, j = hi;
+        while (i <= j) {
+            while (v[i] < p) i++;
+            while (v[j] > p) j--;
+            if (i <= j) {
+                double t = v[i];
+                v[i++] = v[j];
+                v[j--] = t;
+            }
+        }
+        if (k <= j) hi = j;
+        else if (k >= i) lo = i;
+        else return v[k];
+    }
+    return v[k];
 }
 
 /* The cell: the median of the boxes' largest sides (finite ones); and the
@@ -98,8 +116,7 @@ static double cell_size(sweep_grid *g)
         if (isfinite(s) && s > 0.0) g->side[m++] = s;
     }
     if (m == 0) return 1.0;
-    qsort(g->side, (size_t)m, sizeof *g->side, cmp_double);
-    return g->side[m / 2];
+    return kth_smallest(g->side, m, m / 2);
 }
 
 static int reserve(sweep_grid *g, int n)
