@@ -105,8 +105,8 @@ self_contact *self_contact_create(int n, int ntri, const int *tri, double thickn
     s->frame = malloc(12 * (size_t)(ntri > 0 ? ntri : 1) * sizeof *s->frame);
     s->grid = sweep_grid_create();
     /* room for a crumpled sheet's candidates, so that steps seldom allocate */
-    if (s->nedge < 0 || !s->box || !s->lo || !s->hi || !s->xnear || !s->frame || !s->grid || pair_reserve(&s->vt, 8 * n) ||
-        pair_reserve(&s->ee, 8 * n)) {
+    int ok = s->nedge >= 0 && s->box && s->lo && s->hi && s->xnear && s->frame && s->grid;
+    if (!ok || pair_reserve(&s->vt, 8 * n) || pair_reserve(&s->ee, 8 * n)) {
         self_contact_destroy(s);
         return NULL;
     }
