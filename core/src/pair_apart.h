@@ -1,8 +1,6 @@
-/* Cheap proofs that a vertex-triangle or edge-edge pair is farther apart
- * than a distance D: a unit axis along which the two primitives' projections
- * are more than D apart bounds their distance from below. A test that
- * returns 1 has found such an axis, with a relative margin for rounding;
- * 0 proves nothing. */
+/* Cheap proofs that a vertex-triangle or edge-edge pair is farther apart than
+ * D: an axis along which their projections are more than D apart (with a
+ * margin for rounding). 1: such an axis found; 0 proves nothing. */
 #ifndef ODECLOTH_PAIR_APART_H
 #define ODECLOTH_PAIR_APART_H
 

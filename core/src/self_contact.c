@@ -14,10 +14,9 @@
 #define SELF_CONTACT_TOUCH 1e-3
 #define SELF_CONTACT_STOP 0.5
 
-/* The candidate pairs are those whose boxes over a region of each vertex (a
- * box) come within D: while every vertex stays in its region, they hold every
- * pair within D, and every touch of a motion that stays there. A motion's
- * regions are its vertices' paths widened by the skin. */
+/* Candidate pairs: those whose vertices' regions (boxes: their paths widened
+ * by the skin) come within D; while every vertex stays in its region they hold
+ * every pair within D and every touch of a motion that stays there. */
 #define SELF_CONTACT_SKIN 1.0 /* thicknesses */
 #define SELF_CONTACT_LONG 16.0 /* a motion longer than this many thicknesses is swept without a list */
 
