@@ -3,6 +3,7 @@
 #ifndef ODECLOTH_INTERNAL_H
 #define ODECLOTH_INTERNAL_H
 
+#include <math.h>
 #include "odecloth/cloth.h"
 #include "bsr.h"
 #include "multigrid.h"
@@ -55,11 +56,24 @@ typedef struct link_topo {
     double rest;    /* l0 */
 } link_topo;
 
-/* The spring law of link e in its current region (plastic.c):
+/* The spring law of link e in its current region, inline for the links' loops:
  * sequential: (k_t, k_c, l0); interlaced elastic: (k_b, k_b, l0);
  * interlaced plastic: (k_s, k_b, l1). */
-spring_law seq_law(const cloth_material *m, double rest);
-spring_law int_law(const cloth_material *m, double rest, int plastic, double l1);
+static inline spring_law seq_law(const cloth_material *m, double rest)
+{
+    /* eq. 6-7: asymmetric, tension k_t, compression k_c << k_t; past the
+     * elongation limit (1 + delta) l0 stiffer by k_delta k_t (material.c) */
+    spring_law s = {m->k_t, m->k_c, rest, m->k_delta * m->k_t, (1.0 + m->delta) * rest};
+    return s;
+}
+
+static inline spring_law int_law(const cloth_material *m, double rest, int plastic, double l1)
+{
+    /* eq. 9-10: elastic bend; eq. 11-12: around the plastic rest length l1,
+     * unbending (d > l1) is resisted by the spreading stiffness k_s, further bending by k_b */
+    spring_law e = {m->k_b, m->k_b, rest, 0.0, HUGE_VAL}, p = {m->k_s, m->k_b, l1, 0.0, HUGE_VAL};
+    return plastic ? p : e;
+}
 
 /* The plastic rule for one interlaced link of current length d: updates
  * *plastic and *l1 (paper eq. 8-12). */

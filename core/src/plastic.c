@@ -1,27 +1,7 @@
-/* The plastic rule of interlaced links (paper eq. 8-12, paper.md sec. 3) and
- * the spring law of each link type and region. */
+/* The plastic rule of interlaced links (paper eq. 8-12, paper.md sec. 3);
+ * the spring law of each link type and region is inline in internal.h. */
 #include <math.h>
 #include "internal.h"
-
-spring_law seq_law(const cloth_material *m, double rest)
-{
-    /* eq. 6-7: asymmetric, tension k_t, compression k_c << k_t; past the
-     * elongation limit (1 + delta) l0 stiffer by k_delta k_t (material.c) */
-    spring_law s = {m->k_t, m->k_c, rest, m->k_delta * m->k_t, (1.0 + m->delta) * rest};
-    return s;
-}
-
-spring_law int_law(const cloth_material *m, double rest, int plastic, double l1)
-{
-    if (!plastic) {
-        spring_law s = {m->k_b, m->k_b, rest, 0.0, HUGE_VAL}; /* eq. 9-10: elastic bend */
-        return s;
-    }
-    /* eq. 11-12: around the plastic rest length l1, unbending (d > l1) is
-     * resisted by the spreading stiffness k_s, further bending by k_b. */
-    spring_law s = {m->k_s, m->k_b, l1, 0.0, HUGE_VAL};
-    return s;
-}
 
 /* Where the region is decided: by the current ratio d / l0 against alpha,
  * every time the rule runs (after each step), and, with memory, by the
