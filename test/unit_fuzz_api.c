@@ -337,7 +337,8 @@ static void walk(void)
                 nrm[r] = dval(&g, -1, 1);
                 pt[r] = rng_u64(&g) % 4 ? x[3 * vv + r] - rng_range(&g, -0.01, 0.01) : xd(&g);
             }
-            s = cloth_set_contact(c, vi, rng_u64(&g) % 12 ? nrm : NULL, rng_u64(&g) % 12 ? pt : NULL);
+            const double *pn = rng_u64(&g) % 12 ? nrm : NULL, *pp = rng_u64(&g) % 12 ? pt : NULL;
+            s = rng_u64(&g) % 3 ? cloth_set_contact(c, vi, pn, pp) : cloth_set_contact_second(c, vi, pn, pp);
             mutates = 0; /* a candidate changes nothing until a step */
             break;
         }
@@ -352,7 +353,19 @@ static void walk(void)
         case 10: cloth_release_all(c); break;
         case 11: {
             cloth_constraint k;
-            s = cloth_get_constraint(c, index_of(&g, n), rng_u64(&g) % 8 ? &k : NULL);
+            int two = 0;
+            double fa[3], fb[3];
+            if (rng_u64(&g) % 3) {
+                s = cloth_get_constraint(c, index_of(&g, n), rng_u64(&g) % 8 ? &k : NULL);
+            } else { /* the planes' forces add up to the constraint's */
+                int vi = index_of(&g, n);
+                s = cloth_get_contact_planes(c, vi, &k, &two, fa, fb);
+                if (s == CLOTH_OK) {
+                    cloth_constraint_force(c, vi, v3);
+                    for (int r = 0; r < 3; r++)
+                        CHECK(fabs(fa[r] + fb[r] - v3[r]) <= 1e-9 * (1.0 + fabs(v3[r])), "planes' forces sum off");
+                }
+            }
             mutates = 0;
             break;
         }

@@ -183,6 +183,9 @@ void cloth_destroy(cloth *c)
     free(c->cand);
     free(c->cand_on);
     free(c->cand_pull);
+    free(c->cand2);
+    free(c->cand2_on);
+    free(c->con1);
     free(c->f_ext);
     free(c->body);
     free(c->body_ws);
@@ -306,7 +309,10 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
     c->cand = calloc(6 * (size_t)n, sizeof *c->cand);
     c->cand_on = calloc((size_t)n, 1);
     c->cand_pull = malloc((size_t)n * sizeof *c->cand_pull);
-    if (!c->cand || !c->cand_on || !c->cand_pull) goto nomem;
+    c->cand2 = calloc(6 * (size_t)n, sizeof *c->cand2);
+    c->cand2_on = calloc((size_t)n, 1);
+    c->con1 = calloc((size_t)n, sizeof *c->con1);
+    if (!c->cand || !c->cand_on || !c->cand_pull || !c->cand2 || !c->cand2_on || !c->con1) goto nomem;
     for (int i = 0; i < n; i++) c->cand_pull[i] = INFINITY;
     c->clist = calloc((size_t)n, sizeof *c->clist);
     c->sl = malloc(9 * (size_t)c->n_seq * sizeof *c->sl);

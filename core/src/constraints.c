@@ -36,6 +36,7 @@ cloth_status cloth_set_constraint(cloth *c, const cloth_constraint *k)
     } else {
         kk.axis[0] = kk.axis[1] = kk.axis[2] = 0.0;
     }
+    if (c->cand2_on[k->vertex] >= 2) c->cand2_on[k->vertex] = 0; /* a second plane held ends with it */
     int was = c->con[k->vertex].ndof != 0, now = kk.ndof != 0;
     c->con[k->vertex] = kk;
     c->n_con += now - was;
@@ -58,7 +59,7 @@ cloth_status cloth_release(cloth *c, int vertex)
     if (!c) return CLOTH_EINVAL;
     cloth_constraint k = {.vertex = vertex, .ndof = 0};
     cloth_status s = cloth_set_constraint(c, &k);
-    if (s == CLOTH_OK) c->cand_on[vertex] = 0;
+    if (s == CLOTH_OK) c->cand_on[vertex] = c->cand2_on[vertex] = 0;
     return s;
 }
 
@@ -68,6 +69,7 @@ void cloth_release_all(cloth *c)
     memset(c->con, 0, (size_t)c->n * sizeof *c->con);
     memset(c->con_force, 0, 3 * (size_t)c->n * sizeof *c->con_force);
     memset(c->cand_on, 0, (size_t)c->n);
+    memset(c->cand2_on, 0, (size_t)c->n);
     c->n_con = 0;
     if (c->vbody)
         for (int i = 0; i < c->n; i++) c->vbody[i] = -1;

@@ -122,7 +122,13 @@ struct cloth {
     unsigned char *cand_on;    /* n: 1 a candidate, 2 made a plane, 3 let slide in a solve,
                                   8 a plane released (a candidate again), 9 made again,
                                   4 and 5 released for good, 6 a sliding candidate released,
-                                  7 a sticking one (contacts.c) */
+                                  7 a sticking one; with a second candidate, 10 a sliding
+                                  one released (a candidate again), 11 made again (contacts.c) */
+    double *cand2;             /* 6n: second candidates (cloth_set_contact_second): normal, point */
+    unsigned char *cand2_on;   /* n: 1 a candidate, 2 held, 8 let go (a candidate again), 9 held
+                                  again, 4 let go for good (contacts.c) */
+    cloth_constraint *con1;    /* n: while the second plane holds a vertex (cand2_on 2 or 9), its
+                                  constraint without it; con[i] is then their meet */
     double *f_ext;             /* 3n, N, external forces (cloth_set_external_forces) */
     cloth_air air;             /* air drag and wind (cloth_set_air; air.c) */
     int *air_blk;              /* 6 per grid triangle: its pairs' blocks in A (air.c) */

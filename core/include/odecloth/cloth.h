@@ -363,6 +363,26 @@ cloth_status cloth_set_contact(cloth *c, int vertex, const double normal[3], con
  * >= 0) lets go within the step wherever it is (default: infinite, only as
  * above). Newton only. */
 cloth_status cloth_set_contact_pull(cloth *c, int vertex, double pull);
+/* A second surface near the vertex (CLOTH_NEWTON; CLOTH_LINEARIZED ignores
+ * it), `normal` and `point` as for cloth_set_contact: a candidate the step
+ * decides as it does a free one. An iterate that puts the vertex behind it
+ * by more than h newton_tolerance holds the vertex on its plane, and the
+ * plane lets go while its force pulls (unilateral; held again at most once
+ * a step). A vertex also on a plane (its contact, one the step made, or a
+ * plane constraint) is then held on the line where the two meet, free along
+ * it, and each plane's normal force, recovered from the constrained
+ * residual, is judged on its own: a plane that pulls lets go alone, by its
+ * own rule. Not taken by a pinned or sticking vertex, one on a line, one a
+ * body holds (cloth_hold_by_body), or where the planes are within 0.6 deg
+ * of parallel. Cleared by cloth_release(_all). */
+cloth_status cloth_set_contact_second(cloth *c, int vertex, const double normal[3], const double point[3]);
+/* After a step: the vertex's constraint without the second plane (*first;
+ * cloth_get_constraint gives their meet while both hold), whether the
+ * second holds it (*second), and the force (N) each exerted over the step,
+ * f_first + f_second = cloth_constraint_force (f_second zero when it does
+ * not hold). Any output may be NULL. */
+cloth_status cloth_get_contact_planes(const cloth *c, int vertex, cloth_constraint *first, int *second,
+                                      double f_first[3], double f_second[3]);
 
 /* Force (N) the vertex's constraint exerted on it, averaged over the last
  * step (Baraff-Witkin: from the solve's residual). Zero if unconstrained. */
