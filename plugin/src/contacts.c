@@ -291,6 +291,19 @@ int dcloth_find_candidates(dClothID c, double h, double reach)
     return c->ncand;
 }
 
+/* the velocity of body's point p (zero without a body) */
+static void point_velocity(dBodyID body, const double p[3], double v[3])
+{
+    dVector3 pv = {0, 0, 0};
+    if (body) dBodyGetPointVel(body, p[0], p[1], p[2], pv);
+    for (int k = 0; k < 3; k++) v[k] = pv[k];
+}
+
+static int plane_finite(const double *n, const double *p, double gap)
+{
+    return isfinite(n[0] + n[1] + n[2] + p[0] + p[1] + p[2] + gap);
+}
+
 void dcloth_offer_opposite(vcontact *vc, dGeomID g, dBodyID body, const double n[3], double gap,
                            const double point[3])
 {
@@ -309,12 +322,28 @@ void dcloth_offer_opposite(vcontact *vc, dGeomID g, dBodyID body, const double n
     vc->opp_body = body;
     vc->opp_gap = gap;
     memcpy(vc->opp_normal, n, sizeof vc->opp_normal);
-    memset(vc->opp_vbody, 0, sizeof vc->opp_vbody);
-    if (body) {
-        dVector3 pv;
-        dBodyGetPointVel(body, point[0], point[1], point[2], pv);
-        for (int k = 0; k < 3; k++) vc->opp_vbody[k] = pv[k];
-    }
+    point_velocity(body, point, vc->opp_vbody);
+}
+
+/* whether a surface of geom g with normal n may be vc's second */
+static int second_fits(const vcontact *vc, dGeomID g, dBodyID body, const double n[3])
+{
+    double nn = dcloth_dot3(vc->normal, n);
+    return vc->geom && vc->geom != g && (!body || dBodyIsKinematic(body)) && nn > -DCLOTH_PINCH_COS &&
+           nn < DCLOTH_SECOND_COS;
+}
+
+void dcloth_offer_second(vcontact *vc, dGeomID g, double t, dBodyID body, const double n[3], const double point[3],
+                         double gap)
+{
+    if (!second_fits(vc, g, body, n) || (vc->sec_geom && vc->sec_gap <= gap) || !plane_finite(n, point, gap)) return;
+    vc->sec_geom = g;
+    vc->sec_body = body;
+    vc->sec_thickness = t;
+    vc->sec_gap = gap;
+    memcpy(vc->sec_normal, n, sizeof vc->sec_normal);
+    memcpy(vc->sec_point, point, sizeof vc->sec_point);
+    point_velocity(body, point, vc->sec_vbody);
 }
 
 /* vc becomes a contact with geom g (surface sf, of body, 0 if static): the
@@ -330,12 +359,7 @@ static void set_contact(vcontact *vc, const struct dcloth_surf *sf, dBodyID body
     memcpy(vc->point, point, sizeof vc->point);
     vc->gap = gap;
     vc->weight = 1.0;
-    memset(vc->vbody, 0, sizeof vc->vbody); /* a static geom's (it replaced a moving one's: stale) */
-    if (body) {
-        dVector3 pv;
-        dBodyGetPointVel(body, point[0], point[1], point[2], pv);
-        for (int k = 0; k < 3; k++) vc->vbody[k] = pv[k];
-    }
+    point_velocity(body, point, vc->vbody); /* zero for a static geom (it replaced a moving one's: stale) */
 }
 
 /* Whether x is inside trimesh g: behind its surface seen from outside along
@@ -497,8 +521,14 @@ int dcloth_find_contacts(dClothID c, double h)
             vcontact *vc = &c->vc_new[i];
             for (int k = 0; k < 3; k++) point[k] = xi[k] - nrm[k] * dist;
             dcloth_offer_opposite(vc, g, body, nrm, gap, point);
-            if (vc->geom && vc->gap <= gap) continue; /* a deeper one is kept */
+            if (vc->geom && vc->gap <= gap) { /* a deeper one is kept, this one its second */
+                dcloth_offer_second(vc, g, t, body, nrm, point, gap);
+                continue;
+            }
+            vcontact was = *vc;
             set_contact(vc, &c->surf[a], body, nrm, point, gap);
+            if (was.geom && was.geom != g) /* the one replaced, the second */
+                dcloth_offer_second(vc, was.geom, was.thickness, was.body, was.normal, was.point, was.gap);
         }
     }
     c->tri_hits = 0;
@@ -508,6 +538,11 @@ int dcloth_find_contacts(dClothID c, double h)
         int e = dcloth_edge_contacts(c, &c->surf[a], h, extra);
         if (e < 0) return -1;
         c->edge_hits += e;
+    }
+    /* a second that no longer fits the contact the tests left */
+    for (int i = 0; i < n; i++) {
+        vcontact *vc = &c->vc_new[i];
+        if (vc->sec_geom && !second_fits(vc, vc->sec_geom, vc->sec_body, vc->sec_normal)) vc->sec_geom = 0;
     }
     return c->ncand;
 }

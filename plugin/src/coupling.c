@@ -336,6 +336,23 @@ static void candidate(dClothID c, int i, double h, vcontact *nw, int newton)
     nw->candidate = newton && isfinite(p[0] + p[1] + p[2]) && cloth_set_contact(c->core, i, nw->normal, p) == CLOTH_OK;
 }
 
+/* Vertex i's second surface (Newton), a candidate as above */
+static void second_candidate(dClothID c, int i, double h, const vcontact *nw, int newton)
+{
+    const double *x = cloth_positions(c->core) + 3 * i;
+    double p[3], d = nw->sec_gap + RESOLVE_DEPTH * nw->sec_thickness;
+    for (int r = 0; r < 3; r++) p[r] = x[r] + h * nw->sec_vbody[r] - d * nw->sec_normal[r];
+    if (newton && nw->sec_geom && !nw->pinched && isfinite(p[0] + p[1] + p[2]))
+        cloth_set_contact_second(c->core, i, nw->sec_normal, p);
+}
+
+/* The force (N) vertex i's contact exerted in the step, without its second
+ * plane's (whose geom is static or kinematic: it takes no force) */
+static void first_force(cloth *core, int i, double f[3])
+{
+    cloth_get_contact_planes(core, i, NULL, NULL, f, NULL);
+}
+
 /* What the step decided (cloth_set_contact): sticking contacts it let
  * slide, free candidates it held on the normal alone, as if forced */
 static void took_candidates(dClothID c, dClothStepStats *st)
@@ -344,7 +361,7 @@ static void took_candidates(dClothID c, dClothStepStats *st)
         vcontact *nw = &c->vc_new[i];
         cloth_constraint k;
         if (!nw->geom || c->pin[i].active) continue;
-        if (cloth_get_constraint(c->core, i, &k) != CLOTH_OK || k.ndof != 1) continue;
+        if (cloth_get_contact_planes(c->core, i, &k, NULL, NULL, NULL) != CLOTH_OK || k.ndof != 1) continue;
         if (nw->active && nw->sticking) { /* let slide by the step */
             nw->sticking = 0;
             nw->slides = 1;
@@ -446,6 +463,7 @@ cloth_status dClothStep(dClothID c, dReal h)
             if (!contact_rule(c, i, h, mass[i], cd.gravity, nw, &c->vc[i], &k, &st, nw->forced, newton) ||
                 cloth_set_constraint(core, &k) != CLOTH_OK) {
                 candidate(c, i, h, nw, newton);
+                second_candidate(c, i, h, nw, newton);
                 continue;
             }
             nw->active = 1;
@@ -457,6 +475,7 @@ cloth_status dClothStep(dClothID c, dReal h)
                  * pull the peel below judges after it */
                 if (by_triangle_rule(c, i)) cloth_set_contact_pull(core, i, LETGO_PULL * letgo_t);
             }
+            second_candidate(c, i, h, nw, newton);
             for (int r = 0; r < 3; r++) c->fext[3 * i + r] += nw->friction[r];
             st.contacts++;
             st.sticking += nw->sticking;
@@ -498,7 +517,7 @@ cloth_status dClothStep(dClothID c, dReal h)
             vcontact *nw = &c->vc_new[i];
             if (!nw->active || !by_triangle_rule(c, i) || nw->forced || nw->pinched) continue;
             double f[3];
-            cloth_constraint_force(core, i, f);
+            first_force(core, i, f);
             if (dcloth_dot3(f, nw->normal) < -LETGO_PULL * letgo_t) {
                 nw->let_go = 1;
                 more++;
@@ -532,7 +551,7 @@ cloth_status dClothStep(dClothID c, dReal h)
                         vb->forced || vb->pinched || vb->geom != va->geom)
                         continue;
                     double f[3];
-                    cloth_constraint_force(core, b, f);
+                    first_force(core, b, f);
                     if (dcloth_dot3(f, vb->normal) < 0.0) {
                         vb->let_go = 2;
                         more++;
@@ -599,7 +618,7 @@ cloth_status dClothStep(dClothID c, dReal h)
         cloth_constraint k;
         double moved = nw->gap - nw->pinch_shift; /* minus how far the target moved it out */
         if (!nw->active || moved == 0.0) continue;
-        if (cloth_get_constraint(core, i, &k) == CLOTH_OK && k.ndof == 0) continue; /* the step let it go */
+        if (cloth_get_contact_planes(core, i, &k, NULL, NULL, NULL) == CLOTH_OK && k.ndof == 0) continue; /* let go */
         if (!fixed) memcpy(c->vfix, cloth_velocities(core), 3 * (size_t)c->n * sizeof *c->vfix);
         fixed = 1;
         for (int r = 0; r < 3; r++) c->vfix[3 * i + r] += moved / h * nw->normal[r];
@@ -639,6 +658,7 @@ cloth_status dClothStep(dClothID c, dReal h)
              * geom or the world takes any impulse without moving */
             dBodyID hb = p->active ? p->body : nw->body;
             double w = wsum > 0.0 ? sqrt(dcloth_dot3(f, f)) / wsum : 0.0;
+            if (!p->active) first_force(core, i, f);
             if (hb && !dBodyIsKinematic(hb))
                 for (int r = 0; r < 3; r++) f[r] += w * F[r];
         }

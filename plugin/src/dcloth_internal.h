@@ -47,6 +47,13 @@ typedef struct vcontact {
     int pinched;         /* 1: this step's target is the midway one         */
     double pinch_shift;  /* m, along the normal: the midway target's offset
                             from this contact's own (0 unless pinched)      */
+    /* a second surface (dcloth_offer_second): another static or kinematic
+     * geom's plane near the vertex, neither opposing nor parallel to this
+     * one's, which the Newton step decides as a second candidate
+     * (cloth_set_contact_second); not carried between steps */
+    dGeomID sec_geom;    /* 0: none                                         */
+    dBodyID sec_body;
+    double sec_normal[3], sec_point[3], sec_gap, sec_thickness, sec_vbody[3];
 } vcontact;
 
 /* contacts.c: before contact (g, body, n, gap at point) is offered to
@@ -56,6 +63,16 @@ typedef struct vcontact {
 #define DCLOTH_PINCH_COS 0.5
 void dcloth_offer_opposite(vcontact *vc, dGeomID g, dBodyID body, const double n[3], double gap,
                            const double point[3]);
+
+/* contacts.c: contact (geom g of surface thickness t, body, n, point, gap)
+ * that vc does not keep offered as its second surface: kept where vc has
+ * another geom's contact, g is static or kinematic, the normals neither
+ * oppose (DCLOTH_PINCH_COS: the pinch's) nor lie within DCLOTH_SECOND_COS,
+ * and it is deeper than vc's second so far. Normals within 8 deg bound the
+ * same side: the deeper plane alone holds, and their line is ill-posed. */
+#define DCLOTH_SECOND_COS 0.99
+void dcloth_offer_second(vcontact *vc, dGeomID g, double t, dBodyID body, const double n[3], const double point[3],
+                         double gap);
 
 /* A set of geoms (dcloth.c): g[0..n) */
 typedef struct dcloth_geom_list {

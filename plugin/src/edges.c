@@ -370,9 +370,16 @@ static int offer(dClothID c, int i, const struct dcloth_surf *sf, dBodyID body, 
     double d[3];
     sub3(x, q, d);
     double height = dcloth_dot3(n, d), gap = height - sf->thickness;
-    /* a vertex keeps another geom's contact: it has one plane, and the
-     * other's may hold it out of that body (a cloth between a bar and a plate) */
-    if (vc->geom && (vc->geom != sf->g || vc->gap <= gap)) return 0;
+    /* a vertex keeps another geom's contact (the other's may hold it out of
+     * that body: a cloth between a bar and a plate), with this one as its
+     * second surface */
+    if (vc->geom && vc->geom != sf->g) {
+        double p[3];
+        for (int r = 0; r < 3; r++) p[r] = x[r] - height * n[r];
+        dcloth_offer_second(vc, sf->g, sf->thickness, body, n, p, gap);
+        return 0;
+    }
+    if (vc->geom && vc->gap <= gap) return 0;
     vc->geom = sf->g;
     vc->thickness = sf->thickness;
     vc->mu = sf->mu;
