@@ -217,12 +217,9 @@ int contacts_slide(cloth *c, const double *x)
     return changed;
 }
 
-/* cand_on of vertex i's contact released by the step, by what it was: 6 a
- * sliding contact set so (10 on a vertex with a second candidate: a
- * candidate again, as a plane the step made; 6 once made again, 11), 8 a
- * plane the step made (a candidate again: a later iterate behind the
- * surface holds it once more), 4 such a plane made again, 5 a contact it let
- * slide (7: a sticking contact set so) */
+/* cand_on of vertex i's released contact, by what it was (the codes in internal.h:
+ * cand_on); a plane the step made, or a set sliding one on a vertex with a second
+ * candidate, is a candidate again, held again at most once */
 static unsigned char released_as(const cloth *c, int i)
 {
     unsigned char on = c->cand_on[i];

@@ -47,10 +47,9 @@ typedef struct vcontact {
     int pinched;         /* 1: this step's target is the midway one         */
     double pinch_shift;  /* m, along the normal: the midway target's offset
                             from this contact's own (0 unless pinched)      */
-    /* a second surface (dcloth_offer_second): another static or kinematic
-     * geom's plane near the vertex, neither opposing nor parallel to this
-     * one's, which the Newton step decides as a second candidate
-     * (cloth_set_contact_second); not carried between steps */
+    /* a second surface (dcloth_offer_second): another static or kinematic geom's
+     * plane near the vertex, for the Newton step to decide (cloth_set_contact_second);
+     * not carried between steps */
     dGeomID sec_geom;    /* 0: none                                         */
     dBodyID sec_body;
     double sec_normal[3], sec_point[3], sec_gap, sec_thickness, sec_vbody[3];
@@ -64,12 +63,9 @@ typedef struct vcontact {
 void dcloth_offer_opposite(vcontact *vc, dGeomID g, dBodyID body, const double n[3], double gap,
                            const double point[3]);
 
-/* contacts.c: contact (geom g of surface thickness t, body, n, point, gap)
- * that vc does not keep offered as its second surface: kept where vc has
- * another geom's contact, g is static or kinematic, the normals neither
- * oppose (DCLOTH_PINCH_COS: the pinch's) nor lie within DCLOTH_SECOND_COS,
- * and it is deeper than vc's second so far. Normals within 8 deg bound the
- * same side: the deeper plane alone holds, and their line is ill-posed. */
+/* contacts.c: a contact vc does not keep, offered as its second surface: kept if g is
+ * another static or kinematic geom, the normals neither oppose (the pinch's) nor lie
+ * within DCLOTH_SECOND_COS (the same side: their line ill-posed), and deepest so far */
 #define DCLOTH_SECOND_COS 0.99
 void dcloth_offer_second(vcontact *vc, dGeomID g, double t, dBodyID body, const double n[3], const double point[3],
                          double gap);
