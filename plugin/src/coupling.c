@@ -130,8 +130,8 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
      * releasing them made contacts on curved and edged geoms chatter), as
      * is a vertex's own contact whose last force was such a share: it lets
      * go by the triangles' rule this step (by_triangle_rule) */
-    if (!forced && had && fn < 0.0 && nw->gap >= -DCLOTH_TOUCH * nw->thickness && !nw->from_triangle &&
-        !old->from_triangle) {
+    if (!forced && had && nw->gap >= -DCLOTH_TOUCH * nw->thickness &&
+        ((fn < 0.0 && !nw->from_triangle && !old->from_triangle) || old->let_go)) {
         st->released++;
         return 0;
     }
@@ -235,6 +235,34 @@ static int by_triangle_rule(dClothID c, int i)
 {
     const vcontact *nw = &c->vc_new[i], *old = &c->vc[i];
     return nw->from_triangle || (old->from_triangle && old->geom == nw->geom);
+}
+
+/* Whether vertex i carries a share of a triangle's contact that Newton
+ * judges as one, by its own force (mark_pulled_shares): its point weighs
+ * the vertex, and it may let go (neither anchored, pinched nor forced) */
+static int shared(dClothID c, int i, int newton)
+{
+    const vcontact *nw = &c->vc_new[i];
+    return newton && nw->from_triangle && nw->weight > 0.0 && !nw->anchored && !nw->pinched && !nw->forced;
+}
+
+/* Marks (let_go) each carrier of a triangle contact that, as a whole,
+ * pulled in this step: sum w f over its carriers, the sign of the one point
+ * force that puts w lambda on each; the next step lets it go. sum: n doubles */
+static void mark_pulled_shares(dClothID c, double *sum)
+{
+    for (int i = 0; i < c->n; i++) sum[i] = 0.0;
+    for (int pass = 0; pass < 2; pass++)
+        for (int i = 0; i < c->n; i++) {
+            vcontact *o = &c->vc_new[i];
+            if (!o->active || !shared(c, i, 1)) continue;
+            const int *p = c->tri + 3 * (size_t)o->tri;
+            int lead = i;
+            for (int a = 0; a < 3; a++)
+                if (c->vc_new[p[a]].from_triangle && c->vc_new[p[a]].query == o->query && p[a] < lead) lead = p[a];
+            if (pass == 0) sum[lead] += o->weight * dcloth_dot3(o->force, o->normal);
+            else o->let_go = sum[lead] < 0.0;
+        }
 }
 
 /* The index of body b among this step's coupled bodies, adding it (with
@@ -471,9 +499,11 @@ cloth_status dClothStep(dClothID c, dReal h)
              * vertex's sliding one go where it holds a link past the limit */
             if ((k.ndof == 3 && !nw->anchored && !nw->pinched) || (k.ndof == 1 && !nw->pinched)) {
                 cloth_set_contact(core, i, nw->normal, k.target);
-                /* Newton lets a triangle's contact go within the step at the
-                 * pull the peel below judges after it */
-                if (by_triangle_rule(c, i)) cloth_set_contact_pull(core, i, LETGO_PULL * letgo_t);
+                /* Newton lets a vertex's own contact that follows a triangle's
+                 * go within the step at the pull the peel below judges after
+                 * it; a triangle's own goes by its force (share_pulled) */
+                if (by_triangle_rule(c, i) && !shared(c, i, newton))
+                    cloth_set_contact_pull(core, i, LETGO_PULL * letgo_t);
             }
             second_candidate(c, i, h, nw, newton);
             for (int r = 0; r < 3; r++) c->fext[3 * i + r] += nw->friction[r];
@@ -501,7 +531,10 @@ cloth_status dClothStep(dClothID c, dReal h)
         const double *x1 = cloth_positions(core);
         for (int i = 0; i < c->n; i++) {
             vcontact *nw = &c->vc_new[i];
-            if (!nw->geom || nw->active || nw->candidate || c->pin[i].active) continue;
+            cloth_constraint k;
+            /* a shared contact the step let go counts as left free */
+            int gone = shared(c, i, newton) && nw->active && cloth_get_constraint(core, i, &k) == CLOTH_OK && !k.ndof;
+            if (!nw->geom || (nw->active && !gone) || nw->candidate || c->pin[i].active) continue;
             double d[3] = {x1[3 * i] - c->x0[3 * i] - h * nw->vbody[0], x1[3 * i + 1] - c->x0[3 * i + 1] - h * nw->vbody[1],
                            x1[3 * i + 2] - c->x0[3 * i + 2] - h * nw->vbody[2]};
             if (nw->gap + dcloth_dot3(d, nw->normal) < -RESOLVE_DEPTH * nw->thickness) {
@@ -515,7 +548,7 @@ cloth_status dClothStep(dClothID c, dReal h)
         int peel = 0;
         for (int i = 0; i < c->n; i++) {
             vcontact *nw = &c->vc_new[i];
-            if (!nw->active || !by_triangle_rule(c, i) || nw->forced || nw->pinched) continue;
+            if (!nw->active || !by_triangle_rule(c, i) || shared(c, i, newton) || nw->forced || nw->pinched) continue;
             double f[3];
             first_force(core, i, f);
             if (dcloth_dot3(f, nw->normal) < -LETGO_PULL * letgo_t) {
@@ -679,6 +712,7 @@ cloth_status dClothStep(dClothID c, dReal h)
         }
         if (!p->active && !nw->active) memset(nw, 0, sizeof *nw); /* only held contacts carry over */
     }
+    if (newton) mark_pulled_shares(c, c->share_sum);
     vcontact *t = c->vc;
     c->vc = c->vc_new;
     c->vc_new = t;

@@ -22,6 +22,8 @@ typedef struct vcontact {
     int anchored;        /* 1: sticking to a kinematic body at anchor       */
     double anchor[3];    /* body frame: where the sticking vertex is held    */
     int from_triangle;   /* 1: set by a triangle test (triangles.c)         */
+    int tri;             /* that cloth triangle's index, and the query that */
+    unsigned query;      /* set it (dxCloth's tri_query): one contact        */
     double weight;       /* the contact point's barycentric weight on the
                             vertex (triangle contacts; 1 for a vertex's own)  */
     int active;          /* 1: a constraint in this step's solve            */
@@ -29,7 +31,9 @@ typedef struct vcontact {
     int candidate;       /* 1: left free, a contact candidate the Newton
                             step decides (cloth_set_contact)                */
     int let_go;          /* 1: a triangle's contact that pulled in a solve of
-                            this step; free in the step's next solve        */
+                            this step; free in the step's next solve. Kept
+                            (Newton): its contact as a whole pulled, and the
+                            next step lets it go                            */
     int slides;          /* 1: held on a link past the elongation limit in a
                             solve of this step; slides in the next          */
     double friction[3];  /* N, sliding friction force applied on the vertex */
@@ -95,6 +99,8 @@ struct dxCloth {
     unsigned long category, collide;
     int n, ntri;
     int *tri;            /* 3 ntri                                          */
+    unsigned tri_query;  /* triangle queries so far (vcontact's query)       */
+    double *share_sum;   /* n: per lead, a triangle contact's force (workspace) */
     vcontact *vc, *vc_new; /* n: committed and candidate contact states      */
     vpin *pin;           /* n                                               */
     double *fext;        /* 3n: the user's forces plus sliding friction, handed

@@ -37,6 +37,8 @@
  * alone: 15%, 36 mm/s. A cloth at rest on a capsule: kinetic energy 1-7e-5
  * J loose, 1.1e-7 J refined (plugin_colliders). */
 #define EPA_FINE 1e-6
+/* gaps this close, of the thickness, tie: rounding, far below EPA_FINE */
+#define TIE 1e-9
 /* a triangle moving less than this, of the thickness, per step is at rest */
 #define SWEEP_NEGLIGIBLE 1e-3
 
@@ -293,6 +295,76 @@ static void mesh_least(const convex_query *q, const tri_shape *ts, double r, dou
     if (depth) *depth = d;
 }
 
+/* Whether point x lies over the face of a box or a cylinder's cap whose
+ * outward normal is face (flat_face's): its projection on that face's plane
+ * is within the face, where the face's plane is the geom's nearest */
+static int over_face(const convex_query *q, const double face[3], const double x[3])
+{
+    const geom_shape *gs = q->shape;
+    const dReal *R = dGeomGetRotation(q->g), *o = dGeomGetPosition(q->g);
+    double l[3], d[3] = {x[0] - o[0], x[1] - o[1], x[2] - o[2]};
+    int axis = 0;
+    for (int k = 0; k < 3; k++) {
+        l[k] = R[k] * d[0] + R[4 + k] * d[1] + R[8 + k] * d[2];
+        if (fabs(R[k] * face[0] + R[4 + k] * face[1] + R[8 + k] * face[2]) > 0.5) axis = k;
+    }
+    if (gs->cls == dCylinderClass) return l[0] * l[0] + l[1] * l[1] <= gs->half[0] * gs->half[0];
+    for (int k = 0; k < 3; k++)
+        if (k != axis && fabs(l[k]) > gs->half[k]) return 0;
+    return 1;
+}
+
+/* The flat face (a box's, a cylinder's cap) direction n finds, and its
+ * supporting plane face . x = *fsup: a clear triangle's vertices over it
+ * are held by it too, exact there where EPA's direction is not */
+static int face_plane(const convex_query *q, const double n[3], double face[3], double *fsup)
+{
+    if ((q->cls != dBoxClass && q->cls != dCylinderClass) || !flat_face(q, n, face)) return 0;
+    ccd_vec3_t fd = {{face[0], face[1], face[2]}}, sp;
+    q->support(q->shape, &fd, &sp);
+    *fsup = dcloth_dot3(face, sp.v);
+    return 1;
+}
+
+/* Offers vertex i of cloth triangle k, in this query (c->tri_query), the
+ * contact along n with gap, on the plane n . x = plane, kept where deeper than
+ * what it has. pos: the contact point; w: its barycentric weight on i. */
+static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, const double n[3], double gap,
+                               double plane, const ccd_vec3_t *pos, double w, int exact)
+{
+    vcontact *vc = &c->vc_new[i];
+    const double *xv = cloth_positions(c->core) + 3 * (size_t)i;
+    /* only deeper than the vertex's own contact, with no rounding margin */
+    dcloth_offer_opposite(vc, q->g, q->body, n, gap, pos->v);
+    if (vc->geom && vc->gap <= gap) return;
+    /* on a face's own plane, a vertex's own contact with the geom is the
+     * same plane: kept where they tie to rounding */
+    if (exact && vc->geom == q->g && vc->gap <= gap + TIE * q->surf->thickness) return;
+    /* the point reported (and pushed at while asleep): under the vertex
+     * on the geom's face (support) where measured, else on the plane
+     * through EPA's point, which may be any point of the overlap */
+    double height = dcloth_dot3(n, xv) - plane;
+    vc->geom = q->g;
+    vc->thickness = q->surf->thickness;
+    vc->mu = q->surf->mu;
+    vc->body = q->body;
+    for (int r = 0; r < 3; r++) {
+        vc->normal[r] = n[r];
+        vc->point[r] = xv[r] - height * n[r];
+        vc->vbody[r] = 0.0;
+    }
+    vc->gap = gap;
+    if (q->body) {
+        dVector3 pv;
+        dBodyGetPointVel(q->body, pos->v[0], pos->v[1], pos->v[2], pv);
+        for (int r = 0; r < 3; r++) vc->vbody[r] = pv[r];
+    }
+    vc->from_triangle = 1;
+    vc->tri = k;
+    vc->query = c->tri_query;
+    vc->weight = w;
+}
+
 /* Cloth triangle k against the shape: sets its vertices' contacts where
  * deeper than what they have; returns how many it set. */
 static int triangle_query(dClothID c, const convex_query *q, int k, double h, ccd_t *ccd, ccd_t *fine)
@@ -424,9 +496,11 @@ static int triangle_query(dClothID c, const convex_query *q, int k, double h, cc
             if (ahead && w[a] > 0.0 && !reaches[a]) ahead = 0;
         }
     }
+    double fsup = 0.0;
+    int fl = clear && face_plane(q, n, face, &fsup);
     int hits = 0;
+    c->tri_query++;
     for (int a = 0; a < 3; a++) {
-        vcontact *vc = &c->vc_new[p[a]];
         double gap;
         if (w[a] > 0.0) {
             gap = -lift * w[a] / w2;
@@ -442,36 +516,15 @@ static int triangle_query(dClothID c, const convex_query *q, int k, double h, cc
          * above its place (plugin_api, measured) */
         if (clear && above[a] > gap) gap = above[a];
         if (ahead) gap = above[a];
-        /* only deeper than the vertex's own contact. (Requiring "deeper
-         * beyond rounding" instead, so that ties at 1e-17 keep the
-         * vertex's own, made an 81x81 cloth on a box fail at step 425 of
-         * bench_contact: measured, and reverted.) */
-        dcloth_offer_opposite(vc, q->g, q->body, n, gap, pos.v);
-        if (vc->geom && vc->gap <= gap) continue;
-        /* the point reported (and pushed at while asleep): under the vertex
-         * on the geom's face (support) where measured, else on the plane
-         * through EPA's point, which may be any point of the overlap */
-        double plane = (clear || ahead) ? support : dcloth_dot3(n, pos.v), under[3];
-        double height = dcloth_dot3(n, ts.v[a]) - plane;
-        for (int r = 0; r < 3; r++) under[r] = ts.v[a][r] - height * n[r];
-        vc->geom = q->g;
-        vc->thickness = q->surf->thickness;
-        vc->mu = q->surf->mu;
-        vc->body = q->body;
-        for (int r = 0; r < 3; r++) {
-            vc->normal[r] = n[r];
-            vc->point[r] = under[r];
-            vc->vbody[r] = 0.0;
-        }
-        vc->gap = gap;
-        if (q->body) {
-            dVector3 pv;
-            dBodyGetPointVel(q->body, pos.v[0], pos.v[1], pos.v[2], pv);
-            for (int r = 0; r < 3; r++) vc->vbody[r] = pv[r];
-        }
-        vc->from_triangle = 1;
-        vc->weight = w[a];
-        hits++;
+        /* of two supporting planes (both bound the distance from below),
+         * the higher holds the vertex */
+        double fh = fl && over_face(q, face, ts.v[a]) ? dcloth_dot3(face, ts.v[a]) - fsup - t : -INFINITY;
+        double plane = (clear || ahead) ? support : dcloth_dot3(n, pos.v);
+        if (fh >= above[a])
+            tri_vertex_contact(c, q, k, p[a], face, fmax(gap, fh), fsup, &pos, w[a], 1);
+        else
+            tri_vertex_contact(c, q, k, p[a], n, gap, plane, &pos, w[a], 0);
+        hits += c->vc_new[p[a]].query == c->tri_query;
     }
     return hits;
 }
