@@ -243,7 +243,8 @@ static int by_triangle_rule(dClothID c, int i)
 static int shared(dClothID c, int i, int newton)
 {
     const vcontact *nw = &c->vc_new[i];
-    return newton && nw->from_triangle && nw->weight > 0.0 && !nw->anchored && !nw->pinched && !nw->forced;
+    return newton && nw->from_triangle && nw->tri >= 0 && nw->weight > 0.0 && !nw->anchored && !nw->pinched &&
+           !nw->forced;
 }
 
 /* Marks (let_go) each carrier of a triangle contact that, as a whole,

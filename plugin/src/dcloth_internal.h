@@ -22,7 +22,8 @@ typedef struct vcontact {
     int anchored;        /* 1: sticking to a kinematic body at anchor       */
     double anchor[3];    /* body frame: where the sticking vertex is held    */
     int from_triangle;   /* 1: set by a triangle test (triangles.c)         */
-    int tri;             /* that cloth triangle's index, and the query that */
+    int tri;             /* that cloth triangle's index (-1: a link's edge
+                            contact, edges.c), and the query that            */
     unsigned query;      /* set it (dxCloth's tri_query): one contact        */
     double weight;       /* the contact point's barycentric weight on the
                             vertex (triangle contacts; 1 for a vertex's own)  */

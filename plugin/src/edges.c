@@ -396,6 +396,7 @@ static int offer(dClothID c, int i, const struct dcloth_surf *sf, dBodyID body, 
     }
     vc->gap = gap;
     vc->from_triangle = 1; /* a shared contact: the triangles' release rules */
+    vc->tri = -1;          /* a link's, not one triangle's: judged per vertex */
     vc->weight = 1.0;
     return 1;
 }
