@@ -62,9 +62,10 @@ static int through_box(const double *a, const double *b, const double e[3])
     return !ina && !inb && t0 <= t1;
 }
 
-/* How many sequential links of the C x C cloth, neither end in a pinned row,
- * pass through the bottom bar (kinematic, unrotated): the cloth threaded. */
-static int links_through_bar(dClothID c, int C, dBodyID bar)
+/* How many sequential links of the C x C cloth pass through the unrotated
+ * kinematic bar: those with an end in the bottom row never, those with an
+ * end in the top row only if `top` (a link through the top bar's edge). */
+static int links_through_bar(dClothID c, int C, dBodyID bar, int top)
 {
     const double e[3] = {PLATE_W / 2, PLATE_D / 2, PLATE_T / 2};
     const dReal *p = dBodyGetPosition(bar), *x = dClothGetPositions(c);
@@ -73,12 +74,31 @@ static int links_through_bar(dClothID c, int C, dBodyID bar)
     for (int k = 0, nl = cloth_link_count(core, CLOTH_SEQUENTIAL); k < nl; k++) {
         cloth_link L;
         cloth_get_link(core, CLOTH_SEQUENTIAL, k, &L);
-        if (L.i < C || L.j >= (C - 1) * C) continue;
+        if ((!top && L.i < C) || L.j >= (C - 1) * C) continue;
         double a[3], b[3];
         for (int r = 0; r < 3; r++) a[r] = x[3 * L.i + r] - p[r], b[r] = x[3 * L.j + r] - p[r];
         n += through_box(a, b, e);
     }
     return n;
+}
+
+/* Link-steps through a bar, the steps with any, the most at once, the first */
+typedef struct threading {
+    int sum, steps, most, first;
+} threading;
+
+static void threading_add(threading *t, int m, int step)
+{
+    t->sum += m;
+    t->steps += m > 0;
+    if (m > t->most) t->most = m;
+    if (m > 0 && t->first < 0) t->first = step;
+}
+
+static void threading_print(const char *tag, const char *bar, const threading *t)
+{
+    printf("%-8s links through the %s: %d link-steps in %d steps (at most %d at once, the first at step %d)\n", tag,
+           bar, t->sum, t->steps, t->most, t->first);
 }
 
 static int press_run(const demo_opts *o, const demo_scene *sc, const drape_variant *v, drape_result *r)
@@ -168,7 +188,8 @@ static int press_run(const demo_opts *o, const demo_scene *sc, const drape_varia
         }
     const demo_camera cam = {{0.9, -1.7, 1.15}, {0, 0, 0.8}, 40};
     demo_metrics run = {0};
-    int next_frame = 1, threaded = 0, threaded_steps = 0, threaded_max = 0, threaded_first = -1;
+    int next_frame = 1;
+    threading bar = {0, 0, 0, -1}, top = {0, 0, 0, -1};
     double t0 = demo_now();
     for (int s = 0; s < n_total; s++) {
         /* the plates' velocities for this step: to where the script has
@@ -184,11 +205,8 @@ static int press_run(const demo_opts *o, const demo_scene *sc, const drape_varia
         if (demo_step(o, world, &c, 1, h, s)) goto done;
         demo_track_step(c, &run);
         if (s < n_letgo) { /* while the bar holds the cloth */
-            int m = links_through_bar(c, C, plate[1]);
-            threaded += m;
-            threaded_steps += m > 0;
-            if (m > threaded_max) threaded_max = m;
-            if (m > 0 && threaded_first < 0) threaded_first = s + 1;
+            threading_add(&bar, links_through_bar(c, C, plate[1], 0), s + 1);
+            threading_add(&top, links_through_bar(c, C, plate[0], 1), s + 1);
         }
         demo_frame_hook(o, v->tag, s + 1, n_total, &next_frame, &cam, space, &c, 1);
         demo_view_frame(o, v->label, s + 1, n_total, &cam, space, &c, 1);
@@ -203,8 +221,8 @@ static int press_run(const demo_opts *o, const demo_scene *sc, const drape_varia
             demo_save_frame(o, name, &cam, space, &c, 1, last ? &r->pic_after : &r->pic_draped);
         }
     }
-    printf("%-8s links through the bar: %d link-steps in %d steps (at most %d at once, the first at step %d)\n",
-           v->tag, threaded, threaded_steps, threaded_max, threaded_first);
+    threading_print(v->tag, "bar", &bar);
+    threading_print(v->tag, "top bar", &top);
     rc = 0;
 done:
     dClothDestroy(c);
