@@ -325,18 +325,18 @@ void dcloth_offer_opposite(vcontact *vc, dGeomID g, dBodyID body, const double n
     point_velocity(body, point, vc->opp_vbody);
 }
 
-/* whether a surface of geom g with normal n may be vc's second */
-static int second_fits(const vcontact *vc, dGeomID g, dBodyID body, const double n[3])
+/* whether a surface of a static or kinematic body with normal n may be vc's second */
+static int second_fits(const vcontact *vc, dBodyID body, const double n[3])
 {
     double nn = dcloth_dot3(vc->normal, n);
-    return vc->geom && vc->geom != g && (!body || dBodyIsKinematic(body)) && nn > -DCLOTH_PINCH_COS &&
+    return vc->geom && (!body || dBodyIsKinematic(body)) && nn > -DCLOTH_PINCH_COS &&
            nn < DCLOTH_SECOND_COS;
 }
 
 void dcloth_offer_second(vcontact *vc, dGeomID g, double t, dBodyID body, const double n[3], const double point[3],
                          double gap)
 {
-    if (!second_fits(vc, g, body, n) || (vc->sec_geom && vc->sec_gap <= gap) || !plane_finite(n, point, gap)) return;
+    if (!second_fits(vc, body, n) || (vc->sec_geom && vc->sec_gap <= gap) || !plane_finite(n, point, gap)) return;
     vc->sec_geom = g;
     vc->sec_body = body;
     vc->sec_thickness = t;
@@ -542,7 +542,7 @@ int dcloth_find_contacts(dClothID c, double h)
     /* a second that no longer fits the contact the tests left */
     for (int i = 0; i < n; i++) {
         vcontact *vc = &c->vc_new[i];
-        if (vc->sec_geom && !second_fits(vc, vc->sec_geom, vc->sec_body, vc->sec_normal)) vc->sec_geom = 0;
+        if (vc->sec_geom && !second_fits(vc, vc->sec_body, vc->sec_normal)) vc->sec_geom = 0;
     }
     return c->ncand;
 }

@@ -69,8 +69,8 @@ void dcloth_offer_opposite(vcontact *vc, dGeomID g, dBodyID body, const double n
                            const double point[3]);
 
 /* contacts.c: a contact vc does not keep, offered as its second surface: kept if g is
- * another static or kinematic geom, the normals neither oppose (the pinch's) nor lie
- * within DCLOTH_SECOND_COS (the same side: their line ill-posed), and deepest so far */
+ * static or kinematic (vc's own geom too: an edge's plane), the normals neither oppose
+ * (the pinch's) nor lie within DCLOTH_SECOND_COS (their line ill-posed), deepest so far */
 #define DCLOTH_SECOND_COS 0.99
 void dcloth_offer_second(vcontact *vc, dGeomID g, double t, dBodyID body, const double n[3], const double point[3],
                          double gap);

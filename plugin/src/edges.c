@@ -7,8 +7,8 @@
 #include <string.h>
 #include "edges.h"
 
-/* A link's middle counts as nearer than its ends below this fraction of
- * their squared distance: a link parallel to a face ties with its ends */
+/* A link's middle counts as nearer than an end below this fraction of
+ * their squared distance, and ties with it within it */
 #define EDGE_TIE 1e-6
 
 static void sub3(const double *a, const double *b, double *r)
@@ -241,13 +241,13 @@ static int grid_build(dClothID c, int nt, tri_grid *gr)
 }
 
 /* Link [a, b] against gr's triangles within reach r: 1 if its middle is
- * nearer than its ends (*d2, p on the link, q on the geom), 0 if not or if
- * it meets the geom; stamp, new per link, measures each triangle once. */
-static int link_query(const dClothID c, const tri_grid *gr, int stamp, const double *a, const double *b, double r,
-                      double *d2, double p[3], double q[3])
+ * nearer than its ends, or if `tie`, ties with the nearer and is nearer than
+ * the other (*d2, p on the link, q on the geom); 0 if not or if it meets it. */
+static int link_query(const dClothID c, const tri_grid *gr, int stamp, int tie, const double *a, const double *b,
+                      double r, double *d2, double p[3], double q[3])
 {
     const double *tb = c->edge_tri, *box = c->edge_tri + 9 * (size_t)gr->nt;
-    double lo[3], hi[3], ends = INFINITY, mid = INFINITY;
+    double lo[3], hi[3], end_a = INFINITY, end_b = INFINITY, mid = INFINITY;
     int c0[3], c1[3];
     for (int k = 0; k < 3; k++) lo[k] = fmin(a[k], b[k]) - r, hi[k] = fmax(a[k], b[k]) + r;
     cell_range(gr, lo, hi, c0, c1);
@@ -265,7 +265,8 @@ static int link_query(const dClothID c, const tri_grid *gr, int stamp, const dou
                     if (segment_meets(a, b, t)) return 0;
                     double w[3];
                     double ea = point_triangle(a, t, t + 3, t + 6, w), eb = point_triangle(b, t, t + 3, t + 6, w);
-                    ends = fmin(ends, fmin(ea, eb));
+                    end_a = fmin(end_a, ea);
+                    end_b = fmin(end_b, eb);
                     for (int e = 0; e < 3; e++) {
                         double se, c1p[3], c2p[3];
                         double de = segment_segment(a, b, t + 3 * e, t + 3 * ((e + 1) % 3), &se, c1p, c2p);
@@ -276,7 +277,12 @@ static int link_query(const dClothID c, const tri_grid *gr, int stamp, const dou
                     }
                 }
             }
-    if (!(mid < (1.0 - EDGE_TIE) * ends) || !(mid < r * r) || !(mid > 0.0)) return 0;
+    /* the tie: a link level with an end at the thickness over a face runs
+     * past the face's edge at the thickness too, and the step may take it in */
+    double near = fmin(end_a, end_b), far = fmax(end_a, end_b);
+    int nearer = mid < (1.0 - EDGE_TIE) * near;
+    if (tie && mid <= (1.0 + EDGE_TIE) * near && mid < (1.0 - EDGE_TIE) * far) nearer = 1;
+    if (!nearer || !(mid < r * r) || !(mid > 0.0)) return 0;
     *d2 = mid;
     return 1;
 }
@@ -371,15 +377,15 @@ static int offer(dClothID c, int i, const struct dcloth_surf *sf, dBodyID body, 
     sub3(x, q, d);
     double height = dcloth_dot3(n, d), gap = height - sf->thickness;
     /* a vertex keeps another geom's contact (the other's may hold it out of
-     * that body: a cloth between a bar and a plate), with this one as its
-     * second surface */
-    if (vc->geom && vc->geom != sf->g) {
-        double p[3];
-        for (int r = 0; r < 3; r++) p[r] = x[r] - height * n[r];
+     * that body: a cloth between a bar and a plate) or a deeper one, with
+     * this one as its second surface */
+    double p[3];
+    for (int r = 0; r < 3; r++) p[r] = x[r] - height * n[r];
+    if (vc->geom && (vc->geom != sf->g || vc->gap <= gap)) {
         dcloth_offer_second(vc, sf->g, sf->thickness, body, n, p, gap);
         return 0;
     }
-    if (vc->geom && vc->gap <= gap) return 0;
+    vcontact was = *vc;
     vc->geom = sf->g;
     vc->thickness = sf->thickness;
     vc->mu = sf->mu;
@@ -398,15 +404,18 @@ static int offer(dClothID c, int i, const struct dcloth_surf *sf, dBodyID body, 
     vc->from_triangle = 1; /* a shared contact: the triangles' release rules */
     vc->tri = -1;          /* a link's, not one triangle's: judged per vertex */
     vc->weight = 1.0;
+    if (was.geom) /* the plane replaced, the second */
+        dcloth_offer_second(vc, was.geom, was.thickness, was.body, was.normal, was.point, was.gap);
     return 1;
 }
 
-/* Whether vertex i is pinned to body b (not the world) or sits inside the
- * geom by its own contact with it. */
-static int left_alone(dClothID c, int i, dGeomID g, dBodyID b)
+/* Whether vertex i sits inside the geom by its own contact with it, or is
+ * pinned to its body b in a linearised step: that step keeps one plane a
+ * vertex, and the pin's neighbour squeezed by another geom loses the edge's. */
+static int left_alone(dClothID c, int i, dGeomID g, dBodyID b, int newton)
 {
     const vcontact *vc = &c->vc_new[i];
-    return (c->pin[i].active && b && c->pin[i].body == b) || (vc->geom == g && vc->gap < -vc->thickness);
+    return (!newton && c->pin[i].active && b && c->pin[i].body == b) || (vc->geom == g && vc->gap < -vc->thickness);
 }
 
 int dcloth_edge_contacts(dClothID c, const struct dcloth_surf *sf, double h, double extra)
@@ -432,6 +441,9 @@ int dcloth_edge_contacts(dClothID c, const struct dcloth_surf *sf, double h, dou
     dBodyID body = dGeomGetBody(g);
     const double *x = cloth_positions(c->core), *v = cloth_velocities(c->core);
     double shell = sf->thickness * (1.0 + DCLOTH_CONTACT_MARGIN);
+    /* ties and pinned links only where the step decides its contacts in its
+     * loop: the linearised step holds a plane, a tie's too, the whole step */
+    int newton = cloth_get_desc(c->core).solver.nonlinear == CLOTH_NEWTON;
     int hits = 0, nl = cloth_link_count(c->core, CLOTH_SEQUENTIAL);
     for (int e = 0; e < nl; e++) {
         cloth_link L;
@@ -443,12 +455,12 @@ int dcloth_edge_contacts(dClothID c, const struct dcloth_surf *sf, double h, dou
         if (fmax(a[0], b[0]) + r < aabb[0] || fmin(a[0], b[0]) - r > aabb[1] || fmax(a[1], b[1]) + r < aabb[2] ||
             fmin(a[1], b[1]) - r > aabb[3] || fmax(a[2], b[2]) + r < aabb[4] || fmin(a[2], b[2]) - r > aabb[5])
             continue;
-        if (left_alone(c, L.i, g, body) || left_alone(c, L.j, g, body)) continue;
+        if (left_alone(c, L.i, g, body, newton) || left_alone(c, L.j, g, body, newton)) continue;
         double d2, p[3], q[3], n[3];
         if (cls == dConvexClass) {
             if (!convex_query(&cv, a, b, r, 10.0 * ccd.epa_tolerance, &ccd, n, q)) continue;
         } else {
-            if (!link_query(c, &gr, e + 1, a, b, r, &d2, p, q)) continue;
+            if (!link_query(c, &gr, e + 1, newton, a, b, r, &d2, p, q)) continue;
             for (int m = 0; m < 3; m++) n[m] = (p[m] - q[m]) / sqrt(d2);
         }
         if (!c->pin[L.i].active) hits += offer(c, L.i, sf, body, n, q);
