@@ -42,6 +42,7 @@ cloth_desc cloth_default_desc(void)
     d.solver.limit_tolerance = 1e-3;
     d.solver.newton_cg_tolerance = 1e-2;
     d.solver.newton_cg_share = 0.25;
+    d.solver.nonlinear = CLOTH_NEWTON;
     return d;
 }
 

@@ -107,8 +107,8 @@ typedef enum cloth_precond {
 } cloth_precond;
 
 typedef enum cloth_nonlinear {
-    CLOTH_LINEARIZED = 0, /* one linear solve per step (default)         */
-    CLOTH_NEWTON          /* Newton on the step's incremental potential   */
+    CLOTH_LINEARIZED = 0, /* one linear solve per step                   */
+    CLOTH_NEWTON          /* Newton on the step's incremental potential (default) */
 } cloth_nonlinear;
 
 typedef struct cloth_solver {
@@ -149,9 +149,9 @@ typedef struct cloth_solver {
                                      (CLOTH_FAIL_NEWTON) and is retried in
                                      substeps (but see keep_unconverged)  */
     /* How the implicit methods solve a step's nonlinear equations.
-     * CLOTH_LINEARIZED (default): linearised once about the step's start
+     * CLOTH_LINEARIZED: linearised once about the step's start
      * (Baraff-Witkin), the elongation limit by the projection after it.
-     * CLOTH_NEWTON: Newton's method on the step's incremental potential,
+     * CLOTH_NEWTON (default): Newton's method on the step's incremental potential,
      * a line search keeping every iteration a descent; damping, and the
      * compressed links' push, along the links' directions frozen over the
      * step (backward Euler: at x0, so that no exact step gains energy;
