@@ -20,6 +20,7 @@
  * yielded keeps clearly more crease, growing with alpha).
  *
  * ctest: demo crumple --check --short --no-images
+ * ctest: demo crumple_linearized --check --short --no-images --solver linearized
  */
 #include "common/drape.h"
 

@@ -12,7 +12,7 @@
  * thickness into a body nor stretched past delta.
  *
  * ctest: demo drape_sphere --check --short --no-images --alpha 0,0.5,0.8,1
- * ctest: demo drape_sphere_newton --check --short --no-images --alpha 0,0.5,0.8,1 --solver newton
+ * ctest: demo drape_sphere_linearized --check --short --no-images --alpha 0,0.5,0.8,1 --solver linearized
  */
 #include "common/drape.h"
 
