@@ -1,13 +1,10 @@
-/* Contacts with bodies' surfaces (cloth_set_contact): decided inside the
- * Newton step, so a vertex that would end inside a body is held on its
- * surface, and a sticking one that holds a link past the elongation limit
- * slides, in the same solve instead of by solving the step again. A vertex
- * may have a second plane (cloth_set_contact_second), decided alike: held on
- * both, it is held on the line where they meet (con[i] their meet, con1[i]
- * the constraint without the second), each plane's force judged apart. */
+/* Contacts with bodies' surfaces (cloth_set_contact, and a second plane a vertex, cloth_set_contact_second),
+ * decided inside the Newton step: held behind a surface, let go where it pulls, a sticking one on a link past
+ * the limit let slide; on two planes a vertex is held on their line (internal.h: con, con1). */
 #include <math.h>
 #include <string.h>
 #include "internal.h"
+#include "vec3.h"
 
 /* The plane (normal, point) of a vertex checked for `who` and stored in its
  * row of `planes` (6 each: the unit normal, the point); nothing on an error */
@@ -67,7 +64,6 @@ cloth_status cloth_set_contact_second(cloth *c, int vertex, const double normal[
  * their angle, 0.6 deg) are not held together: their line is ill-posed */
 #define PLANES_PARALLEL 1e-2
 
-static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 /* whether vertex i's second plane holds it */
 static int second_held(const cloth *c, int i) { return c->cand2_on[i] == 2 || c->cand2_on[i] == 9; }
@@ -78,7 +74,7 @@ static cloth_constraint *first(cloth *c, int i) { return second_held(c, i) ? &c-
 /* whether unit normals n1 and n2 are too near parallel to meet in a line */
 static int near_parallel(const double *n1, const double *n2)
 {
-    double d = dot3(n1, n2);
+    double d = vec3_dot(n1, n2);
     return !(1.0 - d * d > PLANES_PARALLEL * PLANES_PARALLEL);
 }
 
@@ -86,7 +82,7 @@ static int near_parallel(const double *n1, const double *n2)
  * n1 + mu2 n2 (the Gram system of the two normals) */
 static void split_planes(const double *n1, const double *n2, const double *b, double *mu1, double *mu2)
 {
-    double g = dot3(n1, n2), d = 1.0 - g * g, b1 = dot3(n1, b), b2 = dot3(n2, b);
+    double g = vec3_dot(n1, n2), d = 1.0 - g * g, b1 = vec3_dot(n1, b), b2 = vec3_dot(n2, b);
     *mu1 = (b1 - g * b2) / d;
     *mu2 = (b2 - g * b1) / d;
 }
@@ -107,8 +103,9 @@ static void meet(cloth *c, int i)
         return;
     }
     const double *n1 = o->axis, *n2 = k;
-    double t[3] = {n1[1] * n2[2] - n1[2] * n2[1], n1[2] * n2[0] - n1[0] * n2[2], n1[0] * n2[1] - n1[1] * n2[0]};
-    double tl = sqrt(dot3(t, t)), g = dot3(n1, n2), d = 1.0 - g * g;
+    double t[3];
+    vec3_cross(n1, n2, t);
+    double tl = vec3_norm(t), g = vec3_dot(n1, n2), d = 1.0 - g * g;
     double r2 = n2[0] * (k[3] - o->target[0]) + n2[1] * (k[4] - o->target[1]) + n2[2] * (k[5] - o->target[2]);
     double a1 = -g * r2 / d, a2 = r2 / d;
     q->ndof = 2;
@@ -116,6 +113,14 @@ static void meet(cloth *c, int i)
         q->axis[r] = t[r] / tl;
         q->target[r] = o->target[r] + a1 * n1[r] + a2 * n2[r];
     }
+}
+
+/* vertex i's second plane lets go: con[i] is its own constraint again; a candidate
+ * again if held once so far */
+static void second_let_go(cloth *c, int i)
+{
+    c->con[i] = c->con1[i];
+    c->cand2_on[i] = c->cand2_on[i] == 2 ? 8 : 4;
 }
 
 /* vertex i's constraint changed (first(c, i)): con[i] follows */
@@ -151,10 +156,7 @@ static int make_plane(cloth *c, int i, const double *k, const double *x, double 
     memcpy(q->target, k + 3, 3 * sizeof *k);
     /* held by the body cloth_hold_by_body named, if any */
     c->cand_on[i] = c->cand_on[i] == 8 ? 9 : c->cand_on[i] == 10 ? 11 : 2;
-    if (second_held(c, i) && near_parallel(k, c->cand2 + 6 * (size_t)i)) {
-        c->con[i] = *q;
-        c->cand2_on[i] = c->cand2_on[i] == 2 ? 8 : 4;
-    }
+    if (second_held(c, i) && near_parallel(k, c->cand2 + 6 * (size_t)i)) second_let_go(c, i);
     sync(c, i);
     return 1;
 }
@@ -242,17 +244,14 @@ static int release_if_pulling(cloth *c, int i, const double *b, double pull_min,
     if (!plane && !two) return 0;
     const double *bi = b + 3 * (size_t)i, *ax = stuck ? c->cand + 6 * (size_t)i : q->axis;
     const double *n2 = c->cand2 + 6 * (size_t)i;
-    double mu1 = plane ? dot3(bi, ax) : 0.0, mu2 = two ? dot3(bi, n2) : 0.0;
+    double mu1 = plane ? vec3_dot(bi, ax) : 0.0, mu2 = two ? vec3_dot(bi, n2) : 0.0;
     if (two && q->ndof == 1) split_planes(q->axis, n2, bi, &mu1, &mu2);
     int go1 = plane && mu1 > pull_min, go2 = two && mu2 > pull2; /* else they push */
     if (go1) {
         q->ndof = 0;
         c->cand_on[i] = stuck ? 7 : released_as(c, i);
     }
-    if (go2) {
-        c->con[i] = c->con1[i];
-        c->cand2_on[i] = c->cand2_on[i] == 2 ? 8 : 4;
-    }
+    if (go2) second_let_go(c, i);
     sync(c, i);
     return go1 + go2;
 }

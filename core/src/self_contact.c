@@ -329,13 +329,6 @@ static double pair_at(const self_contact *s, const int *v, int edge_edge, const 
     return pair_terms(s, v, c, x, cfac, b, A);
 }
 
-/* Whether point p is within pad of box bx on every axis */
-static int point_near(const double *p, const double *bx, double pad)
-{
-    return bx[0] - pad <= p[0] && p[0] <= bx[3] + pad && bx[1] - pad <= p[1] && p[1] <= bx[4] + pad &&
-           bx[2] - pad <= p[2] && p[2] <= bx[5] + pad;
-}
-
 /* Whether candidate i (vertex-triangle, or with ee edge-edge) may be within D at x, its four
  * vertices into v; the boxes at x are in s->box, the triangles' frames in s->frame */
 static int pair_near(const self_contact *s, int ee, int i, const double *x, int *v)
@@ -349,7 +342,8 @@ static int pair_near(const self_contact *s, int ee, int i, const double *x, int 
         return !pair_apart_edges(x + 3 * v[0], x + 3 * v[1], x + 3 * v[2], x + 3 * v[3], s->D);
     }
     const int *tv = s->tri + 3 * t;
-    if (!point_near(x + 3 * a, s->box + 6 * (size_t)t, s->D)) return 0;
+    const double *p = x + 3 * a, pt[6] = {p[0], p[1], p[2], p[0], p[1], p[2]};
+    if (!near_boxes(pt, s->box + 6 * (size_t)t, s->D)) return 0;
     v[0] = a, v[1] = tv[0], v[2] = tv[1], v[3] = tv[2];
     return !pair_apart_point_triangle(x + 3 * a, x + 3 * v[1], x + 3 * v[2], x + 3 * v[3], s->frame + 12 * (size_t)t,
                                       s->D);
@@ -390,7 +384,6 @@ static double near_again(self_contact *s, const double *x, double cfac, double *
 double self_contact_eval(self_contact *s, const double *x, double cfac, double *b, bsr *A)
 {
     size_t n3 = 3 * (size_t)s->n;
-    s->work.evals++;
     if (candidates(s, x, NULL) < 0) return NAN;
     /* the matrix follows the residual at the same positions: their pairs again */
     if (s->near_ok && s->near_at == s->work.rebuilds && !memcmp(x, s->xnear, n3 * sizeof *x))
@@ -451,7 +444,6 @@ static double sweep_direct(self_contact *s, const double *x0, const double *x1, 
 {
     double first = HUGE_VAL;
     s->swept.n = 0;
-    s->work.direct++;
     if (list_pairs(s, 0, x0, x1, eta, &first) < 0 || list_pairs(s, 1, x0, x1, eta, &first) < 0) return -1.0;
     return first;
 }
@@ -459,7 +451,6 @@ static double sweep_direct(self_contact *s, const double *x0, const double *x1, 
 double self_contact_max_step(self_contact *s, const double *x0, const double *x1)
 {
     double eta = SELF_CONTACT_TOUCH * s->D, first;
-    s->work.sweeps++;
     int how = candidates(s, x0, x1);
     if (how < 0) return 0.0;
     if (how > 0) {

@@ -19,9 +19,7 @@ typedef struct self_contact self_contact;
 
 /* The work done since creation (for tests and benchmarks) */
 typedef struct self_contact_work {
-    long evals, sweeps; /* self_contact_eval, self_contact_max_step calls */
     long rebuilds;      /* candidate lists built (broadphase runs) */
-    long direct;        /* sweeps too long for a list, swept by a broadphase of their own */
     int candidates;     /* pairs in the last list */
     int tested, active; /* the last evaluation's pairs whose distance it computed; within D */
 } self_contact_work;
