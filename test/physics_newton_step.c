@@ -329,7 +329,7 @@ static void within_tolerance(double tol)
     d.solver.nonlinear = CLOTH_NEWTON;
     d.solver.newton_tolerance = tol;
     cloth_solver tight = d.solver, unshared = d.solver;
-    unshared.newton_cg_share = 0.0;
+    unshared.newton_cg_share = tight.newton_cg_share = 0.0;
     tight.newton_tolerance = 1e-8;
     tight.newton_cg_tolerance = 1e-10;
     tight.newton_iterations = 100;

@@ -122,7 +122,6 @@ static void both_push(void)
                 worst_f = fmax(worst_f, fabs(f2[r] - lw * wall[r]) / (m * 9.81));
                 split = split && fabs(f1[r] + f2[r] - f[r]) <= 1e-12 * m * 9.81;
             }
-            if (k == 1 && i == 0) CHECK(lf > 0.0 && lw > 0.0, "the closed form has both planes pushing");
         }
         CHECK(lines == n, "step %d: %d of %d vertices on the line (ndof 2, both planes held)", k, lines, n);
         CHECK(worst_x <= 1e-9, "step %d: a vertex %.3g m off the line's closed form", k, worst_x);
@@ -164,7 +163,6 @@ static void wall_pulls(void)
         cloth_constraint k1, kk;
         int two = 0;
         wedge_forces(m, g, &lf, &lw);
-        if (i == 0) CHECK(lw < 0.0 && lf > 0.0, "the closed form on the line has the wall pulling");
         cloth_get_constraint(c, i, &kk);
         cloth_get_contact_planes(c, i, &k1, &two, f1, f2);
         ok += kk.ndof == 1 && fabs(dot3(kk.axis, FLOOR) - 1.0) <= 1e-15 && two && k1.ndof == 0;

@@ -13,9 +13,7 @@
  * after it pulled: in the last step the cloth is held the contacts carry
  * at most one step's change of the load the wrong way, M 2 A h / T, and
  * the first step it moves it leaves at under two steps' change, h 4 A h /
- * T. (Judged by each vertex's pull against 0.15 of a link's tension at
- * the limit, 0.45 N, against vertex weights of 1e-4 N, the cloth never
- * leaves in the ramp.) */
+ * T. */
 #include <math.h>
 #include <stdio.h>
 

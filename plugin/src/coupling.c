@@ -416,16 +416,15 @@ static int body_holds(dClothID c)
     return 0;
 }
 
-/* The core's step with this step's solver. A held step changes what the next
- * one solves: one more substep halving for each step held in a row (up to the
- * solver's bound). Newton's solves keep their relative stop while a dynamic
- * body holds the cloth: what a shorter solve leaves over would move it. */
+/* The core's step with this step's solver: one more substep halving for each step held in a row (up to
+ * the solver's bound), and Newton's solves to their relative stop only while a dynamic body holds the
+ * cloth (what a shorter solve leaves over would move it). */
 static cloth_status held_run_step(dClothID c, cloth *core, double h, cloth_step_stats *st)
 {
     cloth_solver sv0 = cloth_get_desc(core).solver, sv = sv0;
-    int shared = sv0.nonlinear == CLOTH_NEWTON && sv0.newton_cg_share > 0.0 && body_holds(c);
-    if (!c->held_run && !shared) return cloth_step(core, h, st);
-    if (shared) sv.newton_cg_share = 0.0;
+    int exact = sv0.nonlinear == CLOTH_NEWTON && sv0.newton_cg_share > 0.0 && body_holds(c);
+    if (!c->held_run && !exact) return cloth_step(core, h, st);
+    if (exact) sv.newton_cg_share = 0.0;
     sv.max_substep_halvings = sv0.max_substep_halvings + c->held_run;
     if (sv.max_substep_halvings > DCLOTH_HOLD_MAX_HALVINGS) sv.max_substep_halvings = DCLOTH_HOLD_MAX_HALVINGS;
     cloth_set_solver(core, &sv);

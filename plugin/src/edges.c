@@ -16,9 +16,8 @@ static void sub3(const double *a, const double *b, double *r)
     for (int k = 0; k < 3; k++) r[k] = a[k] - b[k];
 }
 
-/* Squared distance from p to triangle (a, b, c); q the nearest point
- * (Voronoi regions of the corners, edges and face). */
-static double point_triangle(const double *p, const double *a, const double *b, const double *c, double q[3])
+/* Squared distance from p to triangle (a, b, c) (Voronoi regions of the corners, edges and face). */
+static double point_triangle(const double *p, const double *a, const double *b, const double *c)
 {
     double ab[3], ac[3], ap[3], bp[3], cp[3];
     sub3(b, a, ab), sub3(c, a, ac), sub3(p, a, ap);
@@ -45,42 +44,38 @@ static double point_triangle(const double *p, const double *a, const double *b, 
         u = vb * den, w = vc * den;
     }
     double d[3];
-    for (int k = 0; k < 3; k++) {
-        q[k] = a[k] + u * ab[k] + w * ac[k];
-        d[k] = p[k] - q[k];
-    }
+    for (int k = 0; k < 3; k++) d[k] = p[k] - (a[k] + u * ab[k] + w * ac[k]);
     return dcloth_dot3(d, d);
 }
 
 static double clamp01(double x) { return x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x; }
 
-/* Squared distance between segments [p1, q1] and [p2, q2]; *s along the
- * first, c1 and c2 the nearest points. */
-static double segment_segment(const double *p1, const double *q1, const double *p2, const double *q2, double *s,
-                              double c1[3], double c2[3])
+/* Squared distance between segments [p1, q1] and [p2, q2]; c1 and c2 the nearest points. */
+static double segment_segment(const double *p1, const double *q1, const double *p2, const double *q2, double c1[3],
+                              double c2[3])
 {
-    double d1[3], d2[3], r[3];
+    double s, d1[3], d2[3], r[3];
     sub3(q1, p1, d1), sub3(q2, p2, d2), sub3(p1, p2, r);
     double a = dcloth_dot3(d1, d1), e = dcloth_dot3(d2, d2), f = dcloth_dot3(d2, r), t;
     if (a <= 0.0 && e <= 0.0) {
-        *s = 0.0, t = 0.0;
+        s = 0.0, t = 0.0;
     } else if (a <= 0.0) {
-        *s = 0.0, t = clamp01(f / e);
+        s = 0.0, t = clamp01(f / e);
     } else {
         double cc = dcloth_dot3(d1, r);
         if (e <= 0.0) {
-            t = 0.0, *s = clamp01(-cc / a);
+            t = 0.0, s = clamp01(-cc / a);
         } else {
             double b = dcloth_dot3(d1, d2), den = a * e - b * b;
-            *s = den > 0.0 ? clamp01((b * f - cc * e) / den) : 0.0;
-            t = (b * *s + f) / e;
-            if (t < 0.0) t = 0.0, *s = clamp01(-cc / a);
-            else if (t > 1.0) t = 1.0, *s = clamp01((b - cc) / a);
+            s = den > 0.0 ? clamp01((b * f - cc * e) / den) : 0.0;
+            t = (b * s + f) / e;
+            if (t < 0.0) t = 0.0, s = clamp01(-cc / a);
+            else if (t > 1.0) t = 1.0, s = clamp01((b - cc) / a);
         }
     }
     double d[3];
     for (int k = 0; k < 3; k++) {
-        c1[k] = p1[k] + *s * d1[k];
+        c1[k] = p1[k] + s * d1[k];
         c2[k] = p2[k] + t * d2[k];
         d[k] = c1[k] - c2[k];
     }
@@ -151,12 +146,13 @@ static int fetch_triangles(dClothID c, dGeomID g, int cls)
     return nt;
 }
 
+/* EPA's tolerance, of the thickness, for a link against a convex's points */
+#define EDGE_EPA 1e-6
+
 /* The fetched triangles bucketed in a uniform grid over their box, cells
  * of a triangle's mean size (at most GRID_DIM a side), so a link meets only
  * the triangles near it. */
 #define GRID_DIM 64
-/* EPA's tolerance, of the thickness, for a link against a convex's points */
-#define EDGE_EPA 1e-6
 typedef struct tri_grid {
     double lo[3], cell;
     int dim[3], nt;
@@ -263,13 +259,12 @@ static int link_query(const dClothID c, const tri_grid *gr, int stamp, int tie, 
                         continue;
                     c->edge_stamp[j] = stamp;
                     if (segment_meets(a, b, t)) return 0;
-                    double w[3];
-                    double ea = point_triangle(a, t, t + 3, t + 6, w), eb = point_triangle(b, t, t + 3, t + 6, w);
+                    double ea = point_triangle(a, t, t + 3, t + 6), eb = point_triangle(b, t, t + 3, t + 6);
                     end_a = fmin(end_a, ea);
                     end_b = fmin(end_b, eb);
                     for (int e = 0; e < 3; e++) {
-                        double se, c1p[3], c2p[3];
-                        double de = segment_segment(a, b, t + 3 * e, t + 3 * ((e + 1) % 3), &se, c1p, c2p);
+                        double c1p[3], c2p[3];
+                        double de = segment_segment(a, b, t + 3 * e, t + 3 * ((e + 1) % 3), c1p, c2p);
                         if (!(de < mid)) continue;
                         mid = de;
                         memcpy(p, c1p, sizeof c1p);
