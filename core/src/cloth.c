@@ -222,7 +222,7 @@ static int multigrid_levels(cloth *c, const cloth_solver *s)
     int want = s->precond == CLOTH_PRECOND_MULTIGRID ||
                (s->precond == CLOTH_PRECOND_AUTO && s->nonlinear == CLOTH_NEWTON);
     if (!want || c->mg.nlev > 0) return 0;
-    int r = mg_create(&c->mg, c->rows, c->cols);
+    int r = mg_create(&c->mg, c->rows, c->cols, &c->A);
     return r == -2 && s->precond == CLOTH_PRECOND_AUTO ? 0 : r;
 }
 

@@ -6,7 +6,7 @@
  * How (as measured on the prototype in DESIGN.md):
  *  - coarsen by two in each grid direction (node 2I of a level is node I of
  *    the next), bilinear prolongation W, restriction W^T;
- *  - Galerkin coarse operators W^T A W rebuilt for every solve: a Newton
+ *  - Galerkin coarse operators W^T A W (galerkin.c) rebuilt for every solve: a Newton
  *    iterate can put thousands of links on another branch of their law,
  *    and coarse levels kept from an earlier matrix then cost iterations;
  *  - constraints removed before coarsening: the fine operator coarsened is
@@ -63,6 +63,9 @@ void mg_free(multigrid *mg)
         free(L->slot);
         free(L->rc);
         free(L->symrow);
+        galerkin_plan_free(&L->gp);
+        free(L->fidx);
+        free(L->fbuf);
     }
     free(mg->dense);
     memset(mg, 0, sizeof *mg);
@@ -122,7 +125,7 @@ static int level_pattern(mg_level *L)
     return 0;
 }
 
-int mg_create(multigrid *mg, int R, int C)
+int mg_create(multigrid *mg, int R, int C, const bsr *A0)
 {
     memset(mg, 0, sizeof *mg);
     /* the coarsest level is solved densely: a grid that does not coarsen
@@ -173,6 +176,15 @@ int mg_create(multigrid *mg, int R, int C)
         }
         if (l > 0 && level_pattern(L) != 0) goto fail;
     }
+    for (l = 0; l + 1 < mg->nlev; l++) {
+        mg_level *F = &mg->lev[l], *K = &mg->lev[l + 1];
+        if (galerkin_plan_make(&F->gp, l ? &F->M : A0, F->par, F->w, &K->M, K->slot, K->rc) != 0) goto fail;
+    }
+    if (mg->nlev > 1) {
+        mg->lev[0].fidx = malloc((size_t)A0->nnzb * sizeof *mg->lev[0].fidx);
+        mg->lev[0].fbuf = malloc(9 * (size_t)A0->nnzb * sizeof *mg->lev[0].fbuf);
+        if (!mg->lev[0].fidx || !mg->lev[0].fbuf) goto fail;
+    }
     mg->nc = 3 * mg->lev[mg->nlev - 1].n;
     mg->dense = malloc((size_t)mg->nc * mg->nc * sizeof *mg->dense);
     if (!mg->dense) goto fail;
@@ -209,118 +221,6 @@ static void inv_reg(const double *B, double *o)
         memset(o, 0, 9 * sizeof *o);
         for (int k = 0; k < 3; k++) o[4 * k] = m[4 * k] > 0.0 ? 1.0 / m[4 * k] : 0.0;
     }
-}
-
-/* D += w B, element by element (with SSE2 two elements at a time: the same
- * operations, so the same bits) */
-static inline void add_scaled_block(double *D, double w, const double *B)
-{
-#if defined(__SSE2__)
-    __m128d wv = _mm_set1_pd(w);
-    _mm_storeu_pd(D, _mm_add_pd(_mm_loadu_pd(D), _mm_mul_pd(wv, _mm_loadu_pd(B))));
-    _mm_storeu_pd(D + 2, _mm_add_pd(_mm_loadu_pd(D + 2), _mm_mul_pd(wv, _mm_loadu_pd(B + 2))));
-    _mm_storeu_pd(D + 4, _mm_add_pd(_mm_loadu_pd(D + 4), _mm_mul_pd(wv, _mm_loadu_pd(B + 4))));
-    _mm_storeu_pd(D + 6, _mm_add_pd(_mm_loadu_pd(D + 6), _mm_mul_pd(wv, _mm_loadu_pd(B + 6))));
-#else
-    for (int k = 0; k < 8; k++) D[k] += w * B[k];
-#endif
-    D[8] += w * B[8];
-}
-
-#if MAT3_HAVE_AVX
-/* add_scaled_block with 256-bit vectors (mat3.h): the same operations on
- * each element, so the same bits */
-static inline __attribute__((target("avx"))) void add_scaled_block_avx(double *D, double w, const double *B)
-{
-    __m256d wv = _mm256_set1_pd(w);
-    _mm256_storeu_pd(D, _mm256_add_pd(_mm256_loadu_pd(D), _mm256_mul_pd(wv, _mm256_loadu_pd(B))));
-    _mm256_storeu_pd(D + 4, _mm256_add_pd(_mm256_loadu_pd(D + 4), _mm256_mul_pd(wv, _mm256_loadu_pd(B + 4))));
-    D[8] += w * B[8];
-}
-#endif
-
-/* Add w_I w_J B to coarse block (I, J) for every parent I of fine node i and
- * J of fine node j. (Element by element, D[k] += w B[k]: with SSE2 two
- * elements at a time, the same operations, so the same bits.) */
-static void galerkin_block(const mg_level *F, mg_level *K, int i, int j, const double *B)
-{
-    const int *pi = F->par + 4 * i, *pj = F->par + 4 * j;
-    const double *wi_ = F->w + 4 * i, *wj_ = F->w + 4 * j;
-    for (int a = 0; a < 4 && pi[a] >= 0; a++) {
-        int I = pi[a];
-        double wi = wi_[a];
-        const int *rcI = K->rc + 2 * I;
-        const int *slot = K->slot + (size_t)I * NSTEN;
-        for (int b = 0; b < 4 && pj[b] >= 0; b++) {
-            const int *rcJ = K->rc + 2 * pj[b];
-            double w = wi * wj_[b];
-            add_scaled_block(K->M.val + 9 * (size_t)slot[(rcJ[0] - rcI[0] + 2) * 5 + (rcJ[1] - rcI[1] + 2)], w, B);
-        }
-    }
-}
-
-/* galerkin_block for the blocks val + 9 k, k in [lo, hi), of fine row i
- * (columns col[k]), parent by parent of i: the slots of parent I's coarse
- * row are found once per I. Each coarse block gets its contributions in the
- * same order as block by block: those from row i to a block (I, J) share
- * the parent I of i, and each fine block k gives one, k ascending. */
-MAT3_INLINE void galerkin_row_k(int avx, const mg_level *F, mg_level *K, int i, const double *val, const int *col,
-                                int lo, int hi)
-{
-    (void)avx; /* used only where the build has AVX */
-    const int *pi = F->par + 4 * i;
-    const double *wi_ = F->w + 4 * i;
-    for (int a = 0; a < 4 && pi[a] >= 0; a++) {
-        int I = pi[a];
-        double wi = wi_[a];
-        const int *rcI = K->rc + 2 * I;
-        /* slot of coarse node J: (rcJ0 - rcI0 + 2) * 5 + (rcJ1 - rcI1 + 2) */
-        const int *slot = K->slot + (size_t)I * NSTEN + (2 - rcI[0]) * 5 + (2 - rcI[1]);
-        for (int k = lo; k < hi; k++) {
-            const double *B = val + 9 * (size_t)k;
-            const int *pj = F->par + 4 * col[k];
-            const double *wj = F->w + 4 * col[k];
-            for (int b = 0; b < 4 && pj[b] >= 0; b++) {
-                const int *rcJ = K->rc + 2 * pj[b];
-                double *D = K->M.val + 9 * (size_t)slot[rcJ[0] * 5 + rcJ[1]];
-#if MAT3_HAVE_AVX
-                if (avx) {
-                    add_scaled_block_avx(D, wi * wj[b], B);
-                    continue;
-                }
-#endif
-                add_scaled_block(D, wi * wj[b], B);
-            }
-        }
-    }
-}
-
-static void galerkin_row_plain(const mg_level *F, mg_level *K, int i, const double *val, const int *col, int lo,
-                               int hi)
-{
-    galerkin_row_k(0, F, K, i, val, col, lo, hi);
-}
-
-#if MAT3_HAVE_AVX
-MAT3_AVX_FN static void galerkin_row_avx(const mg_level *F, mg_level *K, int i, const double *val, const int *col,
-                                         int lo, int hi)
-{
-    galerkin_row_k(1, F, K, i, val, col, lo, hi);
-}
-#endif
-
-/* avx: mat3_avx() */
-static void galerkin_row(int avx, const mg_level *F, mg_level *K, int i, const double *val, const int *col, int lo,
-                         int hi)
-{
-#if MAT3_HAVE_AVX
-    if (avx) {
-        galerkin_row_avx(F, K, i, val, col, lo, hi);
-        return;
-    }
-#endif
-    (void)avx;
-    galerkin_row_plain(F, K, i, val, col, lo, hi);
 }
 
 /* Cholesky of the coarsest level's dense matrix, in place (lower). A pivot
@@ -382,41 +282,29 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
     mg->constrained = constrained;
     mg->lev[0].Dinv = Dinv0;
     double B[9];
-    int avx = mat3_avx();
-    /* level 0 -> 1 from the BSR matrix, filtered */
+    /* level 0 -> 1 from the BSR matrix, its blocks at constraints filtered */
     if (mg->nlev > 1) {
-        mg_level *F = &mg->lev[0], *K = &mg->lev[1];
-        bsr_zero(&K->M);
+        mg_level *F = &mg->lev[0];
+        int nf = 0;
         for (int i = 0; i < F->n; i++) {
-            int filt = constrained[i];
-            for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++) filt = filt || constrained[A->col[k]];
             F->symrow[i] = (unsigned char)row_symmetric(A, Dinv0, i);
-            if (!filt) {
-                galerkin_row(avx, F, K, i, A->val, A->col, A->row_ptr[i], A->row_ptr[i + 1]);
-                continue;
-            }
-            for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++) {
+            for (int k = A->diag[i]; k < A->row_ptr[i + 1]; k++) {
                 int j = A->col[k];
-                const double *Bk = A->val + 9 * (size_t)k;
-                if (constrained[i] || constrained[j]) {
-                    filter_block(S + 9 * (size_t)i, Bk, S + 9 * (size_t)j, B);
-                    Bk = B;
-                }
-                galerkin_block(F, K, i, j, Bk);
+                F->fidx[k] = constrained[i] || constrained[j] ? nf : -1;
+                if (F->fidx[k] < 0) continue;
+                filter_block(S + 9 * (size_t)i, A->val + 9 * (size_t)k, S + 9 * (size_t)j, F->fbuf + 9 * (size_t)nf);
+                nf++;
             }
         }
+        galerkin_apply(&F->gp, A->val, F->fbuf, F->fidx, &mg->lev[1].M);
     }
     for (int l = 1; l < mg->nlev; l++) {
         mg_level *L = &mg->lev[l];
         const bsr *M = &L->M;
         for (int i = 0; i < L->n; i++) inv_reg(M->val + 9 * (size_t)M->diag[i], L->Dinv + 9 * (size_t)i);
         if (l + 1 == mg->nlev) break;
-        mg_level *K = &mg->lev[l + 1];
-        bsr_zero(&K->M);
-        for (int i = 0; i < L->n; i++) {
-            L->symrow[i] = (unsigned char)row_symmetric(M, L->Dinv, i);
-            galerkin_row(avx, L, K, i, M->val, M->col, M->row_ptr[i], M->row_ptr[i + 1]);
-        }
+        for (int i = 0; i < L->n; i++) L->symrow[i] = (unsigned char)row_symmetric(M, L->Dinv, i);
+        galerkin_apply(&L->gp, M->val, NULL, NULL, &mg->lev[l + 1].M);
     }
     /* coarsest level: dense, factored */
     mg_level *L = &mg->lev[mg->nlev - 1];

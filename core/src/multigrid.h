@@ -4,6 +4,7 @@
 #define ODECLOTH_MULTIGRID_H
 
 #include "bsr.h"
+#include "galerkin.h"
 
 #define MG_MAX_LEVELS 16
 
@@ -22,6 +23,11 @@ typedef struct mg_level {
     /* prolongation from the next coarser level: up to 4 parents per node */
     int *par;            /* 4n coarse node indices (-1 = none)                     */
     double *w;           /* 4n bilinear weights                                    */
+    galerkin_plan gp;    /* the next level's matrix from this one's                */
+    /* level 0: the filtered blocks S_i A_ij S_j of the upper triangle's blocks
+     * that touch a constraint (fidx[k] >= 0: at fbuf + 9 fidx[k]) */
+    int *fidx;
+    double *fbuf;
 } mg_level;
 
 typedef struct multigrid {
@@ -35,12 +41,13 @@ typedef struct multigrid {
     const unsigned char *constrained; /* n flags: filter needed                    */
 } multigrid;
 
-/* Levels for an R x C grid: coarsened by two (node 2I of a level is node I
- * of the next) while the level has more than 64 nodes. 0; -1 on no memory;
+/* Levels for an R x C grid whose matrices have A0's pattern: coarsened by two
+ * (node 2I of a level is node I of the next) while the level has more than 64
+ * nodes. 0; -1 on no memory;
  * -2 when the coarsest level would have more than MG_DENSE_MAX unknowns
  * (a grid with a side under 5 nodes does not coarsen). */
 #define MG_DENSE_MAX 3072
-int mg_create(multigrid *mg, int R, int C);
+int mg_create(multigrid *mg, int R, int C, const bsr *A0);
 void mg_free(multigrid *mg);
 
 /* Per step: Galerkin coarse operators A_{l+1} = W^T A_l W from the filtered
