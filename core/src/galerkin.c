@@ -40,7 +40,7 @@ static int visit(const bsr *F, const int *par, const double *w, const int *slot,
                 for (int b = 0; b < 4 && par[4 * j + b] >= 0; b++) {
                     int I = par[4 * i + a], J = par[4 * j + b], code = weight_code(w[4 * i + a] * w[4 * j + b]);
                     if (code < 0) return -1;
-                    if (J < I && j == i) continue; /* F's diagonal block: the mirror's */
+                    /* tr 1: as F's (j, i); F's diagonal block has no such twin */
                     for (int tr = 0; tr < 2; tr++) {
                         if ((tr == 0 && J < I) || (tr == 1 && (J > I || j == i))) continue;
                         int t = tr ? kblock(slot, rc, J, I) : kblock(slot, rc, I, J);
