@@ -3,6 +3,7 @@
 #include <math.h>
 #include <string.h>
 #include <stdlib.h>
+#include <time.h>
 #include "self_contact.h"
 #include "ccd.h"
 #include "pair_apart.h"
@@ -381,7 +382,14 @@ static double near_again(self_contact *s, const double *x, double cfac, double *
     return E[0] + E[1];
 }
 
-double self_contact_eval(self_contact *s, const double *x, double cfac, double *b, bsr *A)
+/* Wall seconds (C11's timespec_get: the core links libm only) */
+static double wall_now(void)
+{
+    struct timespec ts;
+    return timespec_get(&ts, TIME_UTC) ? (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec : 0.0;
+}
+
+static double eval_untimed(self_contact *s, const double *x, double cfac, double *b, bsr *A)
 {
     size_t n3 = 3 * (size_t)s->n;
     if (candidates(s, x, NULL) < 0) return NAN;
@@ -448,7 +456,7 @@ static double sweep_direct(self_contact *s, const double *x0, const double *x1, 
     return first;
 }
 
-double self_contact_max_step(self_contact *s, const double *x0, const double *x1)
+static double max_step_untimed(self_contact *s, const double *x0, const double *x1)
 {
     double eta = SELF_CONTACT_TOUCH * s->D, first;
     int how = candidates(s, x0, x1);
@@ -463,4 +471,18 @@ double self_contact_max_step(self_contact *s, const double *x0, const double *x1
         first = fmin(first, first_touch(s, 1, x0, x1, eta));
     }
     return first <= 1.0 ? SELF_CONTACT_STOP * first : 1.0;
+}
+
+double self_contact_eval(self_contact *s, const double *x, double cfac, double *b, bsr *A)
+{
+    double t0 = wall_now(), E = eval_untimed(s, x, cfac, b, A);
+    s->work.seconds += wall_now() - t0;
+    return E;
+}
+
+double self_contact_max_step(self_contact *s, const double *x0, const double *x1)
+{
+    double t0 = wall_now(), f = max_step_untimed(s, x0, x1);
+    s->work.seconds += wall_now() - t0;
+    return f;
 }

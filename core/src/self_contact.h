@@ -22,6 +22,7 @@ typedef struct self_contact_work {
     long rebuilds;      /* candidate lists built (broadphase runs) */
     int candidates;     /* pairs in the last list */
     int tested, active; /* the last evaluation's pairs whose distance it computed; within D */
+    double seconds;     /* wall time spent in self_contact_eval and self_contact_max_step */
 } self_contact_work;
 
 /* The grid's triangles as selfcollision.c lists them (3 ntri corners, kept

@@ -9,6 +9,7 @@
 #include "mat3.h"
 #include "mpcg.h"
 #include "newton.h"
+#include "self_contact.h"
 
 int workspace_alloc(cloth *c)
 {
@@ -86,8 +87,16 @@ static void fill_stats(cloth *c, cloth_step_stats *st, const measured *ms)
     st->plastic_links = p;
 }
 
-static cloth_status finish(cloth *c, cloth_step_stats *st, cloth_step_stats *out, cloth_status s)
+/* Wall seconds the bound self-contact has spent since its creation (0: none bound) */
+static double self_contact_clock(const cloth *c)
 {
+    return c->self_contact ? self_contact_get_work(c->self_contact).seconds : 0.0;
+}
+
+/* sc0: self_contact_clock when the step began */
+static cloth_status finish(cloth *c, cloth_step_stats *st, cloth_step_stats *out, cloth_status s, double sc0)
+{
+    st->self_contact_seconds = self_contact_clock(c) - sc0;
     c->stats = *st;
     if (out) *out = *st;
     return s;
@@ -229,13 +238,14 @@ cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
     if (!c) return CLOTH_EINVAL;
     cloth_step_stats st;
     memset(&st, 0, sizeof st);
+    double sc0 = self_contact_clock(c);
     const cloth_solver *sv = &c->desc.solver;
     st.method = sv->method;
     st.substeps = 1;
     if (!(h > 0.0) || !isfinite(h)) {
         st.failure = CLOTH_FAIL_BAD_STEP;
         fill_stats(c, &st, NULL);
-        finish(c, &st, out, CLOTH_EINVAL);
+        finish(c, &st, out, CLOTH_EINVAL, sc0);
         return cloth_fail(c, CLOTH_EINVAL, "cloth_step: h = %g must be finite and > 0", h);
     }
     measured ms = {0.0, 0.0, 0};
@@ -254,14 +264,14 @@ cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
         contacts_undo(c);
         st.failure = fail;
         fill_stats(c, &st, NULL); /* the unchanged state */
-        finish(c, &st, out, CLOTH_ESTEP);
+        finish(c, &st, out, CLOTH_ESTEP, sc0);
         if (st.halvings > 0)
             return cloth_fail(c, CLOTH_ESTEP, "cloth_step: %s, also in substeps of h/%ld (state unchanged)",
                               cloth_failure_string(fail), 1L << st.halvings);
         return cloth_fail(c, CLOTH_ESTEP, "cloth_step: %s (state unchanged)", cloth_failure_string(fail));
     }
     fill_stats(c, &st, &ms); /* the committed positions are x_new */
-    return finish(c, &st, out, CLOTH_OK);
+    return finish(c, &st, out, CLOTH_OK, sc0);
 }
 
 const cloth_step_stats *cloth_last_stats(const cloth *c) { return c ? &c->stats : NULL; }

@@ -487,6 +487,9 @@ typedef struct cloth_step_stats {
                               barrier (odecloth/selfcollision.h) could
                               not take: taken without it, their pairs
                               left to the pass after the step         */
+    double self_contact_seconds; /* wall seconds the step spent in that
+                              barrier's evaluations and sweeps (0 when
+                              no pass is bound)                        */
 } cloth_step_stats;
 
 /* Advance by h seconds. An h that is not finite and > 0 is a bad argument:
