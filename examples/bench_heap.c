@@ -21,7 +21,11 @@
  *   bench_heap [--out DIR] [--grid N] [--self-collision T] [--max-wall S]
  *              [--seconds S] [--turns T] [--swirl R] [--no-images] [--check]
  *
- * ctest: bench heap --grid 21 --seconds 0.5 --no-images --check --out out/bench_fast
+ * --check: no failed step, no intersecting triangle pair after any step, and a
+ * heap at the end (HEAP_LAYERS_MIN layers somewhere), so the count is not of a
+ * cloth that never met itself.
+ *
+ * ctest: physics heap_no_crossing --grid 31 --no-images --check --out out/bench_fast
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -40,6 +44,7 @@
 #define HEAP_LOWER_S 1.2    /* s, the held corner lowered to the floor, then let go */
 #define HEAP_TURNS 1.5      /* circles the held corner makes meanwhile (--turns) */
 #define HEAP_SWIRL 0.1      /* m, their radius (--swirl) */
+#define HEAP_LAYERS_MIN 3   /* --check: the fewest layers at the thickest point */
 #define LAYER_SAMPLES 100   /* per side, the floor points where layers are counted */
 #define IMAGE_W 960
 #define IMAGE_H 720
@@ -252,7 +257,8 @@ static const char usage[] =
     "--turns T, --swirl R  circles (default 1.5) and their radius in m (default 0.1) of the held\n"
     "           corner while it is lowered\n"
     "--no-images  no pictures (else DIR/bench_heap_N.png and _half.png when rendering works)\n"
-    "--check    exit 1 if a step failed or left intersecting triangle pairs\n"
+    "--check    exit 1 if a step failed or left intersecting triangle pairs, or the cloth\n"
+    "           ends with fewer than 3 layers over every point of the floor (no heap)\n"
     "Writes DIR/bench_heap.csv and DIR/bench_heap_steps.csv (default DIR out/bench).";
 
 /* A number in (lo, hi] from v, or -1 with a message naming the option */
@@ -321,7 +327,7 @@ int main(int argc, char **argv)
         run r = run_heap(&o, grids[g]);
         print_run(stdout, &r, 0);
         print_run(csv, &r, 1);
-        misses += r.failed > 0 || r.max_pairs != 0 || strcmp(r.status, "ok");
+        misses += r.failed > 0 || r.max_pairs != 0 || r.layers < HEAP_LAYERS_MIN || strcmp(r.status, "ok");
     }
     demo_render_shutdown();
     dCloseODE();

@@ -3,9 +3,7 @@
 #include "pair_apart.h"
 #include "vec3.h"
 
-/* A bound proves a pair apart only beyond D by this share: the pair's
- * distance, computed otherwise, has rounding of its own */
-#define PAIR_APART_MARGIN (1.0 + 1e-6)
+static inline double larger(double a, double b) { return a > b ? a : b; }
 
 void pair_apart_frame(const double *a, const double *b, const double *c, double *f)
 {
@@ -26,41 +24,59 @@ void pair_apart_frame(const double *a, const double *b, const double *c, double 
     }
 }
 
+double pair_apart_point_triangle_gap(const double *p, const double *a, const double *b, const double *c,
+                                     const double *f, double enough)
+{
+    const double *v[3] = {a, b, c};
+    double r[3];
+    vec3_sub(p, a, r);
+    double gap = fabs(vec3_dot(r, f));
+    for (int k = 0; k < 3 && !(gap >= enough); k++) {
+        vec3_sub(p, v[k], r);
+        gap = larger(gap, vec3_dot(r, f + 3 + 3 * k));
+    }
+    return gap;
+}
+
 int pair_apart_point_triangle(const double *p, const double *a, const double *b, const double *c, const double *f,
                               double D)
 {
-    const double *v[3] = {a, b, c};
-    double r[3], lim = D * PAIR_APART_MARGIN;
-    vec3_sub(p, a, r);
-    if (fabs(vec3_dot(r, f)) >= lim) return 1;
-    for (int k = 0; k < 3; k++) {
-        vec3_sub(p, v[k], r);
-        if (vec3_dot(r, f + 3 + 3 * k) >= lim) return 1;
-    }
-    return 0;
+    double lim = D * PAIR_APART_MARGIN;
+    return pair_apart_point_triangle_gap(p, a, b, c, f, lim) >= lim;
 }
 
-/* Segment cd beyond D of the line through a along u, on the side of c's offset from it */
-static int beyond_line(const double *a, const double *u, const double *c, const double *d, double D)
+/* How far segment cd lies from the line through a along u, on the side of c's offset from it (0: not all
+ * on one side) */
+static double beyond_line(const double *a, const double *u, const double *c, const double *d)
 {
     double ac[3], ad[3], t[3], uu = vec3_dot(u, u);
-    if (!(uu > 0.0)) return 0;
+    if (!(uu > 0.0)) return 0.0;
     vec3_sub(c, a, ac);
     vec3_sub(d, a, ad);
     double k = vec3_dot(ac, u) / uu;
     for (int r = 0; r < 3; r++) t[r] = ac[r] - k * u[r];
-    double lt = vec3_norm(t), lim = D * PAIR_APART_MARGIN * lt;
-    return lt > 0.0 && vec3_dot(ac, t) >= lim && vec3_dot(ad, t) >= lim;
+    double lt = vec3_norm(t);
+    double near = vec3_dot(ac, t), other = vec3_dot(ad, t);
+    near = other < near ? other : near;
+    return lt > 0.0 && near > 0.0 ? near / lt : 0.0;
 }
 
-int pair_apart_edges(const double *a, const double *b, const double *c, const double *d, double D)
+double pair_apart_edges_gap(const double *a, const double *b, const double *c, const double *d, double enough)
 {
-    double u[3], w[3], n[3], ac[3];
+    double u[3], w[3], n[3], ac[3], gap = 0.0;
     vec3_sub(b, a, u);
     vec3_sub(d, c, w);
     vec3_cross(u, w, n);
     vec3_sub(c, a, ac);
     double ln = vec3_norm(n);
-    if (ln > 0.0 && fabs(vec3_dot(ac, n)) >= D * PAIR_APART_MARGIN * ln) return 1;
-    return beyond_line(a, u, c, d, D) || beyond_line(c, w, a, b, D);
+    if (ln > 0.0) gap = fabs(vec3_dot(ac, n)) / ln;
+    if (!(gap >= enough)) gap = larger(gap, beyond_line(a, u, c, d));
+    if (!(gap >= enough)) gap = larger(gap, beyond_line(c, w, a, b));
+    return gap;
+}
+
+int pair_apart_edges(const double *a, const double *b, const double *c, const double *d, double D)
+{
+    double lim = D * PAIR_APART_MARGIN;
+    return pair_apart_edges_gap(a, b, c, d, lim) >= lim;
 }

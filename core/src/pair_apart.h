@@ -1,8 +1,14 @@
 /* Cheap proofs that a vertex-triangle or edge-edge pair is farther apart than
  * D: an axis along which their projections are more than D apart (with a
- * margin for rounding). 1: such an axis found; 0 proves nothing. */
+ * margin for rounding). 1: such an axis found; 0 proves nothing. The _gap
+ * forms return the widest separation found, a lower bound on the pair's
+ * distance (0: none found), stopping at the first at least `enough`. */
 #ifndef ODECLOTH_PAIR_APART_H
 #define ODECLOTH_PAIR_APART_H
+
+/* A bound proves a pair apart only beyond D by this share: the pair's
+ * distance, computed otherwise, has rounding of its own */
+#define PAIR_APART_MARGIN (1.0 + 1e-6)
 
 /* Triangle (a, b, c)'s frame into f (12): its unit normal, then the unit
  * normals of its sides (ab, bc, ca) in its plane, outward; zeros when it is
@@ -13,9 +19,12 @@ void pair_apart_frame(const double *a, const double *b, const double *c, double 
  * outside one of its sides. */
 int pair_apart_point_triangle(const double *p, const double *a, const double *b, const double *c, const double *f,
                               double D);
+double pair_apart_point_triangle_gap(const double *p, const double *a, const double *b, const double *c,
+                                     const double *f, double enough);
 
 /* Segment ab beyond D of segment cd: along the normal of both, or along the
  * normal to one from the other's first end. */
 int pair_apart_edges(const double *a, const double *b, const double *c, const double *d, double D);
+double pair_apart_edges_gap(const double *a, const double *b, const double *c, const double *d, double enough);
 
 #endif

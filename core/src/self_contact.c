@@ -21,6 +21,11 @@
 #define SELF_CONTACT_SKIN 1.0 /* thicknesses */
 #define SELF_CONTACT_LONG 16.0 /* a motion longer than this many thicknesses is swept without a list */
 
+/* Close pairs: the candidates whose distance at reference positions may be
+ * under D plus twice this many thicknesses. While no vertex is farther than
+ * that from its reference, no other candidate comes within D. */
+#define SELF_CONTACT_SLACK 0.25
+
 /* A growable list of index pairs */
 typedef struct pair_list {
     int *v, n, cap;
@@ -34,11 +39,15 @@ struct self_contact {
     sweep_grid *grid;        /* the broadphase of a rebuild */
     double *box;             /* 6 per triangle or edge: boxes */
     double *frame;           /* 12 per triangle: its frame at the evaluation (pair_apart.h) */
+    double *vbox;            /* 6 per vertex: the box of its path in a sweep */
     double *lo, *hi;         /* 3 n each: the vertices' regions (boxes) the candidates cover */
     int listed;              /* whether the candidates are listed */
     pair_list vt, ee;        /* candidates: (vertex, triangle), (edge, later edge) */
     pair_list swept;         /* a direct sweep's pairs of one query */
     pair_list near;          /* (kind, candidate) of the pairs the last evaluation did not prove apart */
+    pair_list close;         /* (kind, candidate) of the close pairs, in list order */
+    double *xref;            /* 3 n: their reference positions */
+    long close_at;           /* the list they are of (rebuilds then); -1: none */
     double *xnear;           /* 3 n: its positions */
     long near_at;            /* the list it used (rebuilds then) */
     int near_ok;             /* whether near holds them all */
@@ -102,10 +111,13 @@ self_contact *self_contact_create(int n, int ntri, const int *tri, double thickn
     s->lo = malloc(3 * (size_t)(n > 0 ? n : 1) * sizeof *s->lo);
     s->hi = malloc(3 * (size_t)(n > 0 ? n : 1) * sizeof *s->hi);
     s->xnear = malloc(3 * (size_t)(n > 0 ? n : 1) * sizeof *s->xnear);
+    s->xref = malloc(3 * (size_t)(n > 0 ? n : 1) * sizeof *s->xref);
+    s->close_at = -1;
     s->frame = malloc(12 * (size_t)(ntri > 0 ? ntri : 1) * sizeof *s->frame);
+    s->vbox = malloc(6 * (size_t)(n > 0 ? n : 1) * sizeof *s->vbox);
     s->grid = sweep_grid_create();
     /* room for a crumpled sheet's candidates, so that steps seldom allocate */
-    int ok = s->nedge >= 0 && s->box && s->lo && s->hi && s->xnear && s->frame && s->grid;
+    int ok = s->nedge >= 0 && s->box && s->lo && s->hi && s->xnear && s->xref && s->frame && s->vbox && s->grid;
     if (!ok || pair_reserve(&s->vt, 8 * n) || pair_reserve(&s->ee, 8 * n)) {
         self_contact_destroy(s);
         return NULL;
@@ -123,11 +135,14 @@ void self_contact_destroy(self_contact *s)
     free(s->lo);
     free(s->hi);
     free(s->frame);
+    free(s->vbox);
     free(s->vt.v);
     free(s->ee.v);
     free(s->swept.v);
     free(s->near.v);
+    free(s->close.v);
     free(s->xnear);
+    free(s->xref);
     free(s);
 }
 
@@ -182,10 +197,23 @@ static void corners_box(const int *idx, int k, const double *x0, const double *x
 }
 
 /* Boxes a and b within pad of each other on every axis */
-static int near_boxes(const double *a, const double *b, double pad)
+static inline int near_boxes(const double *a, const double *b, double pad)
 {
     return a[0] - pad <= b[3] && b[0] - pad <= a[3] && a[1] - pad <= b[4] && b[1] - pad <= a[4] &&
            a[2] - pad <= b[5] && b[2] - pad <= a[5];
+}
+
+/* The widest gap between boxes a and b along an axis (0 when they overlap): a lower bound on the
+ * distance between what they hold */
+static inline double box_gap(const double *a, const double *b)
+{
+    double g = 0.0;
+    for (int k = 0; k < 3; k++) {
+        double lo = a[k] - b[3 + k], hi = b[k] - a[3 + k];
+        g = lo > g ? lo : g;
+        g = hi > g ? hi : g;
+    }
+    return g;
 }
 
 /* Appends (a, b) for the m primitives b of cand above from with none of their kb corners
@@ -330,44 +358,83 @@ static double pair_at(const self_contact *s, const int *v, int edge_edge, const 
     return pair_terms(s, v, c, x, cfac, b, A);
 }
 
-/* Whether candidate i (vertex-triangle, or with ee edge-edge) may be within D at x, its four
- * vertices into v; the boxes at x are in s->box, the triangles' frames in s->frame */
-static int pair_near(const self_contact *s, int ee, int i, const double *x, int *v)
+/* A lower bound on candidate i's distance at x (vertex-triangle, or with ee edge-edge), its four
+ * vertices into v; the boxes at x are in s->box, the triangles' frames in s->frame. A box gap of
+ * at least enough is returned without the separating axes. */
+static double pair_gap(const self_contact *s, int ee, int i, const double *x, double enough, int *v)
 {
     const pair_list *l = ee ? &s->ee : &s->vt;
     int a = l->v[2 * i], t = l->v[2 * i + 1];
+    double g;
     if (ee) {
         const int *e = s->edges + 2 * a, *f = s->edges + 2 * t;
-        if (!near_boxes(s->box + 6 * (size_t)a, s->box + 6 * (size_t)t, s->D)) return 0;
         v[0] = e[0], v[1] = e[1], v[2] = f[0], v[3] = f[1];
-        return !pair_apart_edges(x + 3 * v[0], x + 3 * v[1], x + 3 * v[2], x + 3 * v[3], s->D);
+        g = box_gap(s->box + 6 * (size_t)a, s->box + 6 * (size_t)t);
+        if (g >= enough) return g;
+        double sep = pair_apart_edges_gap(x + 3 * v[0], x + 3 * v[1], x + 3 * v[2], x + 3 * v[3], enough);
+        return sep > g ? sep : g;
     }
     const int *tv = s->tri + 3 * t;
     const double *p = x + 3 * a, pt[6] = {p[0], p[1], p[2], p[0], p[1], p[2]};
-    if (!near_boxes(pt, s->box + 6 * (size_t)t, s->D)) return 0;
     v[0] = a, v[1] = tv[0], v[2] = tv[1], v[3] = tv[2];
-    return !pair_apart_point_triangle(x + 3 * a, x + 3 * v[1], x + 3 * v[2], x + 3 * v[3], s->frame + 12 * (size_t)t,
-                                      s->D);
+    g = box_gap(pt, s->box + 6 * (size_t)t);
+    if (g >= enough) return g;
+    double sep = pair_apart_point_triangle_gap(p, x + 3 * v[1], x + 3 * v[2], x + 3 * v[3],
+                                               s->frame + 12 * (size_t)t, enough);
+    return sep > g ? sep : g;
 }
 
-/* The terms of the candidate pairs (vertex-triangle, or with ee edge-edge) within D at x */
-static double pairs_at(self_contact *s, int ee, const double *x, double cfac, double *b, bsr *A)
+/* Appends (kind, i) to l, or marks *ok 0 when out of memory */
+static void note(pair_list *l, int *ok, int kind, int i)
 {
-    double E = 0.0;
-    int v[4], np = ee ? s->ee.n : s->vt.n;
-    for (int i = 0; i < np; i++) {
-        if (!pair_near(s, ee, i, x, v)) continue;
-        if (s->near_ok) s->near_ok = pair_reserve(&s->near, 1) == 0;
-        if (s->near_ok) {
-            s->near.v[2 * s->near.n] = ee;
-            s->near.v[2 * s->near.n++ + 1] = i;
+    if (*ok) *ok = pair_reserve(l, 1) == 0;
+    if (!*ok) return;
+    l->v[2 * l->n] = kind;
+    l->v[2 * l->n++ + 1] = i;
+}
+
+/* The terms of the candidate pairs (vertex-triangle, or with ee edge-edge) within D at x: every
+ * candidate when listing the close pairs (into s->close, *ok 0 out of memory), else the close ones */
+static double pairs_at(self_contact *s, int ee, const double *x, double cfac, double *b, bsr *A, int listing,
+                       int *ok)
+{
+    double E = 0.0, apart = s->D * PAIR_APART_MARGIN, keep = apart + 2.0 * SELF_CONTACT_SLACK * s->D;
+    int v[4], np = listing ? (ee ? s->ee.n : s->vt.n) : s->close.n;
+    for (int j = 0; j < np; j++) {
+        int i = j;
+        if (!listing) {
+            if (s->close.v[2 * j] != ee) continue;
+            i = s->close.v[2 * j + 1];
         }
+        double g = pair_gap(s, ee, i, x, listing ? keep : apart, v);
+        if (listing && g < keep) note(&s->close, ok, ee, i);
+        if (g >= apart) continue;
+        note(&s->near, &s->near_ok, ee, i);
         double e = pair_at(s, v, ee, x, cfac, b, A);
         s->work.tested++;
         s->work.active += e > 0.0;
         E += e;
     }
     return E;
+}
+
+/* The largest distance of a vertex of x from its reference position */
+static double moved(const self_contact *s, const double *x)
+{
+    double m = 0.0;
+    for (int i = 0; i < s->n; i++) {
+        double d[3];
+        vec3_sub(x + 3 * i, s->xref + 3 * i, d);
+        m = fmax(m, vec3_dot(d, d));
+    }
+    return sqrt(m);
+}
+
+/* Whether the close pairs hold every candidate that can come within D at x (and x1 unless NULL) */
+static int close_holds(const self_contact *s, const double *x, const double *x1)
+{
+    double slack = SELF_CONTACT_SLACK * s->D;
+    return s->close_at == s->work.rebuilds && moved(s, x) <= slack && (!x1 || moved(s, x1) <= slack);
 }
 
 /* The terms of the pairs the last evaluation found near, at the same positions */
@@ -399,14 +466,23 @@ static double eval_untimed(self_contact *s, const double *x, double cfac, double
     s->work.tested = s->work.active = 0;
     s->near.n = 0;
     s->near_ok = 1;
+    int listing = !close_holds(s, x, NULL), ok = 1;
+    if (listing) {
+        s->close.n = 0;
+        s->close_at = -1;
+    }
     for (int t = 0; t < s->ntri; t++) {
         const int *tv = s->tri + 3 * t;
         corners_box(tv, 3, x, NULL, 0.0, s->box + 6 * (size_t)t);
         pair_apart_frame(x + 3 * tv[0], x + 3 * tv[1], x + 3 * tv[2], s->frame + 12 * (size_t)t);
     }
-    double E = pairs_at(s, 0, x, cfac, b, A);
+    double E = pairs_at(s, 0, x, cfac, b, A, listing, &ok);
     for (int e = 0; e < s->nedge; e++) corners_box(s->edges + 2 * e, 2, x, NULL, 0.0, s->box + 6 * (size_t)e);
-    E += pairs_at(s, 1, x, cfac, b, A);
+    E += pairs_at(s, 1, x, cfac, b, A, listing, &ok);
+    if (listing && ok) {
+        memcpy(s->xref, x, n3 * sizeof *x);
+        s->close_at = s->work.rebuilds;
+    }
     memcpy(s->xnear, x, n3 * sizeof *x);
     s->near_at = s->work.rebuilds;
     return E;
@@ -427,19 +503,24 @@ static double touch(const double *x0, const double *x1, const int *v, int pt, do
     return h ? hit.t : HUGE_VAL;
 }
 
-/* The first touch over x0 -> x1 of the candidate pairs (vertex-triangle, or with ee
- * edge-edge) whose swept boxes in box come within eta */
-static double first_touch(self_contact *s, int ee, const double *x0, const double *x1, double eta)
+/* The first touch over x0 -> x1 of the candidate pairs (vertex-triangle, or with ee edge-edge;
+ * with close, only the close ones) whose swept boxes in box come within eta */
+static double first_touch(self_contact *s, int ee, int close, const double *x0, const double *x1, double eta)
 {
     const pair_list *l = ee ? &s->ee : &s->vt;
-    double first = HUGE_VAL, q[6];
-    for (int i = 0; i < l->n; i++) {
-        int a = l->v[2 * i], t = l->v[2 * i + 1], v[4];
+    double first = HUGE_VAL;
+    int np = close ? s->close.n : l->n;
+    for (int j = 0; j < np; j++) {
+        int i = j, v[4];
+        if (close) {
+            if (s->close.v[2 * j] != ee) continue;
+            i = s->close.v[2 * j + 1];
+        }
+        int a = l->v[2 * i], t = l->v[2 * i + 1];
         if (ee) {
             if (!near_boxes(s->box + 6 * (size_t)a, s->box + 6 * (size_t)t, eta)) continue;
-        } else {
-            corners_box(&a, 1, x0, x1, 0.0, q);
-            if (!near_boxes(q, s->box + 6 * (size_t)t, eta)) continue;
+        } else if (!near_boxes(s->vbox + 6 * (size_t)a, s->box + 6 * (size_t)t, eta)) {
+            continue;
         }
         pair_vertices(s, l, ee, i, v);
         first = fmin(first, touch(x0, x1, v, !ee, eta));
@@ -465,10 +546,13 @@ static double max_step_untimed(self_contact *s, const double *x0, const double *
         first = sweep_direct(s, x0, x1, eta);
         if (first < 0.0) return 0.0;
     } else {
+        /* a path between two points within the slack of the references stays within it */
+        int close = close_holds(s, x0, x1);
+        for (int i = 0; i < s->n; i++) corners_box(&i, 1, x0, x1, 0.0, s->vbox + 6 * (size_t)i);
         for (int t = 0; t < s->ntri; t++) corners_box(s->tri + 3 * t, 3, x0, x1, 0.0, s->box + 6 * (size_t)t);
-        first = first_touch(s, 0, x0, x1, eta);
+        first = first_touch(s, 0, close, x0, x1, eta);
         for (int e = 0; e < s->nedge; e++) corners_box(s->edges + 2 * e, 2, x0, x1, 0.0, s->box + 6 * (size_t)e);
-        first = fmin(first, first_touch(s, 1, x0, x1, eta));
+        first = fmin(first, first_touch(s, 1, close, x0, x1, eta));
     }
     return first <= 1.0 ? SELF_CONTACT_STOP * first : 1.0;
 }
