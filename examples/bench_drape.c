@@ -31,7 +31,7 @@
  *
  *   bench_drape [--out DIR] [--scene drape,pinned,pile,hammock] [--grid N]
  *               [--solver linearized|newton|both] [--precond P] [--max-wall S]
- *               [--fast] [--check] [--steps]
+ *               [--self-collision T] [--fast] [--check] [--steps]
  *
  * ctest: bench drape --fast --out out/bench_fast
  */
@@ -42,6 +42,7 @@
 #include <string.h>
 #include <time.h>
 #include "odecloth/dcloth.h"
+#include "odecloth/selfcollision.h"
 #include "bench_util.h"
 
 #define HZ 60.0
@@ -139,6 +140,7 @@ typedef struct scene {
     dGeomID geoms[8];     /* the colliders whose insides the cloth must keep out of */
     int ngeoms;
     dBodyID ball;
+    cloth_self_collision *self; /* --self-collision, else NULL */
 } scene;
 
 /* The user's collisions between bodies and the plane (the cloth's are the
@@ -161,6 +163,7 @@ static void near_callback(void *ctx, dGeomID a, dGeomID b)
  * --precond) */
 static cloth_nonlinear g_solver = CLOTH_LINEARIZED;
 static cloth_precond g_precond = CLOTH_PRECOND_AUTO;
+static double g_self = 0.0; /* m, --self-collision's thickness; 0: no pass */
 static const char *const precond_name[] = {"block-jacobi", "jacobi", "multigrid", "ssor", "auto"};
 
 static cloth_desc cotton_desc(int N, double z)
@@ -299,6 +302,7 @@ static int setup_hammock(scene *s, int N, cloth_error *err)
 
 static void scene_free(scene *s)
 {
+    cloth_self_collision_destroy(s->self);
     if (s->cl) dClothDestroy(s->cl);
     else cloth_destroy(s->core);
     if (s->joints) dJointGroupDestroy(s->joints);
@@ -310,11 +314,16 @@ static void scene_free(scene *s)
  * and the world (dClothWorldStep), or the cloth alone where nothing moves. */
 static cloth_status scene_step(scene *s, double h, cloth_step_stats *st)
 {
-    if (!s->cl) return cloth_step(s->core, h, st);
-    if (s->joints) dSpaceCollide(s->space, s, near_callback);
-    cloth_status rc = s->kind == DRAPE ? dClothStep(s->cl, h) : dClothWorldStep(s->world, &s->cl, 1, h, s->quick);
-    if (s->joints) dJointGroupEmpty(s->joints);
-    *st = dClothGetStats(s->cl)->core;
+    cloth_status rc;
+    if (!s->cl) {
+        rc = cloth_step(s->core, h, st);
+    } else {
+        if (s->joints) dSpaceCollide(s->space, s, near_callback);
+        rc = s->kind == DRAPE ? dClothStep(s->cl, h) : dClothWorldStep(s->world, &s->cl, 1, h, s->quick);
+        if (s->joints) dJointGroupEmpty(s->joints);
+        *st = dClothGetStats(s->cl)->core;
+    }
+    if (rc == CLOTH_OK && s->self) rc = cloth_self_collision_apply(s->self, s->core, NULL);
     return rc;
 }
 
@@ -438,10 +447,12 @@ static void finish_row(const scene *s, trace *t, links *L, long newton, long cg,
 /* One line of --steps' CSV: step k of row r just taken. */
 static void steps_row(const scene *s, const row *r, int k, const cloth_step_stats *st, int ok, double energy)
 {
-    fprintf(g_steps, "%s,%s,%d,%d,%.3f,%d,%d,%d,%d,%d,%d,%d,%.5f,%.6g,%d,%d,%d\n", scene_name[s->kind], r->variant, r->N, k,
+    fprintf(g_steps, "%s,%s,%d,%d,%.3f,%d,%d,%d,%d,%d,%d,%d,%.5f,%.6g,%d,%d,%d,%.3f\n", scene_name[s->kind], r->variant,
+            r->N, k,
             1e3 * r->wall_s, st->newton, st->iterations, st->limit_updates, st->line_search_cuts,
             st->contacts_decided, st->substeps, !ok, st->max_strain, energy, s->cl ? dClothGetStats(s->cl)->resolves : 0,
-            s->cl ? dClothGetStats(s->cl)->newton_all : st->newton, s->cl ? dClothGetStats(s->cl)->cg_all : st->iterations);
+            s->cl ? dClothGetStats(s->cl)->newton_all : st->newton, s->cl ? dClothGetStats(s->cl)->cg_all : st->iterations,
+            1e3 * st->self_contact_seconds);
 }
 
 /* Steps the scene for `seconds` or until the wall budget is spent; only
@@ -517,7 +528,13 @@ static row run_one(int kind, int quick, int N, double seconds, double max_wall)
     } else {
         r.delta = cloth_get_desc(s.core).material.delta;
         r.thickness = s.cl ? dClothGetThickness(s.cl) : 0.0;
-        run_loop(&s, seconds, max_wall, &r);
+        /* the first apply binds the pass: every step has it */
+        if (g_self > 0 && (cloth_self_collision_create(s.core, g_self, &s.self, &err) != CLOTH_OK ||
+                           cloth_self_collision_apply(s.self, s.core, NULL) != CLOTH_OK))
+            fprintf(stderr, "bench_drape: %s %dx%d: %s\n", scene_name[kind], N, N,
+                    err.message[0] ? err.message : cloth_last_error(s.core));
+        else
+            run_loop(&s, seconds, max_wall, &r);
     }
     scene_free(&s);
     return r;
@@ -635,7 +652,7 @@ static int check_row(const row *r)
 
 static const char usage[] =
     "usage: bench_drape [--out DIR] [--scene NAME[,NAME...]] [--grid N] [--solver S] [--precond P]\n"
-    "                   [--max-wall S] [--fast] [--check] [--steps]\n"
+    "                   [--max-wall S] [--self-collision T] [--fast] [--check] [--steps]\n"
     "The drape benchmark: a 1 m cotton cloth, 2 s at h = 1/60, library defaults, in four scenes:\n"
     "  drape    over a static sphere (r 0.25 m), N = 21, 41, 81, 161\n"
     "  pinned   pinned at two corners, core only (bench_step's scene), N = 21, 41, 81\n"
@@ -650,6 +667,9 @@ static const char usage[] =
     "           preconditioner (cloth_solver.precond; the CSV's precond column)\n"
     "--max-wall S  wall-clock budget per run in seconds (default 120; --fast 3): a run\n"
     "           past it stops with status timeout and its figures so far\n"
+    "--self-collision T  the self-collision pass (odecloth/selfcollision.h) of thickness T m\n"
+    "           after every step, bound to the cloth so Newton steps keep it inside too\n"
+    "           (default 0: off); --steps' self_contact_ms is that barrier's time\n"
     "--fast     N <= 41 only, 0.5 s simulated (a smoke test)\n"
     "--check    exit 1 if a drape, pile or hammock row misses the quality targets:\n"
     "           all: finished, no failed step; drape: p99 strain <= delta + 0.002, max strain\n"
@@ -718,6 +738,13 @@ static int parse_options(options *o, int argc, char **argv)
                 return 2;
             }
             g_precond = (cloth_precond)k;
+        } else if (v && !strcmp(argv[a], "--self-collision")) {
+            char *end;
+            g_self = strtod(v, &end);
+            if (end == v || *end || !(g_self >= 0) || !(g_self <= 1)) {
+                fprintf(stderr, "bench_drape: --self-collision '%s' must be a thickness in [0, 1] m (0: off)\n", v);
+                return 2;
+            }
         } else if (!strcmp(argv[a], "--steps")) {
             o->steps = 1;
             continue;
@@ -814,7 +841,7 @@ int main(int argc, char **argv)
     if (o.steps && !(g_steps = bench_open_csv(&o.b, "bench_drape_steps"))) return 1;
     if (g_steps)
         fputs("scene,variant,N,step,wall_ms,newton,cg,limit_updates,line_search_cuts,contacts_decided,substeps,"
-              "failed,max_strain,energy,resolves,newton_all,cg_all\n", g_steps);
+              "failed,max_strain,energy,resolves,newton_all,cg_all,self_contact_ms\n", g_steps);
     print_load();
     printf("%g s simulated at h = 1/%g, wall budget %g s per run\n", seconds, HZ, o.max_wall);
     print_header();
