@@ -121,8 +121,10 @@ static int most_layers(const double *x, int nv, const int *tri, int nt)
         double bl[2] = {HUGE_VAL, HUGE_VAL}, bh[2] = {-HUGE_VAL, -HUGE_VAL};
         for (int k = 0; k < 3; k++)
             for (int a = 0; a < 2; a++) bl[a] = fmin(bl[a], x[3 * tv[k] + a]), bh[a] = fmax(bh[a], x[3 * tv[k] + a]);
-        int i0 = (int)fmax(0, ceil((bl[0] - lo[0]) / dx - 0.5)), i1 = (int)fmin(LAYER_SAMPLES - 1, (bh[0] - lo[0]) / dx);
-        int j0 = (int)fmax(0, ceil((bl[1] - lo[1]) / dy - 0.5)), j1 = (int)fmin(LAYER_SAMPLES - 1, (bh[1] - lo[1]) / dy);
+        int i0 = (int)fmax(0, ceil((bl[0] - lo[0]) / dx - 0.5));
+        int i1 = (int)fmin(LAYER_SAMPLES - 1, (bh[0] - lo[0]) / dx);
+        int j0 = (int)fmax(0, ceil((bl[1] - lo[1]) / dy - 0.5));
+        int j1 = (int)fmin(LAYER_SAMPLES - 1, (bh[1] - lo[1]) / dy);
         for (int i = i0; i <= i1; i++)
             for (int j = j0; j <= j1; j++)
                 if (over(x, tv, lo[0] + (i + 0.5) * dx, lo[1] + (j + 0.5) * dy)) {
