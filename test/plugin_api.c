@@ -701,12 +701,18 @@ static void test_destroyed_geom(int dynamic)
     }
     double z_rest = dClothGetPositions(c)[3 * ic + 2];
     int contacts = dClothGetStats(c)->contacts;
-    dReal f[3];
-    dClothGetContactForce(c, ic, f);
-    CHECK(fabs(z_rest - (0.8 + d.thickness)) < 1e-3 && contacts > 0 && f[2] > 0,
+    /* the box carries the cloth: the centre vertex itself may tent a millimetre
+     * off the top, as the hanging sides pull, and let go now and then */
+    double fz = 0.0;
+    for (int i = 0; i < dClothGetVertexCount(c); i++) {
+        dReal f[3];
+        dClothGetContactForce(c, i, f);
+        fz += f[2];
+    }
+    CHECK(fabs(z_rest - (0.8 + d.thickness)) < 1e-3 && contacts > 0 && fz > 0,
           "%s: the cloth is not resting on the box: centre at z = %.4f (top + thickness = %.4f), %d contacts, "
-          "centre contact force z %.3g N",
-          what, z_rest, 0.8 + d.thickness, contacts, f[2]);
+          "contact forces' sum z %.3g N",
+          what, z_rest, 0.8 + d.thickness, contacts, fz);
     /* destroy it between steps: dGeomDestroy takes it out of the space */
     dGeomDestroy(box);
     if (body) dBodyDestroy(body); /* its joint goes with it */
