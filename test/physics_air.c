@@ -19,7 +19,10 @@
  * 4. cloth_air_force is the force the step applied: a free cloth tumbling
  *    in a wind gains h (M g + F_air) a step (BDF2: its momentum equation),
  *    to 1e-9 of the air's impulse.
- * 5. Bad settings are refused with a message naming the field and leave
+ * 5. cloth_air_torque is the torque of the forces the step applied: with
+ *    symplectic Euler (frames and velocities at the step's start), summed
+ *    here triangle by triangle at the end-of-step positions, to 1e-12.
+ * 6. Bad settings are refused with a message naming the field and leave
  *    the settings as they were. */
 #include <math.h>
 #include <stdlib.h>
@@ -177,6 +180,66 @@ static void reported(int s)
     cloth_destroy(c);
 }
 
+/* 5: a free cloth tumbling in a wind, one symplectic Euler step */
+static void torque(void)
+{
+    const double g[3] = {0.0, 0.0, 0.0};
+    cloth *c = make(3, g);
+    if (!c) return;
+    cloth_air air = {{2.0, -1.0, 3.0}, drag_for(c, 0.1), 0.3 * drag_for(c, 0.1)};
+    cloth_set_air(c, &air);
+    int n = cloth_vertex_count(c), C = 11;
+    double *x0 = malloc(3 * (size_t)n * sizeof *x0), *v0 = malloc(3 * (size_t)n * sizeof *v0);
+    if (!CHECK(x0 && v0, "out of memory")) goto out;
+    memcpy(x0, cloth_positions(c), 3 * (size_t)n * sizeof *x0);
+    for (int i = 0; i < n; i++) {
+        v0[3 * i] = 0.5;
+        v0[3 * i + 1] = -4.0 * (x0[3 * i + 2] - x0[2]) + 2.0 * (x0[3 * i] - SIDE / 2);
+        v0[3 * i + 2] = 4.0 * (x0[3 * i + 1] - SIDE / 2) - 3.0 * (x0[3 * i] - SIDE / 2);
+    }
+    cloth_set_velocities(c, v0);
+    if (!run(c, 3, 0.01, 1)) goto out;
+    const double *y = cloth_positions(c);
+    double T[3] = {0.0, 0.0, 0.0}, Tc[3], scale = 0.0;
+    for (int cell = 0; cell < (C - 1) * (C - 1); cell++) {
+        int a = (cell / (C - 1)) * C + cell % (C - 1), tri[2][3] = {{a, a + 1, a + C + 1}, {a, a + C + 1, a + C}};
+        for (int t = 0; t < 2; t++) {
+            const int *p = tri[t];
+            double e1[3], e2[3], nn[3], r[3], D[3];
+            for (int q = 0; q < 3; q++) {
+                e1[q] = x0[3 * p[1] + q] - x0[3 * p[0] + q];
+                e2[q] = x0[3 * p[2] + q] - x0[3 * p[0] + q];
+                r[q] = (v0[3 * p[0] + q] + v0[3 * p[1] + q] + v0[3 * p[2] + q]) / 3.0 - air.wind[q];
+            }
+            nn[0] = e1[1] * e2[2] - e1[2] * e2[1];
+            nn[1] = e1[2] * e2[0] - e1[0] * e2[2];
+            nn[2] = e1[0] * e2[1] - e1[1] * e2[0];
+            double len = sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]), rn = 0.0;
+            for (int q = 0; q < 3; q++) rn += r[q] * nn[q] / len;
+            for (int q = 0; q < 3; q++)
+                D[q] = -0.5 * len / 3.0 *
+                       (air.drag_tangent * r[q] + (air.drag_normal - air.drag_tangent) * rn * nn[q] / len);
+            for (int k = 0; k < 3; k++) {
+                const double *z = y + 3 * p[k];
+                T[0] += z[1] * D[2] - z[2] * D[1];
+                T[1] += z[2] * D[0] - z[0] * D[2];
+                T[2] += z[0] * D[1] - z[1] * D[0];
+                scale += sqrt(z[0] * z[0] + z[1] * z[1] + z[2] * z[2]) * sqrt(D[0] * D[0] + D[1] * D[1] + D[2] * D[2]);
+            }
+        }
+    }
+    CHECK(cloth_air_torque(c, Tc) == CLOTH_OK, "cloth_air_torque: %s", cloth_last_error(c));
+    double dT[3] = {T[0] - Tc[0], T[1] - Tc[1], T[2] - Tc[2]};
+    double e = sqrt(dT[0] * dT[0] + dT[1] * dT[1] + dT[2] * dT[2]);
+    printf("air torque (%.4g, %.4g, %.4g) N m; differs from the sum over triangles by %.2e of its scale\n", Tc[0],
+           Tc[1], Tc[2], e / scale);
+    CHECK(scale > 0.0 && e <= 1e-12 * scale, "cloth_air_torque differs from the sum over triangles by %.3g N m", e);
+out:
+    free(x0);
+    free(v0);
+    cloth_destroy(c);
+}
+
 static int same(cloth_air a, cloth_air b) { return !memcmp(&a, &b, sizeof a); }
 
 static void bad_input(void)
@@ -205,6 +268,9 @@ static void bad_input(void)
     CHECK(cloth_air_force(NULL, f) == CLOTH_EINVAL, "cloth_air_force: NULL cloth must be refused");
     CHECK(cloth_air_force(c, NULL) == CLOTH_EINVAL && strstr(cloth_last_error(c), "f is NULL"),
           "cloth_air_force: NULL f refused: %s", cloth_last_error(c));
+    CHECK(cloth_air_torque(NULL, f) == CLOTH_EINVAL, "cloth_air_torque: NULL cloth must be refused");
+    CHECK(cloth_air_torque(c, NULL) == CLOTH_EINVAL && strstr(cloth_last_error(c), "t is NULL"),
+          "cloth_air_torque: NULL t refused: %s", cloth_last_error(c));
     cloth_air none = cloth_get_air(NULL);
     CHECK(none.drag_normal == 0.0 && none.drag_tangent == 0.0 && none.wind[2] == 0.0, "NULL cloth: no air");
     cloth_destroy(c);
@@ -219,6 +285,7 @@ int main(void)
         tangential(s);
         reported(s);
     }
+    torque();
     bad_input();
     return check_summary();
 }

@@ -274,7 +274,10 @@ static void walk(void)
         double v3[3], *p;
         switch (op) {
         case 0: p = vec(&g, &w, n, cloth_positions(c), 0.005, &isnull); s = cloth_set_positions(c, p); break;
-        case 1: p = vec(&g, &w, n, NULL, 2.0, &isnull); s = cloth_set_velocities(c, p); break;
+        case 1:
+            p = vec(&g, &w, n, NULL, 2.0, &isnull);
+            s = rng_u64(&g) % 2 ? cloth_set_velocities(c, p) : cloth_add_velocities(c, p);
+            break;
         case 2: {
             const double *x = cloth_positions(c);
             int vi = index_of(&g, n), vv = vi >= 0 && vi < n ? vi : 0;
@@ -371,7 +374,8 @@ static void walk(void)
         }
         case 12:
             if (rng_u64(&g) % 4) s = cloth_constraint_force(c, index_of(&g, n), rng_u64(&g) % 8 ? v3 : NULL);
-            else s = cloth_air_force(c, rng_u64(&g) % 8 ? v3 : NULL);
+            else if (rng_u64(&g) % 2) s = cloth_air_force(c, rng_u64(&g) % 8 ? v3 : NULL);
+            else s = cloth_air_torque(c, rng_u64(&g) % 8 ? v3 : NULL);
             mutates = 0;
             break;
         case 13: {
@@ -556,6 +560,7 @@ static void null_cloth(void)
     CHECK(cloth_rows(NULL) == 0 && cloth_cols(NULL) == 0 && cloth_vertex_count(NULL) == 0, "sizes of NULL");
     CHECK(!cloth_positions(NULL) && !cloth_velocities(NULL) && !cloth_masses(NULL), "arrays of NULL");
     CHECK(cloth_set_positions(NULL, v) == CLOTH_EINVAL && cloth_set_velocities(NULL, v) == CLOTH_EINVAL, "set x/v");
+    CHECK(cloth_add_velocities(NULL, v) == CLOTH_EINVAL, "add v");
     CHECK(cloth_set_vertex(NULL, 0, v, v) == CLOTH_EINVAL, "set_vertex");
     cloth_desc d = cloth_default_desc();
     CHECK(cloth_set_material(NULL, &d.material) == CLOTH_EINVAL && cloth_set_solver(NULL, &d.solver) == CLOTH_EINVAL,
@@ -565,6 +570,7 @@ static void null_cloth(void)
     cloth_air air = cloth_get_air(NULL);
     CHECK(cloth_set_air(NULL, &air) == CLOTH_EINVAL && air.drag_normal == 0.0 && air.drag_tangent == 0.0, "air");
     CHECK(cloth_air_force(NULL, v) == CLOTH_EINVAL, "air_force");
+    CHECK(cloth_air_torque(NULL, v) == CLOTH_EINVAL, "air_torque");
     CHECK(cloth_link_count(NULL, CLOTH_SEQUENTIAL) == 0 && cloth_get_link(NULL, CLOTH_SEQUENTIAL, 0, &l) != CLOTH_OK,
           "links");
     CHECK(cloth_update_plastic(NULL) == 0, "update_plastic");

@@ -113,7 +113,7 @@ double air_eval(const cloth *c, const double *xf, const double *vf, double hf, c
     return P;
 }
 
-void air_step_force(const cloth *c, double h, double out[3])
+void air_step_force(const cloth *c, double h, double out[3], double tq[3])
 {
     const cloth_solver *sv = &c->desc.solver;
     const double *x0 = c->st.x, *v0 = c->st.v;
@@ -123,6 +123,7 @@ void air_step_force(const cloth *c, double h, double out[3])
     int newton = implicit && sv->nonlinear == CLOTH_NEWTON;
     const double *v = implicit ? c->v_new : v0;
     out[0] = out[1] = out[2] = 0.0;
+    tq[0] = tq[1] = tq[2] = 0.0;
     if (!air_on(c)) return;
     for (int k = 0, nt = tri_count(c); k < nt; k++) {
         int p[3];
@@ -130,6 +131,13 @@ void air_step_force(const cloth *c, double h, double out[3])
         double area = tri_drag(c, x0, newton ? v0 : NULL, newton ? h : 0.0, v, k, p, n, r, Dr);
         if (area == 0.0) continue;
         for (int q = 0; q < 3; q++) out[q] -= area * Dr[q];
+        /* its torque about the origin with each third at its vertex's end-of-step position */
+        for (int a = 0; a < 3; a++) {
+            const double *y = c->x_new + 3 * (size_t)p[a];
+            tq[0] -= area / 3.0 * (y[1] * Dr[2] - y[2] * Dr[1]);
+            tq[1] -= area / 3.0 * (y[2] * Dr[0] - y[0] * Dr[2]);
+            tq[2] -= area / 3.0 * (y[0] * Dr[1] - y[1] * Dr[0]);
+        }
     }
 }
 
@@ -138,6 +146,14 @@ cloth_status cloth_air_force(const cloth *c, double f[3])
     if (!c) return CLOTH_EINVAL;
     if (!f) return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_air_force: f is NULL");
     memcpy(f, c->air_force, sizeof c->air_force);
+    return CLOTH_OK;
+}
+
+cloth_status cloth_air_torque(const cloth *c, double t[3])
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!t) return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_air_torque: t is NULL");
+    memcpy(t, c->air_torque, sizeof c->air_torque);
     return CLOTH_OK;
 }
 

@@ -389,6 +389,19 @@ cloth_status cloth_set_velocities(cloth *c, const double *v)
     return CLOTH_OK;
 }
 
+cloth_status cloth_add_velocities(cloth *c, const double *dv)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!dv) return cloth_fail(c, CLOTH_EINVAL, "cloth_add_velocities: dv is NULL");
+    size_t n3 = 3 * (size_t)c->n;
+    for (size_t k = 0; k < n3; k++)
+        if (!isfinite(dv[k]) || !isfinite(c->st.v[k] + dv[k]))
+            return cloth_fail(c, CLOTH_EINVAL, "cloth_add_velocities: dv[%zu] = %g: the velocity must stay finite", k,
+                              dv[k]);
+    for (size_t k = 0; k < n3; k++) c->st.v[k] += dv[k];
+    return CLOTH_OK;
+}
+
 cloth_status cloth_set_vertex(cloth *c, int vertex, const double x[3], const double v[3])
 {
     if (!c) return CLOTH_EINVAL;

@@ -133,6 +133,7 @@ struct cloth {
     cloth_air air;             /* air drag and wind (cloth_set_air; air.c) */
     int *air_blk;              /* 6 per grid triangle: its pairs' blocks in A (air.c) */
     double air_force[3];       /* the air's total force over the last step (N; air.c) */
+    double air_torque[3];      /* and its torque about the origin (N m) */
     /* rigid bodies solved with the cloth (bodies.c) */
     int nbody;
     cloth_body *body;          /* nbody, as set */
@@ -306,7 +307,7 @@ double air_eval(const cloth *c, const double *xf, const double *vf, double hf, c
                 bsr *A, double t);
 /* The air's total force on the attempt's solution (x_new, v_new from the
  * state), in the frame the method's solve used, into out. */
-void air_step_force(const cloth *c, double h, double out[3]);
+void air_step_force(const cloth *c, double h, double out[3], double tq[3]);
 
 /* state.c */
 int state_alloc(struct cloth_state *s, int n, int n_int, int n_seq);

@@ -193,7 +193,7 @@ static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failu
 {
     size_t n3 = 3 * (size_t)c->n;
     struct cloth_state *bk = &c->retry_bk;
-    double *xs = c->retry_xs, *fsum = c->retry_fsum, air[3], asum[3];
+    double *xs = c->retry_xs, *fsum = c->retry_fsum, air[3], asum[3], airt[3], atsum[3];
     state_copy(bk, &c->st);
     memcpy(xs, c->st.x, n3 * sizeof *xs);
     long k = 0;
@@ -205,6 +205,7 @@ static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failu
         st->strain_limited = 0;
         memset(fsum, 0, n3 * sizeof *fsum);
         memset(asum, 0, sizeof asum);
+        memset(atsum, 0, sizeof atsum);
         /* bodies solved with the cloth: their du carries from substep to
          * substep (bodies.c) */
         bodies_retry_reset(c);
@@ -213,8 +214,11 @@ static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failu
         for (k = 0; k < parts; k++) {
             fail = attempt(c, hs, xs, (double)(k + 1) / (double)parts, d == halvings, st, ms);
             if (fail != CLOTH_FAIL_NONE) break;
-            air_step_force(c, hs, air);
-            for (int r = 0; r < 3; r++) asum[r] += air[r] / (double)parts;
+            air_step_force(c, hs, air, airt);
+            for (int r = 0; r < 3; r++) {
+                asum[r] += air[r] / (double)parts;
+                atsum[r] += airt[r] / (double)parts;
+            }
             commit(c, hs, ms);
             bodies_retry_commit(c, hs);
             for (size_t q = 0; q < n3; q++) fsum[q] += c->con_new[q] / (double)parts;
@@ -228,6 +232,7 @@ static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failu
     if (fail == CLOTH_FAIL_NONE) {
         memcpy(c->con_force, fsum, n3 * sizeof *fsum);
         memcpy(c->air_force, asum, sizeof asum);
+        memcpy(c->air_torque, atsum, sizeof atsum);
         bodies_retry_finish(c);
     }
     return fail;
@@ -252,7 +257,7 @@ cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
     contacts_begin(c);
     cloth_failure fail = attempt(c, h, NULL, 1.0, sv->max_substep_halvings == 0, &st, &ms);
     if (fail == CLOTH_FAIL_NONE) {
-        air_step_force(c, h, c->air_force);
+        air_step_force(c, h, c->air_force, c->air_torque);
         commit(c, h, &ms);
         memcpy(c->con_force, c->con_new, 3 * (size_t)c->n * sizeof *c->con_force);
     } else {

@@ -249,6 +249,11 @@ const double *cloth_masses(const cloth *c);     /* kg, one per vertex */
 /* Set all positions / velocities (3 * vertex_count doubles, all finite). */
 cloth_status cloth_set_positions(cloth *c, const double *x);
 cloth_status cloth_set_velocities(cloth *c, const double *v);
+/* Add dv (3 * vertex_count doubles) to the velocities, keeping the step's
+ * history (warm start, limit multipliers), unlike cloth_set_velocities: a
+ * correction within a step's accuracy, such as the ODE plugin's turn that
+ * keeps angular momentum. Non-finite input or result: refused, unchanged. */
+cloth_status cloth_add_velocities(cloth *c, const double *dv);
 /* One vertex's position x and velocity v; either may be NULL to keep it
  * (both NULL: CLOTH_EINVAL). */
 cloth_status cloth_set_vertex(cloth *c, int vertex, const double x[3], const double v[3]);
@@ -284,6 +289,9 @@ cloth_air cloth_get_air(const cloth *c); /* all zeros if c is NULL */
  * the step applied it; zero without drag. With the constraint forces it
  * accounts for the cloth's momentum change beyond gravity and f_ext. */
 cloth_status cloth_air_force(const cloth *c, double f[3]);
+/* Its torque about the origin (N m), averaged the same way, each triangle's
+ * thirds at their vertices' end-of-step positions. */
+cloth_status cloth_air_torque(const cloth *c, double t[3]);
 
 /* ------------------------------------------------------------------ links */
 
