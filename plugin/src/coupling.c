@@ -677,11 +677,29 @@ cloth_status dClothStep(dClothID c, dReal h)
             for (int r = 0; r < 3; r++) F[r] -= f[r];
         }
     }
+    /* and the angular momentum no force explains: the moving bodies' share of
+     * it taken out by a rigid turn of the cloth and those bodies (least
+     * energy), what that cannot take given to them as a couple */
+    double T[3], W = 0.0, R[3];
+    dcloth_leftover_torque(c, h, F, wsum, T);
+    for (int i = 0; wsum > 0.0 && i < c->n; i++) {
+        dBodyID hb = c->pin[i].active ? c->pin[i].body : c->vc_new[i].active ? c->vc_new[i].body : 0;
+        double f[3];
+        if (!hb || dBodyIsKinematic(hb)) continue;
+        cloth_constraint_force(core, i, f);
+        W += sqrt(dcloth_dot3(f, f)) / wsum;
+    }
+    double dL[3] = {-h * W * T[0], -h * W * T[1], -h * W * T[2]}, done[3] = {0.0, 0.0, 0.0};
+    if (W > 0.0) dcloth_turn(c, dL, done);
+    for (int r = 0; r < 3; r++) R[r] = W > 0.0 ? (W * T[r] + done[r] / h) / W : 0.0;
+    memcpy(st.couple, R, sizeof R);
+    memcpy(st.turned, done, sizeof done);
     for (int i = 0; i < c->n; i++) {
         vpin *p = &c->pin[i];
         vcontact *nw = &c->vc_new[i];
         double f[3];
         dBodyID b = 0;
+        double w = 0.0; /* the vertex's share of the leftovers */
         /* where the cloth felt the force: a body takes it there too, so no
          * angular momentum is made between them */
         const double *at = cloth_positions(core) + 3 * i;
@@ -690,10 +708,9 @@ cloth_status dClothStep(dClothID c, dReal h)
             /* the share goes to constraints on moving bodies only: a static
              * geom or the world takes any impulse without moving */
             dBodyID hb = p->active ? p->body : nw->body;
-            double w = wsum > 0.0 ? sqrt(dcloth_dot3(f, f)) / wsum : 0.0;
+            if (hb && !dBodyIsKinematic(hb)) w = wsum > 0.0 ? sqrt(dcloth_dot3(f, f)) / wsum : 0.0;
             if (!p->active) first_force(core, i, f);
-            if (hb && !dBodyIsKinematic(hb))
-                for (int r = 0; r < 3; r++) f[r] += w * F[r];
+            for (int r = 0; r < 3; r++) f[r] += w * F[r];
         }
         if (p->active) {
             memcpy(p->force, f, sizeof f);
@@ -709,6 +726,7 @@ cloth_status dClothStep(dClothID c, dReal h)
         if (b && !dBodyIsKinematic(b)) {
             dcloth_touch(c, b);
             dBodyAddForceAtPos(b, -f[0], -f[1], -f[2], at[0], at[1], at[2]);
+            dBodyAddTorque(b, -w * R[0], -w * R[1], -w * R[2]);
         }
         if (!p->active && !nw->active) memset(nw, 0, sizeof *nw); /* only held contacts carry over */
     }

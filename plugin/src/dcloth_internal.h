@@ -289,6 +289,18 @@ int dcloth_touch(dClothID c, dBodyID b);
 int dcloth_sleep_before(dClothID c, double h, double t0);
 void dcloth_sleep_after(dClothID c);
 
+/* momentum.c: after a solved step, the torque (N m, a couple when the
+ * constraints' shares of the leftover force F take all of it) the cloth's
+ * angular momentum change calls for beyond its forces and those shares */
+void dcloth_leftover_torque(dClothID c, double h, const double F[3], double wsum, double T[3]);
+/* momentum.c: change the angular momentum of the cloth and the moving bodies
+ * holding it by dL (N m s) with the rigid turn of least kinetic energy that
+ * their joints allow (keeping what they conserve: all of P and L for free
+ * bodies, L about a ball's anchor, along a hinge's axis), the cloth's other
+ * constraints held; *done gets dL less what was missed there (0 and -1 on
+ * no memory) */
+int dcloth_turn(dClothID c, const double dL[3], double done[3]);
+
 /* triangles.c: cloth triangles against a box, capsule or cylinder (libccd)
  * over a step of h seconds, with the geom's surface s;
  * sets deeper contacts of the triangles' vertices in c->vc_new. Returns the
