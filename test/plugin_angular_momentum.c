@@ -242,7 +242,8 @@ static void held(int scene)
           name[scene], m.total, m.cloth);
     /* a sphere's inertia is isotropic: ODE's update keeps its spin exactly;
      * a box's is not, and ODE's rotation update is its own (measured) */
-    if (!box) CHECK(m.ode <= 1e-6, "%s: ODE's update changed the sphere's angular momentum by %.3g", name[scene], m.ode);
+    if (!box)
+        CHECK(m.ode <= 1e-6, "%s: ODE's update changed the sphere's angular momentum by %.3g", name[scene], m.ode);
     CHECK(m.linear <= 1e-6, "%s: linear momentum made: %.3g", name[scene], m.linear);
     CHECK(scene == 3 || m.e1 <= m.e0, "%s: energy rose from %.6g J to %.6g J", name[scene], m.e0, m.e1);
     dClothDestroy(c);

@@ -293,6 +293,9 @@ void dcloth_sleep_after(dClothID c);
  * constraints' shares of the leftover force F take all of it) the cloth's
  * angular momentum change calls for beyond its forces and those shares */
 void dcloth_leftover_torque(dClothID c, double h, const double F[3], double wsum, double T[3]);
+/* eigen6.c: eigenvalues d and orthonormal eigenvectors (columns of V) of
+ * the symmetric 6x6 matrix A, destroyed (cyclic Jacobi rotations) */
+void dcloth_eigen6(double A[6][6], double d[6], double V[6][6]);
 /* momentum.c: change the angular momentum of the cloth and the moving bodies
  * holding it by dL (N m s) with the rigid turn of least kinetic energy that
  * their joints allow (keeping what they conserve: all of P and L for free

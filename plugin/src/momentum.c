@@ -48,45 +48,6 @@ void dcloth_leftover_torque(dClothID c, double h, const double F[3], double wsum
     for (int r = 0; r < 3; r++) T[r] -= tair[r];
 }
 
-/* Eigenvalues d and orthonormal eigenvectors (columns of V) of the
- * symmetric 6x6 matrix A, destroyed (cyclic Jacobi rotations) */
-static void eigen6(double A[6][6], double d[6], double V[6][6])
-{
-    for (int i = 0; i < 6; i++)
-        for (int j = 0; j < 6; j++) V[i][j] = i == j;
-    for (int sweep = 0; sweep < 50; sweep++) {
-        double off = 0.0, diag = 0.0;
-        for (int i = 0; i < 6; i++) {
-            diag += A[i][i] * A[i][i];
-            for (int j = i + 1; j < 6; j++) off += A[i][j] * A[i][j];
-        }
-        if (!(off > 1e-32 * diag)) break;
-        for (int p = 0; p < 6; p++)
-            for (int q = p + 1; q < 6; q++) {
-                if (A[p][q] == 0.0) continue;
-                double th = 0.5 * (A[q][q] - A[p][p]) / A[p][q];
-                double t = (th >= 0.0 ? 1.0 : -1.0) / (fabs(th) + sqrt(th * th + 1.0));
-                double cs = 1.0 / sqrt(t * t + 1.0), sn = t * cs;
-                for (int k = 0; k < 6; k++) { /* A <- A J, then J^T A */
-                    double a = A[k][p], b = A[k][q];
-                    A[k][p] = cs * a - sn * b;
-                    A[k][q] = sn * a + cs * b;
-                }
-                for (int k = 0; k < 6; k++) {
-                    double a = A[p][k], b = A[q][k];
-                    A[p][k] = cs * a - sn * b;
-                    A[q][k] = sn * a + cs * b;
-                }
-                for (int k = 0; k < 6; k++) {
-                    double a = V[k][p], b = V[k][q];
-                    V[k][p] = cs * a - sn * b;
-                    V[k][q] = sn * a + cs * b;
-                }
-            }
-    }
-    for (int i = 0; i < 6; i++) d[i] = A[i][i];
-}
-
 /* The moving body (dynamic, not kinematic) that holds vertex i by a pin or
  * a contact the step kept, or 0 */
 static dBodyID mover(dClothID c, int i)
@@ -258,7 +219,7 @@ static void world_rows(dClothID c, const double ref[3], double len, double A[6][
 static int allowed(double A[6][6], double N[6][6])
 {
     double d[6], V[6][6], amax = 0.0;
-    eigen6(A, d, V);
+    dcloth_eigen6(A, d, V);
     for (int k = 0; k < 6; k++) amax = fmax(amax, d[k]);
     int r = 0;
     for (int k = 0; k < 6; k++)
@@ -321,7 +282,7 @@ int dcloth_turn(dClothID c, const double dL[3], double done[3])
         for (int j = i + 1; j < 6; j++) H[i][j] = H[j][i] = 0.5 * (H[i][j] + H[j][i]);
     double H0[6][6];
     memcpy(H0, H, sizeof H);
-    eigen6(H, d, V);
+    dcloth_eigen6(H, d, V);
     for (int k = 0; k < 6; k++) dmax = fmax(dmax, d[k]);
     for (int k = 0; k < 6; k++) { /* within the directions the free parts can take */
         if (!(d[k] > 1e-9 * dmax)) continue;
