@@ -149,7 +149,8 @@ typedef struct dClothStepStats {
                                 direction dampers, backward Euler, tolerances),
                                 the moving bodies' share of it, taken out by
                                 the rigid turn of least energy of the cloth
-                                and those bodies together                     */
+                                and those bodies together (the part their
+                                joints or the world hold counts as taken)     */
     double couple[3];        /* N m: what that turn could not take, given to
                                 the moving bodies as a couple, to each body
                                 its constraints' share of the force           */
