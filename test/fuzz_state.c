@@ -149,7 +149,7 @@ static int write_file(const char *dir, const char *name, int mode, const cloth_s
 }
 
 /* Seeds: the rest state; hung 30 steps (history, warm start); creased
- * (plastic links) and moving fast. */
+ * (plastic links) and moving fast; then under the time-dependent law. */
 static int write_corpus(const char *dir)
 {
     cloth *c = small_cloth();
@@ -167,6 +167,16 @@ static int write_corpus(const char *dir)
     for (int k = 0; k < 5; k++) cloth_step(c, 1.0 / 60, NULL);
     cloth_save(c, s);
     rc |= write_file(dir, "creased_fast", 3, s);
+    /* the time-dependent plastic law: permanent sets and bent flags */
+    m.tau_set = 0.05;
+    m.tau_recover = 0.1;
+    m.set_hardening = 0.5;
+    cloth_set_material(c, &m);
+    for (int k = 0; k < 36; k++) v[k] = -v[k];
+    cloth_set_velocities(c, v);
+    for (int k = 0; k < 10; k++) cloth_step(c, 1.0 / 60, NULL);
+    cloth_save(c, s);
+    rc |= write_file(dir, "creased_timed", 3, s);
     cloth_state_destroy(s);
     cloth_destroy(c);
     return rc;

@@ -7,7 +7,8 @@
  *   - rows or cols < 3; rows * cols overflowing int (100000 x 100000 must be an
  *     error, quickly, not a giant allocation or a crash);
  *   - width, height, density <= 0; negative stiffnesses or damping;
- *     alpha outside [0, 1]; plastic_memory not 0 or 1; delta <= 0; k_delta < 0 (k_delta 0 is valid: no
+ *     alpha outside [0, 1]; plastic_memory not 0 or 1; tau_set, tau_recover < 0, set_hardening
+ *     outside [0, 1]; delta <= 0; k_delta < 0 (k_delta 0 is valid: no
  *     stiffening); axis_u or axis_v zero, or parallel
  *     (or antiparallel); cg_tolerance outside (0, 1); cg_max_iterations < 1;
  *     unknown method/precond; negative strain_limit_iterations;
@@ -84,11 +85,11 @@ static const dfield desc_doubles[] = {
     DF(axis_u[2]), DF(axis_v[0]), DF(axis_v[1]), DF(axis_v[2]), DF(gravity[0]), DF(gravity[1]),
     DF(gravity[2]), DF(material.k_t), DF(material.k_c), DF(material.k_b), DF(material.k_s),
     DF(material.alpha), DF(material.delta), DF(material.k_delta), DF(material.c_t), DF(material.c_b),
-    DF(material.density),
+    DF(material.density), DF(material.tau_set), DF(material.tau_recover), DF(material.set_hardening),
     DF(solver.cg_tolerance), DF(solver.strain_fail),
 };
 #define NDESC_DOUBLES (sizeof desc_doubles / sizeof desc_doubles[0])
-#define NMATERIAL_DOUBLES 10 /* the material.* entries, in order, from index 14 */
+#define NMATERIAL_DOUBLES 13 /* the material.* entries, in order, from index 14 */
 #define MATERIAL_FIRST 14
 
 /* material fields by offset within cloth_material */
@@ -105,12 +106,14 @@ static void check_create(void)
     const char *nf_name[3] = {"NaN", "inf", "-inf"};
 
     /* sanity: the table covers every double of the desc, and the default is valid */
-    /* the doubles, then the one int plastic_memory (checked by BAD below) */
-    CHECK(offsetof(cloth_material, plastic_memory) == NMATERIAL_DOUBLES * sizeof(double) &&
-              sizeof(cloth_material) <= NMATERIAL_DOUBLES * sizeof(double) + sizeof(double),
+    /* ten doubles, the one int plastic_memory (checked by BAD below), three doubles */
+    CHECK(offsetof(cloth_material, plastic_memory) == 10 * sizeof(double) &&
+              offsetof(cloth_material, tau_set) == 11 * sizeof(double) &&
+              sizeof(cloth_material) == (NMATERIAL_DOUBLES + 1) * sizeof(double),
           "cloth_material has fields this test misses");
     CHECK(strcmp(desc_doubles[MATERIAL_FIRST].name, "material.k_t") == 0 &&
-              strcmp(desc_doubles[MATERIAL_FIRST + NMATERIAL_DOUBLES - 1].name, "material.density") == 0 &&
+              strcmp(desc_doubles[MATERIAL_FIRST + 9].name, "material.density") == 0 &&
+              strcmp(desc_doubles[MATERIAL_FIRST + NMATERIAL_DOUBLES - 1].name, "material.set_hardening") == 0 &&
               strcmp(desc_doubles[MATERIAL_FIRST + NMATERIAL_DOUBLES].name, "solver.cg_tolerance") == 0,
           "table order");
     CHECK(cloth_desc_validate(&d0, NULL) == CLOTH_OK, "the default desc is invalid");
@@ -170,6 +173,8 @@ static void check_create(void)
     BAD(d.material.c_b = -1, "c_b -1");
     BAD(d.material.alpha = -0.01, "alpha -0.01");
     BAD(d.material.alpha = 1.01, "alpha 1.01");
+    BAD(d.material.set_hardening = 1.01, "set_hardening 1.01");
+    BAD(d.material.tau_set = -1e-9, "tau_set -1e-9");
     BAD(d.material.plastic_memory = -1, "plastic_memory -1");
     BAD(d.material.plastic_memory = 2, "plastic_memory 2");
     BAD(d.material.plastic_memory = INT_MAX, "plastic_memory INT_MAX");

@@ -117,13 +117,15 @@ static double maxdiff(const cloth *a, const cloth *b)
     return m;
 }
 
-/* Links whose elongation-limit multiplier a state record (version 2) holds
- * non-zero: the q doubles just before its checksum. */
+/* Links whose elongation-limit multiplier a state record (version 3) holds
+ * non-zero: the q doubles before the interlaced links' permanent sets and
+ * bent flags (9 bytes each) and the checksum. */
 static int multipliers_set(const cloth *c, const unsigned char *rec, size_t len)
 {
     int q = cloth_link_count(c, CLOTH_SEQUENTIAL), set = 0;
+    size_t tail = 9 * (size_t)cloth_link_count(c, CLOTH_INTERLACED);
     for (int e = 0; e < q; e++) {
-        const unsigned char *p = rec + len - 8 - 8 * (size_t)(q - e);
+        const unsigned char *p = rec + len - 8 - tail - 8 * (size_t)(q - e);
         uint64_t v = 0;
         for (int k = 7; k >= 0; k--) v = v << 8 | p[k];
         double d;

@@ -70,7 +70,8 @@ static void perturb(rng *g, cloth_desc *d, int f)
                      &d->material.k_s, &d->material.alpha, &d->material.delta, &d->material.k_delta,
                      &d->material.c_t, &d->material.c_b, &d->material.density, &d->solver.cg_tolerance,
                      &d->solver.strain_fail, &d->solver.newton_tolerance, &d->solver.newton_rtol, &d->solver.limit_tolerance,
-                     &d->solver.newton_cg_tolerance, &d->solver.newton_cg_share};
+                     &d->solver.newton_cg_tolerance, &d->solver.newton_cg_share, &d->material.tau_set,
+                     &d->material.tau_recover, &d->material.set_hardening};
     int nd = (int)(sizeof dbl / sizeof dbl[0]);
     if (f < nd) {
         *dbl[f] = xd(g);
@@ -93,7 +94,7 @@ static void perturb(rng *g, cloth_desc *d, int f)
     default: d->solver.definiteness_rule = v; break;
     }
 }
-#define NFIELDS 41 /* the doubles above, then the switch's 11 cases */
+#define NFIELDS 44 /* the doubles above, then the switch's 11 cases */
 
 /* The created cloth is sound: masses, positions, rest lengths. */
 static void check_model(const cloth *c, const char *what)

@@ -2,9 +2,10 @@
  * versions).
  *
  * 1. Layout, checked against the documented offsets by hand-decoding here:
- *    magic, version 2, n, m, has_prev, h_prev, x[0], v of the last vertex,
- *    the last plastic flag; the size is 32 + 8 (15 n + m + q) + m + 8 (q
- *    sequential links: the elongation limit's multipliers); the checksum is
+ *    magic, version 3, n, m, has_prev, h_prev, x[0], v of the last vertex,
+ *    the last plastic flag; the size is 32 + 8 (15 n + 2 m + q) + 2 m + 8
+ *    (q sequential links: the elongation limit's multipliers; per
+ *    interlaced link its permanent set and bent flag); the checksum is
  *    FNV-1a 64 of the rest (computed here independently).
  * 2. Round trip: a 9 x 7 cloth hung for 40 steps (BDF2, so the history and
  *    warm start are non-trivial, and creased so some links are plastic):
@@ -15,10 +16,12 @@
  * 3. Every damaged field is refused with a message naming it and the
  *    destination unchanged: short, long, magic, version, sizes, checksum,
  *    has_prev, h_prev (NaN, negative, 0 with history), a NaN / inf in each
- *    array, l1 <= 0, a plastic flag 2, a multiplier negative or NaN (each
+ *    array, l1 <= 0, a plastic flag 2, a multiplier negative or NaN, a
+ *    permanent set outside [0, 1), a bent flag 2 (each
  *    with the checksum made right, so the field check itself is what
  *    refuses), NULL arguments, a small buffer.
- * 4. A version 1 record (no multipliers) still reads, as the same state.
+ * 4. Version 1 (no multipliers) and 2 (no permanent sets, bent flags)
+ *    records still read, as the same state.
  * 5. Newton's multipliers travel: a Newton-stepped cloth pulled past its
  *    limit (multipliers not all zero in the record) restored from a record
  *    into a new cloth steps on bitwise as the uninterrupted run.
@@ -88,18 +91,22 @@ static cloth *scene(void)
     return c;
 }
 
-/* 4: buf (len bytes, q multipliers) made a version 1 record reads as sa */
-static void older_version(const cloth_state *sa, cloth_state *sr, const unsigned char *buf, size_t len, size_t q)
+/* 4: buf (len bytes, q multipliers, m interlaced links) made a version 1
+ * or 2 record reads as sa */
+static void older_version(const cloth_state *sa, cloth_state *sr, const unsigned char *buf, size_t len, size_t q,
+                          size_t m)
 {
-    size_t len1 = len - 8 * q;
-    unsigned char *old = malloc(len1);
-    memcpy(old, buf, len1 - 8);
-    old[8] = 1;
-    reseal(old, len1);
-    cloth_error err;
-    CHECK(cloth_state_read(sr, old, len1, &err) == CLOTH_OK, "a version 1 record refused: %s", err.message);
-    CHECK(cloth_state_diff(sa, sr) == 0.0, "a version 1 record reads as another state");
-    free(old);
+    for (unsigned char v = 1; v <= 2; v++) {
+        size_t len1 = len - 9 * m - (v == 1 ? 8 * q : 0);
+        unsigned char *old = malloc(len1);
+        memcpy(old, buf, len1 - 8);
+        old[8] = v;
+        reseal(old, len1);
+        cloth_error err;
+        CHECK(cloth_state_read(sr, old, len1, &err) == CLOTH_OK, "a version %u record refused: %s", v, err.message);
+        CHECK(cloth_state_diff(sa, sr) == 0.0, "a version %u record reads as another state", v);
+        free(old);
+    }
 }
 
 /* 5: a Newton cloth whose links are held at the limit by its multipliers */
@@ -127,7 +134,8 @@ static void newton_multipliers(void)
     unsigned char *rec = malloc(len);
     cloth_state_write(st, rec, len, NULL, NULL);
     int nonzero = 0;
-    for (size_t k = len - 8 - 8 * q; k < len - 8; k++) nonzero += rec[k] != 0;
+    size_t tail = 9 * (size_t)cloth_link_count(a, CLOTH_INTERLACED); /* permanent sets, bent flags */
+    for (size_t k = len - 8 - tail - 8 * q; k < len - 8 - tail; k++) nonzero += rec[k] != 0;
     CHECK(nonzero > 0, "the Newton scene's record has no multiplier: it does not test them");
     CHECK(cloth_state_read(rd, rec, len, NULL) == CLOTH_OK && cloth_restore(b, rd) == CLOTH_OK, "restore into b");
     int n3 = 3 * cloth_vertex_count(a), same = 1;
@@ -151,7 +159,8 @@ int main(void)
     cloth_state *sa = cloth_state_create(a), *sr = cloth_state_create(a);
     cloth_save(a, sa);
     size_t len = cloth_state_size_bytes(sa);
-    CHECK(len == 32 + 8 * (15 * (size_t)n + (size_t)m + (size_t)q) + (size_t)m + 8, "size %zu", len);
+    CHECK(len == 32 + 8 * (15 * (size_t)n + 2 * (size_t)m + (size_t)q) + 2 * (size_t)m + 8, "size %zu", len);
+    const size_t tail = 9 * (size_t)m; /* the permanent sets and bent flags, before the checksum */
     CHECK(cloth_state_size_bytes(NULL) == 0, "size of NULL");
     unsigned char *buf = malloc(len + 1), *buf2 = malloc(len + 1), *bad = malloc(len + 1);
     size_t wr = 0;
@@ -169,12 +178,12 @@ int main(void)
         nplastic += l.plastic;
     }
     CHECK(memcmp(buf, "ODCLSTAT", 8) == 0, "magic");
-    CHECK(le32(buf + 8) == 2 && le32(buf + 12) == (uint32_t)n && le32(buf + 16) == (uint32_t)m,
+    CHECK(le32(buf + 8) == 3 && le32(buf + 12) == (uint32_t)n && le32(buf + 16) == (uint32_t)m,
           "version %u n %u m %u", le32(buf + 8), le32(buf + 12), le32(buf + 16));
     CHECK(le32(buf + 20) == 1 && f64(buf + 24) == 1.0 / 60, "has_prev %u h_prev %g", le32(buf + 20), f64(buf + 24));
     CHECK(f64(buf + 32) == x[0], "x[0] %g vs %g", f64(buf + 32), x[0]);
     CHECK(f64(buf + 32 + 8 * (6 * (size_t)n - 1)) == v[3 * n - 1], "v[3n-1]");
-    CHECK(buf[len - 9 - 8 * (size_t)q] == lk.plastic, "last plastic flag");
+    CHECK(buf[len - 9 - 8 * (size_t)q - tail] == lk.plastic, "last plastic flag");
     CHECK(le64(buf + len - 8) == fnv(buf, len - 8), "checksum");
     printf("%d vertices, %d interlaced links (%d plastic): a record of %zu bytes\n", n, m, nplastic, len);
     CHECK(nplastic > 0, "no plastic link: the scene does not test the flags");
@@ -216,7 +225,8 @@ int main(void)
         double val;
     } dmg[] = {
         {"magic", "magic", 0, 1, 'X'},
-        {"version 3", "version", 8, 2, 3},
+        {"version 4", "version", 8, 2, 4},
+        {"version 0", "version", 8, 2, 0},
         {"n + 1", "vertices", 12, 2, n + 1},
         {"m - 1", "interlaced", 16, 2, m - 1},
         {"has_prev 2", "has_prev", 20, 2, 2},
@@ -232,9 +242,14 @@ int main(void)
         {"l1[last] = -1", "l1[", 32 + 8 * (15 * (size_t)n + m - 1), 0, -1},
         {"l1[1] NaN", "l1[1]", 32 + 8 * (15 * (size_t)n + 1), 0, NAN},
         {"plastic[0] = 2", "plastic[0]", 32 + 8 * (15 * (size_t)n + m), 1, 2},
-        {"plastic[last] = 255", "plastic[", len - 9 - 8 * (size_t)q, 1, 255},
-        {"lim_shift[0] = -1e-9", "lim_shift[0]", len - 8 - 8 * (size_t)q, 0, -1e-9},
-        {"lim_shift[last] NaN", "lim_shift[", len - 16, 0, NAN},
+        {"plastic[last] = 255", "plastic[", len - 9 - 8 * (size_t)q - tail, 1, 255},
+        {"lim_shift[0] = -1e-9", "lim_shift[0]", len - 8 - 8 * (size_t)q - tail, 0, -1e-9},
+        {"lim_shift[last] NaN", "lim_shift[", len - 16 - tail, 0, NAN},
+        {"perm[0] = 1", "perm[0]", len - 8 - tail, 0, 1.0},
+        {"perm[last] = -1e-300", "perm[", len - 16 - (size_t)m, 0, -1e-300},
+        {"perm[1] NaN", "perm[1]", len - tail, 0, NAN},
+        {"bent[0] = 2", "bent[0]", len - 8 - (size_t)m, 1, 2},
+        {"bent[last] = 255", "bent[", len - 9, 1, 255},
     };
     for (size_t k = 0; k < sizeof dmg / sizeof dmg[0]; k++)
         for (int sealed = 0; sealed < 2; sealed++) {
@@ -252,7 +267,7 @@ int main(void)
             CHECK(cloth_state_diff(sa, sr) == 0.0, "%s: the refused record changed the state", dmg[k].what);
             /* sealed: the field check names it (the magic, version and sizes
              * come before the checksum; unsealed others hit the checksum) */
-            const char *want = sealed || k < 4 ? dmg[k].word : "checksum";
+            const char *want = sealed || k < 5 ? dmg[k].word : "checksum";
             CHECK(strstr(err.message, want) != NULL, "%s (sealed %d): message '%s' does not name '%s'",
                   dmg[k].what, sealed, err.message, want);
         }
@@ -286,7 +301,7 @@ int main(void)
     cloth_state_destroy(ss);
     cloth_destroy(small);
 
-    older_version(sa, sr, buf, len, (size_t)q);
+    older_version(sa, sr, buf, len, (size_t)q, (size_t)m);
     newton_multipliers();
     free(buf);
     free(buf2);

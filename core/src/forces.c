@@ -133,7 +133,7 @@ double max_strain_seq_energy(const cloth *c, const double *x, double *e_seq)
     return mx;
 }
 
-int update_plastic_energy(cloth *c, double *elastic)
+int update_plastic_energy(cloth *c, double h, double *elastic)
 {
     const cloth_material *m = &c->desc.material;
     const double *x = c->st.x;
@@ -141,9 +141,7 @@ int update_plastic_energy(cloth *c, double *elastic)
     int count = 0;
     for (int e = 0; e < c->n_int; e++) {
         double d = link_length(x + 3 * c->lint[e].i, x + 3 * c->lint[e].j);
-        int p = c->st.plastic[e];
-        plastic_rule_memory(m->alpha, m->plastic_memory, c->lint[e].rest, d, &p, &c->st.l1[e]);
-        c->st.plastic[e] = (unsigned char)p;
+        int p = plastic_update_link(m, &c->st, e, c->lint[e].rest, d, h);
         count += p;
         E += link_energy_d(d, int_law(m, c->lint[e].rest, p, c->st.l1[e]));
     }

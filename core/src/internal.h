@@ -80,6 +80,18 @@ static inline spring_law int_law(const cloth_material *m, double rest, int plast
 void plastic_rule(double alpha, double rest, double d, int *plastic, double *l1);
 /* The same with the opt-in memory (material.plastic_memory; plastic.c). */
 void plastic_rule_memory(double alpha, int memory, double rest, double d, int *plastic, double *l1);
+/* The time-dependent law (material.tau_set, tau_recover, set_hardening;
+ * viscoplastic.c) over a step of h seconds ending at length d. *perm is the
+ * permanent set as a share of rest, *bent whether the link was past the
+ * yield at the last update. */
+void plastic_rule_time(const cloth_material *m, double rest, double d, double h, int *plastic, double *l1,
+                       double *perm, int *bent);
+/* Whether m asks for the time-dependent law (any of its three fields > 0). */
+int plastic_time_on(const cloth_material *m);
+struct cloth_state;
+/* Link e of state s after a step of h seconds ending at length d, by the
+ * material's rule (plastic.c); returns its plastic flag. */
+int plastic_update_link(const cloth_material *m, struct cloth_state *s, int e, double rest, double d, double h);
 
 /* ------------------------------------------------------------------ state */
 
@@ -89,6 +101,8 @@ struct cloth_state {
     double *x, *v;  /* 3n */
     unsigned char *plastic; /* n_int */
     double *l1;             /* n_int */
+    double *perm;           /* n_int: permanent set, a share of l0 (viscoplastic.c) */
+    unsigned char *bent;    /* n_int: past the yield at the last update (viscoplastic.c) */
     /* carried between steps */
     double *x_prev, *v_prev; /* 3n, BDF2 history (valid if has_prev) */
     double h_prev;
@@ -325,10 +339,10 @@ double max_strain_of(const cloth *c, const double *x);
 /* The passes over the links after a step, each link's length computed once
  * (forces.c; bit for bit max_strain_of, cloth_update_plastic and
  * cloth_energies): the largest sequential strain at x and the sequential
- * links' energy; the plastic update with the interlaced links' energy
- * added to *elastic; the energies given the elastic part. */
+ * links' energy; the plastic update over a step of h with the interlaced
+ * links' energy added to *elastic; the energies given the elastic part. */
 double max_strain_seq_energy(const cloth *c, const double *x, double *e_seq);
-int update_plastic_energy(cloth *c, double *elastic);
+int update_plastic_energy(cloth *c, double h, double *elastic);
 cloth_energy energies_with_elastic(const cloth *c, double elastic);
 
 /* small vector helpers */

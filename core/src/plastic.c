@@ -40,21 +40,30 @@ void plastic_rule(double alpha, double rest, double d, int *plastic, double *l1)
     plastic_rule_memory(alpha, 0, rest, d, plastic, l1);
 }
 
+int plastic_update_link(const cloth_material *m, struct cloth_state *s, int e, double rest, double d, double h)
+{
+    int p = s->plastic[e];
+    if (plastic_time_on(m)) {
+        int b = s->bent[e];
+        plastic_rule_time(m, rest, d, h, &p, &s->l1[e], &s->perm[e], &b);
+        s->bent[e] = (unsigned char)b;
+    } else {
+        plastic_rule_memory(m->alpha, m->plastic_memory, rest, d, &p, &s->l1[e]);
+    }
+    s->plastic[e] = (unsigned char)p;
+    return p;
+}
+
 int cloth_update_plastic(cloth *c)
 {
     if (!c) return 0;
     const double *x = c->st.x;
-    double alpha = c->desc.material.alpha;
-    int memory = c->desc.material.plastic_memory;
     int count = 0;
     for (int e = 0; e < c->n_int; e++) {
         const double *xi = x + 3 * c->lint[e].i, *xj = x + 3 * c->lint[e].j;
         double dx = xj[0] - xi[0], dy = xj[1] - xi[1], dz = xj[2] - xi[2];
         double d = sqrt(dx * dx + dy * dy + dz * dz);
-        int p = c->st.plastic[e];
-        plastic_rule_memory(alpha, memory, c->lint[e].rest, d, &p, &c->st.l1[e]);
-        c->st.plastic[e] = (unsigned char)p;
-        count += p;
+        count += plastic_update_link(&c->desc.material, &c->st, e, c->lint[e].rest, d, 0.0); /* no time passes */
     }
     return count;
 }

@@ -20,9 +20,12 @@ int state_alloc(struct cloth_state *s, int n, int n_int, int n_seq)
     s->dv_prev = calloc(n3, sizeof *s->dv_prev);
     s->plastic = calloc((size_t)n_int + 1, sizeof *s->plastic);
     s->l1 = calloc((size_t)n_int + 1, sizeof *s->l1);
+    s->perm = calloc((size_t)n_int + 1, sizeof *s->perm);
+    s->bent = calloc((size_t)n_int + 1, sizeof *s->bent);
     s->n_seq = n_seq;
     s->lim_shift = calloc((size_t)n_seq + 1, sizeof *s->lim_shift);
-    if (!s->x || !s->v || !s->x_prev || !s->v_prev || !s->dv_prev || !s->plastic || !s->l1 || !s->lim_shift) {
+    if (!s->x || !s->v || !s->x_prev || !s->v_prev || !s->dv_prev || !s->plastic || !s->l1 || !s->perm || !s->bent ||
+        !s->lim_shift) {
         state_free(s);
         return -1;
     }
@@ -38,6 +41,8 @@ void state_free(struct cloth_state *s)
     free(s->dv_prev);
     free(s->plastic);
     free(s->l1);
+    free(s->perm);
+    free(s->bent);
     free(s->lim_shift);
     memset(s, 0, sizeof *s);
 }
@@ -52,6 +57,8 @@ void state_copy(struct cloth_state *dst, const struct cloth_state *src)
     memcpy(dst->dv_prev, src->dv_prev, n3);
     memcpy(dst->plastic, src->plastic, (size_t)src->n_int * sizeof *src->plastic);
     memcpy(dst->l1, src->l1, (size_t)src->n_int * sizeof *src->l1);
+    memcpy(dst->perm, src->perm, (size_t)src->n_int * sizeof *src->perm);
+    memcpy(dst->bent, src->bent, (size_t)src->n_int * sizeof *src->bent);
     memcpy(dst->lim_shift, src->lim_shift, (size_t)src->n_seq * sizeof *src->lim_shift);
     dst->h_prev = src->h_prev;
     dst->has_prev = src->has_prev;
@@ -112,17 +119,19 @@ double cloth_state_diff(const cloth_state *a, const cloth_state *b)
     double m = maxdiff(a->x, b->x, n3, 0.0);
     m = maxdiff(a->v, b->v, n3, m);
     m = maxdiff(a->l1, b->l1, (size_t)a->n_int, m);
+    m = maxdiff(a->perm, b->perm, (size_t)a->n_int, m);
     for (int e = 0; e < a->n_int; e++)
-        if (a->plastic[e] != b->plastic[e]) return m + 1.0;
+        if (a->plastic[e] != b->plastic[e] || a->bent[e] != b->bent[e]) return m + 1.0;
     return m;
 }
 
 /* ------------------------------------------------------------ state files
  *
- * Format version 2, every number little-endian, doubles as IEEE 754 bits:
+ * Format version 3, every number little-endian, doubles as IEEE 754 bits:
  *   offset  size
  *   0       8     magic "ODCLSTAT"
- *   8       4     u32 format version (2; 1 is read too: no multipliers)
+ *   8       4     u32 format version (3; 2 is read too: no perm and bent,
+ *                     read as 0; 1 neither, nor the multipliers)
  *   12      4     u32 vertex count n
  *   16      4     u32 interlaced link count m
  *   20      4     u32 has_prev (0 or 1)
@@ -135,25 +144,34 @@ double cloth_state_diff(const cloth_state *a, const cloth_state *b)
  *           8*m   f64 l1     plastic rest lengths (m, finite, > 0)
  *           m     u8  plastic flags (0 or 1)
  *           8*q   f64 lim_shift the elongation limit's multipliers (m, finite,
- *                     >= 0; q the state's sequential links; version 2 only)
+ *                     >= 0; q the state's sequential links; from version 2)
+ *           8*m   f64 perm   permanent set of each interlaced link, a share of
+ *                     its l0 (finite, in [0, 1); version 3)
+ *           m     u8  bent flags (0 or 1; version 3)
  *   end-8   8     u64 FNV-1a 64 of every byte before it
  * Every value is checked on reading; nothing is changed unless all pass. */
 
 #define STATE_MAGIC "ODCLSTAT"
-#define STATE_VERSION 2u
+#define STATE_VERSION 3u
 #define STATE_HEADER 32u
 
-/* A record's bytes: version 1 without the multipliers (q = 0). */
-static size_t state_bytes(size_t n, size_t m, size_t q) { return STATE_HEADER + 8 * (15 * n + m + q) + m + 8; }
+/* A record's bytes: q multipliers, and p = 1 with each link's perm and bent
+ * (version 3), 0 without. */
+static size_t state_bytes(size_t n, size_t m, size_t q, size_t p)
+{
+    return STATE_HEADER + 8 * (15 * n + m + q + p * m) + m + p * m + 8;
+}
 
 size_t cloth_state_size_bytes(const cloth_state *s)
 {
-    return s ? state_bytes((size_t)s->n, (size_t)s->n_int, (size_t)s->n_seq) : 0;
+    return s ? state_bytes((size_t)s->n, (size_t)s->n_int, (size_t)s->n_seq, 1) : 0;
 }
 
 static size_t state_record_bytes(const cloth_state *s, uint32_t version)
 {
-    return version == 1u ? state_bytes((size_t)s->n, (size_t)s->n_int, 0) : cloth_state_size_bytes(s);
+    size_t n = (size_t)s->n, m = (size_t)s->n_int;
+    return version == 1u ? state_bytes(n, m, 0, 0) : version == 2u ? state_bytes(n, m, (size_t)s->n_seq, 0)
+                                                                   : cloth_state_size_bytes(s);
 }
 
 static void put_u32(unsigned char *p, uint32_t v)
@@ -236,8 +254,23 @@ cloth_status cloth_state_write(const cloth_state *s, void *buf, size_t cap, size
     for (size_t e = 0; e < m; e++, q += 8) put_f64(q, s->l1[e]);
     for (size_t e = 0; e < m; e++) *q++ = s->plastic[e];
     for (int e = 0; e < s->n_seq; e++, q += 8) put_f64(q, s->lim_shift[e]);
+    for (size_t e = 0; e < m; e++, q += 8) put_f64(q, s->perm[e]);
+    for (size_t e = 0; e < m; e++) *q++ = s->bent[e];
     put_u64(q, fnv1a(p, (size_t)(q - p)));
     if (written) *written = need;
+    return CLOTH_OK;
+}
+
+/* The version 3 fields at q: m permanent sets, then m bent flags. */
+static cloth_status check_perm(const unsigned char *q, size_t m, cloth_error *err)
+{
+    for (size_t e = 0; e < m; e++, q += 8) {
+        double v = get_f64(q);
+        if (!(v >= 0.0 && v < 1.0))
+            return error_set(err, CLOTH_EINVAL, "cloth_state_read: perm[%zu] = %g must be in [0, 1)", e, v);
+    }
+    for (size_t e = 0; e < m; e++, q++)
+        if (*q > 1) return error_set(err, CLOTH_EINVAL, "cloth_state_read: bent[%zu] = %u must be 0 or 1", e, *q);
     return CLOTH_OK;
 }
 
@@ -252,8 +285,8 @@ static cloth_status check_record(const cloth_state *s, const unsigned char *p, s
     if (memcmp(p, STATE_MAGIC, 8) != 0)
         return error_set(err, CLOTH_EINVAL, "cloth_state_read: not an odecloth state (bad magic)");
     uint32_t ver = get_u32(p + 8), n = get_u32(p + 12), m = get_u32(p + 16), hp = get_u32(p + 20);
-    if (ver != 1u && ver != STATE_VERSION)
-        return error_set(err, CLOTH_EINVAL, "cloth_state_read: format version %u, this library reads 1 and %u",
+    if (ver < 1u || ver > STATE_VERSION)
+        return error_set(err, CLOTH_EINVAL, "cloth_state_read: format version %u, this library reads 1 to %u",
                          (unsigned)ver, STATE_VERSION);
     if (n != (uint32_t)s->n || m != (uint32_t)s->n_int)
         return error_set(err, CLOTH_EINVAL,
@@ -289,7 +322,7 @@ static cloth_status check_record(const cloth_state *s, const unsigned char *p, s
         if (!isfinite(sh) || sh < 0.0)
             return error_set(err, CLOTH_EINVAL, "cloth_state_read: lim_shift[%d] = %g must be finite and >= 0", e, sh);
     }
-    return CLOTH_OK;
+    return ver > 2u ? check_perm(p + need - 8 - 9 * (size_t)m, m, err) : CLOTH_OK;
 }
 
 cloth_status cloth_state_read(cloth_state *s, const void *buf, size_t len, cloth_error *err)
@@ -312,6 +345,11 @@ cloth_status cloth_state_read(cloth_state *s, const void *buf, size_t len, cloth
     /* the limit's multipliers: a version 1 record has none */
     memset(s->lim_shift, 0, (size_t)s->n_seq * sizeof *s->lim_shift);
     for (int e = 0; get_u32(p + 8) > 1u && e < s->n_seq; e++, q += 8) s->lim_shift[e] = get_f64(q);
+    /* the permanent sets and bent flags: older records have none */
+    memset(s->perm, 0, m * sizeof *s->perm);
+    memset(s->bent, 0, m * sizeof *s->bent);
+    for (size_t e = 0; get_u32(p + 8) > 2u && e < m; e++, q += 8) s->perm[e] = get_f64(q);
+    for (size_t e = 0; get_u32(p + 8) > 2u && e < m; e++) s->bent[e] = *q++;
     return CLOTH_OK;
 }
 

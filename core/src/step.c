@@ -175,7 +175,7 @@ static void commit(cloth *c, double h, measured *ms)
         memcpy(s->dv_prev, c->dv, n3 * sizeof *c->dv);
         memcpy(s->lim_shift, c->lim_shift, (size_t)c->n_seq * sizeof *c->lim_shift);
     }
-    ms->plastic = update_plastic_energy(c, &ms->elastic); /* cloth_update_plastic */
+    ms->plastic = update_plastic_energy(c, h, &ms->elastic); /* cloth_update_plastic */
 }
 
 /* The retry after the whole step failed: the step again from its start as

@@ -77,7 +77,27 @@ typedef struct cloth_material {
                            crease spread flat re-forms when let go; bent
                            deeper than l1 it still ratchets (l1 = min d).
                            Decided in plastic_rule_memory (core/src/plastic.c).
-                           Must be 0 or 1. */
+                           Must be 0 or 1. With tau_recover > 0 the
+                           recovery law below decides instead. */
+    /* Plasticity that depends on duration and repetition (ours; the paper's
+     * future work), decided in plastic_rule_time (core/src/viscoplastic.c);
+     * all three 0 (the default) is the paper's rule above, bit for bit.
+     * Each interlaced link keeps a plastic rest length l1 and a permanent
+     * rest length lp (l0 until hardened). While bent past the yield
+     * (d <= alpha l0) l1 relaxes toward d: dl1/dt = -(l1 - d) / tau_set
+     * where l1 > d (a link entering starts from lp), so a fold held longer
+     * sets deeper. Released (d > alpha l0) it recovers toward lp:
+     * dl1/dt = (lp - l1) / tau_recover, plastic again elastic once l1
+     * reaches l0. At each release a share set_hardening of the set then
+     * held becomes permanent, lp -= set_hardening (lp - l1), so repeated
+     * folds accumulate. Both laws are integrated exactly over each step
+     * with d held at its end-of-step value (an exponential update: the
+     * result does not depend on the step size). docs/materials.md. */
+    double tau_set;       /* s, >= 0: 0 sets at once (l1 = min(l1, d), the paper) */
+    double tau_recover;   /* s, >= 0: 0 recovers at once to lp when released
+                             (the paper; with plastic_memory 1, never)         */
+    double set_hardening; /* 1, in [0, 1]: share of the set made permanent at
+                             each release; 0 = none                           */
 } cloth_material;
 
 /* A preset's values; an unknown preset gives cotton. */
@@ -311,7 +331,9 @@ int cloth_link_count(const cloth *c, cloth_link_type t);
 cloth_status cloth_get_link(const cloth *c, cloth_link_type t, int index, cloth_link *out);
 
 /* Apply the plastic rule (paper eq. 8-12) to the current positions; the step
- * does this after every step. Returns the number of plastic links. */
+ * does this after every step. With the time-dependent law (tau_set,
+ * tau_recover, set_hardening) this call lets no time pass: links enter and
+ * leave, nothing relaxes. Returns the number of plastic links. */
 int cloth_update_plastic(cloth *c);
 
 /* ------------------------------------------------------ forces and energy */
@@ -550,8 +572,9 @@ double cloth_state_diff(const cloth_state *a, const cloth_state *b);
  * machine. Reading checks every field (magic, version, sizes against s,
  * finite numbers, l1 > 0, flags 0 or 1, the limit's multipliers >= 0,
  * checksum, exact length) and changes s only if all pass; err (may be NULL)
- * says what is wrong. Writing makes version 2; version 1 records (without
- * the multipliers, read as zero) are read too. */
+ * says what is wrong. Writing makes version 3; versions 1 (without the
+ * multipliers, read as zero) and 2 (without the links' permanent set and
+ * bent flags of material.tau_set and friends, read as zero) are read too. */
 size_t cloth_state_size_bytes(const cloth_state *s); /* a record's size; 0 for NULL */
 /* Write the record into buf (cap bytes, at least cloth_state_size_bytes);
  * *written (may be NULL) gets its size. */
