@@ -55,6 +55,7 @@ int main(int argc, char **argv)
      * --bending and --memory override both */
     drape_variant v[2], vt[2];
     const char *names[2] = {"cotton", "wool"};
+    memset(v, 0, sizeof v);
     for (int i = 0; i < 2; i++) {
         v[i].material = cloth_material_preset(i == COTTON ? CLOTH_COTTON : CLOTH_WOOL);
         if (o.nalpha) v[i].material.alpha = o.alphas[0];

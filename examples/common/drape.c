@@ -143,12 +143,65 @@ static int settle_and_capture(runner *R, int steps, const char *what, double t0,
     return 0;
 }
 
+/* Move the four corners (pinned every step) from `from` to the phase's
+ * positions over `steps`, by a smoothstep in time; `from` ends there. */
+static int move_corners(runner *R, const phase *ph, const int corner[4], double from[4][3], int steps)
+{
+    static const double off[4][2] = {{-0.5, -0.5}, {0.5, -0.5}, {-0.5, 0.5}, {0.5, 0.5}};
+    double to[4][3];
+    for (int k = 0; k < 4; k++) {
+        to[k][0] = ph->cx + ph->scale * off[k][0] * CLOTH_SIZE;
+        to[k][1] = ph->scale * off[k][1] * CLOTH_SIZE;
+        to[k][2] = ph->z;
+    }
+    for (int s = 1; s <= steps; s++) {
+        double w = demo_smoothstep((double)s / steps);
+        for (int k = 0; k < 4; k++) {
+            dReal at[3];
+            for (int a = 0; a < 3; a++) at[a] = from[k][a] + w * (to[k][a] - from[k][a]);
+            dClothPinToWorld(R->c, corner[k], at);
+        }
+        if (run_step(R)) return -1;
+    }
+    phase_done(R, ph->name);
+    memcpy(from, to, sizeof to);
+    return 0;
+}
+
+/* The corners where the cloth is now. */
+static void corners_now(const runner *R, const int corner[4], double at[4][3])
+{
+    const dReal *x = dClothGetPositions(R->c);
+    for (int k = 0; k < 4; k++)
+        for (int a = 0; a < 3; a++) at[k][a] = x[3 * corner[k] + a];
+}
+
+/* The drape of a variant folded more than once: lifted off as for the
+ * removal, laid back flat over the collider and let go, before each
+ * drape after the first. */
+static int refold(runner *R, drape_collider col, const int corner[4], int move_steps)
+{
+    const phase relay[] = {
+        {"unwrap", UNWRAP, 0.0, collider_top(col) + 0.02},
+        {"lift", UNWRAP, 0.0, LIFT_Z},
+        {"relay", 1.0, 0.0, collider_top(col) + 0.05},
+    };
+    double from[4][3];
+    corners_now(R, corner, from);
+    for (int p = 0; p < 3; p++)
+        if (move_corners(R, &relay[p], corner, from, move_steps)) return -1;
+    for (int k = 0; k < 4; k++) dClothReleasePin(R->c, corner[k]);
+    return 0;
+}
+
 int drape_run(const demo_opts *o, const demo_scene *scene, const drape_variant *v, drape_result *r)
 {
     drape_collider col = scene->col;
     memset(r, 0, sizeof *r);
     double settle = o->short_run ? 2.5 : 4.0;
     double move = o->short_run ? 1.0 : 1.5;
+    double hold = v->hold > 0.0 ? v->hold : settle;
+    int folds = v->folds > 1 ? v->folds : 1;
     dClothDesc d = demo_desc(o);
     r->delta = v->material.delta;
     r->strain_allow = drape_strain_allowance(&d.cloth.solver, r->delta);
@@ -204,37 +257,26 @@ int drape_run(const demo_opts *o, const demo_scene *scene, const drape_variant *
         goto done;
     }
     const int C = o->grid, corner[4] = {0, C - 1, (C - 1) * C, C * C - 1};
-    const double off[4][2] = {{-0.5, -0.5}, {0.5, -0.5}, {-0.5, 0.5}, {0.5, 0.5}};
     demo_camera cam_draped, cam_after;
     cameras(col, &cam_draped, &cam_after, &R.cam_wide);
     int settle_steps = (int)lround(settle * o->hz), move_steps = (int)lround(move * o->hz);
-    R.total = 2 * settle_steps + nphase * move_steps;
+    int hold_steps = (int)lround(hold * o->hz);
+    R.total = settle_steps + folds * hold_steps + (folds - 1) * 3 * move_steps + nphase * move_steps;
     double t0 = demo_now();
 
-    if (settle_and_capture(&R, settle_steps, scene->tags[0], t0, &cam_draped, &r->draped, &r->pic_draped))
+    for (int f = 1; f < folds; f++) {
+        for (int s = 0; s < hold_steps; s++)
+            if (run_step(&R)) goto done;
+        phase_done(&R, "hold");
+        if (refold(&R, col, corner, move_steps)) goto done;
+    }
+    if (settle_and_capture(&R, hold_steps, scene->tags[0], t0, &cam_draped, &r->draped, &r->pic_draped))
         goto done;
 
-    double from[4][3], to[4][3];
-    const dReal *x = dClothGetPositions(R.c);
-    for (int k = 0; k < 4; k++) memcpy(from[k], x + 3 * corner[k], sizeof from[k]);
-    for (int p = 0; p < nphase; p++) {
-        for (int k = 0; k < 4; k++) {
-            to[k][0] = phases[p].cx + phases[p].scale * off[k][0] * CLOTH_SIZE;
-            to[k][1] = phases[p].scale * off[k][1] * CLOTH_SIZE;
-            to[k][2] = phases[p].z;
-        }
-        for (int s = 1; s <= move_steps; s++) {
-            double w = demo_smoothstep((double)s / move_steps);
-            for (int k = 0; k < 4; k++) {
-                dReal at[3];
-                for (int a = 0; a < 3; a++) at[a] = from[k][a] + w * (to[k][a] - from[k][a]);
-                dClothPinToWorld(R.c, corner[k], at);
-            }
-            if (run_step(&R)) goto done;
-        }
-        phase_done(&R, phases[p].name);
-        memcpy(from, to, sizeof from);
-    }
+    double from[4][3];
+    corners_now(&R, corner, from);
+    for (int p = 0; p < nphase; p++)
+        if (move_corners(&R, &phases[p], corner, from, move_steps)) goto done;
     for (int k = 0; k < 4; k++) dClothReleasePin(R.c, corner[k]);
     if (settle_and_capture(&R, settle_steps, scene->tags[1], t0, &cam_after, &r->after, &r->pic_after))
         goto done;
@@ -380,6 +422,7 @@ int drape_alpha_main(int argc, char **argv, const char *prog, const char *usage,
     int n = demo_alphas(&o, default_alphas, ndefault, alphas);
     drape_variant v[DEMO_MAX_ALPHAS];
     drape_result r[DEMO_MAX_ALPHAS];
+    memset(v, 0, sizeof v);
     for (int i = 0; i < n; i++) {
         v[i].material = cloth_material_preset(o.material);
         v[i].material.alpha = alphas[i];
@@ -402,6 +445,7 @@ int drape_material_variants(const demo_opts *o, drape_variant *v)
 {
     int n = o->nalpha ? o->nalpha : 1;
     for (int i = 0; i < n; i++) {
+        memset(&v[i], 0, sizeof v[i]);
         v[i].material = cloth_material_preset(o->material);
         if (o->nalpha) v[i].material.alpha = o->alphas[i];
         if (o->k_b > 0.0) v[i].material.k_b = o->k_b;

@@ -13,7 +13,10 @@
  *   spread  corners to the flat square's corners, 0.35 m up
  *   lower   corners onto the floor (a thickness above it)
  * then the corners are released and the cloth settles for 4 s ("after
- * removal"). --short: 2.5 s settles and 1 s phases.
+ * removal"). --short: 2.5 s settles and 1 s phases. A variant may set the
+ * drape's own length (hold) and drape more than once (folds): before each
+ * drape after the first the cloth is lifted off (unwrap, lift) and laid
+ * back flat 5 cm over the collider (relay), then let go.
  *
  * The table is a triangle mesh (the paper's own collision: cloth vertices
  * against the body's triangles, and here the triangles against the cloth's
@@ -58,6 +61,11 @@ typedef struct drape_variant {
     char label[48];          /* column label ("alpha 0.5", "wool")      */
     char tag[48];            /* file name part ("alpha0.5", "wool")     */
     cloth_material material;
+    double hold;             /* s the cloth stays draped before removal
+                                (drape_run; 0: the scene's settle)       */
+    int folds;               /* drape_run: drapes before the removal, each
+                                after the first lifted off and laid back
+                                flat over the collider (0 or 1: once)   */
 } drape_variant;
 
 typedef struct drape_result {
