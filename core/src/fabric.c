@@ -19,6 +19,8 @@ cloth_status cloth_fabric_validate(const cloth_fabric *f, cloth_error *err)
         {"delta", f->delta, 1},             {"k_delta", f->k_delta, 0},
         {"tau_tension", f->tau_tension, 0}, {"tau_bending", f->tau_bending, 0},
         {"bend_curvature", f->bend_curvature, 0},
+        {"tau_set", f->tau_set, 0},         {"tau_recover", f->tau_recover, 0},
+        {"set_hardening", f->set_hardening, 0},
     };
     for (size_t k = 0; k < sizeof q / sizeof q[0]; k++) {
         if (!isfinite(q[k].v))
@@ -28,6 +30,8 @@ cloth_status cloth_fabric_validate(const cloth_fabric *f, cloth_error *err)
                              q[k].positive ? "> 0" : ">= 0");
     }
     if (f->alpha > 1.0) return error_set(err, CLOTH_EINVAL, "fabric.alpha = %g must be in [0, 1]", f->alpha);
+    if (f->set_hardening > 1.0)
+        return error_set(err, CLOTH_EINVAL, "fabric.set_hardening = %g must be in [0, 1]", f->set_hardening);
     return CLOTH_OK;
 }
 
@@ -111,6 +115,9 @@ cloth_status cloth_fabric_material(const cloth_fabric *f, double dx, double dy, 
     m.c_b = f->tau_bending * m.k_b;
     m.density = f->density;
     m.plastic_memory = 0;
+    m.tau_set = f->tau_set;
+    m.tau_recover = f->tau_recover;
+    m.set_hardening = f->set_hardening;
     /* a fabric and spacing of extreme scales can overflow or underflow */
     const struct { const char *name; double v; int positive; } r[] = {
         {"k_t", m.k_t, 1}, {"k_c", m.k_c, 1}, {"k_b", m.k_b, 1},

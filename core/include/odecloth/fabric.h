@@ -37,8 +37,9 @@
  *   - damping: Kelvin-Voigt time constants, c_t = tau_tension k_t and
  *     c_b = tau_bending k_b, so the damping scales with the stiffness it
  *     damps and is grid-independent like it.
- *   - alpha, delta, k_delta and density are passed through; plastic_memory
- *     is 0 (the paper's rule).
+ *   - alpha, delta, k_delta, density and the time-dependent plastic law's
+ *     tau_set, tau_recover, set_hardening (seconds and a ratio: the same
+ *     at every spacing) are passed through; plastic_memory is 0.
  */
 #ifndef ODECLOTH_FABRIC_H
 #define ODECLOTH_FABRIC_H
@@ -71,6 +72,11 @@ typedef struct cloth_fabric {
     double bend_curvature; /* 1/m   >= 0: kappa_ref, where the bending
                                     energy equals B kappa^2 / 2; 0 = the
                                     cantilever's, eta / bending length     */
+    double tau_set;        /* s     >= 0: passed through (cloth_material's
+                                    time-dependent plastic law; 0 in the
+                                    presets: the paper's rule)             */
+    double tau_recover;    /* s     >= 0: passed through, likewise         */
+    double set_hardening;  /* 1     in [0, 1]: passed through, likewise    */
 } cloth_fabric;
 
 typedef enum cloth_fabric_kind {
