@@ -104,26 +104,60 @@ static void mirror_lower(bsr *K)
         }
 }
 
-/* acc += the plan's entries e in [a, z), weighted */
-MAT3_INLINE void gather(const uint32_t *ent, int a, int z, const double *val, const double *filt, const int *fidx,
-                        double acc[9])
+/* acc = the sum of the plan's entries e in [a, z), weighted */
+static void gather(const uint32_t *ent, int a, int z, const double *val, const double *filt, const int *fidx,
+                   double acc[9])
 {
+    double s[9] = {0.0};
     for (int e = a; e < z; e++) {
         size_t k = ent[e] >> 3;
         double wt = WCODE[ent[e] & 7];
         const double *B = fidx && fidx[k] >= 0 ? filt + 9 * (size_t)fidx[k] : val + 9 * k;
-        for (int r = 0; r < 9; r++) acc[r] += wt * B[r];
+        for (int r = 0; r < 9; r++) s[r] += wt * B[r];
     }
+    memcpy(acc, s, sizeof s);
 }
 
-/* The blocks of K's upper triangle; with the AVX build of it (mat3.h) the
- * compiler's wider vectors do each element's same operations */
-MAT3_INLINE void apply_upper(const galerkin_plan *g, const double *val, const double *filt, const int *fidx, bsr *K)
+#if MAT3_HAVE_AVX
+/* gather with 256-bit vectors, elements 0-3 and 4-7 in a register each: every
+ * element's operations as the plain loop's (no FMA), so the same bits */
+static inline __attribute__((target("avx"))) void gather_avx(const uint32_t *ent, int a, int z, const double *val,
+                                                             const double *filt, const int *fidx, double acc[9])
 {
+    __m256d lo = _mm256_setzero_pd(), hi = _mm256_setzero_pd();
+    double last = 0.0;
+    for (int e = a; e < z; e++) {
+        size_t k = ent[e] >> 3;
+        double wt = WCODE[ent[e] & 7];
+        const double *B = fidx && fidx[k] >= 0 ? filt + 9 * (size_t)fidx[k] : val + 9 * k;
+        __m256d w = _mm256_set1_pd(wt);
+        lo = _mm256_add_pd(lo, _mm256_mul_pd(w, _mm256_loadu_pd(B)));
+        hi = _mm256_add_pd(hi, _mm256_mul_pd(w, _mm256_loadu_pd(B + 4)));
+        last += wt * B[8];
+    }
+    _mm256_storeu_pd(acc, lo);
+    _mm256_storeu_pd(acc + 4, hi);
+    acc[8] = last;
+}
+#endif
+
+/* The blocks of K's upper triangle, by the AVX gather where avx (a constant) */
+MAT3_INLINE void apply_upper(int avx, const galerkin_plan *g, const double *val, const double *filt, const int *fidx,
+                             bsr *K)
+{
+    (void)avx; /* used only where the build has AVX */
     for (int t = 0; t < g->nblk; t++) {
-        double an[9] = {0}, at[9] = {0};
-        gather(g->ent, g->start[t], g->mid[t], val, filt, fidx, an);
-        gather(g->ent, g->mid[t], g->start[t + 1], val, filt, fidx, at);
+        double an[9], at[9];
+#if MAT3_HAVE_AVX
+        if (avx) {
+            gather_avx(g->ent, g->start[t], g->mid[t], val, filt, fidx, an);
+            gather_avx(g->ent, g->mid[t], g->start[t + 1], val, filt, fidx, at);
+        } else
+#endif
+        {
+            gather(g->ent, g->start[t], g->mid[t], val, filt, fidx, an);
+            gather(g->ent, g->mid[t], g->start[t + 1], val, filt, fidx, at);
+        }
         double *D = K->val + 9 * (size_t)t;
         for (int r = 0; r < 3; r++)
             for (int s = 0; s < 3; s++) D[3 * r + s] = an[3 * r + s] + at[3 * s + r];
@@ -134,7 +168,7 @@ MAT3_INLINE void apply_upper(const galerkin_plan *g, const double *val, const do
 MAT3_AVX_FN static void apply_upper_avx(const galerkin_plan *g, const double *val, const double *filt,
                                         const int *fidx, bsr *K)
 {
-    apply_upper(g, val, filt, fidx, K);
+    apply_upper(1, g, val, filt, fidx, K);
 }
 #endif
 
@@ -142,9 +176,9 @@ void galerkin_apply(const galerkin_plan *g, const double *val, const double *fil
 {
 #if MAT3_HAVE_AVX
     if (mat3_avx()) apply_upper_avx(g, val, filt, fidx, K);
-    else apply_upper(g, val, filt, fidx, K);
+    else apply_upper(0, g, val, filt, fidx, K);
 #else
-    apply_upper(g, val, filt, fidx, K);
+    apply_upper(0, g, val, filt, fidx, K);
 #endif
     mirror_lower(K);
 }
