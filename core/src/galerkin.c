@@ -1,7 +1,6 @@
-/* The gathered Galerkin product (galerkin.h). A scattered product adds each
- * contribution into its coarse block in memory, and consecutive additions to
- * one block then wait on each other's stores; gathered, each block is
- * stored once. */
+/* The gathered Galerkin product (galerkin.h): each coarse block is summed in registers and stored once,
+ * where scattered additions into it in memory would wait on each other's stores. */
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 #include "galerkin.h"
@@ -25,11 +24,9 @@ static int kblock(const int *slot, const int *rc, int I, int J)
     return slot[(size_t)I * NSTEN + (rc[2 * J] - rc[2 * I] + 2) * 5 + (rc[2 * J + 1] - rc[2 * I + 1] + 2)];
 }
 
-/* Visit every contribution of F's upper triangle to K's: F's block k = (i, j),
- * j >= i, weighted w_I w_J, goes to (I, J) for I <= J and, for j > i,
- * transposed to (J, I) for J <= I (as F's (j, i)). With ent NULL counts into
- * count[2 t + transposed]; else fills ent at fill[2 t + transposed]++. Returns -1
- * on an uncodable weight. */
+/* Each contribution w_I w_J F_ij (j >= i) to K's upper triangle: to (I, J) if I <= J, and as F_ji
+ * (transposed) to (J, I) if J <= I and j > i. With ent NULL counted in count[2 t + transposed], else
+ * stored at fill[2 t + transposed]++; -1 on an uncodable weight. */
 static int visit(const bsr *F, const int *par, const double *w, const int *slot, const int *rc, int *count,
                  int *fill, uint32_t *ent)
 {
@@ -56,7 +53,8 @@ int galerkin_plan_make(galerkin_plan *g, const bsr *F, const int *par, const dou
                        const int *slot, const int *rc)
 {
     memset(g, 0, sizeof *g);
-    if ((size_t)F->nnzb >= ((size_t)1 << 29)) return -1;
+    /* a block gives at most 32 entries (16 parent pairs, twice): the counts stay ints */
+    if ((size_t)F->nnzb > (size_t)INT_MAX / 32) return -1;
     int nb = K->nnzb;
     g->nblk = nb;
     g->start = malloc(((size_t)nb + 1) * sizeof *g->start);

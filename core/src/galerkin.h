@@ -1,7 +1,6 @@
-/* The Galerkin coarse operator K = W^T F W of a multigrid level
- * (multigrid.c), gathered: each block of K's upper triangle sums its
- * contributions in registers, by a plan made once per grid; the lower
- * triangle is the upper's mirror (F and K are symmetric). */
+/* The Galerkin coarse operator K = W^T F W of a multigrid level (multigrid.c), by a plan made once per
+ * grid: each block of K's upper triangle gathers its contributions; the lower triangle is its mirror
+ * (F and K are symmetric). */
 #ifndef ODECLOTH_GALERKIN_H
 #define ODECLOTH_GALERKIN_H
 
@@ -15,10 +14,9 @@ typedef struct galerkin_plan {
     uint32_t *ent;  /* F's block << 3 | weight code                             */
 } galerkin_plan;
 
-/* The plan for F (its pattern; par, w: 4 parents and weights per F node, -1
- * none) onto K (its pattern; slot: 25 per node, K's block at each offset of
- * the 5x5 stencil; rc: each K node's row and column). 0, or -1 on no memory
- * or a weight the plan cannot code. */
+/* The plan from F onto K: par, w the 4 parents (-1 none) and weights of each F node; slot K's block at
+ * each of a node's 25 stencil offsets, rc each K node's row and column. 0; -1 on no memory, an F too
+ * large, or a weight the plan cannot code (not a product of bilinear weights). */
 int galerkin_plan_make(galerkin_plan *g, const bsr *F, const int *par, const double *w, const bsr *K,
                        const int *slot, const int *rc);
 void galerkin_plan_free(galerkin_plan *g);

@@ -41,11 +41,9 @@ typedef struct multigrid {
     const unsigned char *constrained; /* n flags: filter needed                    */
 } multigrid;
 
-/* Levels for an R x C grid whose matrices have A0's pattern: coarsened by two
- * (node 2I of a level is node I of the next) while the level has more than 64
- * nodes. 0; -1 on no memory;
- * -2 when the coarsest level would have more than MG_DENSE_MAX unknowns
- * (a grid with a side under 5 nodes does not coarsen). */
+/* Levels for an R x C grid of A0's pattern, coarsened by two while a level has over 64 nodes. 0; -1 on
+ * no memory (or a grid too large to plan); -2 when the coarsest level would have more than
+ * MG_DENSE_MAX unknowns (a grid with a side under 5 nodes does not coarsen). */
 #define MG_DENSE_MAX 3072
 int mg_create(multigrid *mg, int R, int C, const bsr *A0);
 void mg_free(multigrid *mg);

@@ -425,7 +425,8 @@ static double moved(const self_contact *s, const double *x)
     for (int i = 0; i < s->n; i++) {
         double d[3];
         vec3_sub(x + 3 * i, s->xref + 3 * i, d);
-        m = fmax(m, vec3_dot(d, d));
+        double d2 = vec3_dot(d, d);
+        if (!(d2 <= m)) m = d2 == d2 ? d2 : INFINITY; /* a NaN position: moved past any slack */
     }
     return sqrt(m);
 }
