@@ -5,9 +5,9 @@
  * dClothGetContactForce) at its vertices' end-of-step positions, where the
  * implicit step evaluates them. So, with f_i those forces, x_i the vertices
  * and F_b, T_b a body's accumulators at its centre c_b, every step must give
- *   sum_i f_i + sum_b F_b = 0,  sum_i x_i x f_i + W_b C + sum_b (c_b x F_b + T_b) = 0,
- * C the couple of the angular momentum no force explains (dClothStepStats),
- * W_b the body's share of it, its constraints' share of the constraint forces
+ *   sum_i f_i + sum_b F_b = 0,  sum_i x_i x f_i - C + sum_b (c_b x F_b + T_b) = 0,
+ * C the couple of the angular momentum no force explains that the moving
+ * bodies got (dClothStepStats; each scene has one moving body)
  * (about the world's origin, 1 m or more from every point), asserted to
  * 1e-6 of sum_i |f_i| (in N m for the second, on a 1 m scale). Scenes, an
  * 11x11 cotton cloth 0.4 m square, h = 1/60 s, 60 steps:
@@ -53,16 +53,13 @@ static double norm3(const double *a) { return sqrt(a[0] * a[0] + a[1] * a[1] + a
 static void imbalance(dClothID c, dBodyID b, double *ef, double *et, double *scale)
 {
     const dReal *x = dClothGetPositions(c);
-    double F[3] = {0, 0, 0}, T[3] = {0, 0, 0}, s = 0.0, wb = 0.0, wsum = 0.0;
+    double F[3] = {0, 0, 0}, T[3] = {0, 0, 0}, s = 0.0;
     for (int i = 0; i < dClothGetVertexCount(c); i++) {
         dReal fp[3], fc[3];
-        double cf[3];
         dGeomID g = 0;
         dClothGetPinForce(c, i, fp);
         dClothGetContactForce(c, i, fc);
         dClothGetVertexContact(c, i, &g, NULL, NULL);
-        cloth_constraint_force(dClothGetCore(c), i, cf);
-        int on_b = norm3(fp) > 0.0 || (g && dGeomGetBody(g) == b);
         if (!g || dGeomGetBody(g) != b) fc[0] = fc[1] = fc[2] = 0.0;
         double f[3] = {fp[0] + fc[0], fp[1] + fc[1], fp[2] + fc[2]}, t[3];
         cross(x + 3 * i, f, t);
@@ -71,12 +68,10 @@ static void imbalance(dClothID c, dBodyID b, double *ef, double *et, double *sca
             T[r] += t[r];
         }
         s += norm3(f);
-        wsum += norm3(cf);
-        if (on_b) wb += norm3(cf);
     }
-    /* b's share of the couple, by its constraints' forces (the plane keeps its own) */
+    /* b, the only moving body, got all of the couple (in its accumulator) */
     const double *couple = dClothGetStats(c)->couple;
-    for (int r = 0; r < 3; r++) T[r] += wsum > 0.0 ? wb / wsum * couple[r] : 0.0;
+    for (int r = 0; r < 3; r++) T[r] -= couple[r];
     const dReal *Fb = dBodyGetForce(b), *Tb = dBodyGetTorque(b), *cb = dBodyGetPosition(b);
     double fb[3] = {Fb[0], Fb[1], Fb[2]}, pb[3] = {cb[0], cb[1], cb[2]}, t[3];
     cross(pb, fb, t);

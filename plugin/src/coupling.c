@@ -382,6 +382,32 @@ static void first_force(cloth *core, int i, double f[3])
     cloth_get_contact_planes(core, i, NULL, NULL, f, NULL);
 }
 
+double dcloth_vertex_force(dClothID c, int i, const double F[3], double wsum, double f[3])
+{
+    const vpin *p = &c->pin[i];
+    const vcontact *nw = &c->vc_new[i];
+    double w = 0.0;
+    cloth_constraint_force(c->core, i, f);
+    /* the share goes to constraints on moving bodies only: a static geom or
+     * the world takes any impulse without moving */
+    dBodyID hb = p->active ? p->body : nw->body;
+    if (hb && !dBodyIsKinematic(hb)) w = wsum > 0.0 ? sqrt(dcloth_dot3(f, f)) / wsum : 0.0;
+    if (!p->active) first_force(c->core, i, f);
+    for (int r = 0; r < 3; r++) f[r] += w * F[r] + (p->active ? 0.0 : nw->friction[r]);
+    return w;
+}
+
+dBodyID dcloth_force_body(dClothID c, int i, const double f[3])
+{
+    const vcontact *nw = &c->vc_new[i];
+    if (c->pin[i].active) return c->pin[i].body;
+    if (!nw->active) return 0;
+    /* pinched and pushed toward this contact's body: the push came from the
+     * opposite body, which takes the reaction */
+    if (nw->pinched && dcloth_dot3(f, nw->normal) < 0.0 && !held_by_coupled(c, i)) return nw->opp_body;
+    return nw->body;
+}
+
 /* What the step decided (cloth_set_contact): sticking contacts it let
  * slide, free candidates it held on the normal alone, as if forced */
 static void took_candidates(dClothID c, dClothStepStats *st)
@@ -677,52 +703,20 @@ cloth_status dClothStep(dClothID c, dReal h)
             for (int r = 0; r < 3; r++) F[r] -= f[r];
         }
     }
-    /* and the angular momentum no force explains: the moving bodies' share of
-     * it taken out by a rigid turn of the cloth and those bodies (least
-     * energy), what that cannot take given to them as a couple */
-    double T[3], W = 0.0, R[3];
-    dcloth_leftover_torque(c, h, F, wsum, T);
-    for (int i = 0; wsum > 0.0 && i < c->n; i++) {
-        dBodyID hb = c->pin[i].active ? c->pin[i].body : c->vc_new[i].active ? c->vc_new[i].body : 0;
-        double f[3];
-        if (!hb || dBodyIsKinematic(hb)) continue;
-        cloth_constraint_force(core, i, f);
-        W += sqrt(dcloth_dot3(f, f)) / wsum;
-    }
-    double dL[3] = {-h * W * T[0], -h * W * T[1], -h * W * T[2]}, done[3] = {0.0, 0.0, 0.0};
-    if (W > 0.0) dcloth_turn(c, dL, done);
-    for (int r = 0; r < 3; r++) R[r] = W > 0.0 ? (W * T[r] + done[r] / h) / W : 0.0;
-    memcpy(st.couple, R, sizeof R);
-    memcpy(st.turned, done, sizeof done);
+    /* and the angular momentum no force explains (momentum.c) */
+    double R[3];
+    dcloth_leftover(c, h, F, wsum, R, &st);
     for (int i = 0; i < c->n; i++) {
         vpin *p = &c->pin[i];
         vcontact *nw = &c->vc_new[i];
-        double f[3];
-        dBodyID b = 0;
-        double w = 0.0; /* the vertex's share of the leftovers */
+        double f[3] = {0.0, 0.0, 0.0}, w = 0.0; /* w: the vertex's share of the leftovers */
+        dBodyID b = c->holder[i]; /* the body the turn moved with the vertex */
         /* where the cloth felt the force: a body takes it there too, so no
          * angular momentum is made between them */
         const double *at = cloth_positions(core) + 3 * i;
-        if (p->active || nw->active) {
-            cloth_constraint_force(core, i, f);
-            /* the share goes to constraints on moving bodies only: a static
-             * geom or the world takes any impulse without moving */
-            dBodyID hb = p->active ? p->body : nw->body;
-            if (hb && !dBodyIsKinematic(hb)) w = wsum > 0.0 ? sqrt(dcloth_dot3(f, f)) / wsum : 0.0;
-            if (!p->active) first_force(core, i, f);
-            for (int r = 0; r < 3; r++) f[r] += w * F[r];
-        }
-        if (p->active) {
-            memcpy(p->force, f, sizeof f);
-            b = p->body;
-        } else if (nw->active) {
-            for (int r = 0; r < 3; r++) f[r] += nw->friction[r];
-            memcpy(nw->force, f, sizeof f);
-            b = nw->body;
-            /* pinched and pushed toward this contact's body: the push came
-             * from the opposite body, which takes the reaction */
-            if (nw->pinched && dcloth_dot3(f, nw->normal) < 0.0 && !held_by_coupled(c, i)) b = nw->opp_body;
-        }
+        if (p->active || nw->active) w = dcloth_vertex_force(c, i, F, wsum, f);
+        if (p->active) memcpy(p->force, f, sizeof f);
+        else if (nw->active) memcpy(nw->force, f, sizeof f);
         if (b && !dBodyIsKinematic(b)) {
             dcloth_touch(c, b);
             dBodyAddForceAtPos(b, -f[0], -f[1], -f[2], at[0], at[1], at[2]);

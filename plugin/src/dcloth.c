@@ -81,12 +81,16 @@ cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *d, d
     c->v0 = calloc(3 * (size_t)c->n, sizeof *c->v0);
     c->vfix = calloc(3 * (size_t)c->n, sizeof *c->vfix);
     c->share_sum = calloc((size_t)c->n, sizeof *c->share_sum);
+    c->holder = calloc((size_t)c->n, sizeof *c->holder);
+    c->turn_bodies = calloc((size_t)c->n, sizeof *c->turn_bodies);
+    c->turn_dv = calloc(3 * (size_t)c->n, sizeof *c->turn_dv);
     c->save = cloth_state_create(c->core);
     c->box = dCreateBox(0, 1, 1, 1);
     c->sphere = dCreateSphere(0, c->thickness);
     c->ray = dCreateRay(0, 1.0);
     if (!c->tri || !c->vc || !c->vc_new || !c->pin || !c->fext || !c->fuser || !c->fadd || !c->x0 || !c->v0 ||
-        !c->vfix || !c->share_sum || !c->save || !c->box || !c->sphere || !c->ray) {
+        !c->vfix || !c->share_sum || !c->holder || !c->turn_bodies || !c->turn_dv || !c->save || !c->box ||
+        !c->sphere || !c->ray) {
         dClothDestroy(c);
         return create_fail(err, CLOTH_ENOMEM, "out of memory");
     }
@@ -123,6 +127,9 @@ void dClothDestroy(dClothID c)
     free(c->v0);
     free(c->vfix);
     free(c->share_sum);
+    free(c->holder);
+    free(c->turn_bodies);
+    free(c->turn_dv);
     cloth_state_destroy(c->save);
     free(c->cand);
     free(c->surf);

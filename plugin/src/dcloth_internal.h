@@ -112,6 +112,9 @@ struct dxCloth {
     double *x0;          /* 3n: positions at the step's start               */
     double *v0;          /* 3n: velocities at the step's start              */
     double *vfix;        /* 3n: velocities after the step's contact fix-up  */
+    dBodyID *holder;     /* n: the body that takes each vertex's force, or 0 */
+    dBodyID *turn_bodies; /* n: the moving bodies the turn moves (workspace) */
+    double *turn_dv;     /* 3n: the turn's velocity change (workspace)      */
     cloth_state *save;   /* the core's state at the step's start (re-solves) */
     dGeomID *cand;       /* candidate geoms of the step                     */
     int ncand, cand_cap;
@@ -289,20 +292,25 @@ int dcloth_touch(dClothID c, dBodyID b);
 int dcloth_sleep_before(dClothID c, double h, double t0);
 void dcloth_sleep_after(dClothID c);
 
-/* momentum.c: after a solved step, the torque (N m, a couple when the
- * constraints' shares of the leftover force F take all of it) the cloth's
- * angular momentum change calls for beyond its forces and those shares */
+/* momentum.c: after a solved step, the torque (N m) the cloth's angular momentum change calls for
+ * beyond its forces and the constraints' shares of the leftover force F */
 void dcloth_leftover_torque(dClothID c, double h, const double F[3], double wsum, double T[3]);
 /* eigen6.c: eigenvalues d and orthonormal eigenvectors (columns of V) of
  * the symmetric 6x6 matrix A, destroyed (cyclic Jacobi rotations) */
 void dcloth_eigen6(double A[6][6], double d[6], double V[6][6]);
-/* momentum.c: change the angular momentum of the cloth and the moving bodies
- * holding it by dL (N m s) with the rigid turn of least kinetic energy that
- * their joints allow (keeping what they conserve: all of P and L for free
- * bodies, L about a ball's anchor, along a hinge's axis), the cloth's other
- * constraints held; *done gets dL less what was missed there (0 and -1 on
- * no memory) */
+/* momentum.c: change the angular momentum of the cloth and its moving holders by dL (N m s), the rigid
+ * turn of least energy their joints and the cloth's other constraints allow (docs/contacts.md); done:
+ * the change made; -1 (nothing done) if a body's journal ran out of memory */
 int dcloth_turn(dClothID c, const double dL[3], double done[3]);
+/* momentum.c: after a solved step, take the moving bodies' share of the leftover torque out by the turn;
+ * sets c->holder, R (each body gets -w R, w its vertices' shares) and st's turned and couple */
+void dcloth_leftover(dClothID c, double h, const double F[3], double wsum, double R[3], dClothStepStats *st);
+/* coupling.c: the force (N) vertex i's constraint puts on its body, with its share by force size of the
+ * leftover force F (the share returned: 0 unless that body moves) */
+double dcloth_vertex_force(dClothID c, int i, const double F[3], double wsum, double f[3]);
+/* coupling.c: the body that takes vertex i's force f: its pin's or contact's, or when pinched and pushed
+ * toward that contact's body, the opposite one; 0 for none */
+dBodyID dcloth_force_body(dClothID c, int i, const double f[3]);
 
 /* triangles.c: cloth triangles against a box, capsule or cylinder (libccd)
  * over a step of h seconds, with the geom's surface s;

@@ -4,7 +4,6 @@
  * tolerance), and the rigid turn of least energy that takes it out of the
  * cloth and the moving bodies holding it, together (coupling.c). */
 #include <math.h>
-#include <stdlib.h>
 #include <string.h>
 #include "dcloth_internal.h"
 
@@ -48,14 +47,13 @@ void dcloth_leftover_torque(dClothID c, double h, const double F[3], double wsum
     for (int r = 0; r < 3; r++) T[r] -= tair[r];
 }
 
-/* The moving body (dynamic, not kinematic) that holds vertex i by a pin or
- * a contact the step kept, or 0 */
+/* The moving body (dynamic, not kinematic) that takes vertex i's force
+ * (c->holder) by a pin or a contact the step kept, or 0 */
 static dBodyID mover(dClothID c, int i)
 {
     cloth_constraint k;
-    dBodyID b = 0;
-    if (c->pin[i].active) b = c->pin[i].body;
-    else if (c->vc_new[i].active && cloth_get_constraint(c->core, i, &k) == CLOTH_OK && k.ndof) b = c->vc_new[i].body;
+    dBodyID b = c->holder[i];
+    if (!c->pin[i].active && !(cloth_get_constraint(c->core, i, &k) == CLOTH_OK && k.ndof)) b = 0;
     return b && !dBodyIsKinematic(b) ? b : 0;
 }
 
@@ -148,9 +146,8 @@ static void perpendicular(const dReal *a, double t1[3], double t2[3])
 }
 
 /* The constraints body b's joints to anything not turned with it put on
- * the turn: a ball keeps its anchor, a hinge its anchor and axis, a slider
- * turns nothing and moves along its axis only; any other joint (a contact,
- * a motor...) holds the body. */
+ * the turn (a ball keeps its anchor, a hinge its anchor and axis, a slider
+ * its axis's translation; any other joint holds the body: docs/contacts.md) */
 static void joint_rows(dBodyID b, dBodyID *bs, int nb, const double ref[3], double len, double A[6][6])
 {
     for (int k = 0; k < dBodyGetNumJoints(b); k++) {
@@ -233,14 +230,9 @@ static int allowed(double A[6][6], double N[6][6])
 int dcloth_turn(dClothID c, const double dL[3], double done[3])
 {
     const double *x = cloth_positions(c->core), *m = cloth_masses(c->core);
-    dBodyID *bs = malloc((size_t)c->n * sizeof *bs);
-    double *dv = malloc(3 * (size_t)c->n * sizeof *dv);
+    dBodyID *bs = c->turn_bodies;
+    double *dv = c->turn_dv;
     done[0] = done[1] = done[2] = 0.0;
-    if (!bs || !dv) {
-        free(bs);
-        free(dv);
-        return -1;
-    }
     int nb = 0;
     double ref[3] = {0.0, 0.0, 0.0}, mt = 0.0, L = 0.0;
     for (int i = 0; i < c->n; i++) {
@@ -265,8 +257,6 @@ int dcloth_turn(dClothID c, const double dL[3], double done[3])
     int na = allowed(A, N);
     if (na == 0) { /* the world holds every rigid motion: it takes the leftover */
         for (int q = 0; q < 3; q++) done[q] = dL[q];
-        free(bs);
-        free(dv);
         return 0;
     }
     for (int j = 0; j < na; j++) {
@@ -315,7 +305,24 @@ int dcloth_turn(dClothID c, const double dL[3], double done[3])
     }
     if (ok)
         for (int q = 0; q < 3; q++) done[q] = dL[q] - L * miss[3 + q];
-    free(bs);
-    free(dv);
     return ok ? 0 : -1;
+}
+
+void dcloth_leftover(dClothID c, double h, const double F[3], double wsum, double R[3], dClothStepStats *st)
+{
+    double T[3], W = 0.0, f[3];
+    for (int i = 0; i < c->n; i++) {
+        c->holder[i] = 0;
+        if (!c->pin[i].active && !c->vc_new[i].active) continue;
+        W += dcloth_vertex_force(c, i, F, wsum, f);
+        c->holder[i] = dcloth_force_body(c, i, f);
+    }
+    dcloth_leftover_torque(c, h, F, wsum, T);
+    double dL[3] = {-h * W * T[0], -h * W * T[1], -h * W * T[2]}, done[3] = {0.0, 0.0, 0.0};
+    if (W > 0.0) dcloth_turn(c, dL, done);
+    for (int r = 0; r < 3; r++) {
+        R[r] = W > 0.0 ? T[r] + done[r] / (h * W) : 0.0;
+        st->turned[r] = -done[r]; /* done is the change the turn made: -(what it took out) */
+        st->couple[r] = -W * R[r];
+    }
 }

@@ -144,16 +144,12 @@ typedef struct dClothStepStats {
     int edge_contacts;       /* vertex contacts set by the links' tests against
                                 the edges of boxes, trimeshes and convexes
                                 whose triangle tests are off                  */
-    double turned[3];        /* N m s: the angular momentum the cloth's change
-                                called for beyond its forces' torques (frozen-
-                                direction dampers, backward Euler, tolerances),
-                                the moving bodies' share of it, taken out by
-                                the rigid turn of least energy of the cloth
-                                and those bodies together (the part their
-                                joints or the world hold counts as taken)     */
-    double couple[3];        /* N m: what that turn could not take, given to
-                                the moving bodies as a couple, to each body
-                                its constraints' share of the force           */
+    double turned[3];        /* N m s: the angular momentum the rigid turn took
+                                out of the cloth and its moving holders (the
+                                part no force explains: docs/contacts.md)     */
+    double couple[3];        /* N m: the couple the moving holders got for
+                                what that turn could not take, each its
+                                constraints' share of it                      */
 } dClothStepStats;
 
 /* Stats of the last dClothStep. */
