@@ -146,6 +146,7 @@ static worst run(dWorldID w, dClothID c, dBodyID b, const double p[3], const dou
     worst m = {0, 0, 0, 0, 0, 0, 0, energy(c, b), 0};
     int n = dClothGetVertexCount(c);
     double v0[3 * 121];
+    if (!CHECK(n <= 121, "%d vertices: v0 holds 121", n)) return m;
     for (int s = 0; s < STEPS; s++) {
         double Pc0[3], Lc0[3], Pb0[3], Lb0[3], Pc1[3], Lc1[3], Pb1[3], Lb1[3], J[3], K[3], B[3], sf, st;
         cloth_momenta(c, p, Pc0, Lc0);
