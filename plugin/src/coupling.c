@@ -343,17 +343,6 @@ static void couple_bodies(dClothID c)
     }
 }
 
-/* 1 + the index of the body solved with the cloth that holds vertex i's
- * constraint, or 0 if none does */
-static int held_by_coupled(dClothID c, int i)
-{
-    dBodyID b = c->pin[i].active ? c->pin[i].body : c->vc_new[i].active ? c->vc_new[i].body : 0;
-    if (!b) return 0;
-    for (int k = 0; k < cloth_body_count(c->core); k++)
-        if (c->bodies[k] == b) return k + 1;
-    return 0;
-}
-
 /* Vertex i, near its geom but left free, as a contact candidate: the core's
  * Newton step holds it where it would end deeper in its shell than the
  * re-solve rule below lets a free vertex be (RESOLVE_DEPTH). */
@@ -373,39 +362,6 @@ static void second_candidate(dClothID c, int i, double h, const vcontact *nw, in
     for (int r = 0; r < 3; r++) p[r] = x[r] + h * nw->sec_vbody[r] - d * nw->sec_normal[r];
     if (newton && nw->sec_geom && !nw->pinched && isfinite(p[0] + p[1] + p[2]))
         cloth_set_contact_second(c->core, i, nw->sec_normal, p);
-}
-
-/* The force (N) vertex i's contact exerted in the step, without its second
- * plane's (whose geom is static or kinematic: it takes no force) */
-static void first_force(cloth *core, int i, double f[3])
-{
-    cloth_get_contact_planes(core, i, NULL, NULL, f, NULL);
-}
-
-double dcloth_vertex_force(dClothID c, int i, const double F[3], double wsum, double f[3])
-{
-    const vpin *p = &c->pin[i];
-    const vcontact *nw = &c->vc_new[i];
-    double w = 0.0;
-    cloth_constraint_force(c->core, i, f);
-    /* the share goes to constraints on moving bodies only: a static geom or
-     * the world takes any impulse without moving */
-    dBodyID hb = p->active ? p->body : nw->body;
-    if (hb && !dBodyIsKinematic(hb)) w = wsum > 0.0 ? sqrt(dcloth_dot3(f, f)) / wsum : 0.0;
-    if (!p->active) first_force(c->core, i, f);
-    for (int r = 0; r < 3; r++) f[r] += w * F[r] + (p->active ? 0.0 : nw->friction[r]);
-    return w;
-}
-
-dBodyID dcloth_force_body(dClothID c, int i, const double f[3])
-{
-    const vcontact *nw = &c->vc_new[i];
-    if (c->pin[i].active) return c->pin[i].body;
-    if (!nw->active) return 0;
-    /* pinched and pushed toward this contact's body: the push came from the
-     * opposite body, which takes the reaction */
-    if (nw->pinched && dcloth_dot3(f, nw->normal) < 0.0 && !held_by_coupled(c, i)) return nw->opp_body;
-    return nw->body;
 }
 
 /* What the step decided (cloth_set_contact): sticking contacts it let
@@ -576,7 +532,7 @@ cloth_status dClothStep(dClothID c, dReal h)
             vcontact *nw = &c->vc_new[i];
             if (!nw->active || !by_triangle_rule(c, i) || shared(c, i, newton) || nw->forced || nw->pinched) continue;
             double f[3];
-            first_force(core, i, f);
+            dcloth_first_force(core, i, f);
             if (dcloth_dot3(f, nw->normal) < -LETGO_PULL * letgo_t) {
                 nw->let_go = 1;
                 more++;
@@ -610,7 +566,7 @@ cloth_status dClothStep(dClothID c, dReal h)
                         vb->forced || vb->pinched || vb->geom != va->geom)
                         continue;
                     double f[3];
-                    first_force(core, b, f);
+                    dcloth_first_force(core, b, f);
                     if (dcloth_dot3(f, vb->normal) < 0.0) {
                         vb->let_go = 2;
                         more++;

@@ -305,12 +305,16 @@ int dcloth_turn(dClothID c, const double dL[3], double done[3]);
 /* momentum.c: after a solved step, take the moving bodies' share of the leftover torque out by the turn;
  * sets c->holder, R (each body gets -w R, w its vertices' shares) and st's turned and couple */
 void dcloth_leftover(dClothID c, double h, const double F[3], double wsum, double R[3], dClothStepStats *st);
-/* coupling.c: the force (N) vertex i's constraint puts on its body, with its share by force size of the
- * leftover force F (the share returned: 0 unless that body moves) */
+/* vertex_force.c: the force (N) vertex i's constraint puts on its body, with its share by force size of
+ * the leftover force F (the share returned: 0 unless that body moves) */
 double dcloth_vertex_force(dClothID c, int i, const double F[3], double wsum, double f[3]);
-/* coupling.c: the body that takes vertex i's force f: its pin's or contact's, or when pinched and pushed
- * toward that contact's body, the opposite one; 0 for none */
+/* vertex_force.c: the body that takes vertex i's force f: its pin's or contact's, or when pinched and
+ * pushed toward that contact's body, the opposite one; 0 for none */
 dBodyID dcloth_force_body(dClothID c, int i, const double f[3]);
+/* vertex_force.c: vertex i's contact force (N) without its second plane's (a static or kinematic geom) */
+void dcloth_first_force(cloth *core, int i, double f[3]);
+/* vertex_force.c: 1 + the index of the body solved with the cloth holding vertex i's constraint, or 0 */
+int dcloth_held_by_coupled(dClothID c, int i);
 
 /* triangles.c: cloth triangles against a box, capsule or cylinder (libccd)
  * over a step of h seconds, with the geom's surface s;
