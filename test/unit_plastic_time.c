@@ -16,8 +16,13 @@
  *     plastic_rule_memory on random walks (memory 0 and 1);
  *   - through a cloth: a 5 x 3 grid pinned folded (cloth_step, h and h/4),
  *     then pinned flat: each link across the fold follows the closed forms;
- *     a state record taken mid-recovery, read into a second cloth, continues
- *     bit for bit like the first (the permanent set and bent flags carried).
+ *     state records taken during the hold (bent flags 1) and mid-recovery,
+ *     read into a second cloth, continue bit for bit like the first (the
+ *     permanent set and bent flags carried);
+ *   - a link set fully (set_hardening 1, bent to almost 0) writes a permanent
+ *     set below 1, so its record reads back;
+ *   - the bent flags follow the paper's rule too: a link bent and released
+ *     with the law off, the law switched on while it is straight, hardens not.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -207,6 +212,29 @@ static double l1_of(const cloth *c, int e)
     return L.plastic ? L.l1 : L.rest;
 }
 
+/* A record of state st written, read into a new cloth of material m, pinned
+ * to rest and stepped from step s0 to s1 of h ends where the first did (l1). */
+static void continue_from(const cloth_material *m, const cloth_state *st, const double *rest, int e, int s0, int s1,
+                          double h, double l1, const char *what)
+{
+    size_t len = cloth_state_size_bytes(st);
+    unsigned char *buf = malloc(len);
+    cloth *c2 = make_cloth(m);
+    cloth_state *s2 = c2 ? cloth_state_create(c2) : NULL;
+    cloth_error err;
+    if (CHECK(buf && s2, "no memory") && CHECK(cloth_state_write(st, buf, len, NULL, &err) == CLOTH_OK &&
+                                                   cloth_state_read(s2, buf, len, &err) == CLOTH_OK,
+                                               "%s record: %s", what, err.message)) {
+        cloth_restore(c2, s2);
+        pin_all(c2, rest);
+        for (int s = s0; s < s1; s++) cloth_step(c2, h, NULL);
+        CHECK(l1_of(c2, e) == l1, "from the %s record: l1 %.17g, the first cloth %.17g", what, l1_of(c2, e), l1);
+    }
+    free(buf);
+    cloth_state_destroy(s2);
+    cloth_destroy(c2);
+}
+
 static void check_cloth(void)
 {
     const double q = 0.5, l0 = 0.2, T = 1.0, Rt = 0.5;
@@ -228,8 +256,9 @@ static void check_cloth(void)
         CHECK(ok && e >= 0, "h/%d: steps failed or no link across", div);
         CHECK_NEAR(l1_of(c, e), want, 1e-12 * l0);
         double l1T = l1_of(c, e), lp = l0 - m.set_hardening * (l0 - l1T);
+        cloth_state *held = cloth_state_create(c), *mid = cloth_state_create(c);
+        cloth_save(c, held);
         pin_all(c, rest);
-        cloth_state *mid = cloth_state_create(c);
         for (int s = 0; s < steps / 2; s++) {
             ok &= cloth_step(c, h, NULL) == CLOTH_OK;
             if (s == steps / 4) cloth_save(c, mid);
@@ -239,25 +268,13 @@ static void check_cloth(void)
         CHECK_NEAR(l1_of(c, e), want_r, 1e-12 * l0);
         l1[k] = l1_of(c, e);
         if (k == 0) {
-            /* a state record mid-recovery continues exactly in another cloth */
-            size_t len = cloth_state_size_bytes(mid);
-            unsigned char *buf = malloc(len);
-            cloth *c2 = make_cloth(&m);
-            cloth_state *s2 = c2 ? cloth_state_create(c2) : NULL;
-            cloth_error err;
-            if (CHECK(buf && s2, "no memory") && CHECK(cloth_state_write(mid, buf, len, NULL, &err) == CLOTH_OK &&
-                                                           cloth_state_read(s2, buf, len, &err) == CLOTH_OK,
-                                                       "record: %s", err.message)) {
-                cloth_restore(c2, s2);
-                pin_all(c2, rest);
-                for (int s = steps / 4 + 1; s < steps / 2; s++) cloth_step(c2, h, NULL);
-                CHECK(l1_of(c2, e) == l1[0], "from the record: l1 %.17g, the first cloth %.17g", l1_of(c2, e),
-                      l1[0]);
-            }
-            free(buf);
-            cloth_state_destroy(s2);
-            cloth_destroy(c2);
+            /* records held (bent 1) and mid-recovery continue exactly in another cloth */
+            CHECK(c->st.bent[e] == 0 && held->bent[e] == 1, "bent flags: %d at the end, %d in the held record",
+                  c->st.bent[e], held->bent[e]);
+            continue_from(&m, held, rest, e, 0, steps / 2, h, l1[0], "held");
+            continue_from(&m, mid, rest, e, steps / 4 + 1, steps / 2, h, l1[0], "mid-recovery");
         }
+        cloth_state_destroy(held);
         cloth_state_destroy(mid);
         cloth_destroy(c);
     }
@@ -266,11 +283,81 @@ static void check_cloth(void)
            l1[0] / l0, l1[1] / l0);
 }
 
+/* Set fully (set_hardening 1) at a length of almost 0, a link's permanent set
+ * rounds to 1: it is written below 1, so the record reads back. */
+static void check_full_set(void)
+{
+    cloth_material m = timed(0.0, 0.0, 1.0);
+    m.plastic_memory = 1; /* keeps l1 > 0, which the reader asks too */
+    cloth *c = make_cloth(&m), *c2 = make_cloth(&m);
+    cloth_state *st = c ? cloth_state_create(c) : NULL, *s2 = c2 ? cloth_state_create(c2) : NULL;
+    if (!CHECK(st && s2, "no memory")) return;
+    int e = across(c);
+    double l0 = c->lint[e].rest;
+    plastic_update_link(&m, &c->st, e, l0, 1e-20 * l0, 0.01);
+    plastic_update_link(&m, &c->st, e, l0, l0, 0.01);
+    CHECK(c->st.perm[e] < 1.0 && c->st.perm[e] > 1.0 - 1e-15, "fully set: perm %.17g", c->st.perm[e]);
+    cloth_save(c, st);
+    size_t len = cloth_state_size_bytes(st);
+    unsigned char *buf = malloc(len);
+    cloth_error err;
+    if (CHECK(buf != NULL, "no memory"))
+        CHECK(cloth_state_write(st, buf, len, NULL, &err) == CLOTH_OK &&
+                  cloth_state_read(s2, buf, len, &err) == CLOTH_OK && cloth_state_diff(st, s2) == 0.0,
+              "a fully set link's record: %s", err.message);
+    free(buf);
+    cloth_state_destroy(st);
+    cloth_state_destroy(s2);
+    cloth_destroy(c);
+    cloth_destroy(c2);
+}
+
+/* The bent flag kept by the paper's rule: bent under the law, released with
+ * it off, then switched on while straight, a link takes no hardening. */
+static void check_switch(void)
+{
+    cloth_material on = timed(0.0, 1.0, 0.5), off = timed(0.0, 0.0, 0.0);
+    on.plastic_memory = off.plastic_memory = 1; /* the set stays while straight */
+    cloth *c = make_cloth(&on);
+    if (!c) return;
+    double rest[3 * R * C], x[3 * R * C];
+    memcpy(rest, cloth_positions(c), sizeof rest);
+    fold(rest, 2 * acos(0.5), x);
+    int e = across(c);
+    cloth_set_positions(c, x);
+    cloth_update_plastic(c);
+    CHECK(c->st.bent[e] == 1 && c->st.plastic[e] == 1, "folded under the law: bent %d", c->st.bent[e]);
+    cloth_set_material(c, &off);
+    cloth_set_positions(c, rest);
+    cloth_update_plastic(c);
+    CHECK(c->st.bent[e] == 0, "released with the law off: bent %d", c->st.bent[e]);
+    cloth_set_positions(c, x);
+    cloth_update_plastic(c);
+    CHECK(c->st.bent[e] == 1, "bent with the law off: bent %d", c->st.bent[e]);
+    cloth_set_positions(c, rest);
+    cloth_update_plastic(c);
+    cloth_set_material(c, &on);
+    cloth_update_plastic(c);
+    CHECK(c->st.plastic[e] == 1 && c->st.perm[e] == 0.0, "switched on while straight: plastic %d perm %g",
+          c->st.plastic[e], c->st.perm[e]);
+    /* bent with the law off, switched on while bent: released, it hardens */
+    cloth_set_material(c, &off);
+    cloth_set_positions(c, x);
+    cloth_update_plastic(c);
+    cloth_set_material(c, &on);
+    cloth_set_positions(c, rest);
+    cloth_update_plastic(c);
+    CHECK(c->st.perm[e] > 0.0, "switched on while bent, released: perm %g", c->st.perm[e]);
+    cloth_destroy(c);
+}
+
 int main(void)
 {
     check_held_released();
     check_folds();
     check_paper();
     check_cloth();
+    check_full_set();
+    check_switch();
     return check_summary();
 }

@@ -91,12 +91,35 @@ static cloth *scene(void)
     return c;
 }
 
+/* buf (len bytes, m interlaced links) with every permanent set made perm
+ * and every bent flag bent, resealed, read into s */
+static void read_with_perm(cloth_state *s, const unsigned char *buf, size_t len, size_t m, double perm,
+                           unsigned char bent)
+{
+    unsigned char *rec = malloc(len);
+    if (!CHECK(rec != NULL, "no memory")) return;
+    memcpy(rec, buf, len);
+    for (size_t e = 0; e < m; e++) {
+        set_f64(rec + len - 8 - 9 * m + 8 * e, perm);
+        rec[len - 8 - m + e] = bent;
+    }
+    reseal(rec, len);
+    cloth_error err;
+    CHECK(cloth_state_read(s, rec, len, &err) == CLOTH_OK, "a record with perm %g, bent %u: %s", perm, bent,
+          err.message);
+    free(rec);
+}
+
 /* 4: buf (len bytes, q multipliers, m interlaced links) made a version 1
- * or 2 record reads as sa */
-static void older_version(const cloth_state *sa, cloth_state *sr, const unsigned char *buf, size_t len, size_t q,
+ * or 2 record reads into sr, which held nonzero permanent sets and bent
+ * flags, as the same state with those zero (s0) */
+static void older_version(cloth_state *s0, cloth_state *sr, const unsigned char *buf, size_t len, size_t q,
                           size_t m)
 {
+    read_with_perm(s0, buf, len, m, 0.0, 0);
     for (unsigned char v = 1; v <= 2; v++) {
+        read_with_perm(sr, buf, len, m, 0.25, 1);
+        CHECK(cloth_state_diff(s0, sr) != 0.0, "the permanent sets and bent flags did not load");
         size_t len1 = len - 9 * m - (v == 1 ? 8 * q : 0);
         unsigned char *old = malloc(len1);
         memcpy(old, buf, len1 - 8);
@@ -104,7 +127,7 @@ static void older_version(const cloth_state *sa, cloth_state *sr, const unsigned
         reseal(old, len1);
         cloth_error err;
         CHECK(cloth_state_read(sr, old, len1, &err) == CLOTH_OK, "a version %u record refused: %s", v, err.message);
-        CHECK(cloth_state_diff(sa, sr) == 0.0, "a version %u record reads as another state", v);
+        CHECK(cloth_state_diff(s0, sr) == 0.0, "a version %u record reads as another state (perm, bent not 0)", v);
         free(old);
     }
 }
@@ -149,6 +172,69 @@ static void newton_multipliers(void)
     cloth_state_destroy(rd);
     cloth_destroy(a);
     cloth_destroy(b);
+}
+
+/* 3: each damaged field of buf (a record of len bytes: n vertices, m
+ * interlaced, q sequential links) refused, with sr (reading as sa) unchanged;
+ * bad has len bytes of room */
+static void damaged(const cloth_state *sa, cloth_state *sr, const unsigned char *buf, unsigned char *bad, size_t len,
+                    size_t n, size_t m, size_t q)
+{
+    const size_t tail = 9 * m; /* the permanent sets and bent flags, before the checksum */
+    cloth_error err;
+    struct {
+        const char *what, *word;
+        size_t off;
+        int kind; /* 0 f64, 1 byte, 2 u32 */
+        double val;
+    } dmg[] = {
+        {"magic", "magic", 0, 1, 'X'},
+        {"version 4", "version", 8, 2, 4},
+        {"version 0", "version", 8, 2, 0},
+        {"n + 1", "vertices", 12, 2, (double)n + 1},
+        {"m - 1", "interlaced", 16, 2, (double)m - 1},
+        {"has_prev 2", "has_prev", 20, 2, 2},
+        {"h_prev NaN", "h_prev", 24, 0, NAN},
+        {"h_prev -1", "h_prev", 24, 0, -1},
+        {"h_prev 0 with history", "h_prev", 24, 0, 0},
+        {"x[0] NaN", "x[0]", 32, 0, NAN},
+        {"v[5] inf", "v[5]", 32 + 8 * (3 * n + 5), 0, INFINITY},
+        {"x_prev[1] -inf", "x_prev[1]", 32 + 8 * (6 * n + 1), 0, -INFINITY},
+        {"v_prev last NaN", "v_prev", 32 + 8 * (12 * n - 1), 0, NAN},
+        {"dv_prev[0] huge NaN", "dv_prev[0]", 32 + 8 * (12 * n), 0, -NAN},
+        {"l1[0] = 0", "l1[0]", 32 + 8 * (15 * n), 0, 0},
+        {"l1[last] = -1", "l1[", 32 + 8 * (15 * n + m - 1), 0, -1},
+        {"l1[1] NaN", "l1[1]", 32 + 8 * (15 * n + 1), 0, NAN},
+        {"plastic[0] = 2", "plastic[0]", 32 + 8 * (15 * n + m), 1, 2},
+        {"plastic[last] = 255", "plastic[", len - 9 - 8 * q - tail, 1, 255},
+        {"lim_shift[0] = -1e-9", "lim_shift[0]", len - 8 - 8 * q - tail, 0, -1e-9},
+        {"lim_shift[last] NaN", "lim_shift[", len - 16 - tail, 0, NAN},
+        {"perm[0] = 1", "perm[0]", len - 8 - tail, 0, 1.0},
+        {"perm[last] = -1e-300", "perm[", len - 16 - m, 0, -1e-300},
+        {"perm[1] NaN", "perm[1]", len - tail, 0, NAN},
+        {"bent[0] = 2", "bent[0]", len - 8 - m, 1, 2},
+        {"bent[last] = 255", "bent[", len - 9, 1, 255},
+    };
+    for (size_t k = 0; k < sizeof dmg / sizeof dmg[0]; k++)
+        for (int sealed = 0; sealed < 2; sealed++) {
+            memcpy(bad, buf, len);
+            if (dmg[k].kind == 0) set_f64(bad + dmg[k].off, dmg[k].val);
+            else if (dmg[k].kind == 1) bad[dmg[k].off] = (unsigned char)dmg[k].val;
+            else {
+                uint32_t u = (uint32_t)dmg[k].val;
+                for (int b = 0; b < 4; b++) bad[dmg[k].off + b] = (unsigned char)(u >> (8 * b));
+            }
+            if (sealed) reseal(bad, len);
+            memset(&err, 0, sizeof err);
+            cloth_status r = cloth_state_read(sr, bad, len, &err);
+            CHECK(r == CLOTH_EINVAL, "%s (sealed %d) accepted", dmg[k].what, sealed);
+            CHECK(cloth_state_diff(sa, sr) == 0.0, "%s: the refused record changed the state", dmg[k].what);
+            /* sealed: the field check names it (the magic, version and sizes
+             * come before the checksum; unsealed others hit the checksum) */
+            const char *want = sealed || k < 5 ? dmg[k].word : "checksum";
+            CHECK(strstr(err.message, want) != NULL, "%s (sealed %d): message '%s' does not name '%s'",
+                  dmg[k].what, sealed, err.message, want);
+        }
 }
 
 int main(void)
@@ -217,60 +303,7 @@ int main(void)
     CHECK(memcmp(cloth_velocities(a), cloth_velocities(b), 3 * (size_t)n * sizeof(double)) == 0,
           "20 steps after a file round trip, velocities differ");
 
-    /* 3. damage: each must be refused with sr unchanged */
-    struct {
-        const char *what, *word;
-        size_t off;
-        int kind; /* 0 f64, 1 byte, 2 u32 */
-        double val;
-    } dmg[] = {
-        {"magic", "magic", 0, 1, 'X'},
-        {"version 4", "version", 8, 2, 4},
-        {"version 0", "version", 8, 2, 0},
-        {"n + 1", "vertices", 12, 2, n + 1},
-        {"m - 1", "interlaced", 16, 2, m - 1},
-        {"has_prev 2", "has_prev", 20, 2, 2},
-        {"h_prev NaN", "h_prev", 24, 0, NAN},
-        {"h_prev -1", "h_prev", 24, 0, -1},
-        {"h_prev 0 with history", "h_prev", 24, 0, 0},
-        {"x[0] NaN", "x[0]", 32, 0, NAN},
-        {"v[5] inf", "v[5]", 32 + 8 * (3 * (size_t)n + 5), 0, INFINITY},
-        {"x_prev[1] -inf", "x_prev[1]", 32 + 8 * (6 * (size_t)n + 1), 0, -INFINITY},
-        {"v_prev last NaN", "v_prev", 32 + 8 * (12 * (size_t)n - 1), 0, NAN},
-        {"dv_prev[0] huge NaN", "dv_prev[0]", 32 + 8 * (12 * (size_t)n), 0, -NAN},
-        {"l1[0] = 0", "l1[0]", 32 + 8 * (15 * (size_t)n), 0, 0},
-        {"l1[last] = -1", "l1[", 32 + 8 * (15 * (size_t)n + m - 1), 0, -1},
-        {"l1[1] NaN", "l1[1]", 32 + 8 * (15 * (size_t)n + 1), 0, NAN},
-        {"plastic[0] = 2", "plastic[0]", 32 + 8 * (15 * (size_t)n + m), 1, 2},
-        {"plastic[last] = 255", "plastic[", len - 9 - 8 * (size_t)q - tail, 1, 255},
-        {"lim_shift[0] = -1e-9", "lim_shift[0]", len - 8 - 8 * (size_t)q - tail, 0, -1e-9},
-        {"lim_shift[last] NaN", "lim_shift[", len - 16 - tail, 0, NAN},
-        {"perm[0] = 1", "perm[0]", len - 8 - tail, 0, 1.0},
-        {"perm[last] = -1e-300", "perm[", len - 16 - (size_t)m, 0, -1e-300},
-        {"perm[1] NaN", "perm[1]", len - tail, 0, NAN},
-        {"bent[0] = 2", "bent[0]", len - 8 - (size_t)m, 1, 2},
-        {"bent[last] = 255", "bent[", len - 9, 1, 255},
-    };
-    for (size_t k = 0; k < sizeof dmg / sizeof dmg[0]; k++)
-        for (int sealed = 0; sealed < 2; sealed++) {
-            memcpy(bad, buf, len);
-            if (dmg[k].kind == 0) set_f64(bad + dmg[k].off, dmg[k].val);
-            else if (dmg[k].kind == 1) bad[dmg[k].off] = (unsigned char)dmg[k].val;
-            else {
-                uint32_t u = (uint32_t)dmg[k].val;
-                for (int q = 0; q < 4; q++) bad[dmg[k].off + q] = (unsigned char)(u >> (8 * q));
-            }
-            if (sealed) reseal(bad, len);
-            memset(&err, 0, sizeof err);
-            cloth_status r = cloth_state_read(sr, bad, len, &err);
-            CHECK(r == CLOTH_EINVAL, "%s (sealed %d) accepted", dmg[k].what, sealed);
-            CHECK(cloth_state_diff(sa, sr) == 0.0, "%s: the refused record changed the state", dmg[k].what);
-            /* sealed: the field check names it (the magic, version and sizes
-             * come before the checksum; unsealed others hit the checksum) */
-            const char *want = sealed || k < 5 ? dmg[k].word : "checksum";
-            CHECK(strstr(err.message, want) != NULL, "%s (sealed %d): message '%s' does not name '%s'",
-                  dmg[k].what, sealed, err.message, want);
-        }
+    damaged(sa, sr, buf, bad, len, (size_t)n, (size_t)m, (size_t)q);
     memcpy(bad, buf, len);
     bad[len] = 0;
     CHECK(cloth_state_read(sr, bad, len + 1, &err) == CLOTH_EINVAL, "one byte too many accepted");
@@ -301,7 +334,9 @@ int main(void)
     cloth_state_destroy(ss);
     cloth_destroy(small);
 
-    older_version(sa, sr, buf, len, (size_t)q, (size_t)m);
+    cloth_state *s0 = cloth_state_create(a);
+    older_version(s0, sr, buf, len, (size_t)q, (size_t)m);
+    cloth_state_destroy(s0);
     newton_multipliers();
     free(buf);
     free(buf2);

@@ -49,6 +49,7 @@ int plastic_update_link(const cloth_material *m, struct cloth_state *s, int e, d
         s->bent[e] = (unsigned char)b;
     } else {
         plastic_rule_memory(m->alpha, m->plastic_memory, rest, d, &p, &s->l1[e]);
+        s->bent[e] = m->alpha > 0.0 && d <= m->alpha * rest; /* kept for a time law switched on later */
     }
     s->plastic[e] = (unsigned char)p;
     return p;

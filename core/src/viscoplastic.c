@@ -48,7 +48,8 @@ void plastic_rule_time(const cloth_material *m, double rest, double d, double h,
     }
     if (*bent && *plastic && *l1 < lp) {
         lp -= m->set_hardening * (lp - *l1); /* released: part of the set stays for good */
-        *perm = (rest - lp) / rest;
+        *perm = fmin((rest - lp) / rest, nextafter(1.0, 0.0)); /* below 1, which the state reader refuses */
+        lp = rest - *perm * rest; /* as the next update reads it back */
     }
     *bent = 0;
     if (!*plastic) return;
