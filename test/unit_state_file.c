@@ -21,7 +21,8 @@
  *    with the checksum made right, so the field check itself is what
  *    refuses), NULL arguments, a small buffer.
  * 4. Version 1 (no multipliers) and 2 (no permanent sets, bent flags)
- *    records still read, as the same state.
+ *    records still read, as the same state with those 0, into a state that
+ *    held nonzero permanent sets and bent flags.
  * 5. Newton's multipliers travel: a Newton-stepped cloth pulled past its
  *    limit (multipliers not all zero in the record) restored from a record
  *    into a new cloth steps on bitwise as the uninterrupted run.

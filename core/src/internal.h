@@ -80,10 +80,9 @@ static inline spring_law int_law(const cloth_material *m, double rest, int plast
 void plastic_rule(double alpha, double rest, double d, int *plastic, double *l1);
 /* The same with the opt-in memory (material.plastic_memory; plastic.c). */
 void plastic_rule_memory(double alpha, int memory, double rest, double d, int *plastic, double *l1);
-/* The time-dependent law (material.tau_set, tau_recover, set_hardening;
- * viscoplastic.c) over a step of h seconds ending at length d. *perm is the
- * permanent set as a share of rest, *bent whether the link was past the
- * yield at the last update. */
+/* The time-dependent law (material.tau_set, tau_recover, set_hardening; viscoplastic.c) over a step of h
+ * seconds ending at length d. *perm: the permanent set as a share of rest; *bent: whether the link is past
+ * the yield as of the last update. */
 void plastic_rule_time(const cloth_material *m, double rest, double d, double h, int *plastic, double *l1,
                        double *perm, int *bent);
 /* Whether m asks for the time-dependent law (any of its three fields > 0). */

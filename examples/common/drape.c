@@ -168,7 +168,7 @@ static int move_corners(runner *R, const phase *ph, const int corner[4], double 
     return 0;
 }
 
-/* The corners where the cloth is now. */
+/* The corners' current positions. */
 static void corners_now(const runner *R, const int corner[4], double at[4][3])
 {
     const dReal *x = dClothGetPositions(R->c);

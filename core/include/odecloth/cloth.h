@@ -79,20 +79,9 @@ typedef struct cloth_material {
                            Decided in plastic_rule_memory (core/src/plastic.c).
                            Must be 0 or 1. With tau_recover > 0 the
                            recovery law below decides instead. */
-    /* Plasticity that depends on duration and repetition (ours; the paper's
-     * future work), decided in plastic_rule_time (core/src/viscoplastic.c);
-     * all three 0 (the default) is the paper's rule above, bit for bit.
-     * Each interlaced link keeps a plastic rest length l1 and a permanent
-     * rest length lp (l0 until hardened). While bent past the yield
-     * (d <= alpha l0) l1 relaxes toward d: dl1/dt = -(l1 - d) / tau_set
-     * where l1 > d (a link entering starts from lp), so a fold held longer
-     * sets deeper. Released (d > alpha l0) it recovers toward lp:
-     * dl1/dt = (lp - l1) / tau_recover, plastic again elastic once l1
-     * reaches l0. At each release a share set_hardening of the set then
-     * held becomes permanent, lp -= set_hardening (lp - l1), so repeated
-     * folds accumulate. Both laws are integrated exactly over each step
-     * with d held at its end-of-step value (an exponential update: the
-     * result does not depend on the step size). docs/materials.md. */
+    /* Plasticity in time (ours; core/src/viscoplastic.c, docs/materials.md): bent, l1 relaxes toward d;
+     * released, toward the permanent rest length lp; each release makes a share of the set permanent.
+     * All three 0 (the default) is the paper's rule above, bit for bit. */
     double tau_set;       /* s, >= 0: 0 sets at once (l1 = min(l1, d), the paper) */
     double tau_recover;   /* s, >= 0: 0 recovers at once to lp when released
                              (the paper; with plastic_memory 1, never)         */
