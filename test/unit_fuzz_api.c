@@ -79,7 +79,7 @@ static void perturb(rng *g, cloth_desc *d, int f)
     }
     int v = xi(g);
     switch (f - nd) {
-    /* a valid 100000 x 3 grid asks multigrid for terabytes (issue 7 report):
+    /* a valid 100000 x 3 grid would ask multigrid for terabytes:
      * only sizes that must be refused (INT_MAX) stay large */
     case 0: d->rows = v > 64 && v < INT_MAX ? 64 : v; break;
     case 1: d->cols = v > 64 && v < INT_MAX ? 64 : v; break;
@@ -94,7 +94,7 @@ static void perturb(rng *g, cloth_desc *d, int f)
     default: d->solver.definiteness_rule = v; break;
     }
 }
-#define NFIELDS 44 /* the doubles above, then the switch's 11 cases */
+#define NFIELDS 45 /* the 34 doubles above, then the switch's 11 cases (the last its default) */
 
 /* The created cloth is sound: masses, positions, rest lengths. */
 static void check_model(const cloth *c, const char *what)

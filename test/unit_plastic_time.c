@@ -31,6 +31,7 @@
 #include "odecloth/cloth.h"
 #include "internal.h"
 #include "check.h"
+#include "spring_predicted.h"
 
 static cloth_material timed(double tau_set, double tau_recover, double beta)
 {
@@ -285,29 +286,53 @@ static void check_cloth(void)
 
 /* Set fully (set_hardening 1) at a length of almost 0, a link's permanent set
  * rounds to 1: it is written below 1, so the record reads back. */
+/* Whether c's state, written to a record, reads back into c2's unchanged */
+static int record_reads(cloth *c, cloth *c2, const char *what)
+{
+    cloth_state *st = cloth_state_create(c), *s2 = cloth_state_create(c2);
+    size_t len = st ? cloth_state_size_bytes(st) : 0;
+    unsigned char *buf = len ? malloc(len) : NULL;
+    cloth_error err = {0};
+    int ok = 0;
+    if (CHECK(st && s2 && buf, "no memory")) {
+        cloth_save(c, st);
+        ok = CHECK(cloth_state_write(st, buf, len, NULL, &err) == CLOTH_OK &&
+                       cloth_state_read(s2, buf, len, &err) == CLOTH_OK && cloth_state_diff(st, s2) == 0.0,
+                   "%s: %s", what, err.message);
+    }
+    free(buf);
+    cloth_state_destroy(st);
+    cloth_state_destroy(s2);
+    return ok;
+}
+
 static void check_full_set(void)
 {
     cloth_material m = timed(0.0, 0.0, 1.0);
     m.plastic_memory = 1; /* keeps l1 > 0, which the reader asks too */
     cloth *c = make_cloth(&m), *c2 = make_cloth(&m);
-    cloth_state *st = c ? cloth_state_create(c) : NULL, *s2 = c2 ? cloth_state_create(c2) : NULL;
-    if (!CHECK(st && s2, "no memory")) return;
-    int e = across(c);
-    double l0 = c->lint[e].rest;
-    plastic_update_link(&m, &c->st, e, l0, 1e-20 * l0, 0.01);
-    plastic_update_link(&m, &c->st, e, l0, l0, 0.01);
-    CHECK(c->st.perm[e] < 1.0 && c->st.perm[e] > 1.0 - 1e-15, "fully set: perm %.17g", c->st.perm[e]);
-    cloth_save(c, st);
-    size_t len = cloth_state_size_bytes(st);
-    unsigned char *buf = malloc(len);
-    cloth_error err;
-    if (CHECK(buf != NULL, "no memory"))
-        CHECK(cloth_state_write(st, buf, len, NULL, &err) == CLOTH_OK &&
-                  cloth_state_read(s2, buf, len, &err) == CLOTH_OK && cloth_state_diff(st, s2) == 0.0,
-              "a fully set link's record: %s", err.message);
-    free(buf);
-    cloth_state_destroy(st);
-    cloth_state_destroy(s2);
+    if (CHECK(c && c2, "no memory")) {
+        int e = across(c);
+        double l0 = c->lint[e].rest;
+        plastic_update_link(&m, &c->st, e, l0, 1e-20 * l0, 0.01);
+        plastic_update_link(&m, &c->st, e, l0, l0, 0.01);
+        /* the largest set: l1 down to the shortest length a link has (SPRING_MIN_LENGTH) */
+        CHECK(c->st.perm[e] < 1.0 && c->st.perm[e] > 1.0 - 2.0 * SPRING_MIN_LENGTH / l0, "fully set: perm %.17g",
+              c->st.perm[e]);
+        record_reads(c, c2, "a fully set link's record");
+    }
+    cloth_destroy(c);
+    cloth_destroy(c2);
+    /* the paper's rule on a link folded to zero length: its l1 stays a length */
+    cloth_material p = timed(0.0, 0.0, 0.0);
+    c = make_cloth(&p), c2 = make_cloth(&p);
+    if (CHECK(c && c2, "no memory")) {
+        int e = across(c);
+        plastic_update_link(&p, &c->st, e, c->lint[e].rest, 0.0, 0.01);
+        CHECK(c->st.plastic[e] && c->st.l1[e] > 0.0, "collapsed link: plastic %d, l1 %g", c->st.plastic[e],
+              c->st.l1[e]);
+        record_reads(c, c2, "a collapsed link's record");
+    }
     cloth_destroy(c);
     cloth_destroy(c2);
 }

@@ -2,6 +2,7 @@
  * the spring law of each link type and region is inline in internal.h. */
 #include <math.h>
 #include "internal.h"
+#include "spring_predicted.h"
 
 /* Where the region is decided: by the current ratio d / l0 against alpha,
  * every time the rule runs (after each step), and, with memory, by the
@@ -51,6 +52,8 @@ int plastic_update_link(const cloth_material *m, struct cloth_state *s, int e, d
         plastic_rule_memory(m->alpha, m->plastic_memory, rest, d, &p, &s->l1[e]);
         s->bent[e] = m->alpha > 0.0 && d <= m->alpha * rest; /* kept for a time law switched on later */
     }
+    /* a plastic rest length is a length: no shorter than a link with a direction */
+    if (p && !(s->l1[e] >= SPRING_MIN_LENGTH)) s->l1[e] = SPRING_MIN_LENGTH;
     s->plastic[e] = (unsigned char)p;
     return p;
 }
