@@ -35,15 +35,6 @@
 #define H (1.0 / 60.0)
 #define STEPS 60
 
-static void cross(const double *a, const double *b, double *o)
-{
-    o[0] = a[1] * b[2] - a[2] * b[1];
-    o[1] = a[2] * b[0] - a[0] * b[2];
-    o[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static double norm3(const double *a) { return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
-
 /* The cloth's linear momentum P and angular momentum L about p */
 static void cloth_momenta(dClothID c, const double p[3], double P[3], double L[3])
 {

@@ -2,8 +2,20 @@
 #ifndef ODECLOTH_TEST_PLUGIN_CLOTH_H
 #define ODECLOTH_TEST_PLUGIN_CLOTH_H
 
+#include <math.h>
+
 #include "odecloth/dcloth.h"
 #include "check.h"
+
+/* o = a x b, and |a| (plain 3-vectors) */
+static inline void cross(const double *a, const double *b, double *o)
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static inline double norm3(const double *a) { return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
 
 /* n x n nodes, side L, centred at `centre`, columns along u and rows along
  * v, friction mu and the given thickness; a failed step is an error

@@ -61,8 +61,6 @@ static void cloth_momentum(dClothID c, double P[3])
         for (int k = 0; k < 3; k++) P[k] += m[i] * v[3 * i + k];
 }
 
-static double norm3(const double *a) { return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
-
 /* ------------------------------------------- 1. a box resting on a cloth */
 
 #define BOX_SETTLE 2.0
