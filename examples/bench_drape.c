@@ -31,7 +31,7 @@
  *
  *   bench_drape [--out DIR] [--scene drape,pinned,pile,hammock] [--grid N]
  *               [--solver linearized|newton|both] [--precond P] [--max-wall S]
- *               [--self-collision T] [--fast] [--check] [--steps]
+ *               [--self-collision T] [--fabric F] [--fast] [--check] [--steps]
  *
  * ctest: bench drape --fast --out out/bench_fast
  */
@@ -43,6 +43,7 @@
 #include <time.h>
 #include "odecloth/dcloth.h"
 #include "odecloth/selfcollision.h"
+#include "odecloth/fabric.h"
 #include "bench_util.h"
 
 #define HZ 60.0
@@ -165,6 +166,10 @@ static cloth_nonlinear g_solver = CLOTH_LINEARIZED;
 static cloth_precond g_precond = CLOTH_PRECOND_AUTO;
 static double g_self = 0.0; /* m, --self-collision's thickness; 0: no pass */
 static const char *const precond_name[] = {"block-jacobi", "jacobi", "multigrid", "ssor", "auto"};
+/* --fabric: a cloth_fabric preset's springs for the grid (its own weight); -1: the material preset */
+static int g_fabric = -1;
+static const char *const fabric_name[] = {"cotton", "wool", "silk", "denim", "polyester"};
+#define NFABRICS 5
 
 static cloth_desc cotton_desc(int N, double z)
 {
@@ -180,6 +185,15 @@ static cloth_desc cotton_desc(int N, double z)
     return d;
 }
 
+/* cotton_desc, or with --fabric that fabric's material for the grid */
+static int scene_desc(int N, double z, cloth_desc *d, cloth_error *err)
+{
+    *d = cotton_desc(N, z);
+    if (g_fabric < 0) return 0;
+    cloth_fabric f = cloth_fabric_preset((cloth_fabric_kind)g_fabric);
+    return cloth_fabric_apply(&f, d, err) == CLOTH_OK ? 0 : -1;
+}
+
 static void new_world(scene *s)
 {
     s->world = dWorldCreate();
@@ -191,7 +205,7 @@ static void new_world(scene *s)
 static int make_cloth(scene *s, int N, double z, cloth_error *err)
 {
     dClothDesc d = dClothDefaultDesc();
-    d.cloth = cotton_desc(N, z);
+    if (scene_desc(N, z, &d.cloth, err)) return -1;
     if (dClothCreate(s->world, s->space, &d, &s->cl, err) != CLOTH_OK) return -1;
     s->core = dClothGetCore(s->cl);
     return 0;
@@ -206,8 +220,8 @@ static int setup_drape(scene *s, int N, cloth_error *err)
 
 static int setup_pinned(scene *s, int N, cloth_error *err)
 {
-    cloth_desc d = cotton_desc(N, 1.0);
-    if (cloth_create(&d, &s->core, err) != CLOTH_OK) return -1;
+    cloth_desc d;
+    if (scene_desc(N, 1.0, &d, err) || cloth_create(&d, &s->core, err) != CLOTH_OK) return -1;
     const double *x = cloth_positions(s->core);
     cloth_pin(s->core, 0, x);
     cloth_pin(s->core, N - 1, x + 3 * (N - 1));
@@ -398,6 +412,7 @@ typedef struct row {
                                            step, signed; NaN elsewhere */
     int passed;                         /* hammock 0/1; -1 elsewhere */
     double delta, thickness;            /* m, for --check */
+    double edge_r, edge_z;              /* m, the boundary vertices' mean distance from the z axis, mean z */
 } row;
 
 /* What the loop keeps: each step's wall time and the last positions
@@ -426,6 +441,24 @@ static double mean_speed(const trace *t, int steps)
     return sum / t->nv / (SPEED_WINDOW_STEPS / HZ);
 }
 
+/* The boundary vertices' mean distance from the z axis and mean height (how far a drape hangs) */
+static void edge_shape(const cloth *c, double *r, double *z)
+{
+    int R = cloth_rows(c), C = cloth_cols(c), m = 0;
+    const double *x = cloth_positions(c);
+    *r = *z = 0.0;
+    for (int i = 0; i < R; i++)
+        for (int j = 0; j < C; j++) {
+            if (i > 0 && i < R - 1 && j > 0 && j < C - 1) continue;
+            const double *p = x + 3 * ((size_t)i * C + j);
+            *r += sqrt(p[0] * p[0] + p[1] * p[1]);
+            *z += p[2];
+            m++;
+        }
+    *r /= m;
+    *z /= m;
+}
+
 /* The figures at the end of a run of r->steps steps. */
 static void finish_row(const scene *s, trace *t, links *L, long newton, long cg, row *r)
 {
@@ -435,6 +468,7 @@ static void finish_row(const scene *s, trace *t, links *L, long newton, long cg,
     r->max_strain = links_strain(L, cloth_positions(s->core));
     r->p99 = links_p99(L);
     r->depth_mm = deepest_mm(s);
+    edge_shape(s->core, &r->edge_r, &r->edge_z);
     r->mean_speed = mean_speed(t, n);
     if (s->ball) r->passed = ball_below(s);
     if (n) {
@@ -518,6 +552,7 @@ static row run_one(int kind, int quick, int N, double seconds, double max_wall)
     static const char *const names[2][3] = {{"linearized", "step", "quick"}, {"newton", "step-newton", "quick-newton"}};
     r.variant = names[g_solver][kind == PILE || kind == HAMMOCK ? 1 + quick : 0];
     r.p99 = r.max_strain = r.max_seen = r.depth_mm = r.mean_speed = r.max_ms = r.median_ms = NAN;
+    r.edge_r = r.edge_z = NAN;
     r.newton = r.cg = NAN;
     scene s = {.kind = kind, .quick = quick};
     cloth_error err = {0};
@@ -563,16 +598,18 @@ static void print_row(const row *r)
 static const char csv_header[] =
     "scene,variant,N,wall_s,cpu_s,steps,failed_steps,substepped_steps,newton_per_step,cg_per_step,"
     "p99_strain,max_strain,max_strain_seen,depth_in_sphere_mm,mean_speed,max_step_ms,median_step_ms,"
-    "energy_gain_J,passed_through,status,unconverged_steps,precond\n";
+    "energy_gain_J,passed_through,status,unconverged_steps,precond,fabric,edge_radius_m,edge_height_m\n";
 
 static void csv_row(FILE *f, const row *r)
 {
     char thru[8];
     snprintf(thru, sizeof thru, r->passed < 0 ? "nan" : "%d", r->passed);
-    fprintf(f, "%s,%s,%d,%.4f,%.4f,%d,%d,%d,%.3f,%.2f,%.6f,%.6f,%.6f,%.4f,%.6f,%.3f,%.3f,%.6g,%s,%s,%d,%s\n",
+    fprintf(f, "%s,%s,%d,%.4f,%.4f,%d,%d,%d,%.3f,%.2f,%.6f,%.6f,%.6f,%.4f,%.6f,%.3f,%.3f,%.6g,%s,%s,%d,%s,"
+               "%s,%.5f,%.5f\n",
             scene_name[r->scene], r->variant, r->N, r->wall_s, r->cpu_s, r->steps, r->failed, r->substepped,
             r->newton, r->cg, r->p99, r->max_strain, r->max_seen, r->depth_mm, r->mean_speed, r->max_ms,
-            r->median_ms, r->energy_gain, thru, r->status, r->unconverged, precond_name[g_precond]);
+            r->median_ms, r->energy_gain, thru, r->status, r->unconverged, precond_name[g_precond],
+            g_fabric < 0 ? "preset" : fabric_name[g_fabric], r->edge_r, r->edge_z);
     fflush(f);
 }
 
@@ -651,7 +688,7 @@ static int check_row(const row *r)
 
 static const char usage[] =
     "usage: bench_drape [--out DIR] [--scene NAME[,NAME...]] [--grid N] [--solver S] [--precond P]\n"
-    "                   [--max-wall S] [--self-collision T] [--fast] [--check] [--steps]\n"
+    "                   [--max-wall S] [--self-collision T] [--fabric F] [--fast] [--check] [--steps]\n"
     "The drape benchmark: a 1 m cotton cloth, 2 s at h = 1/60, library defaults, in four scenes:\n"
     "  drape    over a static sphere (r 0.25 m), N = 21, 41, 81, 161\n"
     "  pinned   pinned at two corners, core only (bench_step's scene), N = 21, 41, 81\n"
@@ -669,6 +706,10 @@ static const char usage[] =
     "--self-collision T  the self-collision pass (odecloth/selfcollision.h) of thickness T m\n"
     "           after every step, bound to the cloth so Newton steps keep it inside too\n"
     "           (default 0: off); --steps' self_contact_ms is that barrier's time\n"
+    "--fabric F  cotton, wool, silk, denim or polyester: that cloth_fabric preset's springs for\n"
+    "           each grid and its own weight, in place of cloth_material_preset(CLOTH_COTTON) at\n"
+    "           0.2 kg (the CSV's fabric column; edge_radius_m and edge_height_m, the boundary's\n"
+    "           mean distance from the z axis and mean height, show whether grids drape alike)\n"
     "--fast     N <= 41 only, 0.5 s simulated (a smoke test)\n"
     "--check    exit 1 if a drape, pile or hammock row misses the quality targets:\n"
     "           all: finished, no failed step; drape: p99 strain <= delta + 0.002, max strain\n"
@@ -742,6 +783,13 @@ static int parse_options(options *o, int argc, char **argv)
             g_self = strtod(v, &end);
             if (end == v || *end || !(g_self >= 0) || !(g_self <= 1)) {
                 fprintf(stderr, "bench_drape: --self-collision '%s' must be a thickness in [0, 1] m (0: off)\n", v);
+                return 2;
+            }
+        } else if (v && !strcmp(argv[a], "--fabric")) {
+            g_fabric = 0;
+            while (g_fabric < NFABRICS && strcmp(v, fabric_name[g_fabric])) g_fabric++;
+            if (g_fabric == NFABRICS) {
+                fprintf(stderr, "bench_drape: --fabric '%s' must be cotton, wool, silk, denim or polyester\n", v);
                 return 2;
             }
         } else if (!strcmp(argv[a], "--steps")) {
