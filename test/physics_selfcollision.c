@@ -157,6 +157,11 @@ static void bad_input(void)
     CHECK(cloth_self_collision_create(c, 0.0, &sc, &err) == CLOTH_EINVAL && sc == NULL, "thickness 0 accepted");
     CHECK(cloth_self_collision_create(c, 2.0, &sc, &err) == CLOTH_EINVAL && sc == NULL, "thickness 2 m accepted");
     CHECK(cloth_self_collision_create(c, NAN, &sc, &err) == CLOTH_EINVAL && sc == NULL, "thickness NaN accepted");
+    /* the 11 x 11 grid's 0.1 m cells: diagonals 0.0707 m apart */
+    CHECK(cloth_self_collision_create(c, 0.071, &sc, &err) == CLOTH_EINVAL && sc == NULL &&
+              strstr(err.message, "thickness"), "thickness 0.071 m over 0.1 m cells accepted");
+    CHECK(cloth_self_collision_create(c, 0.07, &sc, &err) == CLOTH_OK && sc, "thickness 0.07 m: %s", err.message);
+    cloth_self_collision_destroy(sc);
     CHECK(cloth_self_collision_create(NULL, THICK, &sc, &err) == CLOTH_EINVAL && sc == NULL, "NULL cloth accepted");
     CHECK(cloth_self_collision_create(c, THICK, NULL, &err) == CLOTH_EINVAL, "NULL out accepted");
     CHECK(cloth_self_collision_apply(NULL, c, NULL) == CLOTH_EINVAL, "NULL pass accepted");

@@ -210,6 +210,31 @@ static void case_flat(cloth *c)
     self_contact_destroy(s);
 }
 
+/* A flat square grid's nearest pairs sharing no vertex are parallel cell diagonals H / sqrt(2)
+ * apart (cloth_self_collision_create's limit): a thickness just over it acts at rest, just under not */
+static void case_flat_gap(cloth *c)
+{
+    static double x[3 * NV];
+    for (int i = 0; i < NV; i++) {
+        x[3 * i] = (i % N) * H;
+        x[3 * i + 1] = (i / N) * H;
+        x[3 * i + 2] = 0.0;
+    }
+    for (int over = 0; over < 2; over++) {
+        double t = (over ? 1.01 : 0.99) * H / sqrt(2.0);
+        self_contact *s = self_contact_create(NV, NT, tri, t);
+        if (!CHECK(s != NULL, "self_contact_create")) return;
+        self_contact_begin(s, c, CFAC);
+        double E = self_contact_eval(s, x, CFAC, NULL, NULL);
+        self_contact_work w = self_contact_get_work(s);
+        if (over)
+            CHECK(E > 0.0 && w.active > 0, "thickness 1.01 H / sqrt 2: energy %g, %d pairs at rest", E, w.active);
+        else
+            CHECK(E == 0.0 && w.active == 0, "thickness 0.99 H / sqrt 2: energy %g, %d pairs at rest", E, w.active);
+        self_contact_destroy(s);
+    }
+}
+
 int main(void)
 {
     triangles();
@@ -217,6 +242,7 @@ int main(void)
     if (c) {
         case_fold(c);
         case_flat(c);
+        case_flat_gap(c);
     }
     cloth_destroy(c);
     return check_summary();

@@ -83,6 +83,15 @@ cloth_status cloth_self_collision_create(const cloth *c, double thickness, cloth
         return error_set(err, CLOTH_EINVAL, "cloth_self_collision_create: thickness = %g must be in (0, 1] m",
                          thickness);
     cloth_desc d = cloth_get_desc(c);
+    double du = d.width / (d.cols - 1), dv = d.height / (d.rows - 1);
+    /* the flat grid's nearest primitives sharing no vertex: parallel cell diagonals */
+    double gap = du * dv / sqrt(du * du + dv * dv);
+    if (!(thickness < gap))
+        return error_set(err, CLOTH_EINVAL,
+                         "cloth_self_collision_create: thickness = %g m must be under %g m, the distance between "
+                         "the flat grid's cell diagonals (cells %g x %g m): the barrier would push the sheet apart "
+                         "at rest",
+                         thickness, gap, du, dv);
     cloth_self_collision *s = calloc(1, sizeof *s);
     if (!s) return error_set(err, CLOTH_ENOMEM, "cloth_self_collision_create: out of memory");
     s->rows = d.rows;
@@ -93,7 +102,6 @@ cloth_status cloth_self_collision_create(const cloth *c, double thickness, cloth
     /* a triangle within `thickness` of a point has a corner within its
      * longest edge (the cell diagonal, stretched by the elongation limit)
      * plus the thickness; one cell each side covers that */
-    double du = d.width / (d.cols - 1), dv = d.height / (d.rows - 1);
     s->cell = sqrt(du * du + dv * dv) * (1.0 + d.material.delta) * 1.25 + 2.0 * thickness;
     s->nbucket = 4 * s->ntri + 1;
     size_t n = (size_t)s->n;
