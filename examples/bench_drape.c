@@ -485,7 +485,8 @@ static void steps_row(const scene *s, const row *r, int k, const cloth_step_stat
     fprintf(g_steps, "%s,%s,%d,%d,%.3f,%d,%d,%d,%d,%d,%d,%d,%.5f,%.6g,%d,%d,%d,%.3f\n", scene_name[s->kind], r->variant,
             r->N, k, 1e3 * r->wall_s, st->newton, st->iterations, st->limit_updates, st->line_search_cuts,
             st->contacts_decided, st->substeps, !ok, st->max_strain, energy, ps ? ps->resolves : 0,
-            ps ? ps->newton_all : st->newton, ps ? ps->cg_all : st->iterations, 1e3 * st->self_contact_seconds);
+            ps ? ps->newton_all : st->newton, ps ? ps->cg_all : st->iterations,
+            1e3 * (ps ? ps->self_contact_seconds_all : st->self_contact_seconds));
 }
 
 /* Steps the scene for `seconds` or until the wall budget is spent; only

@@ -499,6 +499,7 @@ cloth_status dClothStep(dClothID c, dReal h)
         passes++;
         st.newton_all += st.core.newton;
         st.cg_all += st.core.iterations;
+        st.self_contact_seconds_all += st.core.self_contact_seconds;
         if (s != CLOTH_OK) break;
         took_candidates(c, &st);
         /* vertices the search did not reach at the step's start (a step can

@@ -150,6 +150,9 @@ typedef struct dClothStepStats {
     double couple[3];        /* N m: the couple the moving holders got for
                                 what that turn could not take, each its
                                 constraints' share of it                      */
+    double self_contact_seconds_all; /* s, wall time of the cloth's self-contact
+                                barrier in all the step's solves (core's is
+                                the last solve's)                             */
 } dClothStepStats;
 
 /* Stats of the last dClothStep. */
