@@ -108,6 +108,9 @@ typedef struct demo_camera {
 /* A geom whose data is this pointer is not drawn (a plate between the
  * camera and the cloth, say). */
 extern const float demo_geom_hidden[3];
+/* The direction toward the key light (world, z up, not normalised): the
+ * pictures' shadows fall away from it. */
+extern const double demo_key_light[3];
 
 int demo_render_available(void);
 /* Why pictures are not available ("" if they are). */
