@@ -6,6 +6,9 @@
 #   make test       deps + build + every test except the soak label
 #   make demo       deps + build + drape_table for alpha 0, 0.5, 0.8 and 1:
 #                   pictures and the contact sheet in $(BUILD)/demo/
+#   make video      deps + ffmpeg + build + videos of the drape and removal
+#                   (table and sphere at alpha 0, 0.5, 0.8; cotton against
+#                   wool) into $(BUILD)/video/, side by side per experiment
 #   make sanitize   build into build-san/ with ASan + UBSan and run the tests
 #   make bench      deps + build + run every build/examples/bench_* program,
 #                   and bench_workprecision --cotton
@@ -24,6 +27,11 @@ CTEST_ARGS ?= --output-on-failure -j2 -LE soak
 
 DEPS := libode-dev libccd-dev cmake pkg-config libosmesa6-dev libpng-dev libglfw3-dev \
         xvfb xauth gnuplot-nox clang libclang-rt-dev valgrind
+# Only `make video` needs these (the demos' --video pipes frames to ffmpeg).
+VIDEO_DEPS := ffmpeg
+VIDEO_DIR ?= $(BUILD)/video
+VIDEO_GRID ?= 41
+VIDEO_SIZE ?= 480x360
 SAN_FLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
 BENCHES := $(patsubst examples/%.c,$(BUILD)/examples/%,$(wildcard examples/bench_*.c))
 
@@ -33,7 +41,7 @@ MAKEFLAGS += --no-print-directory
 # Targets run one after another (deps before build); the parallelism is
 # inside the CMake build.
 .NOTPARALLEL:
-.PHONY: all build deps test demo sanitize bench install clean fuzz
+.PHONY: all build deps video-deps test demo video sanitize bench install clean fuzz
 
 all: build
 
@@ -43,22 +51,30 @@ $(BUILD)/CMakeCache.txt:
 build: $(BUILD)/CMakeCache.txt
 	$(CMAKE) --build $(BUILD) -j $(JOBS)
 
-# `dpkg -s` exits 0 for a removed package whose configuration remains, so
-# the status line is what counts.
-deps:
+# Install the missing Debian packages of a list. `dpkg -s` exits 0 for a
+# removed package whose configuration remains, so the status line is what
+# counts.
+define apt_install
 	@if ! command -v dpkg >/dev/null 2>&1; then \
-	    echo "make deps: not a Debian system; install by hand: $(DEPS)"; exit 0; \
+	    echo "make $@: not a Debian system; install by hand: $(1)"; exit 0; \
 	fi; \
 	missing=; \
-	for p in $(DEPS); do \
+	for p in $(1); do \
 	    dpkg -s $$p 2>/dev/null | grep -q '^Status: install ok installed' || missing="$$missing $$p"; \
 	done; \
 	if [ -n "$$missing" ]; then \
 	    sudo=; [ "$$(id -u)" -eq 0 ] || sudo=sudo; \
-	    echo "make deps: installing$$missing"; \
+	    echo "make $@: installing$$missing"; \
 	    $$sudo env DEBIAN_FRONTEND=noninteractive apt-get update -q && \
 	    $$sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends $$missing; \
 	fi
+endef
+
+deps:
+	$(call apt_install,$(DEPS))
+
+video-deps:
+	$(call apt_install,$(VIDEO_DEPS))
 
 test: deps build
 	$(CTEST) --test-dir $(BUILD) $(CTEST_ARGS)
@@ -67,6 +83,25 @@ demo: deps build
 	@rm -f $(BUILD)/demo/drape_table.csv
 	$(BUILD)/examples/drape_table --alpha 0,0.5,0.8,1 --out $(BUILD)/demo --csv $(BUILD)/demo/drape_table.csv
 	@echo "contact sheet: $(BUILD)/demo/drape_table.png"
+
+# Each demo records every run (<out>/<tag>.mp4); ffmpeg then puts a demo's
+# runs side by side, each labelled in its top-left corner.
+VIDEO_RUN = --video --no-images --grid $(VIDEO_GRID) --size $(VIDEO_SIZE)
+video: deps video-deps build
+	$(BUILD)/examples/drape_table --alpha 0,0.5,0.8 $(VIDEO_RUN) --out $(VIDEO_DIR)/drape_table
+	$(BUILD)/examples/drape_sphere --alpha 0,0.5,0.8 $(VIDEO_RUN) --out $(VIDEO_DIR)/drape_sphere
+	$(BUILD)/examples/fabrics $(VIDEO_RUN) --out $(VIDEO_DIR)/fabrics
+	@set -e; cd $(VIDEO_DIR); \
+	for d in drape_table drape_sphere; do \
+	    ffmpeg -v error -nostdin -y -i $$d/alpha0.mp4 -i $$d/alpha0.5.mp4 -i $$d/alpha0.8.mp4 \
+	        -filter_complex hstack=inputs=3 -pix_fmt yuv420p $$d.mp4; \
+	done; \
+	for e in table press; do \
+	    ffmpeg -v error -nostdin -y -i fabrics/$$e/cotton.mp4 -i fabrics/$$e/wool.mp4 \
+	        -filter_complex hstack=inputs=2 -pix_fmt yuv420p fabrics_$$e.mp4; \
+	done
+	@echo "videos: $(VIDEO_DIR)/drape_table.mp4, drape_sphere.mp4 (alpha 0 | 0.5 | 0.8)," \
+	    "fabrics_table.mp4, fabrics_press.mp4 (cotton | wool)"
 
 # A separate tree, so the sanitized objects never mix with the normal ones.
 # The flags also reach the link lines (CMake passes C flags to the linker).

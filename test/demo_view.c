@@ -28,59 +28,12 @@
 #include <unistd.h>
 
 #include "check.h"
+#include "demo_shell.h"
 
-/* In a sanitizer build the children run with LeakSanitizer off: Mesa leaks
- * a few hundred bytes of its own (OSMesa's context even without --view;
- * libxcb and the GLX / DRI modules GLFW unloads at glfwTerminate, whose
- * frames LSan cannot name, so no suppression can match them); memory
- * errors are still caught. (Under valgrind the view's frames leak nothing
- * of ours.) */
-#if defined(__SANITIZE_ADDRESS__)
-#define ODECLOTH_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define ODECLOTH_ASAN 1
-#endif
-#endif
-#ifdef ODECLOTH_ASAN
-#define DEMO "env ASAN_OPTIONS=detect_leaks=0 examples/drape_table"
-#else
-#define DEMO "examples/drape_table"
-#endif
+#define DEMO DEMO_ENV "examples/drape_table"
 #define DEMO_PATH "examples/drape_table"
 #define ARGS "--short --grid 11 --alpha 0.8 --trace --size 160x120"
 #define OUT "demo_view_out"
-
-/* Run a shell command with its output (stdout and stderr) to `log`;
- * returns its exit status (-1 if it did not exit). */
-static int run(const char *cmd, const char *log)
-{
-    char line[2048];
-    snprintf(line, sizeof line, "%s > %s 2>&1", cmd, log);
-    printf("$ %s\n", line);
-    fflush(stdout);
-    int st = system(line);
-    return st != -1 && WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
-
-static char *slurp(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    size_t cap = 1 << 16, n = 0;
-    char *s = malloc(cap);
-    for (size_t k; s && (k = fread(s + n, 1, cap - n - 1, f)) > 0;) {
-        n += k;
-        if (n + 1 == cap) {
-            char *t = realloc(s, cap *= 2);
-            if (!t) free(s);
-            s = t;
-        }
-    }
-    fclose(f);
-    if (s) s[n] = '\0';
-    return s;
-}
 
 /* The run's own output: every line but the view's ("--view", "wrote"),
  * each cut at "wall" (wall time differs from run to run). */
@@ -118,14 +71,6 @@ static void same_run(const char *what, const char *ref, const char *text)
     free(b);
 }
 
-static int have(const char *tool)
-{
-    char cmd[256];
-    snprintf(cmd, sizeof cmd, "command -v %s > /dev/null 2>&1", tool);
-    int st = system(cmd);
-    return st != -1 && WIFEXITED(st) && WEXITSTATUS(st) == 0;
-}
-
 int main(void)
 {
     struct stat sb;
@@ -135,14 +80,14 @@ int main(void)
     }
     mkdir(OUT, 0777);
     const char *ref_log = OUT "/reference.txt", *none_log = OUT "/no_display.txt", *xvfb_log = OUT "/xvfb.txt";
-    CHECK(run(DEMO " " ARGS " --out " OUT "/reference", ref_log) == 0, "reference run exits 0");
-    char *ref = slurp(ref_log);
+    CHECK(demo_run(DEMO " " ARGS " --out " OUT "/reference", ref_log) == 0, "reference run exits 0");
+    char *ref = demo_slurp(ref_log, NULL);
     CHECK(ref != NULL, "read %s", ref_log);
     if (!ref) return check_summary();
 
     /* 2. no display */
-    int rc = run("env -u DISPLAY -u WAYLAND_DISPLAY " DEMO " " ARGS " --view --out " OUT "/no_display", none_log);
-    char *text = slurp(none_log);
+    int rc = demo_run("env -u DISPLAY -u WAYLAND_DISPLAY " DEMO " " ARGS " --view --out " OUT "/no_display", none_log);
+    char *text = demo_slurp(none_log, NULL);
     CHECK(rc == 0, "--view without a display: exit 0 (got %d)", rc);
     int built = text && !strstr(text, "built without GLFW");
     if (text && built)
@@ -155,13 +100,13 @@ int main(void)
     free(text);
 
     /* 3. a window under Xvfb */
-    if (!have("xvfb-run") || !have("xauth")) {
+    if (!demo_have("xvfb-run") || !demo_have("xauth")) {
         printf("demo_view: xvfb-run or xauth not found: the windowed run is skipped\n");
     } else {
         remove(OUT "/xvfb/view.png");
-        rc = run("xvfb-run -a -s '-screen 0 640x480x24' " DEMO " " ARGS " --view-frames 200 --out " OUT "/xvfb",
+        rc = demo_run("xvfb-run -a -s '-screen 0 640x480x24' " DEMO " " ARGS " --view-frames 200 --out " OUT "/xvfb",
                  xvfb_log);
-        text = slurp(xvfb_log);
+        text = demo_slurp(xvfb_log, NULL);
         CHECK(rc == 0, "--view-frames 200 under xvfb-run: exit 0 (got %d)", rc);
         if (text && built) {
             CHECK(!strstr(text, "running headless"), "under Xvfb the window opens (no 'running headless')");
@@ -178,7 +123,7 @@ int main(void)
             char a[256], b[256];
             snprintf(a, sizeof a, OUT "/reference/%s", pics[k]);
             snprintf(b, sizeof b, OUT "/xvfb/%s", pics[k]);
-            char *pa = slurp(a), *pb = slurp(b);
+            char *pa = demo_slurp(a, NULL), *pb = demo_slurp(b, NULL);
             struct stat sa, sbb;
             if (pa && !stat(a, &sa))
                 CHECK(pb && !stat(b, &sbb) && sa.st_size == sbb.st_size && !memcmp(pa, pb, (size_t)sa.st_size),

@@ -100,7 +100,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             violation("unknown material", argc, argv);
         if (!o.out || !o.out[0]) violation("empty output directory", argc, argv);
         if (o.csv && !o.csv[0]) violation("empty csv name", argc, argv);
-        int flags[] = {o.obj, o.check, o.short_run, o.images, o.trace, o.phases, o.box_table, o.material_set};
+        int flags[] = {o.obj,    o.check,     o.short_run,    o.images,
+                       o.trace,  o.phases,    o.box_table,    o.material_set, o.video};
         for (size_t k = 0; k < sizeof flags / sizeof flags[0]; k++)
             if (flags[k] != 0 && flags[k] != 1) violation("a flag neither 0 nor 1", argc, argv);
     }
@@ -133,7 +134,8 @@ static const seed seeds[] = {
 
 static const char *const words[] = {
     "--grid", "--alpha", "--material", "--steps-per-second", "--hz", "--out", "--obj", "--frames", "--smooth",
-    "--size", "--no-images", "--csv", "--phases", "--trace", "--box-table", "--short", "--check", "--help", "-h",
+    "--size", "--no-images", "--video", "--csv", "--phases", "--trace", "--box-table", "--short", "--check",
+    "--help", "-h",
     "", "-", "--", "nan", "inf", "-inf", "1e999", "-0", "0x10", "161", "162", "2", "10000", "10000.0001", "9.99",
     "4096x4096", "31x32", "1x", "x1", "32x32x", "0,0,0,0,0,0,0,0", "0,0,0,0,0,0,0,0,0", ",", "1,", ",1", "0.5,,1",
     "2147483648", "-2147483649", "99999999999999999999", " 21", "21 ", "cotton", "wool", "elastic", "silk",

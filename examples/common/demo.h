@@ -54,6 +54,7 @@ typedef struct demo_opts {
     int view;                     /* --view: a live window (view.h)         */
     int view_frames;              /* --view-frames N: close it after N frames
                                      (0: when the user closes it)          */
+    int video;                    /* --video: each run as <out>/<tag>.mp4    */
 } demo_opts;
 
 /* Defaults: grid 21, 60 steps/s, out "out/<prog>", smooth 1, 400 x 300,
@@ -181,9 +182,26 @@ int demo_save_frame(const demo_opts *o, const char *name, const demo_camera *cam
                     int n, demo_image **keep);
 
 /* --frames K: after step `step` (1-based) of `total`, save frame *next
- * (<tag>_frameNNN) when the run has reached it; K frames evenly spaced. */
+ * (<tag>_frameNNN) when the run has reached it; K frames evenly spaced.
+ * Also --video's hook (demo_video_hook). */
 void demo_frame_hook(const demo_opts *o, const char *tag, int step, int total, int *next, const demo_camera *cam,
                      dSpaceID space, dClothID *cloths, int n);
+
+/* ------------------------------------------------------------------ video */
+
+/* --video (video.c): every run of a demo recorded, from the camera of its
+ * --frames, as <out>/<tag>.mp4 through ffmpeg (found on PATH). */
+int demo_video_fps(void); /* frames per simulated second */
+/* Before the runs: 0 if --video is not asked for or can be done; else
+ * prints why not (no OSMesa, no ffmpeg on PATH) and returns -1. */
+int demo_video_check(const demo_opts *o);
+/* After step `step` (1-based) of `total`: the frames due by then. Step 1
+ * (or a new tag) starts a recording, step total ends it. */
+void demo_video_hook(const demo_opts *o, const char *tag, int step, int total, const demo_camera *cam,
+                     dSpaceID space, dClothID *cloths, int n);
+/* After a run: ends a recording still open (a run that failed); -1 if any
+ * recording failed since the last call (each said why), else 0. */
+int demo_video_finish(const demo_opts *o);
 
 /* -------------------------------------------------------------- stepping */
 

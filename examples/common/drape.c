@@ -53,7 +53,7 @@ static void cameras(drape_collider col, demo_camera *draped, demo_camera *after,
     double top = collider_top(col);
     *draped = (demo_camera){{1.25, -1.55, top + 0.95}, {0, 0, top - 0.3}, 38};
     *after = (demo_camera){{CARRY_X + 1.05, -1.0, 1.35}, {CARRY_X + 0.05, 0, 0}, 42};
-    *wide = (demo_camera){{0.5, -3.2, 2.2}, {0.5, 0, 0.45}, 45};
+    *wide = (demo_camera){{0.45, -2.6, 1.7}, {0.45, 0, 0.6}, 50};
 }
 
 int demo_claim(int ok, const char *fmt, ...)
@@ -302,7 +302,7 @@ const demo_scene drape_sphere_scene = {"sphere", {"draped", "after removal"}, {"
 int drape_run_all(const demo_opts *o, const demo_scene *sc, const drape_variant *v, int nv, drape_result *results,
                   const char *sheet, const char *title)
 {
-    if (nv <= 0 || nv > DEMO_MAX_ALPHAS || demo_make_out_dir(o)) return -1;
+    if (nv <= 0 || nv > DEMO_MAX_ALPHAS || demo_make_out_dir(o) || demo_video_check(o)) return -1;
     memset(results, 0, (size_t)nv * sizeof *results); /* what a failed run leaves is freed below */
     if (o->images && (!demo_render_available() || !demo_png_available()))
         printf("%s: no pictures: %s\n", o->prog,
@@ -312,6 +312,7 @@ int drape_run_all(const demo_opts *o, const demo_scene *sc, const drape_variant 
     for (int i = 0; i < nv && !rc; i++) {
         printf("== %s: %s, %s\n", o->prog, v[i].label, sc->name);
         rc = sc->run(o, sc, &v[i], &results[i]);
+        if (demo_video_finish(o)) rc = -1;
         if (rc) break;
         for (int k = 0; k < 2; k++) {
             const demo_metrics *m = k ? &results[i].after : &results[i].draped;

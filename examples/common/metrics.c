@@ -252,6 +252,7 @@ int demo_save_frame(const demo_opts *o, const char *name, const demo_camera *cam
 void demo_frame_hook(const demo_opts *o, const char *tag, int step, int total, int *next, const demo_camera *cam,
                      dSpaceID space, dClothID *cloths, int n)
 {
+    demo_video_hook(o, tag, step, total, cam, space, cloths, n);
     if (!o->frames || (long)step * o->frames < (long)*next * total) return;
     char name[120];
     snprintf(name, sizeof name, "%s_frame%03d", tag, (*next)++);

@@ -32,6 +32,9 @@ static const char common_usage[] =
     "  --smooth L             display-only subdivision levels of the cloth, 0..3 (default 1)\n"
     "  --size WxH             picture size in pixels (default 400x300)\n"
     "  --no-images            metrics only\n"
+    "  --video                also record each run as <out>/<run>.mp4 (alpha0.5.mp4, cotton.mp4),\n"
+    "                         30 frames per simulated second at --size, through ffmpeg\n"
+    "                         (make video; without ffmpeg on PATH the demo says so, exit 1)\n"
     "  --csv FILE             append the metrics of each run to FILE\n"
     "  --phases               print each phase's largest strain and penetration, deepest\n"
     "                         bend (smallest d / l0) and plastic links at its end\n"
@@ -135,6 +138,7 @@ int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char
         if (!strcmp(opt, "--selftest")) { o->selftest = 1; continue; }
         if (!strcmp(opt, "--sleep")) { o->sleep = 1; continue; }
         if (!strcmp(opt, "--view")) { o->view = 1; continue; }
+        if (!strcmp(opt, "--video")) { o->video = 1; continue; }
         /* options with a value */
         if (strncmp(opt, "--", 2)) return bad(o, "argument", opt, "not an option");
         if (!v) return bad(o, opt, NULL, "needs a value");
