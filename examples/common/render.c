@@ -106,7 +106,11 @@ int demo_draw_scene(const demo_camera *cam, dSpaceID space, dClothID *cloths, in
         glEnable(GL_BLEND);
         glBlendFunc(GL_ONE, GL_ONE);
         glDepthMask(GL_FALSE);
+        /* a few depth units forward: the texgen pass may round depth apart */
+        glEnable(GL_POLYGON_OFFSET_FILL);
+        glPolygonOffset(0.0f, -4.0f);
         draw_all(space, cam, m, ncloths, 0);
+        glDisable(GL_POLYGON_OFFSET_FILL);
         glDepthMask(GL_TRUE);
         glDisable(GL_BLEND);
         shadow_unbind();
