@@ -9,18 +9,13 @@
 #include <string.h>
 #include <sys/wait.h>
 
+#include "sanitizer.h"
+
 /* In a sanitizer build the children run with LeakSanitizer off: Mesa leaks
  * a few hundred bytes of its own (OSMesa's context; libxcb and the GLX /
  * DRI modules GLFW unloads at glfwTerminate, whose frames LSan cannot
  * name, so no suppression can match them); memory errors are still caught.
  * (Under valgrind the view's frames leak nothing of ours.) */
-#if defined(__SANITIZE_ADDRESS__)
-#define ODECLOTH_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define ODECLOTH_ASAN 1
-#endif
-#endif
 #ifdef ODECLOTH_ASAN
 #define DEMO_ENV "env ASAN_OPTIONS=detect_leaks=0 "
 #else
