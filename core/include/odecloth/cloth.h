@@ -18,6 +18,7 @@
 
 #include <stddef.h>
 #include <stdio.h> /* FILE, for the state files */
+#include "export.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -28,7 +29,7 @@ extern "C" {
 #define ODECLOTH_VERSION_PATCH 0
 
 /* "0.1.0" */
-const char *cloth_version(void);
+ODECLOTH_API const char *cloth_version(void);
 
 /* ------------------------------------------------------------------ errors */
 
@@ -40,7 +41,7 @@ typedef enum cloth_status {
 } cloth_status;
 
 /* Short name of a status ("invalid argument", ...). Never NULL. */
-const char *cloth_status_string(cloth_status s);
+ODECLOTH_API const char *cloth_status_string(cloth_status s);
 
 /* Where create functions put a readable message; may be NULL. */
 typedef struct cloth_error {
@@ -90,9 +91,9 @@ typedef struct cloth_material {
 } cloth_material;
 
 /* A preset's values; an unknown preset gives cotton. */
-cloth_material cloth_material_preset(cloth_preset p);
+ODECLOTH_API cloth_material cloth_material_preset(cloth_preset p);
 /* CLOTH_OK or CLOTH_EINVAL with a message in err (may be NULL). */
-cloth_status cloth_material_validate(const cloth_material *m, cloth_error *err);
+ODECLOTH_API cloth_status cloth_material_validate(const cloth_material *m, cloth_error *err);
 
 /* ----------------------------------------------------------------- solver */
 
@@ -216,7 +217,7 @@ typedef struct cloth_solver {
                                      it); such an iterate can add energy */
 } cloth_solver;
 
-cloth_status cloth_solver_validate(const cloth_solver *s, cloth_error *err);
+ODECLOTH_API cloth_status cloth_solver_validate(const cloth_solver *s, cloth_error *err);
 
 /* ------------------------------------------------------------------ cloth */
 
@@ -233,50 +234,50 @@ typedef struct cloth_desc {
 
 /* 21 x 21 nodes, 1 m x 1 m, horizontal (xy plane) at z = 1 centred on the z
  * axis, gravity (0, 0, -9.81), cotton, backward Euler + block-Jacobi MPCG. */
-cloth_desc cloth_default_desc(void);
-cloth_status cloth_desc_validate(const cloth_desc *d, cloth_error *err);
+ODECLOTH_API cloth_desc cloth_default_desc(void);
+ODECLOTH_API cloth_status cloth_desc_validate(const cloth_desc *d, cloth_error *err);
 
 typedef struct cloth cloth;
 
 /* Node (r, c) has index r * cols + c. On failure *out is NULL and err says why. */
-cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err);
-void cloth_destroy(cloth *c); /* NULL is fine */
+ODECLOTH_API cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err);
+ODECLOTH_API void cloth_destroy(cloth *c); /* NULL is fine */
 
 /* The message of the last failing call on this cloth ("" if none). */
-const char *cloth_last_error(const cloth *c);
+ODECLOTH_API const char *cloth_last_error(const cloth *c);
 
-int cloth_rows(const cloth *c);
-int cloth_cols(const cloth *c);
-int cloth_vertex_count(const cloth *c);
-cloth_desc cloth_get_desc(const cloth *c); /* material, solver, gravity as now set */
+ODECLOTH_API int cloth_rows(const cloth *c);
+ODECLOTH_API int cloth_cols(const cloth *c);
+ODECLOTH_API int cloth_vertex_count(const cloth *c);
+ODECLOTH_API cloth_desc cloth_get_desc(const cloth *c); /* material, solver, gravity as now set */
 
 /* Read-only arrays of 3 * vertex_count doubles, valid until the cloth is destroyed. */
-const double *cloth_positions(const cloth *c);  /* m   */
-const double *cloth_velocities(const cloth *c); /* m/s */
-const double *cloth_masses(const cloth *c);     /* kg, one per vertex */
+ODECLOTH_API const double *cloth_positions(const cloth *c);  /* m   */
+ODECLOTH_API const double *cloth_velocities(const cloth *c); /* m/s */
+ODECLOTH_API const double *cloth_masses(const cloth *c);     /* kg, one per vertex */
 
 /* Set all positions / velocities (3 * vertex_count doubles, all finite). */
-cloth_status cloth_set_positions(cloth *c, const double *x);
-cloth_status cloth_set_velocities(cloth *c, const double *v);
+ODECLOTH_API cloth_status cloth_set_positions(cloth *c, const double *x);
+ODECLOTH_API cloth_status cloth_set_velocities(cloth *c, const double *v);
 /* Add dv (3 * vertex_count doubles) to the velocities, keeping the step's
  * history (warm start, limit multipliers), unlike cloth_set_velocities: a
  * correction within a step's accuracy, such as the ODE plugin's turn that
  * keeps angular momentum. Non-finite input or result: refused, unchanged. */
-cloth_status cloth_add_velocities(cloth *c, const double *dv);
+ODECLOTH_API cloth_status cloth_add_velocities(cloth *c, const double *dv);
 /* One vertex's position x and velocity v; either may be NULL to keep it
  * (both NULL: CLOTH_EINVAL). */
-cloth_status cloth_set_vertex(cloth *c, int vertex, const double x[3], const double v[3]);
+ODECLOTH_API cloth_status cloth_set_vertex(cloth *c, int vertex, const double x[3], const double v[3]);
 
 /* Change parameters after creation (the topology, rest lengths and masses stay). */
-cloth_status cloth_set_material(cloth *c, const cloth_material *m); /* masses unchanged */
-cloth_status cloth_set_solver(cloth *c, const cloth_solver *s);
-cloth_status cloth_set_gravity(cloth *c, const double g[3]);
+ODECLOTH_API cloth_status cloth_set_material(cloth *c, const cloth_material *m); /* masses unchanged */
+ODECLOTH_API cloth_status cloth_set_solver(cloth *c, const cloth_solver *s);
+ODECLOTH_API cloth_status cloth_set_gravity(cloth *c, const double g[3]);
 /* Extra forces (N), 3 * vertex_count doubles, applied in every step from now
  * on until set again (friction, wind, a user's pull). NULL clears them. The
  * implicit step treats them as constant over the step. */
-cloth_status cloth_set_external_forces(cloth *c, const double *f);
+ODECLOTH_API cloth_status cloth_set_external_forces(cloth *c, const double *f);
 /* The forces set (3 * vertex_count doubles, read-only, zeros if none). */
-const double *cloth_external_forces(const cloth *c);
+ODECLOTH_API const double *cloth_external_forces(const cloth *c);
 
 /* Linear air drag on each grid triangle (the cells split as the plugin's
  * dClothGetTriangles): with area A, unit normal n, vbar the mean of its
@@ -292,15 +293,15 @@ typedef struct cloth_air {
     double drag_tangent; /* N s / m^3, in the plane */
 } cloth_air;
 /* Validated (finite, drags >= 0); on error the cloth keeps its settings. */
-cloth_status cloth_set_air(cloth *c, const cloth_air *air);
-cloth_air cloth_get_air(const cloth *c); /* all zeros if c is NULL */
+ODECLOTH_API cloth_status cloth_set_air(cloth *c, const cloth_air *air);
+ODECLOTH_API cloth_air cloth_get_air(const cloth *c); /* all zeros if c is NULL */
 /* The air's total force on the cloth (N), averaged over the last step as
  * the step applied it; zero without drag. With the constraint forces it
  * accounts for the cloth's momentum change beyond gravity and f_ext. */
-cloth_status cloth_air_force(const cloth *c, double f[3]);
+ODECLOTH_API cloth_status cloth_air_force(const cloth *c, double f[3]);
 /* Its torque about the origin (N m), averaged the same way, each triangle's
  * thirds at their vertices' end-of-step positions. */
-cloth_status cloth_air_torque(const cloth *c, double t[3]);
+ODECLOTH_API cloth_status cloth_air_torque(const cloth *c, double t[3]);
 
 /* ------------------------------------------------------------------ links */
 
@@ -316,14 +317,14 @@ typedef struct cloth_link {
     double l1;        /* m, plastic rest length (valid when plastic) */
 } cloth_link;
 
-int cloth_link_count(const cloth *c, cloth_link_type t);
-cloth_status cloth_get_link(const cloth *c, cloth_link_type t, int index, cloth_link *out);
+ODECLOTH_API int cloth_link_count(const cloth *c, cloth_link_type t);
+ODECLOTH_API cloth_status cloth_get_link(const cloth *c, cloth_link_type t, int index, cloth_link *out);
 
 /* Apply the plastic rule (paper eq. 8-12) to the current positions; the step
  * does this after every step. With the time-dependent law (tau_set,
  * tau_recover, set_hardening) this call lets no time pass: links enter and
  * leave, nothing relaxes. Returns the number of plastic links. */
-int cloth_update_plastic(cloth *c);
+ODECLOTH_API int cloth_update_plastic(cloth *c);
 
 /* ------------------------------------------------------ forces and energy */
 
@@ -333,13 +334,13 @@ typedef struct cloth_energy {
     double gravitational; /* J, -sum m g . x                          */
 } cloth_energy;
 
-cloth_energy cloth_energies(const cloth *c);
+ODECLOTH_API cloth_energy cloth_energies(const cloth *c);
 
 /* Internal spring + damping forces (no gravity), 3 * vertex_count doubles. */
-cloth_status cloth_internal_forces(const cloth *c, double *f);
+ODECLOTH_API cloth_status cloth_internal_forces(const cloth *c, double *f);
 
 /* Largest (d - l0) / l0 over sequential links. */
-double cloth_max_strain(const cloth *c);
+ODECLOTH_API double cloth_max_strain(const cloth *c);
 
 /* ------------------------------------------------------------ constraints */
 
@@ -359,12 +360,12 @@ typedef struct cloth_constraint {
 } cloth_constraint;
 
 /* One constraint per vertex; setting replaces the vertex's constraint. */
-cloth_status cloth_set_constraint(cloth *c, const cloth_constraint *k);
-cloth_status cloth_pin(cloth *c, int vertex, const double target[3]);
-cloth_status cloth_release(cloth *c, int vertex);
-void cloth_release_all(cloth *c);
-cloth_status cloth_get_constraint(const cloth *c, int vertex, cloth_constraint *out);
-int cloth_constraint_count(const cloth *c);
+ODECLOTH_API cloth_status cloth_set_constraint(cloth *c, const cloth_constraint *k);
+ODECLOTH_API cloth_status cloth_pin(cloth *c, int vertex, const double target[3]);
+ODECLOTH_API cloth_status cloth_release(cloth *c, int vertex);
+ODECLOTH_API void cloth_release_all(cloth *c);
+ODECLOTH_API cloth_status cloth_get_constraint(const cloth *c, int vertex, cloth_constraint *out);
+ODECLOTH_API int cloth_constraint_count(const cloth *c);
 
 /* The vertex touches, or is near, a body's surface: `normal` its outward
  * normal (normalised on set), `point` a point of it at the end of the step.
@@ -376,12 +377,12 @@ int cloth_constraint_count(const cloth *c);
  * (ndof 1), and a sliding one (ndof 1) there whose force pulls lets go. The
  * constraints it changes stay so after the step, undone if the step fails.
  * CLOTH_LINEARIZED ignores it. Cleared by cloth_release(_all). */
-cloth_status cloth_set_contact(cloth *c, int vertex, const double normal[3], const double point[3]);
+ODECLOTH_API cloth_status cloth_set_contact(cloth *c, int vertex, const double normal[3], const double point[3]);
 /* After cloth_set_contact: a sliding (ndof 1) or sticking (ndof 3) contact
  * whose force pulls the vertex onto the surface by more than `pull` (N,
  * >= 0) lets go within the step wherever it is (default: infinite, only as
  * above). Newton only. */
-cloth_status cloth_set_contact_pull(cloth *c, int vertex, double pull);
+ODECLOTH_API cloth_status cloth_set_contact_pull(cloth *c, int vertex, double pull);
 /* A second surface near the vertex (CLOTH_NEWTON; CLOTH_LINEARIZED ignores
  * it), `normal` and `point` as for cloth_set_contact: a candidate the step
  * decides as it does a free one. An iterate that puts the vertex behind it
@@ -394,18 +395,18 @@ cloth_status cloth_set_contact_pull(cloth *c, int vertex, double pull);
  * own rule. Not taken by a pinned or sticking vertex, one on a line, one a
  * body holds (cloth_hold_by_body), or where the planes are within 0.6 deg
  * of parallel. Cleared by cloth_release(_all). */
-cloth_status cloth_set_contact_second(cloth *c, int vertex, const double normal[3], const double point[3]);
+ODECLOTH_API cloth_status cloth_set_contact_second(cloth *c, int vertex, const double normal[3], const double point[3]);
 /* After a step: the vertex's constraint without the second plane (*first;
  * cloth_get_constraint gives their meet while both hold), whether the
  * second holds it (*second), and the force (N) each exerted over the step,
  * f_first + f_second = cloth_constraint_force (f_second zero when it does
  * not hold). Any output may be NULL. */
-cloth_status cloth_get_contact_planes(const cloth *c, int vertex, cloth_constraint *first, int *second,
-                                      double f_first[3], double f_second[3]);
+ODECLOTH_API cloth_status cloth_get_contact_planes(const cloth *c, int vertex, cloth_constraint *first, int *second,
+                                                   double f_first[3], double f_second[3]);
 
 /* Force (N) the vertex's constraint exerted on it, averaged over the last
  * step (Baraff-Witkin: from the solve's residual). Zero if unconstrained. */
-cloth_status cloth_constraint_force(const cloth *c, int vertex, double f[3]);
+ODECLOTH_API cloth_status cloth_constraint_force(const cloth *c, int vertex, double f[3]);
 
 /* Rigid bodies solved together with the cloth (two-way coupling, implicit).
  * A body that holds vertices (a pin, or a contact: see cloth_hold_by_body)
@@ -436,18 +437,18 @@ typedef struct cloth_body {
 
 /* Replace the bodies (count 0: none). Rejected, with nothing changed, when
  * a body is invalid or a vertex is held by a body past count. */
-cloth_status cloth_set_bodies(cloth *c, const cloth_body *bodies, int count);
-int cloth_body_count(const cloth *c);
+ODECLOTH_API cloth_status cloth_set_bodies(cloth *c, const cloth_body *bodies, int count);
+ODECLOTH_API int cloth_body_count(const cloth *c);
 /* Let body `index` (0-based, of cloth_set_bodies; -1: none) hold the
  * vertex's constraint: its target is then where the body's point would be
  * if the body kept its velocity, and its constrained components also follow
  * the body's velocity change, solved for with the cloth. A free vertex with
  * a contact (cloth_set_contact) is held so once the step makes it a plane.
  * Setting or releasing the vertex's constraint ends the hold. */
-cloth_status cloth_hold_by_body(cloth *c, int vertex, int index);
+ODECLOTH_API cloth_status cloth_hold_by_body(cloth *c, int vertex, int index);
 /* The velocity change (linear m/s, then angular rad/s) body `index`
  * (0-based) received in the last step's solve; zeros before any. */
-cloth_status cloth_body_velocity_change(const cloth *c, int index, double dv[6]);
+ODECLOTH_API cloth_status cloth_body_velocity_change(const cloth *c, int index, double dv[6]);
 
 /* ------------------------------------------------------------------- step */
 
@@ -461,7 +462,7 @@ typedef enum cloth_failure {
     CLOTH_FAIL_NEWTON          /* Newton not converged in newton_iterations */
 } cloth_failure;
 
-const char *cloth_failure_string(cloth_failure f);
+ODECLOTH_API const char *cloth_failure_string(cloth_failure f);
 
 typedef struct cloth_step_stats {
     cloth_method method;
@@ -538,8 +539,8 @@ typedef struct cloth_step_stats {
  * the return is CLOTH_ESTEP and stats->failure says why. stats may be NULL.
  * The retry path (and only it) allocates a copy of the state; without memory
  * for it the step fails as if max_substep_halvings were 0. */
-cloth_status cloth_step(cloth *c, double h, cloth_step_stats *stats);
-const cloth_step_stats *cloth_last_stats(const cloth *c);
+ODECLOTH_API cloth_status cloth_step(cloth *c, double h, cloth_step_stats *stats);
+ODECLOTH_API const cloth_step_stats *cloth_last_stats(const cloth *c);
 
 /* ------------------------------------------------------------------ state */
 
@@ -547,13 +548,13 @@ const cloth_step_stats *cloth_last_stats(const cloth *c);
  * between steps: everything that evolves. Constraints are not state. */
 typedef struct cloth_state cloth_state;
 
-cloth_state *cloth_state_create(const cloth *c); /* NULL on no memory */
-void cloth_state_destroy(cloth_state *s);
-cloth_status cloth_save(const cloth *c, cloth_state *s);
-cloth_status cloth_restore(cloth *c, const cloth_state *s); /* sizes must match */
+ODECLOTH_API cloth_state *cloth_state_create(const cloth *c); /* NULL on no memory */
+ODECLOTH_API void cloth_state_destroy(cloth_state *s);
+ODECLOTH_API cloth_status cloth_save(const cloth *c, cloth_state *s);
+ODECLOTH_API cloth_status cloth_restore(cloth *c, const cloth_state *s); /* sizes must match */
 /* Largest absolute difference of positions, velocities and l1, plus 1 for
  * any plastic flag that differs; 0 means identical. Negative if sizes differ. */
-double cloth_state_diff(const cloth_state *a, const cloth_state *b);
+ODECLOTH_API double cloth_state_diff(const cloth_state *a, const cloth_state *b);
 
 /* State files: a versioned binary record of everything cloth_save keeps
  * (little-endian, IEEE 754 doubles, a checksum; the layout is in state.c),
@@ -564,16 +565,17 @@ double cloth_state_diff(const cloth_state *a, const cloth_state *b);
  * says what is wrong. Writing makes version 3; versions 1 (without the
  * multipliers, read as zero) and 2 (without the links' permanent set and
  * bent flags of material.tau_set and friends, read as zero) are read too. */
-size_t cloth_state_size_bytes(const cloth_state *s); /* a record's size; 0 for NULL */
+ODECLOTH_API size_t cloth_state_size_bytes(const cloth_state *s); /* a record's size; 0 for NULL */
 /* Write the record into buf (cap bytes, at least cloth_state_size_bytes);
  * *written (may be NULL) gets its size. */
-cloth_status cloth_state_write(const cloth_state *s, void *buf, size_t cap, size_t *written, cloth_error *err);
+ODECLOTH_API cloth_status cloth_state_write(const cloth_state *s, void *buf, size_t cap, size_t *written,
+                                            cloth_error *err);
 /* Read a record of exactly len bytes into s (made for the same cloth size). */
-cloth_status cloth_state_read(cloth_state *s, const void *buf, size_t len, cloth_error *err);
+ODECLOTH_API cloth_status cloth_state_read(cloth_state *s, const void *buf, size_t len, cloth_error *err);
 /* The same on an open stream (binary mode): one record, read or written
  * from the current position; reading stops at the record's end. */
-cloth_status cloth_state_write_file(const cloth_state *s, FILE *f, cloth_error *err);
-cloth_status cloth_state_read_file(cloth_state *s, FILE *f, cloth_error *err);
+ODECLOTH_API cloth_status cloth_state_write_file(const cloth_state *s, FILE *f, cloth_error *err);
+ODECLOTH_API cloth_status cloth_state_read_file(cloth_state *s, FILE *f, cloth_error *err);
 
 /* ---------------------------------------- accuracy-driven stepping (issue 6) */
 
@@ -679,7 +681,7 @@ typedef struct cloth_adaptive_desc {
 
 /* tolerance 1e-2 m/s, substeps 1..1024, CG tolerance 1e-8..1e-1, velocity
  * weight 0.1 s, global estimate and explicit steps on */
-cloth_adaptive_desc cloth_adaptive_default_desc(void);
+ODECLOTH_API cloth_adaptive_desc cloth_adaptive_default_desc(void);
 
 typedef struct cloth_adaptive_stats {
     cloth_failure failure;  /* NONE, or why the frame failed                     */
@@ -704,16 +706,17 @@ typedef struct cloth_adaptive cloth_adaptive;
 /* A controller for cloth c (work arrays of c's size, state snapshots and,
  * with global_estimate, the shadow: a second cloth of c's size). On failure
  * *out is NULL and err (may be NULL) says why. */
-cloth_status cloth_adaptive_create(const cloth *c, const cloth_adaptive_desc *d, cloth_adaptive **out,
-                                   cloth_error *err);
-void cloth_adaptive_destroy(cloth_adaptive *a); /* NULL is fine */
+ODECLOTH_API cloth_status cloth_adaptive_create(const cloth *c, const cloth_adaptive_desc *d, cloth_adaptive **out,
+                                                cloth_error *err);
+ODECLOTH_API void cloth_adaptive_destroy(cloth_adaptive *a); /* NULL is fine */
 
 /* Advance c by one frame of frame_dt seconds (finite, > 0); c must be the
  * cloth the controller was made for. On CLOTH_ESTEP (no substep count up to
  * max_substeps worked, or the callback failed) and CLOTH_EINVAL the cloth is
  * exactly as before the call (cloth_last_error(c) says why for ESTEP);
  * stats (may be NULL) says what was chosen or last tried. */
-cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, cloth_adaptive_stats *stats);
+ODECLOTH_API cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt,
+                                               cloth_adaptive_stats *stats);
 
 #ifdef __cplusplus
 }

@@ -89,27 +89,27 @@ typedef enum cloth_fabric_kind {
 
 /* A preset's values (sources and estimates: docs/materials.md); an unknown
  * kind gives cotton. The presets are not the defaults of cloth_desc. */
-cloth_fabric cloth_fabric_preset(cloth_fabric_kind k);
+ODECLOTH_API cloth_fabric cloth_fabric_preset(cloth_fabric_kind k);
 
 /* CLOTH_OK or CLOTH_EINVAL with a message naming the field (err may be NULL). */
-cloth_status cloth_fabric_validate(const cloth_fabric *f, cloth_error *err);
+ODECLOTH_API cloth_status cloth_fabric_validate(const cloth_fabric *f, cloth_error *err);
 
 /* The links' material for cells of dx x dy m (a cloth_desc's
  * width / (cols - 1) and height / (rows - 1)). On error *out is untouched
  * and err says which field or spacing is at fault. */
-cloth_status cloth_fabric_material(const cloth_fabric *f, double dx, double dy, cloth_material *out,
-                                   cloth_error *err);
+ODECLOTH_API cloth_status cloth_fabric_material(const cloth_fabric *f, double dx, double dy, cloth_material *out,
+                                                cloth_error *err);
 
 /* d->material = cloth_fabric_material(f, d's dx, d's dy); d untouched on error. */
-cloth_status cloth_fabric_apply(const cloth_fabric *f, cloth_desc *d, cloth_error *err);
+ODECLOTH_API cloth_status cloth_fabric_apply(const cloth_fabric *f, cloth_desc *d, cloth_error *err);
 
 /* c = (bending / (density CLOTH_FABRIC_GRAVITY))^(1/3), m: ASTM D1388's
  * bending length. NaN for a fabric that does not validate. */
-double cloth_fabric_bending_length(const cloth_fabric *f);
+ODECLOTH_API double cloth_fabric_bending_length(const cloth_fabric *f);
 
 /* kappa_ref (1/m): bend_curvature, or eta / bending length if it is 0.
  * NaN for a fabric that does not validate. */
-double cloth_fabric_reference_curvature(const cloth_fabric *f);
+ODECLOTH_API double cloth_fabric_reference_curvature(const cloth_fabric *f);
 
 #ifdef __cplusplus
 }

@@ -54,13 +54,14 @@ typedef struct cloth_self_collision_stats {
 } cloth_self_collision_stats;
 
 /* thickness: m, in (0, 1]; the cloth c fixes the sizes (its grid). */
-cloth_status cloth_self_collision_create(const cloth *c, double thickness, cloth_self_collision **out,
-                                         cloth_error *err);
-void cloth_self_collision_destroy(cloth_self_collision *s); /* NULL is fine */
+ODECLOTH_API cloth_status cloth_self_collision_create(const cloth *c, double thickness, cloth_self_collision **out,
+                                                      cloth_error *err);
+ODECLOTH_API void cloth_self_collision_destroy(cloth_self_collision *s); /* NULL is fine */
 /* After a step: separate c's vertices from its triangles (passes: 3). c
  * must be the cloth (or one of the same grid) given to create. stats may
  * be NULL. */
-cloth_status cloth_self_collision_apply(cloth_self_collision *s, cloth *c, cloth_self_collision_stats *stats);
+ODECLOTH_API cloth_status cloth_self_collision_apply(cloth_self_collision *s, cloth *c,
+                                                     cloth_self_collision_stats *stats);
 
 #ifdef __cplusplus
 }

@@ -52,7 +52,7 @@ extern "C" {
 
 /* The odecloth version, "major.minor.patch" (the core's cloth_version()).
  * Never NULL; the string is static. */
-const char *dClothGetVersion(void);
+ODECLOTH_API const char *dClothGetVersion(void);
 
 typedef struct dxCloth *dClothID;
 
@@ -67,23 +67,23 @@ typedef struct dClothDesc {
 
 /* Defaults: the core's cloth_default_desc(), thickness 5 mm, mu 0.3, all
  * bits set. */
-dClothDesc dClothDefaultDesc(void);
+ODECLOTH_API dClothDesc dClothDefaultDesc(void);
 
 /* Create a cloth in `world` that collides with the geoms of `space` (may be
  * 0: no collisions; a geom that is not a space is refused). On error *out
  * is NULL and err (may be NULL) says why. The cloth keeps the space: before
  * destroying the space, give the cloth another (dClothSetSpace(c, 0)). */
-cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *desc, dClothID *out,
-                          cloth_error *err);
-void dClothDestroy(dClothID c);
+ODECLOTH_API cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *desc, dClothID *out,
+                                       cloth_error *err);
+ODECLOTH_API void dClothDestroy(dClothID c);
 
 /* The core cloth, for everything the plugin does not wrap: material, solver,
  * state save / restore, energies, links. Its constraints are rewritten by
  * every dClothStep (contacts and pins); set pins through the plugin. */
-cloth *dClothGetCore(dClothID c);
+ODECLOTH_API cloth *dClothGetCore(dClothID c);
 
 /* Why the last call on c failed. Never NULL. */
-const char *dClothGetLastError(dClothID c);
+ODECLOTH_API const char *dClothGetLastError(dClothID c);
 
 /* --------------------------------------------------------------- stepping */
 
@@ -92,7 +92,7 @@ const char *dClothGetLastError(dClothID c);
  * a bad h, CLOTH_ESTEP when the solve fails) the cloth and the bodies are as
  * they were. A failed solve is not an error under DCLOTH_FAILURE_HOLD, the
  * default: see dClothSetFailureMode. */
-cloth_status dClothStep(dClothID c, dReal h);
+ODECLOTH_API cloth_status dClothStep(dClothID c, dReal h);
 
 /* A step whose solve fails even in the core's substeps:
  *  DCLOTH_FAILURE_HOLD (default): the cloth stops where it was (velocities
@@ -103,14 +103,14 @@ cloth_status dClothStep(dClothID c, dReal h);
  *    smaller steps pass does not repeat for ever.
  *  DCLOTH_FAILURE_STOP: CLOTH_ESTEP, and dClothWorldStep steps nothing. */
 typedef enum dClothFailureMode { DCLOTH_FAILURE_HOLD = 0, DCLOTH_FAILURE_STOP } dClothFailureMode;
-cloth_status dClothSetFailureMode(dClothID c, dClothFailureMode mode);
+ODECLOTH_API cloth_status dClothSetFailureMode(dClothID c, dClothFailureMode mode);
 
 /* Step n cloths (at most 64, each once, all of this world), then the world
  * (dWorldQuickStep if quick, else dWorldStep), by h. All or nothing: when a
  * cloth's step returns an error, the cloths before it are put back as they
  * were, and so are the force and torque accumulators and velocities of the
  * bodies they pushed, and the world is not stepped. */
-cloth_status dClothWorldStep(dWorldID world, dClothID *cloths, int n, dReal h, int quick);
+ODECLOTH_API cloth_status dClothWorldStep(dWorldID world, dClothID *cloths, int n, dReal h, int quick);
 
 typedef struct dClothStepStats {
     cloth_step_stats core;   /* iterations, residual, energy, strain, failure */
@@ -156,52 +156,53 @@ typedef struct dClothStepStats {
 } dClothStepStats;
 
 /* Stats of the last dClothStep. */
-const dClothStepStats *dClothGetStats(dClothID c);
+ODECLOTH_API const dClothStepStats *dClothGetStats(dClothID c);
 
 /* ---------------------------------------------------------- for drawing */
 
-int dClothGetVertexCount(dClothID c);
+ODECLOTH_API int dClothGetVertexCount(dClothID c);
 /* 3 * vertex count, m; valid until the next step. */
-const dReal *dClothGetPositions(dClothID c);
+ODECLOTH_API const dReal *dClothGetPositions(dClothID c);
 /* Unit vertex normals (area-weighted over the vertex's triangles), 3 * count. */
-cloth_status dClothGetNormals(dClothID c, dReal *normals);
+ODECLOTH_API cloth_status dClothGetNormals(dClothID c, dReal *normals);
 /* Two triangles per grid cell, counter-clockwise seen from +axis_u x axis_v. */
-int dClothGetTriangleCount(dClothID c);
+ODECLOTH_API int dClothGetTriangleCount(dClothID c);
 /* 3 vertex indices per triangle; static for the cloth's lifetime. */
-const int *dClothGetTriangles(dClothID c);
+ODECLOTH_API const int *dClothGetTriangles(dClothID c);
 
 /* ------------------------------------------------------------------ pins */
 
 /* Pin a vertex to a fixed world point. */
-cloth_status dClothPinToWorld(dClothID c, int vertex, const dReal point[3]);
+ODECLOTH_API cloth_status dClothPinToWorld(dClothID c, int vertex, const dReal point[3]);
 /* Pin a vertex to a point given in the body's frame: the vertex follows the
  * point, and the body feels the pull. b must be a body of the cloth's world. */
-cloth_status dClothPinToBody(dClothID c, int vertex, dBodyID b, const dReal local_point[3]);
-cloth_status dClothReleasePin(dClothID c, int vertex);
+ODECLOTH_API cloth_status dClothPinToBody(dClothID c, int vertex, dBodyID b, const dReal local_point[3]);
+ODECLOTH_API cloth_status dClothReleasePin(dClothID c, int vertex);
 /* Release every pin to b (call before destroying a pinned body). */
-cloth_status dClothReleaseBody(dClothID c, dBodyID b);
+ODECLOTH_API cloth_status dClothReleaseBody(dClothID c, dBodyID b);
 /* Force (N) the pin applied to the vertex over the last step (the body got
  * the opposite). Zero if not pinned. */
-cloth_status dClothGetPinForce(dClothID c, int vertex, dReal force[3]);
+ODECLOTH_API cloth_status dClothGetPinForce(dClothID c, int vertex, dReal force[3]);
 
 /* Force (N) a contact applied to the vertex over the last step, constraint
  * and sliding friction together (zero if none). */
-cloth_status dClothGetContactForce(dClothID c, int vertex, dReal force[3]);
+ODECLOTH_API cloth_status dClothGetContactForce(dClothID c, int vertex, dReal force[3]);
 /* Which geom the vertex's contact was with in the last step (*geom 0: none)
  * and, where point and normal are not NULL, the surface point under the
  * vertex and the unit normal out of the geom (zeros without a contact). */
-cloth_status dClothGetVertexContact(dClothID c, int vertex, dGeomID *geom, dReal point[3], dReal normal[3]);
+ODECLOTH_API cloth_status dClothGetVertexContact(dClothID c, int vertex, dGeomID *geom, dReal point[3],
+                                                 dReal normal[3]);
 
 /* Add a force (N) on a vertex for the next step, as dBodyAddForce does for
  * a body: forces add up until the step that applies them, then clear.
  * Forces that stay (wind) can be set on the core instead,
  * cloth_set_external_forces(dClothGetCore(c), f): the plugin adds its
  * friction to them and never overwrites them. Wakes the cloth. */
-cloth_status dClothAddVertexForce(dClothID c, int vertex, dReal fx, dReal fy, dReal fz);
+ODECLOTH_API cloth_status dClothAddVertexForce(dClothID c, int vertex, dReal fx, dReal fy, dReal fz);
 
 /* ------------------------------------------------------------ parameters */
 
-cloth_status dClothSetFriction(dClothID c, dReal mu);
+ODECLOTH_API cloth_status dClothSetFriction(dClothID c, dReal mu);
 /* Contact parameters per geom, as an ODE near callback fills dSurfaceParameters
  * per pair: fn(data, c, g, &s) is called once a step for each geom the
  * cloth's broadphase finds, s holding dClothGetFriction(c) and
@@ -217,22 +218,22 @@ typedef struct dClothSurface {
     dReal thickness; /* m, 1e-6 .. 10, the contact distance      */
 } dClothSurface;
 typedef void dClothSurfaceFn(void *data, dClothID c, dGeomID g, dClothSurface *s);
-cloth_status dClothSetSurfaceCallback(dClothID c, dClothSurfaceFn *fn, void *data);
+ODECLOTH_API cloth_status dClothSetSurfaceCallback(dClothID c, dClothSurfaceFn *fn, void *data);
 /* Friction alone per geom: fn(data, c, g, &mu), mu holding
  * dClothGetFriction(c), called as the surface callback is. Setting either
  * callback (even to NULL) clears the other. */
 typedef void dClothFrictionFn(void *data, dClothID c, dGeomID g, dReal *mu);
-cloth_status dClothSetFrictionCallback(dClothID c, dClothFrictionFn *fn, void *data);
-dReal dClothGetFriction(dClothID c);
-cloth_status dClothSetThickness(dClothID c, dReal thickness);
-dReal dClothGetThickness(dClothID c);
-void dClothSetCategoryBits(dClothID c, unsigned long bits);
-void dClothSetCollideBits(dClothID c, unsigned long bits);
-unsigned long dClothGetCategoryBits(dClothID c);
-unsigned long dClothGetCollideBits(dClothID c);
+ODECLOTH_API cloth_status dClothSetFrictionCallback(dClothID c, dClothFrictionFn *fn, void *data);
+ODECLOTH_API dReal dClothGetFriction(dClothID c);
+ODECLOTH_API cloth_status dClothSetThickness(dClothID c, dReal thickness);
+ODECLOTH_API dReal dClothGetThickness(dClothID c);
+ODECLOTH_API void dClothSetCategoryBits(dClothID c, unsigned long bits);
+ODECLOTH_API void dClothSetCollideBits(dClothID c, unsigned long bits);
+ODECLOTH_API unsigned long dClothGetCategoryBits(dClothID c);
+ODECLOTH_API unsigned long dClothGetCollideBits(dClothID c);
 /* Change the space the cloth collides with (0: none). A geom that is not
  * a space is refused (CLOTH_EINVAL, the space unchanged). */
-cloth_status dClothSetSpace(dClothID c, dSpaceID space);
+ODECLOTH_API cloth_status dClothSetSpace(dClothID c, dSpaceID space);
 
 /* Hand the cloth a convex geom's points (the array given to
  * dGeomSetConvex, `count` points of 3 dReals in the geom's frame), copied,
@@ -240,7 +241,7 @@ cloth_status dClothSetSpace(dClothID c, dSpaceID space);
  * ODE 0.16 gives no access to a convex's points. Without it a convex gets
  * vertex contacts only. points NULL (or count 0) forgets the geom: do so
  * before destroying it. */
-cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dReal *points, int count);
+ODECLOTH_API cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dReal *points, int count);
 
 /* Triangle tests (libccd) for geom g on (enable nonzero, the default) or
  * off. They keep a box's, capsule's, cylinder's, convex's or trimesh's edges
@@ -249,14 +250,14 @@ cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dReal *points, i
  * 1000-triangle trimesh under an 81x81 cloth: README) and enough where no
  * edge pokes into a triangle. Other classes have vertex contacts only either
  * way. Forget a geom (enable it) before destroying it. */
-cloth_status dClothSetTriangleTests(dClothID c, dGeomID g, int enable);
-int dClothGetTriangleTests(dClothID c, dGeomID g);
+ODECLOTH_API cloth_status dClothSetTriangleTests(dClothID c, dGeomID g, int enable);
+ODECLOTH_API int dClothGetTriangleTests(dClothID c, dGeomID g);
 
 /* Link tests for a box, trimesh or convex (points handed over) g whose triangle tests are off, on (the
  * default) or off (vertex contacts only): a link nearing an edge holds its ends on the plane through it
  * (docs/contacts.md). Forget a geom (enable it) before destroying it. */
-cloth_status dClothSetEdgeTests(dClothID c, dGeomID g, int enable);
-int dClothGetEdgeTests(dClothID c, dGeomID g);
+ODECLOTH_API cloth_status dClothSetEdgeTests(dClothID c, dGeomID g, int enable);
+ODECLOTH_API int dClothGetEdgeTests(dClothID c, dGeomID g);
 
 /* ---------------------------------------------------------- save/restore */
 
@@ -269,10 +270,10 @@ int dClothGetEdgeTests(dClothID c, dGeomID g);
  * uninterrupted run; restoring the core alone does not. Geoms and bodies
  * are referred to, not copied: they must still exist. */
 typedef struct dClothState dClothState;
-dClothState *dClothStateCreate(dClothID c); /* for c's vertex count; NULL on no memory */
-void dClothStateDestroy(dClothState *s);    /* NULL is fine */
-cloth_status dClothSave(dClothID c, dClothState *s);
-cloth_status dClothRestore(dClothID c, const dClothState *s);
+ODECLOTH_API dClothState *dClothStateCreate(dClothID c); /* for c's vertex count; NULL on no memory */
+ODECLOTH_API void dClothStateDestroy(dClothState *s);    /* NULL is fine */
+ODECLOTH_API cloth_status dClothSave(dClothID c, dClothState *s);
+ODECLOTH_API cloth_status dClothRestore(dClothID c, const dClothState *s);
 
 /* The same to a file, to continue a run in another process or on another
  * machine (versioned, little-endian, checksummed; the layout is in
@@ -287,10 +288,10 @@ cloth_status dClothRestore(dClothID c, const dClothState *s);
  * step's stats are not kept; your bodies' own state is yours to save. For a
  * bitwise continuation put a body's quaternion and rotation back bit for bit:
  * dBodySetQuaternion normalises again, moving the last bits of a turned body. */
-cloth_status dClothWriteState(dClothID c, const char *path, const dGeomID *geoms, int ngeoms,
-                              const dBodyID *bodies, int nbodies);
-cloth_status dClothReadState(dClothID c, const char *path, const dGeomID *geoms, int ngeoms,
-                             const dBodyID *bodies, int nbodies);
+ODECLOTH_API cloth_status dClothWriteState(dClothID c, const char *path, const dGeomID *geoms, int ngeoms,
+                                           const dBodyID *bodies, int nbodies);
+ODECLOTH_API cloth_status dClothReadState(dClothID c, const char *path, const dGeomID *geoms, int ngeoms,
+                                          const dBodyID *bodies, int nbodies);
 
 /* -------------------------------------------------------------- sleeping */
 
@@ -309,9 +310,9 @@ cloth_status dClothReadState(dClothID c, const char *path, const dGeomID *geoms,
  * comes that near, leaves, or moves, when the world's gravity changes, and
  * on any dCloth call that changes it (pins, friction, thickness, bits,
  * space). After changing the core (dClothGetCore) call dClothWake. */
-cloth_status dClothSetAutoSleep(dClothID c, int on, dReal speed, int steps);
-int dClothIsSleeping(dClothID c);
-void dClothWake(dClothID c);
+ODECLOTH_API cloth_status dClothSetAutoSleep(dClothID c, int on, dReal speed, int steps);
+ODECLOTH_API int dClothIsSleeping(dClothID c);
+ODECLOTH_API void dClothWake(dClothID c);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,49 @@
+#!/bin/bash
+# The shared libraries export exactly the functions their public headers
+# mark ODECLOTH_API: none missing (declared, not defined) and no internal
+# name leaked (defined and exported, not declared); and no function the
+# headers name that the library defines left unmarked (so hidden).
+# usage: check.sh SHARED STATIC HEADER... (a library, shared and static,
+# and the headers it implements)
+set -u
+lib=$1
+static=$2
+shift 2
+if ! command -v nm >/dev/null; then
+    echo "symbols: nm not found (binutils)"
+    exit 1
+fi
+exported=$(nm -D --defined-only "$lib" | awk '$2 == "T" || $2 == "W" { print $3 }' | sort -u)
+# the headers' code: no comments, no preprocessor lines
+code=$(cat "$@" | perl -0pe 's{/\*.*?\*/}{}gs; s{//[^\n]*}{}g; s{^[ \t]*#[^\n]*}{}mg')
+# a declaration: ODECLOTH_API, a return type, the name before its '('
+declared=$(echo "$code" | tr '\n' ' ' | grep -o 'ODECLOTH_API[^;(]*(' |
+    sed -E 's/.*[^A-Za-z0-9_]([A-Za-z_][A-Za-z0-9_]*)[[:space:]]*\($/\1/' | sort -u)
+if [ -z "$declared" ] || [ -z "$exported" ]; then
+    echo "symbols: nothing read from $lib or $*"
+    exit 1
+fi
+missing=$(comm -13 <(echo "$exported") <(echo "$declared"))
+# functions the static library defines globally whose names the headers use as calls
+defined=$(nm --defined-only "$static" 2>/dev/null | awk '$2 == "T" { print $3 }' | sort -u)
+named=$(echo "$code" | grep -o '[A-Za-z_][A-Za-z0-9_]*[[:space:]]*(' | sed -E 's/[[:space:]]*\($//' | sort -u)
+unmarked=$(comm -12 <(echo "$defined") <(echo "$named") | comm -23 - <(echo "$declared"))
+leaked=$(comm -23 <(echo "$exported") <(echo "$declared"))
+status=0
+if [ -n "$missing" ]; then
+    echo "symbols: declared ODECLOTH_API in the headers but not exported by $(basename "$lib"):"
+    echo "$missing" | sed 's/^/  /'
+    status=1
+fi
+if [ -n "$unmarked" ]; then
+    echo "symbols: named in the headers and defined in $(basename "$static") but not ODECLOTH_API (hidden):"
+    echo "$unmarked" | sed 's/^/  /'
+    status=1
+fi
+if [ -n "$leaked" ]; then
+    echo "symbols: exported by $(basename "$lib") but not declared ODECLOTH_API in a public header:"
+    echo "$leaked" | sed 's/^/  /'
+    status=1
+fi
+echo "symbols: $(basename "$lib"): $(echo "$exported" | wc -l) exported, $(echo "$declared" | wc -l) declared"
+exit $status
