@@ -170,6 +170,8 @@ static void null_cloth(void)
               dClothReadState(NULL, NULL, NULL, -1, NULL, -1) == CLOTH_EINVAL,
           "state files of NULL accepted");
     CHECK(dClothGetTriangleTests(NULL, 0) == 0, "dClothGetTriangleTests(NULL) is not 0");
+    CHECK(dClothSetExactTriangleTests(NULL, 0, 1) == CLOTH_EINVAL && dClothGetExactTriangleTests(NULL, 0) == 0,
+          "dClothSetExactTriangleTests(NULL) accepted or dClothGetExactTriangleTests(NULL) not 0");
     CHECK(dClothSetEdgeTests(NULL, 0, 1) == CLOTH_EINVAL && dClothGetEdgeTests(NULL, 0) == 0,
           "dClothSetEdgeTests(NULL) accepted or dClothGetEdgeTests(NULL) not 0");
     CHECK(dClothIsSleeping(NULL) == 0, "dClothIsSleeping(NULL) is not 0");
@@ -252,7 +254,8 @@ static void walk(scene *s)
         d.cloth.solver.cg_max_iterations = 400;
         if (!CHECK(dClothCreate(s->world, s->space, &d, &cl[k], NULL) == CLOTH_OK, "walk cloth")) return;
     }
-    int tri_on[2][5], edge_on[2][5]; /* what case 17 made each geom's tests (17's and 25's order) */
+    /* what case 17 made each geom's tests (17's and 25's order) */
+    int tri_on[2][5], edge_on[2][5], exact_on[2][5] = {{0}};
     for (int k = 0; k < 10; k++) tri_on[k / 5][k % 5] = edge_on[k / 5][k % 5] = 1;
     rng g = rng_seed(0x9a1cu);
     for (int it = 0; it < 1000; it++) {
@@ -341,6 +344,11 @@ static void walk(scene *s)
             cloth_status se = dClothSetEdgeTests(c, gg, enable == 0);
             CHECK(se == (gg ? CLOTH_OK : CLOTH_EINVAL), "call %d: dClothSetEdgeTests gave %d", it, (int)se);
             if (se == CLOTH_OK) edge_on[ci][k] = enable == 0;
+            /* decided by the geometry for enable 2: a box only, the rest refused and unchanged */
+            cloth_status sx = dClothSetExactTriangleTests(c, gg, enable == 2);
+            CHECK(sx == (gg == s->box ? CLOTH_OK : CLOTH_EINVAL), "call %d: dClothSetExactTriangleTests gave %d", it,
+                  (int)sx);
+            if (sx == CLOTH_OK) exact_on[ci][k] = enable == 2;
             break;
         }
         case 16: { /* save, then restore into itself (nothing changes) or the other cloth (another size) */
@@ -446,6 +454,8 @@ static void walk(scene *s)
             int on = dClothGetTriangleTests(c, gg), edges = dClothGetEdgeTests(c, gg);
             CHECK(on == (gg ? tri_on[ci][k] : 0), "call %d: dClothGetTriangleTests of geom %u gave %d", it, k, on);
             CHECK(edges == (gg ? edge_on[ci][k] : 0), "call %d: dClothGetEdgeTests of geom %u gave %d", it, k, edges);
+            CHECK(dClothGetExactTriangleTests(c, gg) == (gg ? exact_on[ci][k] : 0),
+                  "call %d: dClothGetExactTriangleTests of geom %u gave %d", it, k, dClothGetExactTriangleTests(c, gg));
             break;
         }
         case 19: /* hold or stop on a failed step, or a mode that does not exist */

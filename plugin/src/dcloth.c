@@ -143,6 +143,7 @@ void dClothDestroy(dClothID c)
     for (int k = 0; k < c->ncvx; k++) free(c->cvx[k].p);
     free(c->cvx);
     free(c->tri_off.g);
+    free(c->tri_exact.g);
     free(c->mesh_v);
     free(c->mesh_convex);
     free(c->mesh_edges);
@@ -444,6 +445,21 @@ cloth_status dClothSetTriangleTests(dClothID c, dGeomID g, int enable)
 int dClothGetTriangleTests(dClothID c, dGeomID g)
 {
     return c && g && !dcloth_geom_list_has(&c->tri_off, g);
+}
+
+cloth_status dClothSetExactTriangleTests(dClothID c, dGeomID g, int enable)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!g) return dcloth_fail(c, CLOTH_EINVAL, "dClothSetExactTriangleTests: geom is 0");
+    if (dGeomGetClass(g) != dBoxClass)
+        return dcloth_fail(c, CLOTH_EINVAL, "dClothSetExactTriangleTests: the geom is not a box (class %d)",
+                           dGeomGetClass(g));
+    return dcloth_geom_list_set(c, &c->tri_exact, g, enable != 0, "dClothSetExactTriangleTests");
+}
+
+int dClothGetExactTriangleTests(dClothID c, dGeomID g)
+{
+    return c && g && dcloth_geom_list_has(&c->tri_exact, g);
 }
 
 cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dReal *points, int count)

@@ -149,6 +149,8 @@ struct dxCloth {
     int ncvx;
     /* geoms whose triangle tests are off (dClothSetTriangleTests) */
     dcloth_geom_list tri_off;
+    /* boxes whose triangle tests are decided by the geometry (dClothSetExactTriangleTests) */
+    dcloth_geom_list tri_exact;
     /* a trimesh's triangles this step (triangles.c): 9 world coordinates
      * and 3 edge flags (1: the surface turns convexly there, or ends) each,
      * and the edges for matching neighbours */

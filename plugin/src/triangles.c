@@ -27,6 +27,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "dcloth_internal.h"
+#include "polytope.h"
 
 /* EPA's tolerance, of the thickness, for a triangle within its shell (the
  * loose one, 1e-3, serves to detect moving triangles). Measured with the
@@ -39,6 +40,9 @@
 #define EPA_FINE 1e-6
 /* gaps this close, of the thickness, tie: rounding, far below EPA_FINE */
 #define TIE 1e-9
+/* gaps this close, of the thickness, tie for merging mirror-image contacts: far above the rounding a
+ * symmetric scene's solves accumulate, far below a contact's own scale */
+#define MERGE_TIE 1e-6
 /* a triangle moving less than this, of the thickness, per step is at rest */
 #define SWEEP_NEGLIGIBLE 1e-3
 
@@ -212,7 +216,18 @@ typedef struct convex_query {
     const struct dcloth_surf *surf; /* the geom's mu and thickness this step */
     int moving;       /* the geom moves more than SWEEP_NEGLIGIBLE per step */
     int cls;          /* the geom's class (dTriMeshClass: face is set) */
+    const dcloth_polytope *poly; /* the shape as a polytope (an exact box), or NULL */
 } convex_query;
+
+/* Triangle ts into q's shape, as ccdGJKPenetration answers (0: they overlap): by separating axes on a
+ * polytope where a face decides it (polytope.c), else by libccd with ccd's tolerance */
+static int penetration(const convex_query *q, const tri_shape *ts, const ccd_t *ccd, ccd_real_t *depth,
+                       ccd_vec3_t *dir, ccd_vec3_t *pos)
+{
+    int r = q->poly ? dcloth_polytope_query(q->poly, ts->v, ts->radius, depth, dir->v, pos->v) : 0;
+    if (r) return r > 0 ? 0 : -1;
+    return ccdGJKPenetration(q->shape, ts, ccd, depth, dir, pos);
+}
 
 /* A triangle ahead of a geom takes the plane of the face it faces as each
  * vertex's (triangle_query), where its normal is within acos(AHEAD_PARALLEL)
@@ -326,6 +341,32 @@ static int face_plane(const convex_query *q, const double n[3], double face[3], 
     return 1;
 }
 
+/* Another triangle's contact with the same geom tying with this one (gap, n at point pt, body velocity vb)
+ * to rounding, mirror images at a vertex on the cloth's line of symmetry, is merged with it, not chosen by
+ * the order of the tests: held along the normals' bisector by that gap (never past either plane), by the
+ * triangle whose point weighs the vertex most. */
+static int merge_tie(dClothID c, const convex_query *q, vcontact *vc, int k, const double n[3], double gap,
+                     const double pt[3], const double vb[3], double w)
+{
+    if (!q->poly || !vc->geom || vc->geom != q->g || !vc->from_triangle || vc->tri < 0) return 0;
+    if (!(fabs(vc->gap - gap) <= MERGE_TIE * q->surf->thickness)) return 0;
+    double m[3] = {vc->normal[0] + n[0], vc->normal[1] + n[1], vc->normal[2] + n[2]}, ml = sqrt(dcloth_dot3(m, m));
+    double cs = ml > 0.0 ? dcloth_dot3(m, n) / ml : 0.0;
+    if (!(cs > 0.5)) return 0; /* normals apart by more than 120 degrees: no corner to hold at */
+    for (int r = 0; r < 3; r++) {
+        vc->normal[r] = m[r] / ml;
+        vc->point[r] = 0.5 * (vc->point[r] + pt[r]);
+        vc->vbody[r] = 0.5 * (vc->vbody[r] + vb[r]);
+    }
+    vc->gap = 0.5 * (vc->gap + gap);
+    if (w > vc->weight + TIE) { /* the triangle whose point weighs the vertex most carries it */
+        vc->weight = w;
+        vc->tri = k;
+        vc->query = c->tri_query;
+    }
+    return 1;
+}
+
 /* Offers vertex i of cloth triangle k, in this query (c->tri_query), the
  * contact along n with gap, on the plane n . x = plane, kept where deeper than
  * what it has. pos: the contact point; w: its barycentric weight on i. */
@@ -336,6 +377,14 @@ static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, 
     const double *xv = cloth_positions(c->core) + 3 * (size_t)i;
     /* only deeper than the vertex's own contact, with no rounding margin */
     dcloth_offer_opposite(vc, q->g, q->body, n, gap, pos->v);
+    double height = dcloth_dot3(n, xv) - plane, pt[3], vb[3] = {0.0, 0.0, 0.0};
+    for (int r = 0; r < 3; r++) pt[r] = xv[r] - height * n[r];
+    if (q->body) {
+        dVector3 pv;
+        dBodyGetPointVel(q->body, pos->v[0], pos->v[1], pos->v[2], pv);
+        for (int r = 0; r < 3; r++) vb[r] = pv[r];
+    }
+    if (merge_tie(c, q, vc, k, n, gap, pt, vb, w)) return;
     if (vc->geom && vc->gap <= gap) return;
     /* on a face's own plane, a vertex's own contact with the geom is the
      * same plane: kept where they tie to rounding */
@@ -343,22 +392,16 @@ static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, 
     /* the point reported (and pushed at while asleep): under the vertex
      * on the geom's face (support) where measured, else on the plane
      * through EPA's point, which may be any point of the overlap */
-    double height = dcloth_dot3(n, xv) - plane;
     vc->geom = q->g;
     vc->thickness = q->surf->thickness;
     vc->mu = q->surf->mu;
     vc->body = q->body;
     for (int r = 0; r < 3; r++) {
         vc->normal[r] = n[r];
-        vc->point[r] = xv[r] - height * n[r];
-        vc->vbody[r] = 0.0;
+        vc->point[r] = pt[r];
+        vc->vbody[r] = vb[r];
     }
     vc->gap = gap;
-    if (q->body) {
-        dVector3 pv;
-        dBodyGetPointVel(q->body, pos->v[0], pos->v[1], pos->v[2], pv);
-        for (int r = 0; r < 3; r++) vc->vbody[r] = pv[r];
-    }
     vc->from_triangle = 1;
     vc->tri = k;
     vc->query = c->tri_query;
@@ -406,7 +449,7 @@ static int triangle_query(dClothID c, const convex_query *q, int k, double h, cc
     int swept = reach > SWEEP_NEGLIGIBLE * t;
     ccd_real_t depth;
     ccd_vec3_t dir, pos;
-    if (ccdGJKPenetration(q->shape, &ts, swept ? ccd : fine, &depth, &dir, &pos) != 0) return 0;
+    if (penetration(q, &ts, swept ? ccd : fine, &depth, &dir, &pos) != 0) return 0;
     if (!(depth > 0.0) || !isfinite(depth)) return 0;
     /* the triangle's distance beyond the thickness, as a vertex gap */
     double lift = depth - (ts.radius - t);
@@ -429,7 +472,7 @@ static int triangle_query(dClothID c, const convex_query *q, int k, double h, cc
         shell.radius = shell_r;
         ccd_real_t d2;
         ccd_vec3_t dir2, pos2;
-        if (ccdGJKPenetration(q->shape, &shell, fine, &d2, &dir2, &pos2) == 0 && d2 > 0.0 && isfinite(d2)) {
+        if (penetration(q, &shell, fine, &d2, &dir2, &pos2) == 0 && d2 > 0.0 && isfinite(d2)) {
             lift = d2 - (shell_r - t);
             dir = dir2;
             pos = pos2;
@@ -444,7 +487,7 @@ static int triangle_query(dClothID c, const convex_query *q, int k, double h, cc
              * triangles, with this 3.4 mm (plugin_colliders) */
             ccd_real_t d2;
             ccd_vec3_t dir2, pos2;
-            if (ccdGJKPenetration(q->shape, &ts, fine, &d2, &dir2, &pos2) == 0 && d2 > 0.0 && isfinite(d2)) {
+            if (penetration(q, &ts, fine, &d2, &dir2, &pos2) == 0 && d2 > 0.0 && isfinite(d2)) {
                 lift = d2 - (ts.radius - t);
                 dir = dir2;
                 pos = pos2;
@@ -870,6 +913,13 @@ int dcloth_triangle_contacts(dClothID c, const struct dcloth_surf *sf, double h)
     convex_query q = {.shape = &gs, .support = geom_support, .center = geom_center, .g = g, .body = dGeomGetBody(g), .surf = sf};
     q.moving = dcloth_geom_speed(g) * h > SWEEP_NEGLIGIBLE * t; /* not ODE's jitter of a body at rest */
     q.cls = gs.cls;
+    dcloth_polytope box;
+    if (gs.cls == dBoxClass && dcloth_geom_list_has(&c->tri_exact, g)) {
+        const dReal *o = dGeomGetPosition(g);
+        double oc[3] = {o[0], o[1], o[2]};
+        dcloth_polytope_box(&box, oc, dGeomGetRotation(g), gs.half);
+        q.poly = &box;
+    }
     if (gs.cls == dTriMeshClass) return mesh_contacts(c, &q, h, &ccd, &fine);
     dReal aabb[6];
     dGeomGetAABB(g, aabb);

@@ -1,0 +1,128 @@
+/* Plugin: a cloth triangle against a box by separating axes (plugin/src/polytope.c), the geometry of
+ * dClothSetExactTriangleTests. Triangles of 1-6 cm placed at random (fixed seed) within 2 cm of a 60 x 40 x
+ * 20 cm box, grown by r = 2 cm. For each the query answers, asserted:
+ *   - n is a unit vector; the triangle moved by depth along n touches: by 1e-9 m more it is apart, by 1e-6
+ *     m less it overlaps by 1e-6 m (to 1e-12);
+ *   - apart from the box, its distance r - depth equals the least over a barycentric grid of M steps of each
+ *     point's distance to the box (closed form), d_grid: d_grid - D / M <= r - depth <= d_grid + 1e-12, D the
+ *     triangle's diameter (the distance is 1-Lipschitz);
+ *   - the mirror image (x and y swapped, of a box with equal x and y sides) gives the mirror image: depth to
+ *     1e-15 m, n to 1e-12.
+ * And the queries that leave the answer to EPA (0) are fewer than a tenth. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "../plugin/src/polytope.h"
+#include "check.h"
+
+#define M 120
+
+static const double HB[3] = {0.3, 0.2, 0.1}, SQ[3] = {0.3, 0.3, 0.1};
+
+static double rnd(unsigned long long *s)
+{
+    *s = *s * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(*s >> 11) / 9007199254740992.0;
+}
+
+/* distance from p to the box of half sides h at the origin */
+static double box_distance(const double h[3], const double p[3])
+{
+    double s = 0.0;
+    for (int k = 0; k < 3; k++) {
+        double e = fabs(p[k]) - h[k];
+        if (e > 0.0) s += e * e;
+    }
+    return sqrt(s);
+}
+
+static int query(const dcloth_polytope *P, double v[3][3], double r, double *depth, double n[3])
+{
+    const double *t[3] = {v[0], v[1], v[2]};
+    double pos[3];
+    return dcloth_polytope_query(P, t, r, depth, n, pos);
+}
+
+static void moved(double v[3][3], const double n[3], double s, double o[3][3])
+{
+    for (int a = 0; a < 3; a++)
+        for (int k = 0; k < 3; k++) o[a][k] = v[a][k] + s * n[k];
+}
+
+int main(void)
+{
+    const double R[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, o[3] = {0, 0, 0}, r = 0.02;
+    dcloth_polytope box, sq;
+    dcloth_polytope_box(&box, o, R, HB);
+    dcloth_polytope_box(&sq, o, R, SQ);
+    unsigned long long seed = 18;
+    int answered = 0, undecided = 0, apart = 0, distances = 0;
+    double worst_touch = 0.0, worst_mirror = 0.0;
+    for (int it = 0; it < 3000; it++) {
+        double v[3][3], c[3], s = 0.01 + 0.05 * rnd(&seed);
+        int face = (int)(3 * rnd(&seed)), sign = rnd(&seed) < 0.5 ? -1 : 1;
+        const double *h = it % 2 ? SQ : HB;
+        for (int k = 0; k < 3; k++) c[k] = (2 * rnd(&seed) - 1) * (h[k] + 0.02);
+        c[face] = sign * (h[face] + 0.02 * (2 * rnd(&seed) - 1));
+        for (int a = 0; a < 3; a++)
+            for (int k = 0; k < 3; k++) v[a][k] = c[k] + s * (2 * rnd(&seed) - 1);
+        const dcloth_polytope *P = it % 2 ? &sq : &box;
+        double depth, n[3];
+        int q = query(P, v, r, &depth, n);
+        if (q < 0) {
+            apart++;
+            continue;
+        }
+        if (q == 0) {
+            undecided++;
+            continue;
+        }
+        answered++;
+        CHECK(fabs(n[0] * n[0] + n[1] * n[1] + n[2] * n[2] - 1.0) < 1e-12, "triangle %d: |n| = %.17g", it,
+              sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]));
+        double w[3][3], d2, n2[3];
+        moved(v, n, depth + 1e-9, w);
+        int q2 = query(P, w, r, &d2, n2);
+        CHECK(q2 < 0 || (q2 == 0) || d2 <= 1e-12, "triangle %d: moved by depth + 1e-9 it still overlaps by %.3g", it,
+              d2);
+        moved(v, n, depth - 1e-6, w);
+        if (query(P, w, r, &d2, n2) > 0) worst_touch = fmax(worst_touch, fabs(d2 - 1e-6));
+        if (depth < r) { /* apart: the distance against the grid's */
+            double best = INFINITY, diam = 0.0;
+            for (int a = 0; a < 3; a++) {
+                double e[3] = {v[(a + 1) % 3][0] - v[a][0], v[(a + 1) % 3][1] - v[a][1], v[(a + 1) % 3][2] - v[a][2]};
+                diam = fmax(diam, sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]));
+            }
+            for (int i = 0; i <= M; i++)
+                for (int j = 0; i + j <= M; j++) {
+                    double p[3];
+                    for (int k = 0; k < 3; k++)
+                        p[k] = v[0][k] + i * (v[1][k] - v[0][k]) / M + j * (v[2][k] - v[0][k]) / M;
+                    best = fmin(best, box_distance(h, p));
+                }
+            if (best > 0.0) {
+                distances++;
+                double dist = r - depth;
+                CHECK(dist <= best + 1e-12 && dist >= best - diam / M,
+                      "triangle %d: distance %.9g, the grid's %.9g (spacing %.3g)", it, dist, best, diam / M);
+            }
+        }
+        if (P == &sq) { /* the mirror image x <-> y */
+            double m[3][3], dm, nm[3];
+            for (int a = 0; a < 3; a++) m[a][0] = v[a][1], m[a][1] = v[a][0], m[a][2] = v[a][2];
+            if (CHECK(query(P, m, r, &dm, nm) == 1, "triangle %d: its mirror image not answered alike", it)) {
+                CHECK(fabs(dm - depth) <= 1e-15, "triangle %d: mirror depth %.17g, %.17g", it, dm, depth);
+                double e = fabs(nm[0] - n[1]) + fabs(nm[1] - n[0]) + fabs(nm[2] - n[2]);
+                worst_mirror = fmax(worst_mirror, e);
+                CHECK(e <= 1e-12, "triangle %d: mirror normal off by %.3g", it, e);
+            }
+        }
+    }
+    printf("3000 triangles: %d answered (%d distances against the grid), %d apart, %d left to EPA; moved by depth "
+           "- 1e-6 m the overlap is 1e-6 m to %.2e; mirror normals to %.2e\n",
+           answered, distances, apart, undecided, worst_touch, worst_mirror);
+    CHECK(worst_touch <= 1e-12, "the overlap after moving by depth - 1e-6 m is off by %.3g", worst_touch);
+    CHECK(undecided * 10 < answered, "%d of %d left to EPA", undecided, answered + undecided);
+    CHECK(distances > 100, "only %d distances checked", distances);
+    return check_summary();
+}
