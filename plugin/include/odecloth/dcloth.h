@@ -257,8 +257,8 @@ ODECLOTH_API int dClothGetTriangleTests(dClothID c, dGeomID g);
  * default): the contact's plane and point from the box's or the triangle's face where one decides them,
  * the nearest points elsewhere, and contacts that tie at a vertex merged, so a scene that is its own mirror
  * image stays one to rounding (docs/contacts.md). Other classes are refused. Disable it before destroying g. */
-cloth_status dClothSetExactTriangleTests(dClothID c, dGeomID g, int enable);
-int dClothGetExactTriangleTests(dClothID c, dGeomID g);
+ODECLOTH_API cloth_status dClothSetExactTriangleTests(dClothID c, dGeomID g, int enable);
+ODECLOTH_API int dClothGetExactTriangleTests(dClothID c, dGeomID g);
 
 /* Link tests for a box, trimesh or convex (points handed over) g whose triangle tests are off, on (the
  * default) or off (vertex contacts only): a link nearing an edge holds its ends on the plane through it
