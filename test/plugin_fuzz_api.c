@@ -192,7 +192,7 @@ static void descriptors(scene *s)
         d.cloth.origin[2] = 0.8;
         int nf = 1 + (int)(rng_u64(&g) % 3);
         for (int q = 0; q < nf; q++) {
-            switch (rng_u64(&g) % 12) {
+            switch (rng_u64(&g) % 14) {
             case 0: d.thickness = thick(&g); break;
             case 1: d.mu = xd(&g); break;
             case 2: d.category_bits = (unsigned long)rng_u64(&g); break;
@@ -204,6 +204,8 @@ static void descriptors(scene *s)
             case 8: d.cloth.material.k_t = xd(&g); break;
             case 9: d.cloth.material.density = xd(&g); break;
             case 10: d.cloth.gravity[2] = xd(&g); break;
+            case 11: d.cloth.material.tension_yield = xd(&g); break;
+            case 12: d.cloth.material.tension_set = xd(&g); break;
             default: d.cloth.solver.cg_tolerance = xd(&g); break;
             }
         }

@@ -86,10 +86,11 @@ static const dfield desc_doubles[] = {
     DF(gravity[2]), DF(material.k_t), DF(material.k_c), DF(material.k_b), DF(material.k_s),
     DF(material.alpha), DF(material.delta), DF(material.k_delta), DF(material.c_t), DF(material.c_b),
     DF(material.density), DF(material.tau_set), DF(material.tau_recover), DF(material.set_hardening),
+    DF(material.tension_yield), DF(material.tension_set),
     DF(solver.cg_tolerance), DF(solver.strain_fail),
 };
 #define NDESC_DOUBLES (sizeof desc_doubles / sizeof desc_doubles[0])
-#define NMATERIAL_DOUBLES 13 /* the material.* entries, in order, from index 14 */
+#define NMATERIAL_DOUBLES 15 /* the material.* entries, in order, from index 14 */
 #define MATERIAL_FIRST 14
 
 /* material fields by offset within cloth_material */
@@ -106,14 +107,14 @@ static void check_create(void)
     const char *nf_name[3] = {"NaN", "inf", "-inf"};
 
     /* sanity: the table covers every double of the desc, and the default is valid */
-    /* ten doubles, the one int plastic_memory (checked by BAD below), three doubles */
+    /* ten doubles, the one int plastic_memory (checked by BAD below), five doubles */
     CHECK(offsetof(cloth_material, plastic_memory) == 10 * sizeof(double) &&
               offsetof(cloth_material, tau_set) == 11 * sizeof(double) &&
               sizeof(cloth_material) == (NMATERIAL_DOUBLES + 1) * sizeof(double),
           "cloth_material has fields this test misses");
     CHECK(strcmp(desc_doubles[MATERIAL_FIRST].name, "material.k_t") == 0 &&
               strcmp(desc_doubles[MATERIAL_FIRST + 9].name, "material.density") == 0 &&
-              strcmp(desc_doubles[MATERIAL_FIRST + NMATERIAL_DOUBLES - 1].name, "material.set_hardening") == 0 &&
+              strcmp(desc_doubles[MATERIAL_FIRST + NMATERIAL_DOUBLES - 1].name, "material.tension_set") == 0 &&
               strcmp(desc_doubles[MATERIAL_FIRST + NMATERIAL_DOUBLES].name, "solver.cg_tolerance") == 0,
           "table order");
     CHECK(cloth_desc_validate(&d0, NULL) == CLOTH_OK, "the default desc is invalid");
@@ -175,6 +176,10 @@ static void check_create(void)
     BAD(d.material.alpha = 1.01, "alpha 1.01");
     BAD(d.material.set_hardening = 1.01, "set_hardening 1.01");
     BAD(d.material.tau_set = -1e-9, "tau_set -1e-9");
+    BAD(d.material.tension_yield = d.material.delta * (1.0 + 1e-12), "tension_yield above delta");
+    BAD(d.material.tension_yield = -1e-300, "tension_yield -1e-300");
+    BAD(d.material.tension_set = 1.0 + 1e-12, "tension_set above 1");
+    BAD(d.material.tension_set = -1e-9, "tension_set -1e-9");
     BAD(d.material.plastic_memory = -1, "plastic_memory -1");
     BAD(d.material.plastic_memory = 2, "plastic_memory 2");
     BAD(d.material.plastic_memory = INT_MAX, "plastic_memory INT_MAX");

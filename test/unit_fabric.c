@@ -46,10 +46,11 @@ static void check_fields(void)
 {
     static const char *names[] = {"tensile",     "bending",        "density", "compression", "alpha",
                                   "spreading",   "delta",          "k_delta", "tau_tension", "tau_bending",
-                                  "bend_curvature", "tau_set",     "tau_recover", "set_hardening"};
-    static const int positive[] = {1, 1, 1, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0};
+                                  "bend_curvature", "tau_set",     "tau_recover", "set_hardening",
+                                  "tension_yield",  "tension_set"};
+    static const int positive[] = {1, 1, 1, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0};
     const cloth_fabric base = cloth_fabric_preset(CLOTH_FABRIC_COTTON);
-    for (int k = 0; k < 14; k++) {
+    for (int k = 0; k < 16; k++) {
         const double bad[] = {NAN, INFINITY, -INFINITY, -1.0, -1e-300, 0.0};
         for (int b = 0; b < 6; b++) {
             if (bad[b] == 0.0 && !positive[k]) continue;
@@ -66,7 +67,7 @@ static void check_fields(void)
     }
     /* the field order the loop above assumes */
     CHECK(offsetof(cloth_fabric, bend_curvature) == 10 * sizeof(double) &&
-              sizeof(cloth_fabric) == 14 * sizeof(double),
+              sizeof(cloth_fabric) == 16 * sizeof(double),
           "cloth_fabric layout");
     cloth_fabric f = base;
     f.alpha = 1.0 + 1e-12;
@@ -74,6 +75,19 @@ static void check_fields(void)
     f = base;
     f.set_hardening = 1.0 + 1e-12;
     refused(&f, 0.01, 0.01, "fabric.set_hardening", "set_hardening above 1");
+    f = base;
+    f.tension_yield = f.delta * (1.0 + 1e-12);
+    refused(&f, 0.01, 0.01, "fabric.tension_yield", "tension_yield above delta");
+    f = base;
+    f.tension_set = 1.0 + 1e-12;
+    refused(&f, 0.01, 0.01, "fabric.tension_set", "tension_set above 1");
+    /* the tension plasticity passes through, the yield at delta included */
+    f = base;
+    f.tension_yield = f.delta, f.tension_set = 1.0;
+    cloth_material mtp;
+    CHECK(cloth_fabric_material(&f, 0.01, 0.01, &mtp, NULL) == CLOTH_OK && mtp.tension_yield == f.delta &&
+              mtp.tension_set == 1.0,
+          "tension_yield, tension_set pass through");
     /* the time-dependent plastic law passes through */
     f = base;
     f.tau_set = 2.0, f.tau_recover = 20.0, f.set_hardening = 1.0;
@@ -84,7 +98,7 @@ static void check_fields(void)
     /* zero where zero has a meaning */
     f = base;
     f.alpha = f.spreading = f.k_delta = f.tau_tension = f.tau_bending = f.bend_curvature = 0.0;
-    f.tau_set = f.tau_recover = f.set_hardening = 0.0;
+    f.tau_set = f.tau_recover = f.set_hardening = f.tension_yield = f.tension_set = 0.0;
     cloth_material m;
     CHECK(cloth_fabric_material(&f, 0.01, 0.01, &m, NULL) == CLOTH_OK, "zeros that mean something");
 }

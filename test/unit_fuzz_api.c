@@ -71,7 +71,8 @@ static void perturb(rng *g, cloth_desc *d, int f)
                      &d->material.c_t, &d->material.c_b, &d->material.density, &d->solver.cg_tolerance,
                      &d->solver.strain_fail, &d->solver.newton_tolerance, &d->solver.newton_rtol, &d->solver.limit_tolerance,
                      &d->solver.newton_cg_tolerance, &d->solver.newton_cg_share, &d->material.tau_set,
-                     &d->material.tau_recover, &d->material.set_hardening};
+                     &d->material.tau_recover, &d->material.set_hardening, &d->material.tension_yield,
+                     &d->material.tension_set};
     int nd = (int)(sizeof dbl / sizeof dbl[0]);
     if (f < nd) {
         *dbl[f] = xd(g);
@@ -94,7 +95,7 @@ static void perturb(rng *g, cloth_desc *d, int f)
     default: d->solver.definiteness_rule = v; break;
     }
 }
-#define NFIELDS 45 /* the 34 doubles above, then the switch's 11 cases (the last its default) */
+#define NFIELDS 47 /* the 36 doubles above, then the switch's 11 cases (the last its default) */
 
 /* The created cloth is sound: masses, positions, rest lengths. */
 static void check_model(const cloth *c, const char *what)

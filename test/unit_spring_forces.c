@@ -81,13 +81,13 @@ static void make_case(rng *r, const cloth_material *m, int region, link_case *lc
     lc->lim = HUGE_VAL;
     switch (region) {
     case SEQ_TENSION: /* below the elongation limit */
-        lc->law = seq_law(m, l0);
+        lc->law = seq_law(m, l0, 0.0);
         lc->k = m->k_t;
         lc->rest = l0;
         ratio = rng_range(r, 1.001, 1.0 + 0.99 * m->delta);
         break;
     case SEQ_PAST_LIMIT:
-        lc->law = seq_law(m, l0);
+        lc->law = seq_law(m, l0, 0.0);
         lc->k = m->k_t;
         lc->rest = l0;
         lc->past = 1;
@@ -96,7 +96,7 @@ static void make_case(rng *r, const cloth_material *m, int region, link_case *lc
         ratio = rng_range(r, 1.0 + 1.01 * m->delta, 1.5);
         break;
     case SEQ_COMPRESSION:
-        lc->law = seq_law(m, l0);
+        lc->law = seq_law(m, l0, 0.0);
         lc->k = m->k_c;
         lc->rest = l0;
         ratio = rng_range(r, 0.2, 0.99);
@@ -138,7 +138,7 @@ static void make_case(rng *r, const cloth_material *m, int region, link_case *lc
 
 static void check_laws(const cloth_material *m)
 {
-    spring_law s = seq_law(m, 0.25);
+    spring_law s = seq_law(m, 0.25, 0.0);
     CHECK(s.k_hi == m->k_t && s.k_lo == m->k_c && s.rest == 0.25,
           "seq_law = (%g, %g, %g), want (k_t %g, k_c %g, l0 0.25)", s.k_hi, s.k_lo, s.rest, m->k_t, m->k_c);
     /* the limit term: k_delta k_t = 37 * 3100 past (1 + 0.07) l0 */
@@ -167,7 +167,7 @@ static void check_limit_continuity(const cloth_material *m)
     double worst_e = 0.0, worst_f = 0.0;
     for (int t = 0; t < 50; t++) {
         double l0 = rng_range(&r, 0.05, 1.0), u[3], xi[3], xlo[3], xhi[3], flo[3], fhi[3];
-        spring_law s = seq_law(m, l0);
+        spring_law s = seq_law(m, l0, 0.0);
         double lim = (1.0 + m->delta) * l0, klim = m->k_delta * m->k_t;
         double dlo = lim * (1.0 - 1e-9), dhi = lim * (1.0 + 1e-9);
         rng_unit_vector(&r, u);

@@ -126,16 +126,16 @@ static void make_case(rng *r, const cloth_material *m, int region, double squeez
     lc->lim = HUGE_VAL;
     switch (region) {
     case SEQ_TENSION: /* below the elongation limit */
-        lc->law = seq_law(m, l0), lc->k = m->k_t, lc->rest = l0;
+        lc->law = seq_law(m, l0, 0.0), lc->k = m->k_t, lc->rest = l0;
         d = l0 * rng_range(r, 1.001, 1.0 + 0.99 * m->delta);
         break;
     case SEQ_PAST_LIMIT:
-        lc->law = seq_law(m, l0), lc->k = m->k_t, lc->rest = l0;
+        lc->law = seq_law(m, l0, 0.0), lc->k = m->k_t, lc->rest = l0;
         lc->klim = m->k_delta * m->k_t, lc->lim = (1.0 + m->delta) * l0;
         d = l0 * rng_range(r, 1.0 + 1.01 * m->delta, 1.5);
         break;
     case SEQ_COMPRESSION:
-        lc->law = seq_law(m, l0), lc->k = m->k_c, lc->rest = l0;
+        lc->law = seq_law(m, l0, 0.0), lc->k = m->k_c, lc->rest = l0;
         d = l0 * rng_range(r, squeeze_lo, 0.99);
         break;
     case INT_ELASTIC_STRETCH:
@@ -371,7 +371,7 @@ static void check_cloth_gradient(void)
                 cloth_link L;
                 spring_law law;
                 cloth_get_link(c, ty, k, &L);
-                law = t ? int_law(&cd.material, L.rest, L.plastic, L.l1) : seq_law(&cd.material, L.rest);
+                law = t ? int_law(&cd.material, L.rest, L.plastic, L.l1) : seq_law(&cd.material, L.rest, 0.0);
                 e_sum += spring_energy(x0 + 3 * L.i, x0 + 3 * L.j, law);
                 if (!t) {
                     double dd[3] = {x0[3 * L.j] - x0[3 * L.i], x0[3 * L.j + 1] - x0[3 * L.i + 1],
@@ -497,7 +497,7 @@ static void check_predicted_links(const cloth_material *m)
  * the energy and force are unchanged */
 static void check_slack_stiffen(const cloth_material *m)
 {
-    spring_law s = seq_law(m, 0.1);
+    spring_law s = seq_law(m, 0.1, 0.0);
     const double xi[3] = {0.01, -0.02, 0.03}, dir[3] = {0.6, 0.0, 0.8}, u0[3] = {0.0, 0.6, 0.8};
     for (int taut = 0; taut < 2; taut++) {
         double len = taut ? 0.1 : 0.097, xj[3], K0[9], K[9], f0[3], f[3], w = 0.1;

@@ -2,27 +2,31 @@
  * versions).
  *
  * 1. Layout, checked against the documented offsets by hand-decoding here:
- *    magic, version 3, n, m, has_prev, h_prev, x[0], v of the last vertex,
- *    the last plastic flag; the size is 32 + 8 (15 n + 2 m + q) + 2 m + 8
- *    (q sequential links: the elongation limit's multipliers; per
- *    interlaced link its permanent set and bent flag); the checksum is
- *    FNV-1a 64 of the rest (computed here independently).
+ *    magic, version 4, n, m, has_prev, h_prev, x[0], v of the last vertex,
+ *    the last plastic flag, the last tension set; the size is
+ *    32 + 8 (15 n + 2 m + 2 q) + 2 m + 8 (q sequential links: the
+ *    elongation limit's multipliers and tension sets; per interlaced link its
+ *    permanent set and bent flag); the checksum is FNV-1a 64 of the rest
+ *    (computed here independently).
  * 2. Round trip: a 9 x 7 cloth hung for 40 steps (BDF2, so the history and
  *    warm start are non-trivial, and creased so some links are plastic):
  *    save, write, read into a fresh state: cloth_state_diff 0; written again,
  *    the bytes are identical. Through a tmpfile() too. Restoring the read
  *    state into a second cloth and stepping both 20 steps gives bitwise the
- *    same positions (the file keeps everything the step depends on).
+ *    same positions (the file keeps everything the step depends on). The
+ *    scene has tension plasticity on, so some sequential links carry a set.
  * 3. Every damaged field is refused with a message naming it and the
  *    destination unchanged: short, long, magic, version, sizes, checksum,
  *    has_prev, h_prev (NaN, negative, 0 with history), a NaN / inf in each
  *    array, l1 <= 0, a plastic flag 2, a multiplier negative or NaN, a
- *    permanent set outside [0, 1), a bent flag 2 (each
+ *    permanent set outside [0, 1), a bent flag 2, a tension set negative,
+ *    NaN or inf (each
  *    with the checksum made right, so the field check itself is what
  *    refuses), NULL arguments, a small buffer.
- * 4. Version 1 (no multipliers) and 2 (no permanent sets, bent flags)
- *    records still read, as the same state with those 0, into a state that
- *    held nonzero permanent sets and bent flags.
+ * 4. Version 1 (no multipliers), 2 (no permanent sets, bent flags) and 3
+ *    (no tension sets) records still read, as the same state with those 0,
+ *    into a state that held nonzero permanent sets, bent flags and tension
+ *    sets.
  * 5. Newton's multipliers travel: a Newton-stepped cloth pulled past its
  *    limit (multipliers not all zero in the record) restored from a record
  *    into a new cloth steps on bitwise as the uninterrupted run.
@@ -81,7 +85,9 @@ static cloth *scene(void)
     d.rows = 9;
     d.cols = 7;
     d.solver.method = CLOTH_BDF2;
-    d.material.alpha = 0.99; /* creases early */
+    d.material.alpha = 0.99;          /* creases early */
+    d.material.tension_yield = 1e-4; /* the links at the pins stretch past it */
+    d.material.tension_set = 0.5;
     cloth *c = NULL;
     cloth_error err;
     if (!CHECK(cloth_create(&d, &c, &err) == CLOTH_OK, "create: %s", err.message)) return NULL;
@@ -92,45 +98,57 @@ static cloth *scene(void)
     return c;
 }
 
-/* buf (len bytes, m interlaced links) with every permanent set made perm
- * and every bent flag bent, resealed, read into s */
-static void read_with_perm(cloth_state *s, const unsigned char *buf, size_t len, size_t m, double perm,
-                           unsigned char bent)
+/* a copy of buf (len bytes, m interlaced, q sequential links) with every permanent set made perm, every
+ * bent flag bent and every tension set perm, resealed (NULL on no memory) */
+static unsigned char *with_perm(const unsigned char *buf, size_t len, size_t m, size_t q, double perm,
+                                unsigned char bent)
 {
     unsigned char *rec = malloc(len);
-    if (!CHECK(rec != NULL, "no memory")) return;
+    if (!CHECK(rec != NULL, "no memory")) return NULL;
     memcpy(rec, buf, len);
+    size_t end = len - 8 - 8 * q; /* where the tension sets start */
     for (size_t e = 0; e < m; e++) {
-        set_f64(rec + len - 8 - 9 * m + 8 * e, perm);
-        rec[len - 8 - m + e] = bent;
+        set_f64(rec + end - 9 * m + 8 * e, perm);
+        rec[end - m + e] = bent;
     }
+    for (size_t e = 0; e < q; e++) set_f64(rec + end + 8 * e, perm);
     reseal(rec, len);
+    return rec;
+}
+
+/* with_perm's record read into s */
+static void read_with_perm(cloth_state *s, const unsigned char *buf, size_t len, size_t m, size_t q, double perm,
+                           unsigned char bent)
+{
+    unsigned char *rec = with_perm(buf, len, m, q, perm, bent);
     cloth_error err;
-    CHECK(cloth_state_read(s, rec, len, &err) == CLOTH_OK, "a record with perm %g, bent %u: %s", perm, bent,
+    CHECK(rec && cloth_state_read(s, rec, len, &err) == CLOTH_OK, "a record with perm %g, bent %u: %s", perm, bent,
           err.message);
     free(rec);
 }
 
-/* 4: buf (len bytes, q multipliers, m interlaced links) made a version 1
- * or 2 record reads into sr, which held nonzero permanent sets and bent
- * flags, as the same state with those zero (s0) */
+/* 4: buf (len bytes, q multipliers, m interlaced links) made a version 1,
+ * 2 or 3 record reads into sr, which held nonzero permanent sets, bent
+ * flags and tension sets, as the same state with those zero (s0) */
 static void older_version(cloth_state *s0, cloth_state *sr, const unsigned char *buf, size_t len, size_t q,
                           size_t m)
 {
-    read_with_perm(s0, buf, len, m, 0.0, 0);
-    for (unsigned char v = 1; v <= 2; v++) {
-        read_with_perm(sr, buf, len, m, 0.25, 1);
-        CHECK(cloth_state_diff(s0, sr) != 0.0, "the permanent sets and bent flags did not load");
-        size_t len1 = len - 9 * m - (v == 1 ? 8 * q : 0);
+    read_with_perm(s0, buf, len, m, q, 0.0, 0);
+    unsigned char *zero = with_perm(buf, len, m, q, 0.0, 0); /* a version 3 record keeps perm and bent */
+    for (unsigned char v = 1; zero && v <= 3; v++) {
+        read_with_perm(sr, buf, len, m, q, 0.25, 1);
+        CHECK(cloth_state_diff(s0, sr) != 0.0, "the permanent sets, bent flags and tension sets did not load");
+        size_t len1 = len - 8 * q - (v < 3 ? 9 * m : 0) - (v == 1 ? 8 * q : 0);
         unsigned char *old = malloc(len1);
-        memcpy(old, buf, len1 - 8);
+        memcpy(old, zero, len1 - 8);
         old[8] = v;
         reseal(old, len1);
         cloth_error err;
         CHECK(cloth_state_read(sr, old, len1, &err) == CLOTH_OK, "a version %u record refused: %s", v, err.message);
-        CHECK(cloth_state_diff(s0, sr) == 0.0, "a version %u record reads as another state (perm, bent not 0)", v);
+        CHECK(cloth_state_diff(s0, sr) == 0.0, "a version %u record reads as another state (sets, bent not 0)", v);
         free(old);
     }
+    free(zero);
 }
 
 /* 5: a Newton cloth whose links are held at the limit by its multipliers */
@@ -158,7 +176,7 @@ static void newton_multipliers(void)
     unsigned char *rec = malloc(len);
     cloth_state_write(st, rec, len, NULL, NULL);
     int nonzero = 0;
-    size_t tail = 9 * (size_t)cloth_link_count(a, CLOTH_INTERLACED); /* permanent sets, bent flags */
+    size_t tail = 9 * (size_t)cloth_link_count(a, CLOTH_INTERLACED) + 8 * q; /* permanent, tension sets, bent */
     for (size_t k = len - 8 - tail - 8 * q; k < len - 8 - tail; k++) nonzero += rec[k] != 0;
     CHECK(nonzero > 0, "the Newton scene's record has no multiplier: it does not test them");
     CHECK(cloth_state_read(rd, rec, len, NULL) == CLOTH_OK && cloth_restore(b, rd) == CLOTH_OK, "restore into b");
@@ -181,7 +199,8 @@ static void newton_multipliers(void)
 static void damaged(const cloth_state *sa, cloth_state *sr, const unsigned char *buf, unsigned char *bad, size_t len,
                     size_t n, size_t m, size_t q)
 {
-    const size_t tail = 9 * m; /* the permanent sets and bent flags, before the checksum */
+    const size_t tail = 9 * m; /* the permanent sets and bent flags, before the tension sets */
+    const size_t lend = len - 8 * q; /* the record's length without the tension sets */
     cloth_error err;
     struct {
         const char *what, *word;
@@ -190,7 +209,7 @@ static void damaged(const cloth_state *sa, cloth_state *sr, const unsigned char 
         double val;
     } dmg[] = {
         {"magic", "magic", 0, 1, 'X'},
-        {"version 4", "version", 8, 2, 4},
+        {"version 5", "version", 8, 2, 5},
         {"version 0", "version", 8, 2, 0},
         {"n + 1", "vertices", 12, 2, (double)n + 1},
         {"m - 1", "interlaced", 16, 2, (double)m - 1},
@@ -207,14 +226,17 @@ static void damaged(const cloth_state *sa, cloth_state *sr, const unsigned char 
         {"l1[last] = -1", "l1[", 32 + 8 * (15 * n + m - 1), 0, -1},
         {"l1[1] NaN", "l1[1]", 32 + 8 * (15 * n + 1), 0, NAN},
         {"plastic[0] = 2", "plastic[0]", 32 + 8 * (15 * n + m), 1, 2},
-        {"plastic[last] = 255", "plastic[", len - 9 - 8 * q - tail, 1, 255},
-        {"lim_shift[0] = -1e-9", "lim_shift[0]", len - 8 - 8 * q - tail, 0, -1e-9},
-        {"lim_shift[last] NaN", "lim_shift[", len - 16 - tail, 0, NAN},
-        {"perm[0] = 1", "perm[0]", len - 8 - tail, 0, 1.0},
-        {"perm[last] = -1e-300", "perm[", len - 16 - m, 0, -1e-300},
-        {"perm[1] NaN", "perm[1]", len - tail, 0, NAN},
-        {"bent[0] = 2", "bent[0]", len - 8 - m, 1, 2},
-        {"bent[last] = 255", "bent[", len - 9, 1, 255},
+        {"plastic[last] = 255", "plastic[", lend - 9 - 8 * q - tail, 1, 255},
+        {"lim_shift[0] = -1e-9", "lim_shift[0]", lend - 8 - 8 * q - tail, 0, -1e-9},
+        {"lim_shift[last] NaN", "lim_shift[", lend - 16 - tail, 0, NAN},
+        {"perm[0] = 1", "perm[0]", lend - 8 - tail, 0, 1.0},
+        {"perm[last] = -1e-300", "perm[", lend - 16 - m, 0, -1e-300},
+        {"perm[1] NaN", "perm[1]", lend - tail, 0, NAN},
+        {"bent[0] = 2", "bent[0]", lend - 8 - m, 1, 2},
+        {"bent[last] = 255", "bent[", lend - 9, 1, 255},
+        {"seq_set[0] = -1e-9", "seq_set[0]", lend - 8, 0, -1e-9},
+        {"seq_set[1] inf", "seq_set[1]", lend, 0, INFINITY},
+        {"seq_set[last] NaN", "seq_set[", len - 16, 0, NAN},
     };
     for (size_t k = 0; k < sizeof dmg / sizeof dmg[0]; k++)
         for (int sealed = 0; sealed < 2; sealed++) {
@@ -246,8 +268,8 @@ int main(void)
     cloth_state *sa = cloth_state_create(a), *sr = cloth_state_create(a);
     cloth_save(a, sa);
     size_t len = cloth_state_size_bytes(sa);
-    CHECK(len == 32 + 8 * (15 * (size_t)n + 2 * (size_t)m + (size_t)q) + 2 * (size_t)m + 8, "size %zu", len);
-    const size_t tail = 9 * (size_t)m; /* the permanent sets and bent flags, before the checksum */
+    CHECK(len == 32 + 8 * (15 * (size_t)n + 2 * (size_t)m + 2 * (size_t)q) + 2 * (size_t)m + 8, "size %zu", len);
+    const size_t tail = 9 * (size_t)m + 8 * (size_t)q; /* permanent sets, bent flags, tension sets */
     CHECK(cloth_state_size_bytes(NULL) == 0, "size of NULL");
     unsigned char *buf = malloc(len + 1), *buf2 = malloc(len + 1), *bad = malloc(len + 1);
     size_t wr = 0;
@@ -265,15 +287,26 @@ int main(void)
         nplastic += l.plastic;
     }
     CHECK(memcmp(buf, "ODCLSTAT", 8) == 0, "magic");
-    CHECK(le32(buf + 8) == 3 && le32(buf + 12) == (uint32_t)n && le32(buf + 16) == (uint32_t)m,
+    CHECK(le32(buf + 8) == 4 && le32(buf + 12) == (uint32_t)n && le32(buf + 16) == (uint32_t)m,
           "version %u n %u m %u", le32(buf + 8), le32(buf + 12), le32(buf + 16));
     CHECK(le32(buf + 20) == 1 && f64(buf + 24) == 1.0 / 60, "has_prev %u h_prev %g", le32(buf + 20), f64(buf + 24));
     CHECK(f64(buf + 32) == x[0], "x[0] %g vs %g", f64(buf + 32), x[0]);
     CHECK(f64(buf + 32 + 8 * (6 * (size_t)n - 1)) == v[3 * n - 1], "v[3n-1]");
     CHECK(buf[len - 9 - 8 * (size_t)q - tail] == lk.plastic, "last plastic flag");
+    cloth_link ls;
+    cloth_get_link(a, CLOTH_SEQUENTIAL, q - 1, &ls);
+    CHECK(ls.rest + f64(buf + len - 16) * ls.rest == ls.l1, "last tension set: %g", f64(buf + len - 16));
+    int nset = 0;
+    for (int e = 0; e < q; e++) {
+        cloth_link l;
+        cloth_get_link(a, CLOTH_SEQUENTIAL, e, &l);
+        nset += l.plastic;
+    }
     CHECK(le64(buf + len - 8) == fnv(buf, len - 8), "checksum");
-    printf("%d vertices, %d interlaced links (%d plastic): a record of %zu bytes\n", n, m, nplastic, len);
+    printf("%d vertices, %d interlaced links (%d plastic), %d sequential (%d set): a record of %zu bytes\n", n, m,
+           nplastic, q, nset, len);
     CHECK(nplastic > 0, "no plastic link: the scene does not test the flags");
+    CHECK(nset > 0, "no tension set: the scene does not test them");
 
     /* 2. round trips */
     CHECK(cloth_state_read(sr, buf, len, &err) == CLOTH_OK, "read: %s", err.message);

@@ -487,7 +487,12 @@ cloth_status cloth_get_link(const cloth *c, cloth_link_type t, int index, cloth_
     out->i = L->i;
     out->j = L->j;
     out->rest = L->rest;
-    out->plastic = t == CLOTH_INTERLACED ? c->st.plastic[index] : 0;
-    out->l1 = t == CLOTH_INTERLACED ? c->st.l1[index] : L->rest;
+    if (t == CLOTH_INTERLACED) {
+        out->plastic = c->st.plastic[index];
+        out->l1 = c->st.l1[index];
+    } else { /* the rest length the law uses: grown by its tension set */
+        out->plastic = c->st.seq_set[index] > 0.0;
+        out->l1 = seq_law(&c->desc.material, L->rest, c->st.seq_set[index]).rest;
+    }
     return CLOTH_OK;
 }

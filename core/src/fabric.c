@@ -21,6 +21,7 @@ cloth_status cloth_fabric_validate(const cloth_fabric *f, cloth_error *err)
         {"bend_curvature", f->bend_curvature, 0},
         {"tau_set", f->tau_set, 0},         {"tau_recover", f->tau_recover, 0},
         {"set_hardening", f->set_hardening, 0},
+        {"tension_yield", f->tension_yield, 0}, {"tension_set", f->tension_set, 0},
     };
     for (size_t k = 0; k < sizeof q / sizeof q[0]; k++) {
         if (!isfinite(q[k].v))
@@ -32,6 +33,11 @@ cloth_status cloth_fabric_validate(const cloth_fabric *f, cloth_error *err)
     if (f->alpha > 1.0) return error_set(err, CLOTH_EINVAL, "fabric.alpha = %g must be in [0, 1]", f->alpha);
     if (f->set_hardening > 1.0)
         return error_set(err, CLOTH_EINVAL, "fabric.set_hardening = %g must be in [0, 1]", f->set_hardening);
+    if (f->tension_yield > f->delta)
+        return error_set(err, CLOTH_EINVAL, "fabric.tension_yield = %g must be in [0, delta = %g]",
+                         f->tension_yield, f->delta);
+    if (f->tension_set > 1.0)
+        return error_set(err, CLOTH_EINVAL, "fabric.tension_set = %g must be in [0, 1]", f->tension_set);
     return CLOTH_OK;
 }
 
@@ -118,6 +124,8 @@ cloth_status cloth_fabric_material(const cloth_fabric *f, double dx, double dy, 
     m.tau_set = f->tau_set;
     m.tau_recover = f->tau_recover;
     m.set_hardening = f->set_hardening;
+    m.tension_yield = f->tension_yield;
+    m.tension_set = f->tension_set;
     /* a fabric and spacing of extreme scales can overflow or underflow */
     const struct { const char *name; double v; int positive; } r[] = {
         {"k_t", m.k_t, 1}, {"k_c", m.k_c, 1}, {"k_b", m.k_b, 1},

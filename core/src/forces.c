@@ -20,8 +20,8 @@ void forces_eval(const cloth *c, const double *x, const double *v, int with_grav
     double fe[3];
     for (int e = 0; e < c->n_seq; e++) {
         int i = c->seq[e].i, j = c->seq[e].j;
-        link_eval(x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, seq_law(m, c->seq[e].rest), m->c_t, 0, fe, NULL,
-                  NULL);
+        spring_law s = seq_law(m, c->seq[e].rest, c->st.seq_set[e]);
+        link_eval(x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, s, m->c_t, 0, fe, NULL, NULL);
         add3(f + 3 * i, fe, 1.0);
         add3(f + 3 * j, fe, -1.0);
     }
@@ -65,7 +65,7 @@ double elastic_energy(const cloth *c, const double *x)
     const cloth_material *m = &c->desc.material;
     double E = 0.0;
     for (int e = 0; e < c->n_seq; e++)
-        E += link_energy(x + 3 * c->seq[e].i, x + 3 * c->seq[e].j, seq_law(m, c->seq[e].rest));
+        E += link_energy(x + 3 * c->seq[e].i, x + 3 * c->seq[e].j, seq_law(m, c->seq[e].rest, c->st.seq_set[e]));
     for (int e = 0; e < c->n_int; e++)
         E += link_energy(x + 3 * c->lint[e].i, x + 3 * c->lint[e].j,
                          int_law(m, c->lint[e].rest, c->st.plastic[e], c->st.l1[e]));
@@ -127,17 +127,32 @@ double max_strain_seq_energy(const cloth *c, const double *x, double *e_seq)
         double d = link_length(x + 3 * c->seq[e].i, x + 3 * c->seq[e].j);
         double s = (d - c->seq[e].rest) / c->seq[e].rest;
         if (s > mx || s != s) mx = s;
-        E += link_energy_d(d, seq_law(m, c->seq[e].rest));
+        E += link_energy_d(d, seq_law(m, c->seq[e].rest, c->st.seq_set[e]));
     }
     *e_seq = E;
     return mx;
+}
+
+/* The sequential links' tension sets at the committed positions, and their energy with the sets
+ * updated (elastic_energy's first terms, from 0, in its order) */
+static double update_tension_energy(cloth *c)
+{
+    const cloth_material *m = &c->desc.material;
+    const double *x = c->st.x;
+    double E = 0.0;
+    for (int e = 0; e < c->n_seq; e++) {
+        double d = link_length(x + 3 * c->seq[e].i, x + 3 * c->seq[e].j), *set = c->st.seq_set + e;
+        *set = tension_set_rule(m, c->seq[e].rest, d, *set);
+        E += link_energy_d(d, seq_law(m, c->seq[e].rest, *set));
+    }
+    return E;
 }
 
 int update_plastic_energy(cloth *c, double h, double *elastic)
 {
     const cloth_material *m = &c->desc.material;
     const double *x = c->st.x;
-    double E = *elastic;
+    double E = tension_plastic_on(m) ? update_tension_energy(c) : *elastic; /* the sets move the energy */
     int count = 0;
     for (int e = 0; e < c->n_int; e++) {
         double d = link_length(x + 3 * c->lint[e].i, x + 3 * c->lint[e].j);

@@ -59,11 +59,13 @@ typedef struct link_topo {
 /* The spring law of link e in its current region, inline for the links' loops:
  * sequential: (k_t, k_c, l0); interlaced elastic: (k_b, k_b, l0);
  * interlaced plastic: (k_s, k_b, l1). */
-static inline spring_law seq_law(const cloth_material *m, double rest)
+static inline spring_law seq_law(const cloth_material *m, double rest, double set)
 {
     /* eq. 6-7: asymmetric, tension k_t, compression k_c << k_t; past the
-     * elongation limit (1 + delta) l0 stiffer by k_delta k_t (material.c) */
-    spring_law s = {m->k_t, m->k_c, rest, m->k_delta * m->k_t, (1.0 + m->delta) * rest};
+     * elongation limit (1 + delta) l0 stiffer by k_delta k_t (material.c); a tension set
+     * (a share of l0, tension_plastic.c) lengthens the rest length, never past the limit */
+    double lim = (1.0 + m->delta) * rest, lp = rest + set * rest;
+    spring_law s = {m->k_t, m->k_c, lp < lim ? lp : lim, m->k_delta * m->k_t, lim};
     return s;
 }
 
@@ -91,6 +93,10 @@ struct cloth_state;
 /* Link e of state s after a step of h seconds ending at length d, by the
  * material's rule (plastic.c); returns its plastic flag. */
 int plastic_update_link(const cloth_material *m, struct cloth_state *s, int e, double rest, double d, double h);
+/* Tension plasticity (material.tension_yield, tension_set; tension_plastic.c): whether m asks for it, and
+ * the tension set (a share of rest) of a sequential link of rest length rest, set so far `set`, at length d. */
+int tension_plastic_on(const cloth_material *m);
+double tension_set_rule(const cloth_material *m, double rest, double d, double set);
 
 /* ------------------------------------------------------------------ state */
 
@@ -102,6 +108,8 @@ struct cloth_state {
     double *l1;             /* n_int */
     double *perm;           /* n_int: permanent set, a share of l0 (viscoplastic.c) */
     unsigned char *bent;    /* n_int: past the yield at the last update (viscoplastic.c) */
+    double *seq_set;        /* n_seq: tension set of each sequential link, a share of its l0
+                               (tension_plastic.c) */
     /* carried between steps */
     double *x_prev, *v_prev; /* 3n, BDF2 history (valid if has_prev) */
     double h_prev;

@@ -35,7 +35,8 @@ static void assemble(cloth *c, const double *x, const double *v, double beta_h, 
         double damp = t ? m->c_b : m->c_t;
         for (int e = 0; e < ne; e++) {
             int i = L[e].i, j = L[e].j;
-            spring_law s = t ? int_law(m, L[e].rest, c->st.plastic[e], c->st.l1[e]) : seq_law(m, L[e].rest);
+            spring_law s = t ? int_law(m, L[e].rest, c->st.plastic[e], c->st.l1[e])
+                             : seq_law(m, L[e].rest, c->st.seq_set[e]);
             if (!t) s.lim -= c->lim_shift[e];
             double *K = Ks + 9 * (size_t)e;
             link_eval(x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, s, damp, defin, f, K, D);

@@ -1,5 +1,5 @@
-/* The plastic rule of interlaced links (paper eq. 8-12, paper.md sec. 3);
- * the spring law of each link type and region is inline in internal.h. */
+/* The plastic rule of interlaced links (paper eq. 8-12, paper.md sec. 3), and the update of both link
+ * types' plastic state; the spring law of each link type and region is inline in internal.h. */
 #include <math.h>
 #include "internal.h"
 #include "spring_predicted.h"
@@ -58,16 +58,23 @@ int plastic_update_link(const cloth_material *m, struct cloth_state *s, int e, d
     return p;
 }
 
+/* the length of link L at positions x */
+static double length_of(const double *x, const link_topo *L)
+{
+    const double *xi = x + 3 * L->i, *xj = x + 3 * L->j;
+    double dx = xj[0] - xi[0], dy = xj[1] - xi[1], dz = xj[2] - xi[2];
+    return sqrt(dx * dx + dy * dy + dz * dz);
+}
+
 int cloth_update_plastic(cloth *c)
 {
     if (!c) return 0;
+    const cloth_material *m = &c->desc.material;
     const double *x = c->st.x;
     int count = 0;
-    for (int e = 0; e < c->n_int; e++) {
-        const double *xi = x + 3 * c->lint[e].i, *xj = x + 3 * c->lint[e].j;
-        double dx = xj[0] - xi[0], dy = xj[1] - xi[1], dz = xj[2] - xi[2];
-        double d = sqrt(dx * dx + dy * dy + dz * dz);
-        count += plastic_update_link(&c->desc.material, &c->st, e, c->lint[e].rest, d, 0.0); /* no time passes */
-    }
+    for (int e = 0; tension_plastic_on(m) && e < c->n_seq; e++)
+        c->st.seq_set[e] = tension_set_rule(m, c->seq[e].rest, length_of(x, c->seq + e), c->st.seq_set[e]);
+    for (int e = 0; e < c->n_int; e++)
+        count += plastic_update_link(m, &c->st, e, c->lint[e].rest, length_of(x, c->lint + e), 0.0); /* no time */
     return count;
 }

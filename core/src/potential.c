@@ -63,7 +63,7 @@ MAT3_INLINE spring_law law_of(const cloth *c, int t, int e)
 {
     const cloth_material *m = &c->desc.material;
     if (t) return int_law(m, c->lint[e].rest, c->st.plastic[e], c->st.l1[e]);
-    spring_law s = seq_law(m, c->seq[e].rest);
+    spring_law s = seq_law(m, c->seq[e].rest, c->st.seq_set[e]);
     double rho = c->lim_rho[e], shift = c->lim_shift[e];
     s.k_lim *= rho;
     if (shift != 0.0) s.lim -= shift / rho;

@@ -24,8 +24,9 @@ int state_alloc(struct cloth_state *s, int n, int n_int, int n_seq)
     s->bent = calloc((size_t)n_int + 1, sizeof *s->bent);
     s->n_seq = n_seq;
     s->lim_shift = calloc((size_t)n_seq + 1, sizeof *s->lim_shift);
+    s->seq_set = calloc((size_t)n_seq + 1, sizeof *s->seq_set);
     if (!s->x || !s->v || !s->x_prev || !s->v_prev || !s->dv_prev || !s->plastic || !s->l1 || !s->perm || !s->bent ||
-        !s->lim_shift) {
+        !s->lim_shift || !s->seq_set) {
         state_free(s);
         return -1;
     }
@@ -44,6 +45,7 @@ void state_free(struct cloth_state *s)
     free(s->perm);
     free(s->bent);
     free(s->lim_shift);
+    free(s->seq_set);
     memset(s, 0, sizeof *s);
 }
 
@@ -60,6 +62,7 @@ void state_copy(struct cloth_state *dst, const struct cloth_state *src)
     memcpy(dst->perm, src->perm, (size_t)src->n_int * sizeof *src->perm);
     memcpy(dst->bent, src->bent, (size_t)src->n_int * sizeof *src->bent);
     memcpy(dst->lim_shift, src->lim_shift, (size_t)src->n_seq * sizeof *src->lim_shift);
+    memcpy(dst->seq_set, src->seq_set, (size_t)src->n_seq * sizeof *src->seq_set);
     dst->h_prev = src->h_prev;
     dst->has_prev = src->has_prev;
 }
@@ -120,6 +123,7 @@ double cloth_state_diff(const cloth_state *a, const cloth_state *b)
     m = maxdiff(a->v, b->v, n3, m);
     m = maxdiff(a->l1, b->l1, (size_t)a->n_int, m);
     m = maxdiff(a->perm, b->perm, (size_t)a->n_int, m);
+    m = maxdiff(a->seq_set, b->seq_set, (size_t)a->n_seq, m);
     for (int e = 0; e < a->n_int; e++)
         if (a->plastic[e] != b->plastic[e] || a->bent[e] != b->bent[e]) return m + 1.0;
     return m;
@@ -127,11 +131,12 @@ double cloth_state_diff(const cloth_state *a, const cloth_state *b)
 
 /* ------------------------------------------------------------ state files
  *
- * Format version 3, every number little-endian, doubles as IEEE 754 bits:
+ * Format version 4, every number little-endian, doubles as IEEE 754 bits:
  *   offset  size
  *   0       8     magic "ODCLSTAT"
- *   8       4     u32 format version (3; 2 is read too: no perm and bent,
- *                     read as 0; 1 neither, nor the multipliers)
+ *   8       4     u32 format version (4; 3 is read too: no tension sets, read
+ *                     as 0; 2 nor perm and bent, read as 0; 1 neither, nor the
+ *                     multipliers)
  *   12      4     u32 vertex count n
  *   16      4     u32 interlaced link count m
  *   20      4     u32 has_prev (0 or 1)
@@ -148,30 +153,31 @@ double cloth_state_diff(const cloth_state *a, const cloth_state *b)
  *           8*m   f64 perm   permanent set of each interlaced link, a share of
  *                     its l0 (finite, in [0, 1); version 3)
  *           m     u8  bent flags (0 or 1; version 3)
+ *           8*q   f64 seq_set tension set of each sequential link, a share of
+ *                     its l0 (finite, >= 0; version 4)
  *   end-8   8     u64 FNV-1a 64 of every byte before it
  * Every value is checked on reading; nothing is changed unless all pass. */
 
 #define STATE_MAGIC "ODCLSTAT"
-#define STATE_VERSION 3u
+#define STATE_VERSION 4u
 #define STATE_HEADER 32u
 
-/* A record's bytes: q multipliers, and p = 1 with each link's perm and bent
- * (version 3), 0 without. */
-static size_t state_bytes(size_t n, size_t m, size_t q, size_t p)
+/* A record's bytes: q multipliers, p = 1 with each link's perm and bent
+ * (version 3), t = 1 with the tension sets (version 4), 0 without. */
+static size_t state_bytes(size_t n, size_t m, size_t q, size_t p, size_t t)
 {
-    return STATE_HEADER + 8 * (15 * n + m + q + p * m) + m + p * m + 8;
+    return STATE_HEADER + 8 * (15 * n + m + q + p * m + t * q) + m + p * m + 8;
 }
 
 size_t cloth_state_size_bytes(const cloth_state *s)
 {
-    return s ? state_bytes((size_t)s->n, (size_t)s->n_int, (size_t)s->n_seq, 1) : 0;
+    return s ? state_bytes((size_t)s->n, (size_t)s->n_int, (size_t)s->n_seq, 1, 1) : 0;
 }
 
 static size_t state_record_bytes(const cloth_state *s, uint32_t version)
 {
-    size_t n = (size_t)s->n, m = (size_t)s->n_int;
-    return version == 1u ? state_bytes(n, m, 0, 0) : version == 2u ? state_bytes(n, m, (size_t)s->n_seq, 0)
-                                                                   : cloth_state_size_bytes(s);
+    size_t n = (size_t)s->n, m = (size_t)s->n_int, q = version > 1u ? (size_t)s->n_seq : 0;
+    return version >= STATE_VERSION ? cloth_state_size_bytes(s) : state_bytes(n, m, q, version > 2u, 0);
 }
 
 static void put_u32(unsigned char *p, uint32_t v)
@@ -256,13 +262,14 @@ cloth_status cloth_state_write(const cloth_state *s, void *buf, size_t cap, size
     for (int e = 0; e < s->n_seq; e++, q += 8) put_f64(q, s->lim_shift[e]);
     for (size_t e = 0; e < m; e++, q += 8) put_f64(q, s->perm[e]);
     for (size_t e = 0; e < m; e++) *q++ = s->bent[e];
+    for (int e = 0; e < s->n_seq; e++, q += 8) put_f64(q, s->seq_set[e]);
     put_u64(q, fnv1a(p, (size_t)(q - p)));
     if (written) *written = need;
     return CLOTH_OK;
 }
 
-/* The version 3 fields at q: m permanent sets, then m bent flags. */
-static cloth_status check_perm(const unsigned char *q, size_t m, cloth_error *err)
+/* The version 3 fields at q: m permanent sets, then m bent flags; from version 4 (qs > 0), qs tension sets. */
+static cloth_status check_perm(const unsigned char *q, size_t m, size_t qs, cloth_error *err)
 {
     for (size_t e = 0; e < m; e++, q += 8) {
         double v = get_f64(q);
@@ -271,6 +278,11 @@ static cloth_status check_perm(const unsigned char *q, size_t m, cloth_error *er
     }
     for (size_t e = 0; e < m; e++, q++)
         if (*q > 1) return error_set(err, CLOTH_EINVAL, "cloth_state_read: bent[%zu] = %u must be 0 or 1", e, *q);
+    for (size_t e = 0; e < qs; e++, q += 8) {
+        double v = get_f64(q);
+        if (!(v >= 0.0 && isfinite(v)))
+            return error_set(err, CLOTH_EINVAL, "cloth_state_read: seq_set[%zu] = %g must be finite and >= 0", e, v);
+    }
     return CLOTH_OK;
 }
 
@@ -322,7 +334,8 @@ static cloth_status check_record(const cloth_state *s, const unsigned char *p, s
         if (!isfinite(sh) || sh < 0.0)
             return error_set(err, CLOTH_EINVAL, "cloth_state_read: lim_shift[%d] = %g must be finite and >= 0", e, sh);
     }
-    return ver > 2u ? check_perm(p + need - 8 - 9 * (size_t)m, m, err) : CLOTH_OK;
+    size_t qs = ver > 3u ? (size_t)s->n_seq : 0;
+    return ver > 2u ? check_perm(p + need - 8 - 8 * qs - 9 * (size_t)m, m, qs, err) : CLOTH_OK;
 }
 
 cloth_status cloth_state_read(cloth_state *s, const void *buf, size_t len, cloth_error *err)
@@ -350,6 +363,9 @@ cloth_status cloth_state_read(cloth_state *s, const void *buf, size_t len, cloth
     memset(s->bent, 0, m * sizeof *s->bent);
     for (size_t e = 0; get_u32(p + 8) > 2u && e < m; e++, q += 8) s->perm[e] = get_f64(q);
     for (size_t e = 0; get_u32(p + 8) > 2u && e < m; e++) s->bent[e] = *q++;
+    /* the tension sets: older records have none */
+    memset(s->seq_set, 0, (size_t)s->n_seq * sizeof *s->seq_set);
+    for (int e = 0; get_u32(p + 8) > 3u && e < s->n_seq; e++, q += 8) s->seq_set[e] = get_f64(q);
     return CLOTH_OK;
 }
 

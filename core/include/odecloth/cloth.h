@@ -88,6 +88,12 @@ typedef struct cloth_material {
                              (the paper; with plastic_memory 1, never)         */
     double set_hardening; /* 1, in [0, 1]: share of the set made permanent at
                              each release; 0 = none                           */
+    /* Tension plasticity (paper sec. 2.1, knees and elbows; ours: core/src/tension_plastic.c): a sequential
+     * link stretched past (1 + tension_yield) l0 keeps tension_set of the stretch beyond it, up to the limit
+     * (1 + delta) l0, as a longer rest length. Either 0 (the default) leaves the links elastic, bit for bit. */
+    double tension_yield; /* 1, in [0, delta]: yield stretch; 0 = off        */
+    double tension_set;   /* 1, in [0, 1]: share of the stretch past the
+                             yield kept (1: perfectly plastic, 0: none)       */
 } cloth_material;
 
 /* A preset's values; an unknown preset gives cotton. */
@@ -313,8 +319,10 @@ typedef enum cloth_link_type {
 typedef struct cloth_link {
     int i, j;         /* vertex indices, i < j                 */
     double rest;      /* m, l0                                 */
-    int plastic;      /* interlaced only: 1 in the plastic region */
-    double l1;        /* m, plastic rest length (valid when plastic) */
+    int plastic;      /* interlaced: 1 in the plastic region; sequential:
+                         1 when it carries a tension set (tension_yield) */
+    double l1;        /* m, plastic rest length (valid when plastic); a
+                         sequential link's is its rest length in use    */
 } cloth_link;
 
 ODECLOTH_API int cloth_link_count(const cloth *c, cloth_link_type t);

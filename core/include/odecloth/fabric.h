@@ -37,9 +37,10 @@
  *   - damping: Kelvin-Voigt time constants, c_t = tau_tension k_t and
  *     c_b = tau_bending k_b, so the damping scales with the stiffness it
  *     damps and is grid-independent like it.
- *   - alpha, delta, k_delta, density and the time-dependent plastic law's
+ *   - alpha, delta, k_delta, density, the time-dependent plastic law's
  *     tau_set, tau_recover, set_hardening (seconds and a ratio: the same
- *     at every spacing) are passed through; plastic_memory is 0.
+ *     at every spacing) and the tension plasticity's tension_yield,
+ *     tension_set (ratios) are passed through; plastic_memory is 0.
  */
 #ifndef ODECLOTH_FABRIC_H
 #define ODECLOTH_FABRIC_H
@@ -77,6 +78,9 @@ typedef struct cloth_fabric {
                                     presets: the paper's rule)             */
     double tau_recover;    /* s     >= 0: passed through, likewise         */
     double set_hardening;  /* 1     in [0, 1]: passed through, likewise    */
+    double tension_yield;  /* 1     in [0, delta]: passed through (cloth_material's
+                                    tension plasticity; 0 in the presets: off) */
+    double tension_set;    /* 1     in [0, 1]: passed through, likewise    */
 } cloth_fabric;
 
 typedef enum cloth_fabric_kind {
