@@ -331,7 +331,8 @@ ODECLOTH_API cloth_status cloth_get_link(const cloth *c, cloth_link_type t, int 
 /* Apply the plastic rule (paper eq. 8-12) to the current positions; the step
  * does this after every step. With the time-dependent law (tau_set,
  * tau_recover, set_hardening) this call lets no time pass: links enter and
- * leave, nothing relaxes. Returns the number of plastic links. */
+ * leave, nothing relaxes. With tension_yield, the sequential links' tension
+ * sets too. Returns the number of plastic interlaced links. */
 ODECLOTH_API int cloth_update_plastic(cloth *c);
 
 /* ------------------------------------------------------ forces and energy */
@@ -560,8 +561,9 @@ ODECLOTH_API cloth_state *cloth_state_create(const cloth *c); /* NULL on no memo
 ODECLOTH_API void cloth_state_destroy(cloth_state *s);
 ODECLOTH_API cloth_status cloth_save(const cloth *c, cloth_state *s);
 ODECLOTH_API cloth_status cloth_restore(cloth *c, const cloth_state *s); /* sizes must match */
-/* Largest absolute difference of positions, velocities and l1, plus 1 for
- * any plastic flag that differs; 0 means identical. Negative if sizes differ. */
+/* Largest absolute difference of positions, velocities, l1 and the permanent
+ * and tension sets, plus 1 for any plastic or bent flag that differs; 0 means
+ * identical. Negative if sizes differ. */
 ODECLOTH_API double cloth_state_diff(const cloth_state *a, const cloth_state *b);
 
 /* State files: a versioned binary record of everything cloth_save keeps
@@ -570,9 +572,10 @@ ODECLOTH_API double cloth_state_diff(const cloth_state *a, const cloth_state *b)
  * machine. Reading checks every field (magic, version, sizes against s,
  * finite numbers, l1 > 0, flags 0 or 1, the limit's multipliers >= 0,
  * checksum, exact length) and changes s only if all pass; err (may be NULL)
- * says what is wrong. Writing makes version 3; versions 1 (without the
- * multipliers, read as zero) and 2 (without the links' permanent set and
- * bent flags of material.tau_set and friends, read as zero) are read too. */
+ * says what is wrong. Writing makes version 4; versions 1 (without the
+ * multipliers, read as zero), 2 (without the links' permanent set and
+ * bent flags of material.tau_set and friends, read as zero) and 3 (without
+ * the sequential links' tension sets, read as zero) are read too. */
 ODECLOTH_API size_t cloth_state_size_bytes(const cloth_state *s); /* a record's size; 0 for NULL */
 /* Write the record into buf (cap bytes, at least cloth_state_size_bytes);
  * *written (may be NULL) gets its size. */
