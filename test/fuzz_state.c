@@ -149,7 +149,8 @@ static int write_file(const char *dir, const char *name, int mode, const cloth_s
 }
 
 /* Seeds: the rest state; hung 30 steps (history, warm start); creased
- * (plastic links) and moving fast; then under the time-dependent law. */
+ * (plastic links) and moving fast; then under the time-dependent law; then
+ * stretched with tension plasticity (sequential links' sets). */
 static int write_corpus(const char *dir)
 {
     cloth *c = small_cloth();
@@ -177,6 +178,15 @@ static int write_corpus(const char *dir)
     for (int k = 0; k < 10; k++) cloth_step(c, 1.0 / 60, NULL);
     cloth_save(c, s);
     rc |= write_file(dir, "creased_timed", 3, s);
+    /* tension plasticity: the sequential links' sets */
+    m.tension_yield = 1e-4;
+    m.tension_set = 0.5;
+    cloth_set_material(c, &m);
+    for (int k = 0; k < 36; k++) v[k] = (k % 3 == 0) ? 4.0 * (k / 3 % 4) - 6.0 : 0.0;
+    cloth_set_velocities(c, v);
+    for (int k = 0; k < 5; k++) cloth_step(c, 1.0 / 60, NULL);
+    cloth_save(c, s);
+    rc |= write_file(dir, "stretched", 3, s);
     cloth_state_destroy(s);
     cloth_destroy(c);
     return rc;
