@@ -23,8 +23,8 @@
  * the state (cloth_save + cloth_state_diff == 0), material, solver, gravity
  * (cloth_get_desc, memcmp) and constraints are unchanged:
  *   set_material / set_solver / set_gravity with bad values or NULL (each
- *   material field NaN, inf, -inf, -1, k_delta included; the message names
- *   the field),
+ *   material field NaN, inf, -inf, -1, k_delta included; tension_yield above
+ *   delta, tension_set above 1; the message names the field),
  *   set_positions / set_velocities with a NaN or inf anywhere, or NULL,
  *   set_vertex out of range or non-finite, get_link out of range or bad type,
  *   pin out of range / NaN / NULL target, set_constraint with ndof 4 or -1,
@@ -573,6 +573,16 @@ static int bad_call(cloth *c, int k, char *what, size_t wn, cloth_status *want)
     case 59:
         snprintf(what, wn, "cloth_set_vertex(x and v NULL)");
         return cloth_set_vertex(c, 5, NULL, NULL);
+    case 60: case 61: {
+        cloth_material m = cloth_get_desc(c).material;
+        if (k == 60) m.tension_yield = m.delta * 1.5;
+        else m.tension_set = 1.5;
+        snprintf(what, wn, "cloth_set_material(%s)", k == 60 ? "tension_yield 1.5 delta" : "tension_set 1.5");
+        cloth_status st = cloth_set_material(c, &m);
+        CHECK(strstr(cloth_last_error(c), k == 60 ? "tension_yield" : "tension_set") != NULL,
+              "%s: message \"%s\" does not name the field", what, cloth_last_error(c));
+        return st;
+    }
     default:
         return -1;
     }

@@ -14,6 +14,8 @@
  *     the closed-form laws: longer than at the start (the knee bag), the sets unchanged by the release;
  *     with the option off the strip returns to its length; below the yield the runs with the option on
  *     and off are the same bit for bit;
+ *   - the sets are state: restoring a state saved before them clears them, one saved after them brings
+ *     them back;
  *   - forces are minus the energy's gradient (central differences) on a cloth carrying sets;
  *   - a square cloth hung by two edges, pushed 4 cm down at its centre (a knee) and let go, bags deeper
  *     with the option than without.
@@ -238,6 +240,19 @@ static void check_strip(void)
 
 /* --------------------------------------------------- forces, energy */
 
+/* sequential links carrying a set; each one's rest length in use is l0 exactly when it carries none */
+static int count_set(const cloth *c)
+{
+    int n = 0;
+    for (int e = 0; e < cloth_link_count(c, CLOTH_SEQUENTIAL); e++) {
+        cloth_link L;
+        cloth_get_link(c, CLOTH_SEQUENTIAL, e, &L);
+        CHECK((L.l1 == L.rest) == !L.plastic, "link %d: plastic %d, l1 %.17g, l0 %.17g", e, L.plastic, L.l1, L.rest);
+        n += L.plastic;
+    }
+    return n;
+}
+
 static void check_gradient(void)
 {
     cloth_desc d = cloth_default_desc();
@@ -252,15 +267,20 @@ static void check_gradient(void)
     rng g = rng_seed(0x91adu);
     memcpy(x, cloth_positions(c), (size_t)n3 * sizeof *x);
     for (int k = 0; k < n3; k++) x[k] = x[k] * 1.05 + rng_range(&g, -2e-3, 2e-3); /* past the yield, unevenly */
+    cloth_state *fresh = cloth_state_create(c), *set = cloth_state_create(c);
+    cloth_save(c, fresh);
     cloth_set_positions(c, x);
     cloth_update_plastic(c);
-    int nset = 0;
-    for (int e = 0; e < cloth_link_count(c, CLOTH_SEQUENTIAL); e++) {
-        cloth_link L;
-        cloth_get_link(c, CLOTH_SEQUENTIAL, e, &L);
-        nset += L.plastic;
-    }
+    int nset = count_set(c);
     CHECK(nset > 20, "only %d links set", nset);
+    /* the sets are state: a state saved before them restores none, the one after them all */
+    cloth_save(c, set);
+    cloth_restore(c, fresh);
+    CHECK(count_set(c) == 0 && cloth_state_diff(fresh, set) > 0.0, "restored before the sets: %d set", count_set(c));
+    cloth_restore(c, set);
+    CHECK(count_set(c) == nset, "restored after the sets: %d set, want %d", count_set(c), nset);
+    cloth_state_destroy(fresh);
+    cloth_state_destroy(set);
     for (int k = 0; k < n3; k++) x[k] += rng_range(&g, -3e-3, 3e-3); /* some links taut, some slack */
     cloth_set_positions(c, x);
     cloth_set_velocities(c, v);
