@@ -11,45 +11,8 @@
 #include <string.h>
 
 #include "check.h"
+#include "grid_matrix.h"
 #include "multigrid.h"
-
-/* the cloth's links on an R x C grid: step 1 (sequential) and 2 (interlaced) */
-static int grid_links(int R, int C, int *ei, int *ej)
-{
-    static const int off[4][2] = {{0, 1}, {1, 0}, {1, 1}, {1, -1}};
-    int m = 0;
-    for (int s = 1; s <= 2; s++)
-        for (int r = 0; r < R; r++)
-            for (int c = 0; c < C; c++)
-                for (int k = 0; k < 4; k++) {
-                    int r2 = r + s * off[k][0], c2 = c + s * off[k][1];
-                    if (r2 >= R || c2 < 0 || c2 >= C) continue;
-                    ei[m] = r * C + c;
-                    ej[m++] = r2 * C + c2;
-                }
-    return m;
-}
-
-/* A's blocks random, A_ji = A_ij^T; a diagonal block symmetric, and every
- * block if sym */
-static void random_symmetric(bsr *A, rng *g, int sym)
-{
-    for (int i = 0; i < A->n; i++)
-        for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++) {
-            int j = A->col[k];
-            if (j < i) continue;
-            double *B = A->val + 9 * (size_t)k;
-            for (int e = 0; e < 9; e++) B[e] = rng_range(g, -1.0, 1.0);
-            if (j == i || sym) {
-                for (int r = 0; r < 3; r++)
-                    for (int s = 0; s < r; s++) B[3 * r + s] = B[3 * s + r];
-                if (j == i) continue;
-            }
-            double *T = A->val + 9 * (size_t)bsr_find(A, j, i);
-            for (int r = 0; r < 3; r++)
-                for (int s = 0; s < 3; s++) T[3 * r + s] = B[3 * s + r];
-        }
-}
 
 /* the bilinear parents of fine index f on a coarse axis of n nodes */
 static int parents(int f, int n, int *p, double *w)
@@ -154,12 +117,10 @@ static void filtered(const bsr *A, const double *S, const unsigned char *con, do
  * needs the coarse blocks exactly symmetric then) */
 static void run(int R, int C, int sym, rng *g)
 {
-    int n = R * C, ne_max = 8 * n;
-    int *ei = malloc(sizeof *ei * (size_t)ne_max), *ej = malloc(sizeof *ej * (size_t)ne_max);
-    int *blk = malloc(2 * sizeof *blk * (size_t)ne_max), ne = grid_links(R, C, ei, ej);
+    int n = R * C;
     bsr A;
     multigrid mg;
-    CHECK(bsr_build(&A, n, ne, ei, ej, blk) == 0, "%dx%d: bsr_build", R, C);
+    CHECK(grid_matrix(R, C, &A) == 0, "%dx%d: grid_matrix", R, C);
     random_symmetric(&A, g, sym);
     double *S = calloc(9 * (size_t)n, sizeof *S), *Dinv = calloc(9 * (size_t)n, sizeof *Dinv);
     unsigned char *con = calloc((size_t)n, 1);
@@ -204,9 +165,6 @@ static void run(int R, int C, int sym, rng *g)
     free(S);
     free(Dinv);
     free(con);
-    free(ei);
-    free(ej);
-    free(blk);
 }
 
 int main(void)

@@ -341,7 +341,9 @@ MAT3_INLINE void level_row_sub(int avx, const bsr *A, const unsigned char *symro
     else row_sub(A->val, A->col, a, z, x, acc);
 }
 
-/* acc = S_i acc on level 0's constrained vertices */
+/* acc = S_i acc on level 0's constrained vertices. The sweeps filter D_i^-1's
+ * output too: it maps S_i's range into itself only up to rounding, which the
+ * block's condition amplifies, and CG stalls on what leaks. */
 static inline void filter_row(const multigrid *mg, int l, int i, double acc[3])
 {
     if (l == 0 && mg->constrained[i]) {
@@ -388,6 +390,7 @@ MAT3_INLINE void backward_sweep_k(int avx, const multigrid *mg, int l, double *x
         filter_row(mg, l, i, acc);
         if (sym[i]) mat3vec_sym(Dinv + 9 * (size_t)i, acc, x + 3 * i);
         else mat3vec(Dinv + 9 * (size_t)i, acc, x + 3 * i);
+        filter_row(mg, l, i, x + 3 * i);
     }
 }
 
@@ -420,6 +423,7 @@ MAT3_INLINE void forward_sweep_restrict_k(int avx, const multigrid *mg, int l, d
             filter_row(mg, l, i, acc);
             if (sym[i]) mat3vec_sym(Dinv + 9 * (size_t)i, acc, x + 3 * i);
             else mat3vec(Dinv + 9 * (size_t)i, acc, x + 3 * i);
+            filter_row(mg, l, i, x + 3 * i);
         }
         /* rows whose neighbours are all updated (all rows at the end) */
         for (; p <= i && p < A->n && (i == A->n || col[row_ptr[p + 1] - 1] <= i); p++) {
