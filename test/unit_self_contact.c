@@ -1,6 +1,6 @@
 /* Unit: the Newton step's self-contact (core/src/self_contact.h) against
  * brute force over every pair: the barrier's energy and its pairs within
- * the thickness, with its candidate list kept and rebuilt; the share of an
+ * the thickness, with its candidate list kept, grown and rebuilt; the share of an
  * update short of the first touch; and a flat sheet's work. */
 #include <math.h>
 #include <stdio.h>
@@ -169,6 +169,23 @@ static void case_fold(cloth *c)
         CHECK(w.rebuilds - before == rebuilt[m], "move %d: %ld rebuilds, not %ld", m, w.rebuilds - before, rebuilt[m]);
         int all = NV * NT + ne * (ne - 1) / 2;
         CHECK(w.candidates < all / 2, "move %d: %d candidates of all %d pairs", m, w.candidates, all);
+        memcpy(x, y, sizeof x);
+    }
+    /* a corner vertex moved out of its region, 0.3 D over the centroid of a far triangle: the list
+     * grown for it, not rebuilt, and still all pairs within D */
+    for (int k = 0; k < 2; k++) {
+        const int *t = tri + 3 * (NT - 1 - 2 * k);
+        memcpy(y, x, sizeof y);
+        for (int r = 0; r < 3; r++)
+            y[3 * k + r] = (x[3 * t[0] + r] + x[3 * t[1] + r] + x[3 * t[2] + r]) / 3.0 + (r == 2 ? 0.3 * D : 0.0);
+        self_contact_work w0 = self_contact_get_work(s);
+        double E = self_contact_eval(s, y, CFAC, NULL, NULL), Eb = brute_energy(edges, ne, y, kappa, &active);
+        self_contact_work w = self_contact_get_work(s);
+        CHECK(w.rebuilds == w0.rebuilds && w.extended == w0.extended + 1, "one out: %ld rebuilds, %ld grown",
+              w.rebuilds - w0.rebuilds, w.extended - w0.extended);
+        CHECK(w.active == active && w.candidates > w0.candidates, "one out: %d pairs within D (brute force %d), "
+              "%d candidates from %d", w.active, active, w.candidates, w0.candidates);
+        CHECK_REL(E, Eb, 1e-12, 0.0);
         memcpy(x, y, sizeof x);
     }
     /* the top layer pushed through the bottom: swept through a list, and far (swept

@@ -15,11 +15,12 @@
 #define SELF_CONTACT_TOUCH 1e-3
 #define SELF_CONTACT_STOP 0.5
 
-/* Candidate pairs: those whose vertices' regions (boxes: their paths widened
- * by the skin) come within D; while every vertex stays in its region they hold
- * every pair within D and every touch of a motion that stays there. */
+/* Candidate pairs: those whose vertices' regions (boxes: their paths and the
+ * step's start widened by the skin) come within D; while every vertex stays in its
+ * region they hold every pair within D and every touch of a motion that stays there. */
 #define SELF_CONTACT_SKIN 1.0 /* thicknesses */
 #define SELF_CONTACT_LONG 16.0 /* a motion longer than this many thicknesses is swept without a list */
+#define SELF_CONTACT_FEW 512   /* at most one vertex in this many (and one) outside their regions: grow theirs */
 
 /* Close pairs: the candidates whose distance at reference positions may be
  * under D plus twice this many thicknesses. While no vertex is farther than
@@ -42,14 +43,19 @@ struct self_contact {
     double *vbox;            /* 6 per vertex: the box of its path in a sweep */
     double *lo, *hi;         /* 3 n each: the vertices' regions (boxes) the candidates cover */
     int listed;              /* whether the candidates are listed */
+    long version;            /* counts the lists' changes */
+    double *xstart;          /* 3 n: the step's start positions (self_contact_begin) */
+    int *out;                /* n: the vertices outside their regions */
+    unsigned char *mark;     /* n: zero but while their pairs are found */
+    int has_start;           /* whether xstart is set */
     pair_list vt, ee;        /* candidates: (vertex, triangle), (edge, later edge) */
     pair_list swept;         /* a direct sweep's pairs of one query */
     pair_list near;          /* (kind, candidate) of the pairs the last evaluation did not prove apart */
     pair_list close;         /* (kind, candidate) of the close pairs, in list order */
     double *xref;            /* 3 n: their reference positions */
-    long close_at;           /* the list they are of (rebuilds then); -1: none */
+    long close_at;           /* the lists they are of (version then); -1: none */
     double *xnear;           /* 3 n: its positions */
-    long near_at;            /* the list it used (rebuilds then) */
+    long near_at;            /* the lists it used (version then) */
     int near_ok;             /* whether near holds them all */
     self_contact_work work;
     cloth *owner;            /* the cloth whose steps feel it, or NULL */
@@ -112,12 +118,16 @@ self_contact *self_contact_create(int n, int ntri, const int *tri, double thickn
     s->hi = malloc(3 * (size_t)(n > 0 ? n : 1) * sizeof *s->hi);
     s->xnear = malloc(3 * (size_t)(n > 0 ? n : 1) * sizeof *s->xnear);
     s->xref = malloc(3 * (size_t)(n > 0 ? n : 1) * sizeof *s->xref);
+    s->xstart = malloc(3 * (size_t)(n > 0 ? n : 1) * sizeof *s->xstart);
+    s->out = malloc((size_t)(n > 0 ? n : 1) * sizeof *s->out);
+    s->mark = calloc((size_t)(n > 0 ? n : 1), 1);
     s->close_at = -1;
     s->frame = malloc(12 * (size_t)(ntri > 0 ? ntri : 1) * sizeof *s->frame);
     s->vbox = malloc(6 * (size_t)(n > 0 ? n : 1) * sizeof *s->vbox);
     s->grid = sweep_grid_create();
     /* room for a crumpled sheet's candidates, so that steps seldom allocate */
-    int ok = s->nedge >= 0 && s->box && s->lo && s->hi && s->xnear && s->xref && s->frame && s->vbox && s->grid;
+    int ok = s->nedge >= 0 && s->box && s->lo && s->hi && s->xnear && s->xref && s->xstart && s->out && s->mark &&
+             s->frame && s->vbox && s->grid;
     if (!ok || pair_reserve(&s->vt, 8 * n) || pair_reserve(&s->ee, 8 * n)) {
         self_contact_destroy(s);
         return NULL;
@@ -143,6 +153,9 @@ void self_contact_destroy(self_contact *s)
     free(s->close.v);
     free(s->xnear);
     free(s->xref);
+    free(s->xstart);
+    free(s->out);
+    free(s->mark);
     free(s);
 }
 
@@ -173,6 +186,8 @@ void self_contact_begin(self_contact *s, const cloth *c, double cfac)
     double mt = 0.0;
     for (int i = 0; i < c->n; i++) mt += c->mass[i];
     s->kappa = mt / c->n / (cfac * cfac * curvature_at_half());
+    memcpy(s->xstart, c->st.x, 3 * (size_t)s->n * sizeof *s->xstart);
+    s->has_start = 1;
 }
 
 /* The box over the k corners idx at x0 and x1 (x1 NULL: x0 only), widened by pad, into bx */
@@ -278,33 +293,156 @@ static int list_pairs(self_contact *s, int ee, const double *x0, const double *x
     return 0;
 }
 
-/* Whether every vertex of x is in its region */
-static int in_regions(const self_contact *s, const double *x)
+/* Whether vertex i of x is in its region */
+static int in_region(const self_contact *s, const double *x, int i)
 {
-    for (int k = 0; k < 3 * s->n; k++)
+    for (int k = 3 * i; k < 3 * i + 3; k++)
         if (!(s->lo[k] <= x[k] && x[k] <= s->hi[k])) return 0;
     return 1;
 }
 
+/* Whether every vertex of x is in its region */
+static int in_regions(const self_contact *s, const double *x)
+{
+    for (int i = 0; i < s->n; i++)
+        if (!in_region(s, x, i)) return 0;
+    return 1;
+}
+
+/* Merges the pairs of add (any order, repeats allowed) into l (ascending, each once), keeping it so */
+static int merge_pairs(pair_list *l, pair_list *add)
+{
+    qsort(add->v, (size_t)add->n, 2 * sizeof *add->v, cmp_edge);
+    if (pair_reserve(l, add->n) < 0) return -1;
+    int i = l->n - 1, j = add->n - 1, w = l->n + add->n;
+    while (j >= 0) {
+        const int *p = add->v + 2 * j;
+        int c = i < 0 ? -1 : cmp_edge(l->v + 2 * i, p);
+        const int *from = c >= 0 ? l->v + 2 * i : p;
+        w--;
+        l->v[2 * w] = from[0];
+        l->v[2 * w + 1] = from[1];
+        i -= c >= 0;
+        j -= c <= 0;
+        while (j >= 0 && c <= 0 && !cmp_edge(add->v + 2 * j, p)) j--; /* repeats in add */
+    }
+    if (w > i + 1) memmove(l->v + 2 * (i + 1), l->v + 2 * w, 2 * (size_t)(l->n + add->n - w) * sizeof *l->v);
+    l->n = i + 1 + (l->n + add->n - w);
+    return 0;
+}
+
+/* Appends (a, b) or (b, a), the smaller first with order, when their boxes ba and bb come within D and
+ * the primitives (corners ia, ka of them; ib, kb) share no vertex; -1 out of memory */
+static int pair_if_near(self_contact *s, pair_list *l, int a, const int *ia, int ka, const double *ba, int b,
+                        const int *ib, int kb, const double *bb, int order)
+{
+    if (!near_boxes(ba, bb, s->D)) return 0;
+    for (int p = 0; p < ka; p++)
+        for (int q = 0; q < kb; q++)
+            if (ia[p] == ib[q]) return 0;
+    if (pair_reserve(l, 1) < 0) return -1;
+    int swap = order && b < a;
+    l->v[2 * l->n] = swap ? b : a;
+    l->v[2 * l->n++ + 1] = swap ? a : b;
+    return 0;
+}
+
+/* The box of vertex i's region */
+static const double *region_box(const self_contact *s, int i, double *bx)
+{
+    for (int a = 0; a < 3; a++) {
+        bx[a] = s->lo[3 * i + a];
+        bx[3 + a] = s->hi[3 * i + a];
+    }
+    return bx;
+}
+
+/* The pairs that the regions of the vertices flagged in s->mark bring within D: vertex against triangle
+ * (ee 0: a marked vertex, or a triangle with a marked corner) or edge against edge (ee 1), into add */
+static int pairs_of_marked(self_contact *s, int ee, pair_list *add)
+{
+    int nf = ee ? s->nedge : s->ntri, k = ee ? 2 : 3, na = ee ? s->nedge : s->n;
+    const int *idx = ee ? s->edges : s->tri;
+    double qa[6], qf[6];
+    add->n = 0;
+    for (int f = 0; f < nf; f++) corners_box(idx + k * f, k, s->lo, s->hi, 0.0, s->box + 6 * (size_t)f);
+    for (int f = 0; f < nf; f++) {
+        const int *fv = idx + k * f;
+        const double *bf = s->box + 6 * (size_t)f;
+        int hit = 0;
+        for (int j = 0; j < k; j++) hit |= s->mark[fv[j]];
+        for (int a = 0; hit && a < na; a++) {
+            const int *av = ee ? idx + 2 * a : &a;
+            const double *ba = ee ? s->box + 6 * (size_t)a : region_box(s, a, qa);
+            if (pair_if_near(s, add, a, av, ee ? 2 : 1, ba, f, fv, k, bf, ee) < 0) return -1;
+        }
+    }
+    for (int a = 0; !ee && a < s->n; a++)
+        for (int f = 0; s->mark[a] && f < nf; f++)
+            if (pair_if_near(s, add, a, &a, 1, region_box(s, a, qf), f, idx + 3 * f, 3, s->box + 6 * (size_t)f, 0))
+                return -1;
+    return 0;
+}
+
+/* The regions of the few vertices outside them grown to also hold the path x0 -> y widened by the skin,
+ * and the pairs that brings within D merged into the lists. 1: too many outside (nothing changed); 0:
+ * done; -1 out of memory (the lists are then cleared). */
+static int extend(self_contact *s, const double *x0, const double *y, double skin)
+{
+    int k = 0, limit = 1 + s->n / SELF_CONTACT_FEW;
+    for (int i = 0; i < s->n; i++)
+        if (!in_region(s, x0, i) || !in_region(s, y, i)) {
+            if (k == limit) return 1;
+            s->out[k++] = i;
+        }
+    for (int j = 0; j < k; j++) {
+        int i = s->out[j];
+        s->mark[i] = 1;
+        for (int a = 3 * i; a < 3 * i + 3; a++) {
+            s->lo[a] = fmin(s->lo[a], fmin(x0[a], y[a]) - skin);
+            s->hi[a] = fmax(s->hi[a], fmax(x0[a], y[a]) + skin);
+        }
+    }
+    int ok = pairs_of_marked(s, 0, &s->swept) == 0 && merge_pairs(&s->vt, &s->swept) == 0 &&
+             pairs_of_marked(s, 1, &s->swept) == 0 && merge_pairs(&s->ee, &s->swept) == 0;
+    for (int j = 0; j < k; j++) s->mark[s->out[j]] = 0;
+    s->version++;
+    s->work.extended++;
+    s->work.candidates = s->vt.n + s->ee.n;
+    if (!ok) s->listed = 0, s->vt.n = s->ee.n = 0;
+    return ok ? 0 : -1;
+}
+
 /* Candidates that cover x0 and x1 (x1 NULL: x0 only): kept while both are in the regions,
- * else listed for the motion x0 -> x1. Returns 0; 1 when that motion is longer than
+ * else listed for the motion x0 -> x1 and from the step's start (the regions of a few vertices
+ * outside them grown instead). Returns 0; 1 when that motion is longer than
  * SELF_CONTACT_LONG (none listed: sweep it directly); -1 out of memory (none listed). */
 static int candidates(self_contact *s, const double *x0, const double *x1)
 {
     if (s->listed && in_regions(s, x0) && (!x1 || in_regions(s, x1))) return 0;
     const double *y = x1 ? x1 : x0;
-    double skin = SELF_CONTACT_SKIN * s->D, most = 0.0;
+    double skin = SELF_CONTACT_SKIN * s->D, most = 0.0, from = 0.0;
     for (int k = 0; k < 3 * s->n; k++) {
-        double d = fabs(y[k] - x0[k]);
+        double d = fabs(y[k] - x0[k]), e = s->has_start ? fabs(s->xstart[k] - x0[k]) : 0.0;
         if (!(d <= most)) most = d == d ? d : HUGE_VAL;
+        if (!(e <= from)) from = e == e ? e : HUGE_VAL;
     }
     if (most > SELF_CONTACT_LONG * s->D) return 1;
+    int how = s->listed ? extend(s, x0, y, skin) : 1;
+    if (how <= 0) return how;
+    /* the step's start too, unless far: the step's sweeps start there */
+    int start = s->has_start && from + most <= SELF_CONTACT_LONG * s->D;
     for (int k = 0; k < 3 * s->n; k++) {
         s->lo[k] = fmin(x0[k], y[k]) - skin;
         s->hi[k] = fmax(x0[k], y[k]) + skin;
+        if (start) {
+            s->lo[k] = fmin(s->lo[k], s->xstart[k] - skin);
+            s->hi[k] = fmax(s->hi[k], s->xstart[k] + skin);
+        }
     }
     s->vt.n = s->ee.n = 0;
     s->work.rebuilds++;
+    s->version++;
     s->listed = list_pairs(s, 0, s->lo, s->hi, s->D, NULL) == 0 && list_pairs(s, 1, s->lo, s->hi, s->D, NULL) == 0;
     if (!s->listed) {
         s->vt.n = s->ee.n = 0;
@@ -435,7 +573,7 @@ static double moved(const self_contact *s, const double *x)
 static int close_holds(const self_contact *s, const double *x, const double *x1)
 {
     double slack = SELF_CONTACT_SLACK * s->D;
-    return s->close_at == s->work.rebuilds && moved(s, x) <= slack && (!x1 || moved(s, x1) <= slack);
+    return s->close_at == s->version && moved(s, x) <= slack && (!x1 || moved(s, x1) <= slack);
 }
 
 /* The terms of the pairs the last evaluation found near, at the same positions */
@@ -462,7 +600,7 @@ static double eval_untimed(self_contact *s, const double *x, double cfac, double
     size_t n3 = 3 * (size_t)s->n;
     if (candidates(s, x, NULL) < 0) return NAN;
     /* the matrix follows the residual at the same positions: their pairs again */
-    if (s->near_ok && s->near_at == s->work.rebuilds && !memcmp(x, s->xnear, n3 * sizeof *x))
+    if (s->near_ok && s->near_at == s->version && !memcmp(x, s->xnear, n3 * sizeof *x))
         return near_again(s, x, cfac, b, A);
     s->work.tested = s->work.active = 0;
     s->near.n = 0;
@@ -482,10 +620,10 @@ static double eval_untimed(self_contact *s, const double *x, double cfac, double
     E += pairs_at(s, 1, x, cfac, b, A, listing, &ok);
     if (listing && ok) {
         memcpy(s->xref, x, n3 * sizeof *x);
-        s->close_at = s->work.rebuilds;
+        s->close_at = s->version;
     }
     memcpy(s->xnear, x, n3 * sizeof *x);
-    s->near_at = s->work.rebuilds;
+    s->near_at = s->version;
     return E;
 }
 

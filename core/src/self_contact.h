@@ -20,6 +20,7 @@ typedef struct self_contact self_contact;
 /* The work done since creation (for tests and benchmarks) */
 typedef struct self_contact_work {
     long rebuilds;      /* candidate lists built (broadphase runs) */
+    long extended;      /* candidate lists grown for a few vertices */
     int candidates;     /* pairs in the last list */
     int tested, active; /* the last evaluation's pairs whose distance it computed; within D */
     double seconds;     /* wall time spent in self_contact_eval and self_contact_max_step */
@@ -39,8 +40,9 @@ void self_contact_unbind_cloth(cloth *c);
 void self_contact_begin(self_contact *s, const cloth *c, double cfac);
 
 /* Both below test only candidate pairs, listed by a broadphase for regions
- * around the vertices and kept while the positions asked about stay in them
- * (self_contact.c), in vertex and edge order: the sums do not depend on the list. */
+ * around the vertices and kept while the positions asked about stay in them (a
+ * few vertices outside: their regions grown and their pairs added; self_contact.c),
+ * in vertex and edge order: the sums do not depend on the list. */
 
 /* The barrier's energy at x (NaN: out of memory); b (NULL: none) gets -cfac times its gradient
  * added, A (NULL: none) cfac^2 times its diagonal blocks. */
