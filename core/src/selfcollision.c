@@ -27,6 +27,8 @@ struct cloth_self_collision {
     double *xprev;     /* 3n: positions after the last apply (the sides) */
     double *winv;      /* n: inverse mass, 0 for a constrained vertex */
     int have_prev;
+    double *now, *prev;  /* TRI_GEOM per triangle: its geometry at x (when current) and at xprev */
+    long *now_at, *moved_at, tick; /* ntri, n: when a triangle's was found and a vertex last moved */
     self_contact *contact; /* the Newton step's self-contact, bound to the cloth applied to */
 };
 
@@ -43,16 +45,30 @@ static int tri_normal(const double *a, const double *b, const double *c, double 
     return 1;
 }
 
-/* Barycentric coordinates of q (in the plane of a, b, c). */
-static void barycentric(const double *a, const double *b, const double *c, const double *q, double *w)
+/* A triangle's geometry for the tests below: its unit normal, whether it has one, its sides from the
+ * first corner, their dot products and the Gram determinant */
+#define TRI_GEOM 14
+
+static void tri_geom(const double *x, const int *tv, double *g)
 {
-    double e0[3], e1[3], e2[3];
-    vec3_sub(b, a, e0);
-    vec3_sub(c, a, e1);
+    const double *a = x + 3 * tv[0];
+    g[3] = tri_normal(a, x + 3 * tv[1], x + 3 * tv[2], g);
+    vec3_sub(x + 3 * tv[1], a, g + 4);
+    vec3_sub(x + 3 * tv[2], a, g + 7);
+    g[10] = vec3_dot(g + 4, g + 4);
+    g[11] = vec3_dot(g + 4, g + 7);
+    g[12] = vec3_dot(g + 7, g + 7);
+    g[13] = g[10] * g[12] - g[11] * g[11];
+}
+
+/* Barycentric coordinates of q (in the plane of triangle g, a its first corner). */
+static void barycentric(const double *g, const double *a, const double *q, double *w)
+{
+    double e2[3];
     vec3_sub(q, a, e2);
-    double d00 = vec3_dot(e0, e0), d01 = vec3_dot(e0, e1), d11 = vec3_dot(e1, e1);
-    double d20 = vec3_dot(e2, e0), d21 = vec3_dot(e2, e1);
-    double den = d00 * d11 - d01 * d01;
+    double d00 = g[10], d01 = g[11], d11 = g[12];
+    double d20 = vec3_dot(e2, g + 4), d21 = vec3_dot(e2, g + 7);
+    double den = g[13];
     if (!(fabs(den) > 1e-30)) {
         w[0] = w[1] = w[2] = -1.0;
         return;
@@ -60,6 +76,19 @@ static void barycentric(const double *a, const double *b, const double *c, const
     w[1] = (d11 * d20 - d01 * d21) / den;
     w[2] = (d00 * d21 - d01 * d20) / den;
     w[0] = 1.0 - w[1] - w[2];
+}
+
+/* Triangle t's geometry at the working positions, found again only after a corner moved */
+static const double *geom_now(cloth_self_collision *s, int t)
+{
+    const int *tv = s->tri + 3 * t;
+    double *g = s->now + TRI_GEOM * (size_t)t;
+    long at = s->now_at[t];
+    if (at < 0 || s->moved_at[tv[0]] > at || s->moved_at[tv[1]] > at || s->moved_at[tv[2]] > at) {
+        tri_geom(s->x, tv, g);
+        s->now_at[t] = s->tick;
+    }
+    return g;
 }
 
 static void cell_of(const cloth_self_collision *s, const double *p, long *ijk)
@@ -114,7 +143,12 @@ cloth_status cloth_self_collision_create(const cloth *c, double thickness, cloth
     s->v = malloc(3 * n * sizeof *s->v);
     s->xprev = malloc(3 * n * sizeof *s->xprev);
     s->winv = malloc(n * sizeof *s->winv);
-    if (!s->tri || !s->stamp || !s->head || !s->ent_tri || !s->ent_next || !s->x || !s->v || !s->xprev || !s->winv) {
+    s->now = malloc(TRI_GEOM * (size_t)s->ntri * sizeof *s->now);
+    s->prev = malloc(TRI_GEOM * (size_t)s->ntri * sizeof *s->prev);
+    s->now_at = malloc((size_t)s->ntri * sizeof *s->now_at);
+    s->moved_at = malloc(n * sizeof *s->moved_at);
+    if (!s->tri || !s->stamp || !s->head || !s->ent_tri || !s->ent_next || !s->x || !s->v || !s->xprev || !s->winv ||
+        !s->now || !s->prev || !s->now_at || !s->moved_at) {
         cloth_self_collision_destroy(s);
         return error_set(err, CLOTH_ENOMEM, "cloth_self_collision_create: out of memory");
     }
@@ -148,6 +182,10 @@ void cloth_self_collision_destroy(cloth_self_collision *s)
     free(s->v);
     free(s->xprev);
     free(s->winv);
+    free(s->now);
+    free(s->prev);
+    free(s->now_at);
+    free(s->moved_at);
     free(s);
 }
 
@@ -159,25 +197,25 @@ static int separate(cloth_self_collision *s, int p, int t, cloth_self_collision_
     const int *tv = s->tri + 3 * t;
     double *x = s->x, *v = s->v;
     const double *xp = s->xprev;
-    double nrm[3], nprev[3];
-    if (!tri_normal(x + 3 * tv[0], x + 3 * tv[1], x + 3 * tv[2], nrm)) return 0;
+    const double *gn = geom_now(s, t), *gp = s->prev + TRI_GEOM * (size_t)t, *nrm = gn, *nprev = gp;
+    if (!gn[3]) return 0;
     double rel[3];
     vec3_sub(x + 3 * p, x + 3 * tv[0], rel);
     double s_now = vec3_dot(rel, nrm);
     /* only a point over the triangle: its edges belong to the neighbours */
     double q[3], w[3];
     for (int k = 0; k < 3; k++) q[k] = x[3 * p + k] - s_now * nrm[k];
-    barycentric(x + 3 * tv[0], x + 3 * tv[1], x + 3 * tv[2], q, w);
+    barycentric(gn, x + 3 * tv[0], q, w);
     if (w[0] < -SC_EDGE_SLACK || w[1] < -SC_EDGE_SLACK || w[2] < -SC_EDGE_SLACK) return 0;
     /* the side it was on: from the last apply's positions */
     double side = s_now >= 0.0 ? 1.0 : -1.0;
     int over_before = 0;
-    if (tri_normal(xp + 3 * tv[0], xp + 3 * tv[1], xp + 3 * tv[2], nprev)) {
+    if (gp[3]) {
         vec3_sub(xp + 3 * p, xp + 3 * tv[0], rel);
         double s_prev = vec3_dot(rel, nprev), qp[3], wp[3];
         if (fabs(s_prev) > 1e-12) side = s_prev > 0.0 ? 1.0 : -1.0;
         for (int k = 0; k < 3; k++) qp[k] = xp[3 * p + k] - s_prev * nprev[k];
-        barycentric(xp + 3 * tv[0], xp + 3 * tv[1], xp + 3 * tv[2], qp, wp);
+        barycentric(gp, xp + 3 * tv[0], qp, wp);
         over_before = wp[0] > -SC_OVER_MARGIN && wp[1] > -SC_OVER_MARGIN && wp[2] > -SC_OVER_MARGIN;
     }
     double gap = side * s_now; /* negative: crossed */
@@ -195,6 +233,8 @@ static int separate(cloth_self_collision *s, int p, int t, cloth_self_collision_
     for (int k = 0; k < 3; k++) denom += w[k] * w[k] * s->winv[tv[k]];
     double dir[3] = {side * nrm[0], side * nrm[1], side * nrm[2]};
     double lam = depth / denom;
+    s->tick++;
+    s->moved_at[p] = s->moved_at[tv[0]] = s->moved_at[tv[1]] = s->moved_at[tv[2]] = s->tick;
     for (int a = 0; a < 3; a++) {
         x[3 * p + a] += lam * s->winv[p] * dir[a];
         for (int k = 0; k < 3; k++) x[3 * tv[k] + a] -= lam * w[k] * s->winv[tv[k]] * dir[a];
@@ -278,7 +318,13 @@ cloth_status cloth_self_collision_apply(cloth_self_collision *s, cloth *c, cloth
                 }
     }
     int moved = 0, visit = 0;
-    for (int t = 0; t < s->ntri; t++) s->stamp[t] = -1;
+    for (int t = 0; t < s->ntri; t++) {
+        s->stamp[t] = -1;
+        s->now_at[t] = -1;
+        tri_geom(s->xprev, s->tri + 3 * t, s->prev + TRI_GEOM * (size_t)t);
+    }
+    for (int i = 0; i < s->n; i++) s->moved_at[i] = -1;
+    s->tick = 0;
     for (int pass = 0; pass < SC_PASSES; pass++) {
         int moved_pass = 0;
         for (int p = 0; p < s->n; p++, visit++) {
