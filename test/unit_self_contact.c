@@ -171,6 +171,19 @@ static void case_fold(cloth *c)
         CHECK(w.candidates < all / 2, "move %d: %d candidates of all %d pairs", m, w.candidates, all);
         memcpy(x, y, sizeof x);
     }
+    /* back and forth between the last position and one within the regions but more than the close
+     * pairs' slack from it: one close list made, then both kept and used again; energy as brute force */
+    memcpy(y, x, sizeof y);
+    for (int i = N * (N / 2 + 1); i < NV; i++) y[3 * i + 2] += 0.4 * D;
+    for (int k = 0; k < 4; k++) {
+        const double *at = k % 2 ? y : x;
+        long before = self_contact_get_work(s).relisted;
+        double E = self_contact_eval(s, at, CFAC, NULL, NULL), Eb = brute_energy(edges, ne, at, kappa, &active);
+        self_contact_work w = self_contact_get_work(s);
+        CHECK(w.relisted - before == (k == 1), "back and forth %d: %ld close lists made", k, w.relisted - before);
+        CHECK(w.active == active, "back and forth %d: %d pairs within D, brute force %d", k, w.active, active);
+        CHECK_REL(E, Eb, 1e-12, 0.0);
+    }
     /* a corner vertex moved out of its region, 0.3 D over the centroid of a far triangle: the list
      * grown for it, not rebuilt, and still all pairs within D */
     for (int k = 0; k < 2; k++) {

@@ -26,11 +26,20 @@
  * under D plus twice this many thicknesses. While no vertex is farther than
  * that from its reference, no other candidate comes within D. */
 #define SELF_CONTACT_SLACK 0.25
+#define SELF_CONTACT_SPARE 3 /* earlier references' close pairs kept: Newton's start tries several positions */
 
 /* A growable list of index pairs */
 typedef struct pair_list {
     int *v, n, cap;
 } pair_list;
+
+/* Close pairs of a reference */
+typedef struct ref_set {
+    pair_list close;         /* (kind, candidate) of the close pairs, in list order */
+    double *xref;            /* 3 n: their reference positions */
+    long close_at;           /* the lists they are of (version then); -1: none */
+    long used;               /* the clock when last used */
+} ref_set;
 
 struct self_contact {
     int n, ntri, nedge;
@@ -51,9 +60,9 @@ struct self_contact {
     pair_list vt, ee;        /* candidates: (vertex, triangle), (edge, later edge) */
     pair_list swept;         /* a direct sweep's pairs of one query */
     pair_list near;          /* (kind, candidate) of the pairs the last evaluation did not prove apart */
-    pair_list close;         /* (kind, candidate) of the close pairs, in list order */
-    double *xref;            /* 3 n: their reference positions */
-    long close_at;           /* the lists they are of (version then); -1: none */
+    ref_set ref;             /* the close pairs of the last evaluation or sweep */
+    ref_set spare[SELF_CONTACT_SPARE]; /* those of earlier references, kept for evaluations that return there */
+    long clock;              /* counts the close pairs' uses */
     double *xnear;           /* 3 n: its positions */
     long near_at;            /* the lists it used (version then) */
     int near_ok;             /* whether near holds them all */
@@ -117,16 +126,21 @@ self_contact *self_contact_create(int n, int ntri, const int *tri, double thickn
     s->lo = malloc(3 * (size_t)(n > 0 ? n : 1) * sizeof *s->lo);
     s->hi = malloc(3 * (size_t)(n > 0 ? n : 1) * sizeof *s->hi);
     s->xnear = malloc(3 * (size_t)(n > 0 ? n : 1) * sizeof *s->xnear);
-    s->xref = malloc(3 * (size_t)(n > 0 ? n : 1) * sizeof *s->xref);
+    int refs_ok = 1;
+    for (int k = 0; k <= SELF_CONTACT_SPARE; k++) {
+        ref_set *r = k ? &s->spare[k - 1] : &s->ref;
+        r->xref = malloc(3 * (size_t)(n > 0 ? n : 1) * sizeof *r->xref);
+        r->close_at = -1;
+        refs_ok = refs_ok && r->xref;
+    }
     s->xstart = malloc(3 * (size_t)(n > 0 ? n : 1) * sizeof *s->xstart);
     s->out = malloc((size_t)(n > 0 ? n : 1) * sizeof *s->out);
     s->mark = calloc((size_t)(n > 0 ? n : 1), 1);
-    s->close_at = -1;
     s->frame = malloc(12 * (size_t)(ntri > 0 ? ntri : 1) * sizeof *s->frame);
     s->vbox = malloc(6 * (size_t)(n > 0 ? n : 1) * sizeof *s->vbox);
     s->grid = sweep_grid_create();
     /* room for a crumpled sheet's candidates, so that steps seldom allocate */
-    int ok = s->nedge >= 0 && s->box && s->lo && s->hi && s->xnear && s->xref && s->xstart && s->out && s->mark &&
+    int ok = s->nedge >= 0 && s->box && s->lo && s->hi && s->xnear && refs_ok && s->xstart && s->out && s->mark &&
              s->frame && s->vbox && s->grid;
     if (!ok || pair_reserve(&s->vt, 8 * n) || pair_reserve(&s->ee, 8 * n)) {
         self_contact_destroy(s);
@@ -150,9 +164,11 @@ void self_contact_destroy(self_contact *s)
     free(s->ee.v);
     free(s->swept.v);
     free(s->near.v);
-    free(s->close.v);
+    for (int k = 0; k <= SELF_CONTACT_SPARE; k++) {
+        free(k ? s->spare[k - 1].close.v : s->ref.close.v);
+        free(k ? s->spare[k - 1].xref : s->ref.xref);
+    }
     free(s->xnear);
-    free(s->xref);
     free(s->xstart);
     free(s->out);
     free(s->mark);
@@ -532,20 +548,21 @@ static void note(pair_list *l, int *ok, int kind, int i)
 }
 
 /* The terms of the candidate pairs (vertex-triangle, or with ee edge-edge) within D at x: every
- * candidate when listing the close pairs (into s->close, *ok 0 out of memory), else the close ones */
+ * candidate when listing the close pairs (into s->ref, *ok 0 out of memory), else the close ones */
 static double pairs_at(self_contact *s, int ee, const double *x, double cfac, double *b, bsr *A, int listing,
                        int *ok)
 {
     double E = 0.0, apart = s->D * PAIR_APART_MARGIN, keep = apart + 2.0 * SELF_CONTACT_SLACK * s->D;
-    int v[4], np = listing ? (ee ? s->ee.n : s->vt.n) : s->close.n;
+    const pair_list *cl = &s->ref.close;
+    int v[4], np = listing ? (ee ? s->ee.n : s->vt.n) : cl->n;
     for (int j = 0; j < np; j++) {
         int i = j;
         if (!listing) {
-            if (s->close.v[2 * j] != ee) continue;
-            i = s->close.v[2 * j + 1];
+            if (cl->v[2 * j] != ee) continue;
+            i = cl->v[2 * j + 1];
         }
         double g = pair_gap(s, ee, i, x, listing ? keep : apart, v);
-        if (listing && g < keep) note(&s->close, ok, ee, i);
+        if (listing && g < keep) note(&s->ref.close, ok, ee, i);
         if (g >= apart) continue;
         note(&s->near, &s->near_ok, ee, i);
         double e = pair_at(s, v, ee, x, cfac, b, A);
@@ -556,24 +573,57 @@ static double pairs_at(self_contact *s, int ee, const double *x, double cfac, do
     return E;
 }
 
-/* The largest distance of a vertex of x from its reference position */
-static double moved(const self_contact *s, const double *x)
+/* The largest distance of a vertex of x from its reference position in r */
+static double moved(const self_contact *s, const ref_set *r, const double *x)
 {
     double m = 0.0;
     for (int i = 0; i < s->n; i++) {
         double d[3];
-        vec3_sub(x + 3 * i, s->xref + 3 * i, d);
+        vec3_sub(x + 3 * i, r->xref + 3 * i, d);
         double d2 = vec3_dot(d, d);
         if (!(d2 <= m)) m = d2 == d2 ? d2 : INFINITY; /* a NaN position: moved past any slack */
     }
     return sqrt(m);
 }
 
-/* Whether the close pairs hold every candidate that can come within D at x (and x1 unless NULL) */
-static int close_holds(const self_contact *s, const double *x, const double *x1)
+/* Whether r's close pairs hold every candidate that can come within D at x (and x1 unless NULL) */
+static int holds(const self_contact *s, const ref_set *r, const double *x, const double *x1)
 {
     double slack = SELF_CONTACT_SLACK * s->D;
-    return s->close_at == s->version && moved(s, x) <= slack && (!x1 || moved(s, x1) <= slack);
+    return r->close_at == s->version && moved(s, r, x) <= slack && (!x1 || moved(s, r, x1) <= slack);
+}
+
+static void swap_refs(ref_set *a, ref_set *b)
+{
+    ref_set t = *a;
+    *a = *b;
+    *b = t;
+}
+
+/* Whether the close pairs of a reference hold x (and x1 unless NULL): the current one, else a spare made
+ * current */
+static int close_holds(self_contact *s, const double *x, const double *x1)
+{
+    int k = -1;
+    if (!holds(s, &s->ref, x, x1))
+        for (k = 0; k < SELF_CONTACT_SPARE && !holds(s, &s->spare[k], x, x1); k++) continue;
+    if (k == SELF_CONTACT_SPARE) return 0;
+    if (k >= 0) swap_refs(&s->ref, &s->spare[k]);
+    s->ref.used = ++s->clock;
+    return 1;
+}
+
+/* Before the close pairs are listed again: the current ones kept as a spare, in place of the least
+ * recently used */
+static void retire_ref(self_contact *s)
+{
+    int k = 0;
+    long oldest = LONG_MAX;
+    for (int j = 0; j < SELF_CONTACT_SPARE; j++) {
+        long u = s->spare[j].close_at == s->version ? s->spare[j].used : -1;
+        if (u < oldest) oldest = u, k = j;
+    }
+    if (s->ref.close_at == s->version) swap_refs(&s->ref, &s->spare[k]);
 }
 
 /* The terms of the pairs the last evaluation found near, at the same positions */
@@ -607,8 +657,9 @@ static double eval_untimed(self_contact *s, const double *x, double cfac, double
     s->near_ok = 1;
     int listing = !close_holds(s, x, NULL), ok = 1;
     if (listing) {
-        s->close.n = 0;
-        s->close_at = -1;
+        retire_ref(s);
+        s->ref.close.n = 0;
+        s->ref.close_at = -1;
     }
     for (int t = 0; t < s->ntri; t++) {
         const int *tv = s->tri + 3 * t;
@@ -619,8 +670,10 @@ static double eval_untimed(self_contact *s, const double *x, double cfac, double
     for (int e = 0; e < s->nedge; e++) corners_box(s->edges + 2 * e, 2, x, NULL, 0.0, s->box + 6 * (size_t)e);
     E += pairs_at(s, 1, x, cfac, b, A, listing, &ok);
     if (listing && ok) {
-        memcpy(s->xref, x, n3 * sizeof *x);
-        s->close_at = s->version;
+        memcpy(s->ref.xref, x, n3 * sizeof *x);
+        s->ref.close_at = s->version;
+        s->ref.used = ++s->clock;
+        s->work.relisted++;
     }
     memcpy(s->xnear, x, n3 * sizeof *x);
     s->near_at = s->version;
@@ -648,12 +701,13 @@ static double first_touch(self_contact *s, int ee, int close, const double *x0, 
 {
     const pair_list *l = ee ? &s->ee : &s->vt;
     double first = HUGE_VAL;
-    int np = close ? s->close.n : l->n;
+    const pair_list *cl = &s->ref.close;
+    int np = close ? cl->n : l->n;
     for (int j = 0; j < np; j++) {
         int i = j, v[4];
         if (close) {
-            if (s->close.v[2 * j] != ee) continue;
-            i = s->close.v[2 * j + 1];
+            if (cl->v[2 * j] != ee) continue;
+            i = cl->v[2 * j + 1];
         }
         int a = l->v[2 * i], t = l->v[2 * i + 1];
         if (ee) {

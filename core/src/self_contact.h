@@ -21,6 +21,7 @@ typedef struct self_contact self_contact;
 typedef struct self_contact_work {
     long rebuilds;      /* candidate lists built (broadphase runs) */
     long extended;      /* candidate lists grown for a few vertices */
+    long relisted;      /* close-pair lists made (passes over every candidate) */
     int candidates;     /* pairs in the last list */
     int tested, active; /* the last evaluation's pairs whose distance it computed; within D */
     double seconds;     /* wall time spent in self_contact_eval and self_contact_max_step */
