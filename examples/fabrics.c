@@ -50,6 +50,10 @@ int main(int argc, char **argv)
         fprintf(stderr, "fabrics: give one --alpha at most\n");
         return 2;
     }
+    if (o.fabric || o.crease_grip > 0.0) {
+        fprintf(stderr, "fabrics: --fabric and --crease-grip are drape_table's and drape_sphere's\n");
+        return 2;
+    }
     /* the table as drape_table runs it (its bending and plastic memory,
      * examples/common/drape.h), the press as crumple does (the presets);
      * --bending and --memory override both */
@@ -66,6 +70,7 @@ int main(int argc, char **argv)
         vt[i] = v[i];
         vt[i].material.k_b = o.k_b > 0.0 ? o.k_b : drape_table_scene.k_b;
         vt[i].material.plastic_memory = o.memory >= 0 ? o.memory : drape_table_scene.memory;
+        vt[i].removal = drape_removal_chosen(&o);
     }
     drape_result table[2], press[2];
     const char *out = o.out;

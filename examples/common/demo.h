@@ -26,10 +26,17 @@ typedef struct demo_opts {
     int material_set;             /* --material given                      */
     cloth_preset material;
     const char *material_name;
+    int fabric;                   /* --fabric: 1 + the cloth_fabric_kind, derived
+                                     for the grid's spacing; 0 = none given */
+    const char *fabric_name;
     double self_thickness;        /* --self-collision T: m, cloth against itself
                                      (odecloth/selfcollision.h); 0 = off       */
     double k_b;                   /* --bending K: N/m, replaces the preset's
                                      interlaced stiffness k_b (0: the preset's) */
+    double crease_grip;           /* --crease-grip G: N, with plastic memory a
+                                     crease's pull k_s = G / spacing (0: the demo's) */
+    int removal;                  /* --removal: 1 four corners (the paper's),
+                                     2 two corners (a person's); 0 = the demo's */
     int memory;                   /* --memory 0|1: material.plastic_memory
                                      (-1: the demo's default)               */
     int grid;                     /* nodes per side (--grid N)             */
@@ -65,6 +72,16 @@ int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char
 /* What a demo's main calls: demo_parse, and when it returns 0 ODE's
  * initialisation (dInitODE2, with dCloseODE at exit). Same returns. */
 int demo_begin(demo_opts *o, const char *prog, const char *usage, int argc, char **argv);
+/* The fabric in use (1 + cloth_fabric_kind; 0: the --material preset):
+ * --fabric, else none if --material was given, else the demo's default. */
+int demo_fabric_chosen(const demo_opts *o, int fabric_default);
+/* Its name ("cotton"), "" for 0. */
+const char *demo_fabric_name(int fabric);
+/* The material the options ask for, for a square cloth of `size` m with
+ * o->grid nodes a side: the fabric chosen derived for that spacing
+ * (cloth_fabric_material), else the --material preset; then --bending and
+ * --memory. 0, or -1 with the reason printed (a grid too fine for the fabric). */
+int demo_material(const demo_opts *o, double size, int fabric_default, cloth_material *out);
 /* The plugin's default descriptor with the demo's --solver applied. */
 dClothDesc demo_desc(const demo_opts *o);
 /* The alphas asked for, or the defaults given (n of them). */

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "drape.h"
+#include "odecloth/fabric.h"
 #include "odecloth/selfcollision.h"
 #include "view.h"
 
@@ -18,6 +19,12 @@
 #define SLACK 0.8        /* corners' spacing while carried */
 #define SPREAD_Z 0.35    /* height where the corners are spread out */
 #define CARRY_X 1.0      /* the cloth is laid down centred at (CARRY_X, 0) */
+#define TWO_CORNER_MOVES 4 /* phases of the two-corner removal before it is laid down */
+#define LAY_TIME 3.0     /* s the laying down takes, --short or not */
+#define HAND_Z 1.5       /* two-corner removal: hands' height while carrying     */
+#define HAND_GAP 0.9     /* their spacing then, of the cloth's width             */
+#define HAND_BACK 0.2    /* m, how far back of the cloth's edge they lift it     */
+#define HAND_SLACK 0.03  /* slack while laying it down, of the cloth's length      */
 
 static const float table_rgb[3] = {0.55f, 0.40f, 0.28f}, sphere_rgb[3] = {0.60f, 0.62f, 0.68f};
 
@@ -143,8 +150,26 @@ static int settle_and_capture(runner *R, int steps, const char *what, double t0,
     return 0;
 }
 
-/* Move the four corners (pinned every step) from `from` to the phase's
- * positions over `steps`, by a smoothstep in time; `from` ends there. */
+/* Move n pinned vertices from `from` to `to` over `steps`, by a smoothstep
+ * in time; `from` ends at `to`. */
+static int move_pins(runner *R, const char *name, int n, const int *pin, double (*from)[3], const double (*to)[3],
+                     int steps)
+{
+    for (int s = 1; s <= steps; s++) {
+        double w = demo_smoothstep((double)s / steps);
+        for (int k = 0; k < n; k++) {
+            dReal at[3];
+            for (int a = 0; a < 3; a++) at[a] = from[k][a] + w * (to[k][a] - from[k][a]);
+            dClothPinToWorld(R->c, pin[k], at);
+        }
+        if (run_step(R)) return -1;
+    }
+    phase_done(R, name);
+    memcpy(from, to, (size_t)n * sizeof *from);
+    return 0;
+}
+
+/* Move the four corners to the phase's positions (see phase). */
 static int move_corners(runner *R, const phase *ph, const int corner[4], double from[4][3], int steps)
 {
     static const double off[4][2] = {{-0.5, -0.5}, {0.5, -0.5}, {-0.5, 0.5}, {0.5, 0.5}};
@@ -154,18 +179,7 @@ static int move_corners(runner *R, const phase *ph, const int corner[4], double 
         to[k][1] = ph->scale * off[k][1] * CLOTH_SIZE;
         to[k][2] = ph->z;
     }
-    for (int s = 1; s <= steps; s++) {
-        double w = demo_smoothstep((double)s / steps);
-        for (int k = 0; k < 4; k++) {
-            dReal at[3];
-            for (int a = 0; a < 3; a++) at[a] = from[k][a] + w * (to[k][a] - from[k][a]);
-            dClothPinToWorld(R->c, corner[k], at);
-        }
-        if (run_step(R)) return -1;
-    }
-    phase_done(R, ph->name);
-    memcpy(from, to, sizeof to);
-    return 0;
+    return move_pins(R, ph->name, 4, corner, from, (const double(*)[3])to, steps);
 }
 
 /* The corners' current positions. */
@@ -194,6 +208,51 @@ static int refold(runner *R, drape_collider col, const int corner[4], int move_s
     return 0;
 }
 
+/* The paper's removal: the four corners lifted, carried, spread out to
+ * the flat square's corners over the floor and lowered onto it, then let go. */
+static int remove_by_four_corners(runner *R, drape_collider col, const int corner[4], double thickness, int steps)
+{
+    /* the floor corners a thickness above the floor: where a resting vertex is */
+    const phase phases[] = {
+        {"unwrap", UNWRAP, 0.0, collider_top(col) + 0.02},
+        {"lift", UNWRAP, 0.0, LIFT_Z},
+        {"gather", SLACK, 0.0, LIFT_Z},
+        {"carry", SLACK, CARRY_X, LIFT_Z},
+        {"spread", 1.0, CARRY_X, SPREAD_Z},
+        {"lower", 1.0, CARRY_X, FLOOR_Z + thickness},
+    };
+    double from[4][3];
+    corners_now(R, corner, from);
+    for (int p = 0; p < 6; p++)
+        if (move_corners(R, &phases[p], corner, from, steps)) return -1;
+    for (int k = 0; k < 4; k++) dClothReleasePin(R->c, corner[k]);
+    return 0;
+}
+
+/* The removal as a person does it: the two corners of one edge taken up,
+ * the cloth lifted off, carried clear hanging from them and lowered till its
+ * free edge touches the floor, then laid down walking forward: the held edge
+ * tilted 45 degrees ahead and lowered along that line, a little slack. */
+static int remove_by_two_corners(runner *R, const int corner[4], double thickness, int steps, int lay_steps)
+{
+    const double w = 0.5 * CLOTH_SIZE, g = HAND_GAP * w, back = -w - HAND_BACK;
+    const double lean = (1.0 - HAND_SLACK) * CLOTH_SIZE * sqrt(0.5); /* held edge over the free one */
+    const double stops[][2][3] = {
+        {{-g, back, HAND_Z}, {g, back, HAND_Z}},
+        {{CARRY_X - g, -w, HAND_Z}, {CARRY_X + g, -w, HAND_Z}},
+        {{CARRY_X - w, -w, FLOOR_Z + CLOTH_SIZE}, {CARRY_X + w, -w, FLOOR_Z + CLOTH_SIZE}},
+        {{CARRY_X - w, -w + lean, FLOOR_Z + lean}, {CARRY_X + w, -w + lean, FLOOR_Z + lean}},
+        {{CARRY_X - w, w, FLOOR_Z + thickness}, {CARRY_X + w, w, FLOOR_Z + thickness}},
+    };
+    static const char *const names[] = {"lift", "carry", "lower", "lean", "lay"};
+    double from[4][3];
+    corners_now(R, corner, from);
+    for (int p = 0; p <= TWO_CORNER_MOVES; p++)
+        if (move_pins(R, names[p], 2, corner, from, stops[p], p == TWO_CORNER_MOVES ? lay_steps : steps)) return -1;
+    for (int k = 0; k < 2; k++) dClothReleasePin(R->c, corner[k]);
+    return 0;
+}
+
 int drape_run(const demo_opts *o, const demo_scene *scene, const drape_variant *v, drape_result *r)
 {
     drape_collider col = scene->col;
@@ -206,16 +265,6 @@ int drape_run(const demo_opts *o, const demo_scene *scene, const drape_variant *
     r->delta = v->material.delta;
     r->strain_allow = drape_strain_allowance(&d.cloth.solver, r->delta);
     r->thickness = d.thickness;
-    /* the floor corners a thickness above the floor: where a resting vertex is */
-    const phase phases[] = {
-        {"unwrap", UNWRAP, 0.0, collider_top(col) + 0.02},
-        {"lift", UNWRAP, 0.0, LIFT_Z},
-        {"gather", SLACK, 0.0, LIFT_Z},
-        {"carry", SLACK, CARRY_X, LIFT_Z},
-        {"spread", 1.0, CARRY_X, SPREAD_Z},
-        {"lower", 1.0, CARRY_X, FLOOR_Z + d.thickness},
-    };
-    const int nphase = sizeof phases / sizeof phases[0];
 
     runner R = {.o = o, .v = v, .next_frame = 1};
     R.world = dWorldCreate();
@@ -261,7 +310,10 @@ int drape_run(const demo_opts *o, const demo_scene *scene, const drape_variant *
     cameras(col, &cam_draped, &cam_after, &R.cam_wide);
     int settle_steps = (int)lround(settle * o->hz), move_steps = (int)lround(move * o->hz);
     int hold_steps = (int)lround(hold * o->hz);
-    R.total = settle_steps + folds * hold_steps + (folds - 1) * 3 * move_steps + nphase * move_steps;
+    int lay_steps = (int)lround(LAY_TIME * o->hz);
+    int remove_steps = v->removal == DRAPE_REMOVE_TWO_CORNERS ? TWO_CORNER_MOVES * move_steps + lay_steps
+                                                               : 6 * move_steps;
+    R.total = settle_steps + folds * hold_steps + (folds - 1) * 3 * move_steps + remove_steps;
     double t0 = demo_now();
 
     for (int f = 1; f < folds; f++) {
@@ -273,11 +325,9 @@ int drape_run(const demo_opts *o, const demo_scene *scene, const drape_variant *
     if (settle_and_capture(&R, hold_steps, scene->tags[0], t0, &cam_draped, &r->draped, &r->pic_draped))
         goto done;
 
-    double from[4][3];
-    corners_now(&R, corner, from);
-    for (int p = 0; p < nphase; p++)
-        if (move_corners(&R, &phases[p], corner, from, move_steps)) goto done;
-    for (int k = 0; k < 4; k++) dClothReleasePin(R.c, corner[k]);
+    if (v->removal == DRAPE_REMOVE_TWO_CORNERS ? remove_by_two_corners(&R, corner, d.thickness, move_steps, lay_steps)
+                                               : remove_by_four_corners(&R, col, corner, d.thickness, move_steps))
+        goto done;
     if (settle_and_capture(&R, settle_steps, scene->tags[1], t0, &cam_after, &r->after, &r->pic_after))
         goto done;
     rc = 0;
@@ -295,9 +345,9 @@ done:
 }
 
 const demo_scene drape_table_scene = {"table", {"draped", "after removal"}, {"draped", "after"}, DRAPE_TABLE,
-                                      drape_run, DRAPE_BENDING, 1, 1};
+                                      drape_run, DRAPE_BENDING, 1, 1, 0, DRAPE_GRIP};
 const demo_scene drape_sphere_scene = {"sphere", {"draped", "after removal"}, {"draped", "after"}, DRAPE_SPHERE,
-                                       drape_run, DRAPE_BENDING, 1, 1};
+                                       drape_run, DRAPE_BENDING, 1, 1, 0, DRAPE_GRIP};
 
 int drape_run_all(const demo_opts *o, const demo_scene *sc, const drape_variant *v, int nv, drape_result *results,
                   const char *sheet, const char *title)
@@ -412,6 +462,22 @@ int drape_check_alphas(const double *alphas, const drape_result *r, int n, int g
     return failed;
 }
 
+drape_removal drape_removal_chosen(const demo_opts *o)
+{
+    return o->removal == 2 ? DRAPE_REMOVE_TWO_CORNERS : DRAPE_REMOVE_FOUR_CORNERS;
+}
+
+int drape_scene_material(const demo_opts *o, const demo_scene *sc, cloth_material *m)
+{
+    if (demo_material(o, CLOTH_SIZE, sc->fabric, m)) return -1;
+    if (!demo_fabric_chosen(o, sc->fabric) && !(o->k_b > 0.0) && sc->k_b > 0.0) m->k_b = sc->k_b;
+    if (o->memory < 0) m->plastic_memory = sc->memory;
+    /* a remembered crease's pull per length of crease is k_s times the spacing: set it, not k_s */
+    double grip = o->crease_grip > 0.0 ? o->crease_grip : demo_fabric_chosen(o, sc->fabric) ? sc->crease_grip : 0.0;
+    if (grip > 0.0 && m->plastic_memory) m->k_s = grip * (o->grid - 1) / CLOTH_SIZE;
+    return 0;
+}
+
 int drape_alpha_main(int argc, char **argv, const char *prog, const char *usage, const demo_scene *sc,
                      const double *default_alphas, int ndefault, const char *title)
 {
@@ -424,12 +490,12 @@ int drape_alpha_main(int argc, char **argv, const char *prog, const char *usage,
     drape_variant v[DEMO_MAX_ALPHAS];
     drape_result r[DEMO_MAX_ALPHAS];
     memset(v, 0, sizeof v);
+    cloth_material m;
+    if (drape_scene_material(&o, sc, &m)) return 1;
     for (int i = 0; i < n; i++) {
-        v[i].material = cloth_material_preset(o.material);
+        v[i].material = m;
         v[i].material.alpha = alphas[i];
-        if (o.k_b > 0.0) v[i].material.k_b = o.k_b;
-        else if (sc->k_b > 0.0) v[i].material.k_b = sc->k_b;
-        v[i].material.plastic_memory = o.memory >= 0 ? o.memory : sc->memory;
+        v[i].removal = drape_removal_chosen(&o);
         snprintf(v[i].label, sizeof v[i].label, "alpha %g", alphas[i]);
         snprintf(v[i].tag, sizeof v[i].tag, "alpha%g", alphas[i]);
     }
@@ -500,6 +566,11 @@ int drape_material_main(const demo_opts *o, const demo_scene *s, const char *tit
 {
     drape_variant v[DEMO_MAX_ALPHAS];
     drape_result r[DEMO_MAX_ALPHAS];
+    if (o->fabric || o->crease_grip > 0.0) {
+        fprintf(stderr, "%s: --fabric and --crease-grip are drape_table's and drape_sphere's; use --material\n",
+                o->prog);
+        return 2;
+    }
     int n = drape_material_variants(o, v), failed = 0;
     for (int i = 0; i < n; i++) {
         /* one run at a time: what a run keeps for report is the last run's */

@@ -13,7 +13,11 @@
  *   spread  corners to the flat square's corners, 0.35 m up
  *   lower   corners onto the floor (a thickness above it)
  * then the corners are released and the cloth settles for 4 s ("after
- * removal"). --short: 2.5 s settles and 1 s phases. A variant may set the
+ * removal"). --removal two takes it off as a person does instead: two
+ * corners of one edge lifted 0.9 m apart to 1.5 m, carried clear, lowered
+ * till the free edge touches the floor, tilted 45 degrees ahead and laid
+ * down along that line (3 s, with 3% slack), then let go.
+ * --short: 2.5 s settles and 1 s phases. A variant may set the
  * drape's own length (hold) and drape more than once (folds): before each
  * drape after the first the cloth is lifted off (unwrap, lift) and laid
  * back flat 5 cm over the collider (relay), then let go.
@@ -34,10 +38,14 @@
  * tried that keeps penetration well under the thickness (at 0.02 the short
  * sphere run reaches 4.8 mm of 5). Memory lets a crease that the spread
  * opens re-form once let go (the paper's "creases remain even after a brief
- * covering"); with the paper's per-step rule the spread erases them all. */
+ * covering"); with the paper's per-step rule the spread erases them all.
+ * --fabric NAME takes the fabric in physical units instead (no k_b
+ * override); with memory a crease's pull is then set per length of crease,
+ * k_s = crease_grip / spacing (--crease-grip), as k_s alone is not the same at every grid. */
 #define DRAPE_FLAT_DEG 0.5     /* alpha 0: mean residual crease below this   */
 #define DRAPE_MORE_FACTOR 1.5  /* "clearly more": by this factor             */
 #define DRAPE_BENDING 0.05     /* k_b N/m of drape_table / drape_sphere      */
+#define DRAPE_GRIP 0.04        /* N: crease_grip of drape_table / drape_sphere */
 #ifndef ODECLOTH_EXAMPLES_DRAPE_H
 #define ODECLOTH_EXAMPLES_DRAPE_H
 
@@ -57,6 +65,11 @@ void demo_box_mesh_destroy(demo_box_mesh *m); /* the geom and its data */
 
 typedef enum drape_collider { DRAPE_TABLE, DRAPE_SPHERE } drape_collider;
 
+typedef enum drape_removal {
+    DRAPE_REMOVE_FOUR_CORNERS = 0, /* the paper's: spread flat by four corners, lowered */
+    DRAPE_REMOVE_TWO_CORNERS       /* a person's: by two corners, laid down edge first  */
+} drape_removal;
+
 typedef struct drape_variant {
     char label[48];          /* column label ("alpha 0.5", "wool")      */
     char tag[48];            /* file name part ("alpha0.5", "wool")     */
@@ -66,6 +79,7 @@ typedef struct drape_variant {
     int folds;               /* drape_run: drapes before the removal, each
                                 after the first lifted off and laid back
                                 flat over the collider (0 or 1: once)   */
+    drape_removal removal;   /* drape_run: how the cloth is taken off    */
 } drape_variant;
 
 typedef struct drape_result {
@@ -87,13 +101,15 @@ struct demo_scene {
     drape_collider col;    /* for drape_run                                    */
     /* 0 on success, -1 if a step failed (message printed) */
     int (*run)(const demo_opts *o, const demo_scene *s, const drape_variant *v, drape_result *r);
-    /* drape_alpha_main's material, unless --bending / --memory say otherwise */
-    double k_b;            /* N/m bending in place of the preset's; 0 = the preset's */
+    /* drape_alpha_main's material, unless --fabric / --material / --bending / --memory say otherwise */
+    double k_b;            /* N/m bending in place of the preset's (not a fabric's); 0 = the preset's */
     int memory;            /* material.plastic_memory                              */
     /* drape_check_alphas: 1 = every alpha > 0 must crease clearly more than
      * alpha 0 and less than every larger alpha (the paper's graded claim);
      * 0 = a run that never yielded may instead equal the elastic run */
     int graded;
+    int fabric;            /* drape_alpha_main: 1 + the cloth_fabric_kind by default; 0 = the --material preset */
+    double crease_grip;    /* N: with a fabric and plastic memory, k_s = crease_grip / spacing (0: the fabric's) */
 };
 
 /* The drape-and-remove run of one variant (a demo_scene's run). */
@@ -130,6 +146,14 @@ int drape_check_common(const demo_opts *o, const drape_variant *v, const drape_r
  *    deg (the plastic rule never acted), and is left out of the ordering.
  * Prints each; returns the number failed. */
 int drape_check_alphas(const double *alphas, const drape_result *r, int n, int graded);
+
+/* The removal --removal asks for; four corners (the paper's) by default. */
+drape_removal drape_removal_chosen(const demo_opts *o);
+
+/* The scene's material as drape_alpha_main runs it: the options' (demo_material)
+ * with the scene's fabric as default, its k_b on a --material preset without
+ * --bending, and its memory without --memory. 0, or -1 (message printed). */
+int drape_scene_material(const demo_opts *o, const demo_scene *sc, cloth_material *m);
 
 /* main() of drape_table and drape_sphere: one variant per alpha (the
  * --material preset otherwise; defaults when no --alpha), the sheet <prog>.png,

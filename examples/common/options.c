@@ -11,7 +11,10 @@
 static const char common_usage[] =
     "common options:\n"
     "  --alpha A[,B...]       plastic yield ratio(s) in [0, 1], one run each\n"
-    "  --material NAME        cotton | wool | elastic (Table 1 presets; default cotton)\n"
+    "  --material NAME        cotton | wool | elastic (Table 1 presets, per-link springs)\n"
+    "  --fabric NAME          cotton | wool | silk | denim | polyester: a fabric in physical\n"
+    "                         units (odecloth/fabric.h), its springs derived for the grid's\n"
+    "                         spacing (drape_table, drape_sphere, crumple; docs/demos.md)\n"
     "  --bending K            interlaced (bending) stiffness k_b in N/m, (0, 10000], in place\n"
     "                         of the preset's (cotton 20, wool 10; drape_table,\n"
     "                         drape_sphere and fabrics' table default to 0.05); drapes,\n"
@@ -20,6 +23,13 @@ static const char common_usage[] =
     "                         link plastic with its l1 (drape_table, drape_sphere and\n"
     "                         fabrics' table: 1 by default; crumple, fabrics' press,\n"
     "                         curtain, trampoline: 0)\n"
+    "  --crease-grip G        N, (0, 100]: a remembered crease's pull, k_s = G / the grid's\n"
+    "                         spacing (the same at every grid; drape_table, drape_sphere;\n"
+    "                         with --fabric and plastic memory on: 0.04 by default)\n"
+    "  --removal four|two     drape_table, drape_sphere, fabrics: the cloth taken off by its\n"
+    "                         four corners, spread flat over the floor and lowered (the\n"
+    "                         paper's; default), or by two corners and laid down free edge\n"
+    "                         first, as a person does\n"
     "  --self-collision T     drape_table, drape_sphere: keep the cloth's vertices T m (0, 0.1]\n"
     "                         from its own triangles after each step (off by default)\n"
     "  --solver S             linearized | newton: how the implicit steps solve their equations\n"
@@ -103,6 +113,22 @@ static int parse_alphas(demo_opts *o, const char *s)
     }
 }
 
+const char *demo_fabric_name(int fabric)
+{
+    static const char *const names[] = {"cotton", "wool", "silk", "denim", "polyester"};
+    return fabric >= 1 && fabric <= 5 ? names[fabric - 1] : "";
+}
+
+static int parse_fabric(const char *s, int *fabric)
+{
+    for (int f = 1; *demo_fabric_name(f); f++)
+        if (!strcmp(s, demo_fabric_name(f))) {
+            *fabric = f;
+            return 0;
+        }
+    return -1;
+}
+
 int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char **argv)
 {
     static char out_default[256];
@@ -152,9 +178,19 @@ int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char
             else if (!strcmp(v, "wool")) o->material = CLOTH_WOOL;
             else if (!strcmp(v, "elastic")) o->material = CLOTH_ELASTIC;
             else return bad(o, opt, v, "want cotton, wool or elastic");
+        } else if (!strcmp(opt, "--fabric")) {
+            if (parse_fabric(v, &o->fabric)) return bad(o, opt, v, "want cotton, wool, silk, denim or polyester");
+            o->fabric_name = v;
         } else if (!strcmp(opt, "--self-collision")) {
             if (parse_double(v, &o->self_thickness) || !(o->self_thickness > 0.0) || o->self_thickness > 0.1)
                 return bad(o, opt, v, "want a thickness in (0, 0.1] m");
+        } else if (!strcmp(opt, "--crease-grip")) {
+            if (parse_double(v, &o->crease_grip) || !(o->crease_grip > 0.0) || o->crease_grip > 100.0)
+                return bad(o, opt, v, "want a number in (0, 100] N");
+        } else if (!strcmp(opt, "--removal")) {
+            if (!strcmp(v, "four")) o->removal = 1;
+            else if (!strcmp(v, "two")) o->removal = 2;
+            else return bad(o, opt, v, "want two or four");
         } else if (!strcmp(opt, "--memory")) {
             if (!strcmp(v, "0")) o->memory = 0;
             else if (!strcmp(v, "1")) o->memory = 1;
@@ -196,6 +232,7 @@ int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char
             return bad(o, "unknown option", opt, "not one of the options");
         }
     }
+    if (o->fabric && o->material_set) return bad(o, "--fabric", o->fabric_name, "give --material or --fabric, not both");
     return 0;
 }
 
