@@ -19,6 +19,11 @@
  * them, alpha 1 reaches strain 0.0305 in the short run):
  * ctest: demo drape_table_box --box-table --check --short --no-images --alpha 0,1 --bending 20 --memory 0
  *
+ * The fabric cotton in physical units (--fabric), taken off by two corners
+ * and laid down as a person does (--removal two), with the paper's rule: the
+ * elastic cloth lies flat, within the thickness and the elongation limit:
+ * ctest: demo drape_table_two_corners --check --short --no-images --alpha 0 --fabric cotton --removal two --memory 0
+ *
  * The metrics themselves, against closed forms on a folded cloth:
  * ctest: demo metrics --selftest
  */
