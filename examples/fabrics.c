@@ -3,8 +3,7 @@
  * drape_table (with its bending k_b and plastic memory, common/drape.h),
  * and the press and release of crumple (the presets). Sheets
  * fabrics_table.png and fabrics_press.png in --out (columns: the fabrics).
- * Measured (full runs): table, cotton 31.92 deg and 427 plastic links after
- * removal, wool 0.00 and 0; press, cotton 4.11 deg and 59, wool 0.42 and 0.
+ * What it measures: docs/demos.md.
  *
  * --check: penetration < thickness and strain <= each fabric's delta in
  * every run; wool (alpha 0.1, k_s 0.1: "gentle folds, spreads back out")
