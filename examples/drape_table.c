@@ -8,8 +8,9 @@
  *
  * --check asserts the paper's claim on the metrics: the residual crease
  * (mean |dihedral angle| of the settled, spread cloth) grows with alpha
- * (0 near flat, 0.5 clearly more, 0.8 more still), and no vertex went past
- * the thickness into a body nor stretched past delta.
+ * (0 near flat, 0.5 clearly more, 0.8 more still), that the draped cloth's
+ * mean crease grows with alpha too, and no vertex went past the thickness
+ * into a body nor stretched past delta.
  *
  * ctest: demo drape_table --check --short --no-images --alpha 0,0.5,0.8
  *

@@ -345,9 +345,9 @@ done:
 }
 
 const demo_scene drape_table_scene = {"table", {"draped", "after removal"}, {"draped", "after"}, DRAPE_TABLE,
-                                      drape_run, DRAPE_BENDING, 1, 1, 0, DRAPE_GRIP};
+                                      drape_run, DRAPE_BENDING, 1, 1, 0, DRAPE_GRIP, 1};
 const demo_scene drape_sphere_scene = {"sphere", {"draped", "after removal"}, {"draped", "after"}, DRAPE_SPHERE,
-                                       drape_run, DRAPE_BENDING, 1, 1, 0, DRAPE_GRIP};
+                                       drape_run, DRAPE_BENDING, 1, 1, 0, DRAPE_GRIP, 0};
 
 int drape_run_all(const demo_opts *o, const demo_scene *sc, const drape_variant *v, int nv, drape_result *results,
                   const char *sheet, const char *title)
@@ -462,6 +462,18 @@ int drape_check_alphas(const double *alphas, const drape_result *r, int n, int g
     return failed;
 }
 
+int drape_check_draped(const double *alphas, const drape_result *r, int n)
+{
+    int failed = 0;
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++)
+            if (alphas[j] > alphas[i])
+                failed += demo_claim(r[j].draped.crease_deg > r[i].draped.crease_deg,
+                                     "draped crease grows with alpha: %.3f deg at %g > %.3f deg at %g",
+                                     r[j].draped.crease_deg, alphas[j], r[i].draped.crease_deg, alphas[i]);
+    return failed;
+}
+
 drape_removal drape_removal_chosen(const demo_opts *o)
 {
     return o->removal == 2 ? DRAPE_REMOVE_TWO_CORNERS : DRAPE_REMOVE_FOUR_CORNERS;
@@ -504,6 +516,7 @@ int drape_alpha_main(int argc, char **argv, const char *prog, const char *usage,
     int failed = 0;
     for (int i = 0; i < n; i++) failed += drape_check_common(&o, &v[i], &r[i]);
     failed += drape_check_alphas(alphas, r, n, sc->graded);
+    if (sc->draped_graded) failed += drape_check_draped(alphas, r, n);
     printf("%s: %d check(s) failed\n", o.prog, failed);
     return failed ? 1 : 0;
 }

@@ -110,6 +110,7 @@ struct demo_scene {
     int graded;
     int fabric;            /* drape_alpha_main: 1 + the cloth_fabric_kind by default; 0 = the --material preset */
     double crease_grip;    /* N: with a fabric and plastic memory, k_s = crease_grip / spacing (0: the fabric's) */
+    int draped_graded;     /* drape_alpha_main: 1 = drape_check_draped too */
 };
 
 /* The drape-and-remove run of one variant (a demo_scene's run). */
@@ -149,6 +150,10 @@ int drape_check_alphas(const double *alphas, const drape_result *r, int n, int g
 
 /* The removal --removal asks for; four corners (the paper's) by default. */
 drape_removal drape_removal_chosen(const demo_opts *o);
+
+/* Graded while draped: every larger alpha's mean crease at the end of the
+ * drape above every smaller one's. Prints each; returns the number failed. */
+int drape_check_draped(const double *alphas, const drape_result *r, int n);
 
 /* The scene's material as drape_alpha_main runs it: the options' (demo_material)
  * with the scene's fabric as default, its k_b on a --material preset without

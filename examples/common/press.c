@@ -233,4 +233,4 @@ done:
 }
 
 const demo_scene press_scene = {"plates", {"pressed", "released"}, {"pressed", "released"}, DRAPE_TABLE, press_run,
-                               0.0, 0, 0, 0, 0.0};
+                               0.0, 0, 0, 0, 0.0, 0};
