@@ -20,7 +20,8 @@
  * region they hold every pair within D and every touch of a motion that stays there. */
 #define SELF_CONTACT_SKIN 1.0 /* thicknesses */
 #define SELF_CONTACT_LONG 16.0 /* a motion longer than this many thicknesses is swept without a list */
-#define SELF_CONTACT_FEW 512   /* at most one vertex in this many (and one) outside their regions: grow theirs */
+#define SELF_CONTACT_FEW 512   /* at most one vertex in this many (and one) outside their regions: grow theirs, */
+#define SELF_CONTACT_FEW_MAX 16 /* and no more: each growth tests the whole cloth, a relisting is linear */
 
 /* Close pairs: the candidates whose distance at reference positions may be
  * under D plus twice this many thicknesses. While no vertex is farther than
@@ -406,6 +407,7 @@ static int pairs_of_marked(self_contact *s, int ee, pair_list *add)
 static int extend(self_contact *s, const double *x0, const double *y, double skin)
 {
     int k = 0, limit = 1 + s->n / SELF_CONTACT_FEW;
+    if (limit > SELF_CONTACT_FEW_MAX) limit = SELF_CONTACT_FEW_MAX;
     for (int i = 0; i < s->n; i++)
         if (!in_region(s, x0, i) || !in_region(s, y, i)) {
             if (k == limit) return 1;
@@ -429,9 +431,9 @@ static int extend(self_contact *s, const double *x0, const double *y, double ski
     return ok ? 0 : -1;
 }
 
-/* Candidates that cover x0 and x1 (x1 NULL: x0 only): kept while both are in the regions,
- * else listed for the motion x0 -> x1 and from the step's start (the regions of a few vertices
- * outside them grown instead). Returns 0; 1 when that motion is longer than
+/* Candidates that cover x0 and x1 (x1 NULL: x0 only): kept while both are in the regions, else listed
+ * for the motion x0 -> x1 and from the step's start (a few vertices outside: their regions grown).
+ * Returns 0; 1 when that motion is longer than
  * SELF_CONTACT_LONG (none listed: sweep it directly); -1 out of memory (none listed). */
 static int candidates(self_contact *s, const double *x0, const double *x1)
 {

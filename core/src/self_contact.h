@@ -40,10 +40,9 @@ void self_contact_unbind_cloth(cloth *c);
 /* A step's barrier stiffness, for dx/dv = cfac and the cloth's masses. */
 void self_contact_begin(self_contact *s, const cloth *c, double cfac);
 
-/* Both below test only candidate pairs, listed by a broadphase for regions
- * around the vertices and kept while the positions asked about stay in them (a
- * few vertices outside: their regions grown and their pairs added; self_contact.c),
- * in vertex and edge order: the sums do not depend on the list. */
+/* Both below test only candidate pairs, listed by a broadphase for regions around the vertices and
+ * kept while the positions asked about stay in them (self_contact.c), in vertex and edge order: the
+ * sums do not depend on the list. */
 
 /* The barrier's energy at x (NaN: out of memory); b (NULL: none) gets -cfac times its gradient
  * added, A (NULL: none) cfac^2 times its diagonal blocks. */

@@ -92,7 +92,10 @@ static void clip(poly *a, const double s[3], double d)
     if (a->n <= 2) {
         int out = 0;
         for (int i = 0; i < a->n; i++) out += f[i] > 0.0;
-        if (out == a->n) a->n = 0;
+        if (out == a->n) {
+            a->n = 0;
+            return;
+        }
         if (out != 1) return;
         int i = f[0] > 0.0 ? 0 : 1, j = 1 - i;
         for (int k = 0; k < 3; k++) a->p[i][k] += (a->p[j][k] - a->p[i][k]) * f[i] / (f[i] - f[j]);

@@ -341,10 +341,9 @@ static int face_plane(const convex_query *q, const double n[3], double face[3], 
     return 1;
 }
 
-/* Another triangle's contact with the same geom tying with this one (gap, n at point pt, body velocity vb)
- * to rounding, mirror images at a vertex on the cloth's line of symmetry, is merged with it, not chosen by
- * the order of the tests: held along the normals' bisector by that gap (never past either plane), by the
- * triangle whose point weighs the vertex most. */
+/* A contact tying to rounding with another triangle's on the same geom (mirror images at a vertex on the
+ * cloth's line of symmetry) is merged with it, not chosen by the tests' order: held along the normals'
+ * bisector by that gap (never past either plane), by the triangle whose point weighs the vertex most. */
 static int merge_tie(dClothID c, const convex_query *q, vcontact *vc, int k, const double n[3], double gap,
                      const double pt[3], const double vb[3], double w)
 {

@@ -53,7 +53,8 @@ typedef struct cloth_self_collision_stats {
                        separation (negative: crossed), HUGE_VAL if none   */
 } cloth_self_collision_stats;
 
-/* thickness: m, in (0, 1]; the cloth c fixes the sizes (its grid). */
+/* thickness: m, in (0, 1] and under du dv / sqrt(du^2 + dv^2) for cells du x dv (0.707 of a square
+ * cell's side: the flat grid's cell diagonals lie that far apart); the cloth c fixes the sizes (its grid). */
 ODECLOTH_API cloth_status cloth_self_collision_create(const cloth *c, double thickness, cloth_self_collision **out,
                                                       cloth_error *err);
 ODECLOTH_API void cloth_self_collision_destroy(cloth_self_collision *s); /* NULL is fine */
