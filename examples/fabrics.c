@@ -50,7 +50,7 @@ int main(int argc, char **argv)
         return 2;
     }
     if (o.fabric || o.crease_grip > 0.0) {
-        fprintf(stderr, "fabrics: --fabric and --crease-grip are drape_table's and drape_sphere's\n");
+        fprintf(stderr, "fabrics: --fabric and --crease-grip are drape_table's, drape_sphere's and crumple's\n");
         return 2;
     }
     /* the table as drape_table runs it (its bending and plastic memory,

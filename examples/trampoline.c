@@ -138,7 +138,8 @@ done:
     return rc;
 }
 
-static const demo_scene scene = {"trampoline", {"impact", "at rest"}, {"impact", "rest"}, DRAPE_TABLE, run, 0.0, 0, 0, 0, 0.0, 0};
+static const demo_scene scene = {"trampoline", {"impact", "at rest"}, {"impact", "rest"}, DRAPE_TABLE, run,
+                                 0.0, 0, 0, 0, 0.0, 0};
 
 static int report(const demo_opts *o, const drape_variant *v, const drape_result *r)
 {

@@ -77,9 +77,8 @@ int demo_begin(demo_opts *o, const char *prog, const char *usage, int argc, char
 int demo_fabric_chosen(const demo_opts *o, int fabric_default);
 /* Its name ("cotton"), "" for 0. */
 const char *demo_fabric_name(int fabric);
-/* The material the options ask for, for a square cloth of `size` m with
- * o->grid nodes a side: the fabric chosen derived for that spacing
- * (cloth_fabric_material), else the --material preset; then --bending and
+/* The material the options ask for, a square cloth of `size` m, o->grid nodes a side: the fabric
+ * derived for that spacing (cloth_fabric_material), else the --material preset; then --bending and
  * --memory. 0, or -1 with the reason printed (a grid too fine for the fabric). */
 int demo_material(const demo_opts *o, double size, int fabric_default, cloth_material *out);
 /* The plugin's default descriptor with the demo's --solver applied. */

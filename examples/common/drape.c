@@ -229,10 +229,9 @@ static int remove_by_four_corners(runner *R, drape_collider col, const int corne
     return 0;
 }
 
-/* The removal as a person does it: the two corners of one edge taken up,
- * the cloth lifted off, carried clear hanging from them and lowered till its
- * free edge touches the floor, then laid down walking forward: the held edge
- * tilted 45 degrees ahead and lowered along that line, a little slack. */
+/* The removal as a person does it: two corners of one edge taken up, the cloth lifted off, carried
+ * clear and lowered till its free edge touches the floor, then laid down walking forward (the held
+ * edge tilted 45 degrees ahead and lowered along that line, a little slack). */
 static int remove_by_two_corners(runner *R, const int corner[4], double thickness, int steps, int lay_steps)
 {
     const double w = 0.5 * CLOTH_SIZE, g = HAND_GAP * w, back = -w - HAND_BACK;
@@ -448,7 +447,8 @@ int drape_check_alphas(const double *alphas, const drape_result *r, int n, int g
             continue;
         }
         if (elastic >= 0)
-            failed += demo_claim(r[i].after.crease_deg > DRAPE_MORE_FACTOR * r[elastic].after.crease_deg + DRAPE_FLAT_DEG,
+            failed += demo_claim(r[i].after.crease_deg >
+                                     DRAPE_MORE_FACTOR * r[elastic].after.crease_deg + DRAPE_FLAT_DEG,
                                  "alpha %g (deepest bend %.3f): residual crease %.3f deg > %.1f x alpha 0's "
                                  "+ %.1f deg (%.3f deg)",
                                  alphas[i], bend, r[i].after.crease_deg, DRAPE_MORE_FACTOR, DRAPE_FLAT_DEG,
@@ -580,7 +580,8 @@ int drape_material_main(const demo_opts *o, const demo_scene *s, const char *tit
     drape_variant v[DEMO_MAX_ALPHAS];
     drape_result r[DEMO_MAX_ALPHAS];
     if (o->fabric || o->crease_grip > 0.0) {
-        fprintf(stderr, "%s: --fabric and --crease-grip are drape_table's and drape_sphere's; use --material\n",
+        fprintf(stderr,
+                "%s: --fabric and --crease-grip are drape_table's, drape_sphere's and crumple's; use --material\n",
                 o->prog);
         return 2;
     }

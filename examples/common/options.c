@@ -31,7 +31,8 @@ static const char common_usage[] =
     "                         paper's; default), or by two corners and laid down free edge\n"
     "                         first, as a person does\n"
     "  --self-collision T     drape_table, drape_sphere: keep the cloth's vertices T m (0, 0.1]\n"
-    "                         from its own triangles after each step (off by default)\n"
+    "                         from its own triangles after each step (off by default); T must\n"
+    "                         be under 0.707 of a cell's side (refused otherwise)\n"
     "  --solver S             linearized | newton: how the implicit steps solve their equations\n"
     "                         (solver.nonlinear; default: the library's)\n"
     "  --grid N               nodes per side, 3..161 (default 21)\n"
@@ -232,7 +233,8 @@ int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char
             return bad(o, "unknown option", opt, "not one of the options");
         }
     }
-    if (o->fabric && o->material_set) return bad(o, "--fabric", o->fabric_name, "give --material or --fabric, not both");
+    if (o->fabric && o->material_set)
+        return bad(o, "--fabric", o->fabric_name, "give --material or --fabric, not both");
     return 0;
 }
 
