@@ -7,7 +7,9 @@
  *     point's distance to the box (closed form), d_grid: d_grid - D / M <= r - depth <= d_grid + 1e-12, D the
  *     triangle's diameter (the distance is 1-Lipschitz);
  *   - the mirror image (x and y swapped, of a box with equal x and y sides) gives the mirror image: depth to
- *     1e-15 m, n to 1e-12.
+ *     1e-15 m, n to 1e-12;
+ *   - the same box turned and moved (a random rotation R and offset o) answers R v + o alike: the same
+ *     depth and R n, to 1e-12 m and 1e-9.
  * And the queries that leave the answer to EPA (0) are fewer than a tenth. */
 #include <math.h>
 #include <stdlib.h>
@@ -43,6 +45,38 @@ static int query(const dcloth_polytope *P, double v[3][3], double r, double *dep
     return dcloth_polytope_query(P, t, r, depth, n, pos);
 }
 
+/* A random rotation (ODE's 3x4 rows) from a unit quaternion */
+static void rotation(unsigned long long *seed, double R[12])
+{
+    double q[4], m = 0.0;
+    for (int k = 0; k < 4; k++) {
+        q[k] = 2 * rnd(seed) - 1;
+        m += q[k] * q[k];
+    }
+    for (int k = 0; k < 4; k++) q[k] /= sqrt(m);
+    double w = q[0], x = q[1], y = q[2], z = q[3];
+    const double T[12] = {1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y), 0,
+                          2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x), 0,
+                          2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y), 0};
+    for (int k = 0; k < 12; k++) R[k] = T[k];
+}
+
+/* the turned and moved box's answer for v (in the box's frame) against depth and n there */
+static void check_turned(const dcloth_polytope *T, const double R[12], const double o[3], double v[3][3], double r,
+                         double depth, const double n[3], int it, double *worst)
+{
+    double w[3][3], dt, nt[3];
+    for (int a = 0; a < 3; a++)
+        for (int k = 0; k < 3; k++)
+            w[a][k] = o[k] + R[4 * k] * v[a][0] + R[4 * k + 1] * v[a][1] + R[4 * k + 2] * v[a][2];
+    if (!CHECK(query(T, w, r, &dt, nt) == 1, "triangle %d: the turned box's query not answered alike", it)) return;
+    double e = 0.0;
+    for (int k = 0; k < 3; k++) e += fabs(nt[k] - (R[4 * k] * n[0] + R[4 * k + 1] * n[1] + R[4 * k + 2] * n[2]));
+    *worst = fmax(*worst, e);
+    CHECK(fabs(dt - depth) <= 1e-12 && e <= 1e-9, "triangle %d: turned box depth %.17g against %.17g, n off by %.3g",
+          it, dt, depth, e);
+}
+
 static void moved(double v[3][3], const double n[3], double s, double o[3][3])
 {
     for (int a = 0; a < 3; a++)
@@ -52,10 +86,13 @@ static void moved(double v[3][3], const double n[3], double s, double o[3][3])
 int main(void)
 {
     const double R[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}, o[3] = {0, 0, 0}, r = 0.02;
-    dcloth_polytope box, sq;
+    dcloth_polytope box, sq, turned;
     dcloth_polytope_box(&box, o, R, HB);
     dcloth_polytope_box(&sq, o, R, SQ);
     unsigned long long seed = 18;
+    double Rt[12], ot[3] = {0.3, -0.7, 1.1}, worst_turned = 0.0;
+    rotation(&seed, Rt);
+    dcloth_polytope_box(&turned, ot, Rt, HB);
     int answered = 0, undecided = 0, apart = 0, distances = 0;
     double worst_touch = 0.0, worst_mirror = 0.0;
     for (int it = 0; it < 3000; it++) {
@@ -78,6 +115,7 @@ int main(void)
             continue;
         }
         answered++;
+        if (P == &box) check_turned(&turned, Rt, ot, v, r, depth, n, it, &worst_turned);
         CHECK(fabs(n[0] * n[0] + n[1] * n[1] + n[2] * n[2] - 1.0) < 1e-12, "triangle %d: |n| = %.17g", it,
               sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]));
         double w[3][3], d2, n2[3];
@@ -121,6 +159,7 @@ int main(void)
     printf("3000 triangles: %d answered (%d distances against the grid), %d apart, %d left to EPA; moved by depth "
            "- 1e-6 m the overlap is 1e-6 m to %.2e; mirror normals to %.2e\n",
            answered, distances, apart, undecided, worst_touch, worst_mirror);
+    printf("turned box: normals to %.2e\n", worst_turned);
     CHECK(worst_touch <= 1e-12, "the overlap after moving by depth - 1e-6 m is off by %.3g", worst_touch);
     CHECK(undecided * 10 < answered, "%d of %d left to EPA", undecided, answered + undecided);
     CHECK(distances > 100, "only %d distances checked", distances);
