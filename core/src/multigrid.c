@@ -286,8 +286,10 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
     if (mg->nlev > 1) {
         mg_level *F = &mg->lev[0];
         int nf = 0;
+        if (A->sym) bsr_check_sym(A, A->val, A->sym);
         for (int i = 0; i < F->n; i++) {
-            F->symrow[i] = (unsigned char)row_symmetric(A, Dinv0, i);
+            F->symrow[i] = (unsigned char)(A->sym ? A->sym[i] && mat3_is_sym(Dinv0 + 9 * (size_t)i)
+                                                  : row_symmetric(A, Dinv0, i));
             for (int k = A->diag[i]; k < A->row_ptr[i + 1]; k++) {
                 int j = A->col[k];
                 F->fidx[k] = constrained[i] || constrained[j] ? nf : -1;

@@ -336,7 +336,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     limit_multipliers_begin(c);
     int landed = newton_start(c, &q, dv);
     mpcg_problem P = {&c->A, b, c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL,
-                      sv->newton_cg_tolerance, sv->cg_max_iterations, NULL, 0.0, 1, 0.0, NULL};
+                      sv->newton_cg_tolerance, sv->cg_max_iterations, NULL, 0.0, 1, 0.0, NULL, 0};
     mpcg_bodies bodies;
     P.bodies = bodies_prepare(c, h, q.cfac, &bodies);
     double mt = 0.0;
