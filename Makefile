@@ -151,7 +151,7 @@ fuzz: deps
 
 # Each docs/NAME.md written by docs/gen/NAME.sh (sh + awk only); test/docs/check.sh
 # fails when a committed one differs from what its script writes now.
-GENERATED_DOCS := api
+GENERATED_DOCS := api benchmarks
 docs:
 	@set -e; for d in $(GENERATED_DOCS); do sh docs/gen/$$d.sh . > docs/$$d.md.tmp; \
 	    mv docs/$$d.md.tmp docs/$$d.md; echo "wrote docs/$$d.md"; done
