@@ -53,8 +53,8 @@ function step_table(    n, r, i, key, best, line, pcs, np, p, out, s, x, seen, k
 # the drape benchmark's rows: time, failures, iterations, strain, the slowest step
 function drape_table(    n, r, out, gain) {
     reset(); n = load("bench_drape_newton", 1)
-    out = "| scene | variant | N | wall s | failed, substepped steps | Newton, CG it per step | p99, max strain " \
-          "| slowest, median step ms | energy gain J |\n|---|---|---|---|---|---|---|---|---|\n"
+    out = "| scene | variant | N | wall s | failed, substepped | Newton, CG per step | p99, max strain " \
+          "| slowest, median ms | energy gain J |\n|---|---|---|---|---|---|---|---|---|\n"
     for (r = 1; r <= n; r++) {
         gain = c(r, "energy_gain_J"); if (gain == "nan") gain = ""; else gain = sprintf("%.2g", gain)
         out = out "| " c(r, "scene") " | " c(r, "variant") " | " c(r, "N") " | " fmt(c(r, "wall_s") + 0) \
@@ -83,7 +83,7 @@ function stability_table(    n, r, m, i, out, title, names, k, cells, count, hel
         count[m, cell[r, 5]]++
         if (cell[r, 5] == "stable" && cell[r, 9] == 1) held[m]++
     }
-    out = "| method | cells | stable | of which only with the limit | strain | CG indefinite | CG max iterations " \
+    out = "| method | cells | stable | only with the limit | strain | CG indefinite | CG max it " \
           "| energy growth | NaN |\n|---|---|---|---|---|---|---|---|---|\n"
     for (i = 1; i <= k; i++) {
         m = names[i]
@@ -124,8 +124,8 @@ function controller_table(    n, r, sc, t, i, out, method, seen, tols, nt, fig) 
         fig[t, sc] = sprintf("%.2f, %.1f %s, %.2g (%.2g), %.2f", cell[r, 6] / cell[r, 5], cell[r, 12], method,
                              cell[r, 7], cell[r, 16], cell[r, 15] / cell[r, 6])
     }
-    out = "| tolerance m/s | swing: error / requested, substeps per frame, CPU s / s (frontier), " \
-          "estimate / error | sphere: the same |\n|---|---|---|\n"
+    out = "| tolerance m/s | swing: error / requested, substeps, CPU s / s (frontier), estimate / error " \
+          "| sphere: the same |\n|---|---|---|\n"
     for (i = 1; i <= nt; i++) out = out "| " tols[i] " | " fig[tols[i], "swing"] " | " fig[tols[i], "sphere"] " |\n"
     return out
 }
