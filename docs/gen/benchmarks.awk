@@ -136,12 +136,13 @@ function contact_table(    n, r, out, tri, what) {
     what["sphere"] = "sphere r 0.3"; what["box"] = "box 0.6 x 0.6 x 0.4"
     what["trimesh1000"] = "trimesh, 1000 triangles, triangle tests on (default)"
     what["trimesh-vtx"] = "the same, triangle tests off"
-    out = "| grid, h | collider | finding contacts ms | whole step ms | contacts (set by triangle tests) |\n" \
-          "|---|---|---|---|---|\n"
+    out = "| grid, h | collider | finding contacts ms | whole step ms | share | contacts (by triangle tests) |\n" \
+          "|---|---|---|---|---|---|\n"
     for (r = 1; r <= n; r++) {
         tri = c(r, "triangle_contacts") + 0
         out = out "| " c(r, "grid") "x" c(r, "grid") ", 1/" c(r, "hz") " | " what[c(r, "collider")] " | " \
-              fmt(c(r, "contact_ms") + 0) " | " fmt(c(r, "step_ms") + 0) " | " sprintf("%.0f", c(r, "contacts")) \
+              fmt(c(r, "contact_ms") + 0) " | " fmt(c(r, "step_ms") + 0) " | " sprintf("%.0f%%", 100 * c(r, "contact_share")) \
+              " | " sprintf("%.0f", c(r, "contacts")) \
               (tri > 0 ? sprintf(" (%.0f)", tri) : "") " |\n"
     }
     return out
