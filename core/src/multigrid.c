@@ -3,7 +3,7 @@
  * Why: with a diagonal or block-diagonal preconditioner the CG iteration
  * count grows with the grid's width (the stiff springs spread information one
  * node per iteration); a multigrid V-cycle keeps it nearly flat.
- * How (as measured on the prototype in DESIGN.md):
+ * How (as measured on a prototype):
  *  - coarsen by two in each grid direction (node 2I of a level is node I of
  *    the next), bilinear prolongation W, restriction W^T;
  *  - Galerkin coarse operators W^T A W (galerkin.c) rebuilt for every solve: a Newton
