@@ -63,12 +63,12 @@ function step_best(N, hz,    n, r, best) {
 # the drape benchmark's rows: time, failures, iterations, strain, the slowest step
 function drape_table(    n, r, out, gain) {
     reset(); n = load("bench_drape_newton", 1)
-    out = "| scene | variant | N | wall s | failed, substepped | Newton, CG per step | p99, max strain " \
+    out = "| scene | variant | N | wall, CPU s | failed, substepped | Newton, CG per step | p99, max strain " \
           "| slowest, median ms | energy gain J |\n|---|---|---|---|---|---|---|---|---|\n"
     for (r = 1; r <= n; r++) {
         gain = c(r, "energy_gain_J"); if (gain == "nan") gain = ""; else gain = sprintf("%.2g", gain)
-        out = out "| " c(r, "scene") " | " c(r, "variant") " | " c(r, "N") " | " fmt(c(r, "wall_s") + 0) \
-              " | " c(r, "failed_steps") ", " c(r, "substepped_steps") " | " fmt(c(r, "newton_per_step") + 0) ", " \
+        out = out "| " c(r, "scene") " | " c(r, "variant") " | " c(r, "N") " | " fmt(c(r, "wall_s") + 0) ", " \
+              fmt(c(r, "cpu_s") + 0) " | " c(r, "failed_steps") ", " c(r, "substepped_steps") " | " fmt(c(r, "newton_per_step") + 0) ", " \
               fmt(c(r, "cg_per_step") + 0) " | " sprintf("%.4f, %.4f", c(r, "p99_strain"), c(r, "max_strain")) \
               " | " fmt(c(r, "max_step_ms") + 0) ", " fmt(c(r, "median_step_ms") + 0) " | " gain " |\n"
     }
