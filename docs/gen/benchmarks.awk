@@ -68,7 +68,8 @@ function drape_table(    n, r, out, gain) {
     for (r = 1; r <= n; r++) {
         gain = c(r, "energy_gain_J"); if (gain == "nan") gain = ""; else gain = sprintf("%.2g", gain)
         out = out "| " c(r, "scene") " | " c(r, "variant") " | " c(r, "N") " | " fmt(c(r, "wall_s") + 0) ", " \
-              fmt(c(r, "cpu_s") + 0) " | " c(r, "failed_steps") ", " c(r, "substepped_steps") " | " fmt(c(r, "newton_per_step") + 0) ", " \
+              fmt(c(r, "cpu_s") + 0) " | " c(r, "failed_steps") ", " c(r, "substepped_steps") " | " \
+              fmt(c(r, "newton_per_step") + 0) ", " \
               fmt(c(r, "cg_per_step") + 0) " | " sprintf("%.4f, %.4f", c(r, "p99_strain"), c(r, "max_strain")) \
               " | " fmt(c(r, "max_step_ms") + 0) ", " fmt(c(r, "median_step_ms") + 0) " | " gain " |\n"
     }
@@ -146,10 +147,11 @@ function contact_table(    n, r, out, tri, what) {
     what["sphere"] = "sphere r 0.3"; what["box"] = "box 0.6 x 0.6 x 0.4"
     what["trimesh1000"] = "trimesh, 1000 triangles, triangle tests on (default)"
     what["trimesh-vtx"] = "the same, triangle tests off"
-    out = "| grid, h | collider | finding contacts ms | whole step ms | share | contacts (by triangle tests) |\n" \
-          "|---|---|---|---|---|---|\n"
+    what["trimesh-link"] = "the same, link tests instead"; what["box-link"] = "box, link tests instead"
+    out = "| grid, h | collider | finding contacts ms | whole step ms | share " \
+          "| contacts (by triangle, link tests) |\n|---|---|---|---|---|---|\n"
     for (r = 1; r <= n; r++) {
-        tri = c(r, "triangle_contacts") + 0
+        tri = c(r, "triangle_contacts") + c(r, "edge_contacts")
         out = out "| " c(r, "grid") "x" c(r, "grid") ", 1/" c(r, "hz") " | " what[c(r, "collider")] " | " \
               fmt(c(r, "contact_ms") + 0) " | " fmt(c(r, "step_ms") + 0) " | " \
               sprintf("%.0f%%", 100 * c(r, "contact_share")) \
