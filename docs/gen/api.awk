@@ -39,19 +39,22 @@ in_overview {
     heading = $0; sub(/^\/\* *-+ */, "", heading); sub(/ *\*\/ *$/, "", heading)
     next
 }
-in_comment {
+# comments and typedefs directly above declarations (no blank line
+# between) are kept with them as their explanation
+in_comment || in_typedef {
     comment = comment $0 "\n"
-    if ($0 ~ /\*\//) in_comment = 0
+    if (in_comment && $0 ~ /\*\//) in_comment = 0
+    if (in_typedef && $0 ~ /^}/) in_typedef = 0
     next
 }
 /^\/\*/ {
-    forget()
-    comment = $0 "\n"
+    if (group != "" || comment == "") forget()
+    comment = comment $0 "\n"
     if ($0 !~ /\*\//) in_comment = 1
     next
 }
-# a one-line typedef between a comment and the declarations it explains
 /^typedef .*;/ && comment != "" { comment = comment $0 "\n"; next }
+/^typedef (struct|enum) .*\{ *$/ && comment != "" && group == "" { comment = comment $0 "\n"; in_typedef = 1; next }
 /^ODECLOTH_API/ {
     if (comment != "") { flush(); group = comment; comment = "" }
     in_decl = 1
