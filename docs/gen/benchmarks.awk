@@ -105,6 +105,19 @@ function stability_table(    n, r, m, i, out, title, names, k, cells, count, hel
     return out
 }
 
+# a figure of the stability map's start state (the same in every row of bench_stability.csv): w (the top
+# mode's frequency, rad/s), zeta (its damping ratio), line (symplectic Euler's bound, ms), budget (J) or
+# tenth (a tenth of the budget, J)
+function stab(name,    n) {
+    reset(); n = load("bench_stability", 0)
+    if (name == "w") return sprintf("%.0f", cell[1, 15])
+    if (name == "zeta") return sprintf("%.3g", cell[1, 16])
+    if (name == "line") return sprintf("%.3g", 1000 * cell[1, 14])
+    if (name == "budget") return sprintf("%.2f", cell[1, 17])
+    if (name == "tenth") return sprintf("%.2f", cell[1, 17] / 10)
+    print "benchmarks.awk: no stability figure " name > "/dev/stderr"; exit 1
+}
+
 # scaling: time, iterations and memory per grid
 function scaling_table(    n, r, out) {
     reset(); n = load("bench_scaling", 1)
@@ -161,6 +174,44 @@ function contact_table(    n, r, out, tri, what) {
     return out
 }
 
+# @wpfile(name)@ (it expands to nothing) names the work-precision run the next figures come from:
+# bench_workprecision or bench_workprecision_cotton
+# one figure of that run (name.csv, no header; see
+# examples/bench_workprecision.c): series at rate hz on scene and grid; field mm or m (its error), cpu
+# (CPU s per simulated s) or unconverged (steps kept unconverged)
+function wp(scene, grid, series, hz, field,    n, r) {
+    reset(); n = load(wp_file, 0)
+    for (r = 1; r <= n; r++) {
+        if (cell[r, 1] != scene || cell[r, 17] != grid || cell[r, 2] != series || cell[r, 3] != hz) continue
+        if (field == "cpu") return sprintf("%.2g", cell[r, 7])
+        if (field == "unconverged") return cell[r, 20] + 0
+        if (cell[r, 9] == 1) return "blown up"
+        return field == "mm" ? sprintf("%.2g", 1000 * cell[r, 6]) : sprintf("%.2g", cell[r, 6])
+    }
+    print "benchmarks.awk: no " series " at 1/" hz " on " scene ", " grid " in " wp_file > "/dev/stderr"; exit 1
+}
+# how far a work-precision run's reference moves when its h is halved, m
+function wpref(scene, grid,    n, r) {
+    reset(); n = load(wp_file, 0)
+    for (r = 1; r <= n; r++)
+        if (cell[r, 1] == scene && cell[r, 17] == grid && cell[r, 2] == "reference_change")
+            return sprintf("%.2g", cell[r, 6])
+    print "benchmarks.awk: no reference on " scene ", " grid " in " wp_file > "/dev/stderr"; exit 1
+}
+# a fitted order (name_orders.csv): field order, window (1/lo..1/hi), or the
+# errors at its ends, lo_mm and hi_mm
+function wpo(scene, grid, series, field,    n, r) {
+    reset(); n = load(wp_file "_orders", 1)
+    for (r = 1; r <= n; r++) {
+        if (c(r, "scene") != scene || c(r, "grid") != grid || c(r, "series") != series) continue
+        if (field == "order") return sprintf("%.2f", c(r, "order"))
+        if (field == "window") return "1/" c(r, "hz_lo") "..1/" c(r, "hz_hi")
+        if (field == "lo_mm") return sprintf("%.2g", 1000 * c(r, "error_at_hz_lo_m"))
+        if (field == "hi_mm") return sprintf("%.2g", 1000 * c(r, "error_at_hz_hi_m"))
+    }
+    print "benchmarks.awk: no order of " series " on " scene ", " grid " in " wp_file > "/dev/stderr"; exit 1
+}
+
 # a table a benchmark wrote itself (DATA/name.md), without its comment lines
 function include(name,    path, line, out) {
     path = data "/" name ".md"
@@ -181,6 +232,14 @@ function expand(key,    a, f) {
     if (key == "contact_table") return contact_table()
     if (key ~ /^include\(/) { sub(/^[a-z_]+\(/, "", key); sub(/\)$/, "", key); return include(key) }
     if (key ~ /^scaling_exponent\(/) { sub(/^[a-z_]+\(/, "", key); sub(/\)$/, "", key); return scaling_exponent(key) }
+    if (key ~ /^wp[a-z]*\(/) {
+        f = key; sub(/\(.*/, "", f); sub(/^[a-z_]+\(/, "", key); sub(/\)$/, "", key); split(key, a, ",")
+        if (f == "wpfile") { wp_file = a[1]; return "" }
+        if (f == "wp") return wp(a[1], a[2], a[3], a[4], a[5])
+        if (f == "wpref") return wpref(a[1], a[2])
+        if (f == "wpo") return wpo(a[1], a[2], a[3], a[4])
+    }
+    if (key ~ /^stab\(/) { sub(/^[a-z_]+\(/, "", key); sub(/\)$/, "", key); return stab(key) }
     if (key ~ /^step_best\(/) {
         sub(/^[a-z_]+\(/, "", key); sub(/\)$/, "", key); split(key, a, ",")
         return step_best(a[1], a[2])
@@ -193,7 +252,7 @@ function expand(key,    a, f) {
 }
 {
     line = $0
-    while (match(line, /@[a-z_]+(\([a-z_0-9,]*\))?@/)) {
+    while (match(line, /@[a-z_]+(\([a-z_0-9,.-]*\))?@/)) {
         f = expand(substr(line, RSTART + 1, RLENGTH - 2))
         if (line == substr(line, RSTART, RLENGTH)) sub(/\n$/, "", f)  # a table on its own line
         line = substr(line, 1, RSTART - 1) f substr(line, RSTART + RLENGTH)
