@@ -2,11 +2,7 @@
 #include <math.h>
 #include "ccd.h"
 #include "vec3.h"
-
-#define CCD_FTOL 1e-12      /* a cubic value within this of its scale counts as zero */
-#define CCD_NEAR 1e-6       /* of eta: a distance this small has no direction of its own */
-#define CCD_CLOSING 1e-12   /* of the relative speed: a normal speed this small is not closing */
-#define CCD_TTOL 1e-14      /* a root's time is refined to this */
+#include "tuning.h"
 
 enum { CCD_PT, CCD_EE };
 

@@ -5,6 +5,7 @@
 #include <string.h>
 #include "internal.h"
 #include "vec3.h"
+#include "tuning.h"
 
 /* The plane (normal, point) of a vertex checked for `who` and stored in its
  * row of `planes` (6 each: the unit normal, the point); nothing on an error */
@@ -59,11 +60,6 @@ cloth_status cloth_set_contact_second(cloth *c, int vertex, const double normal[
     if (s == CLOTH_OK) c->cand2_on[vertex] = 1;
     return s;
 }
-
-/* Two planes whose normals' cross product is shorter than this (sin of
- * their angle, 0.6 deg) are not held together: their line is ill-posed */
-#define PLANES_PARALLEL 1e-2
-
 
 /* whether vertex i's second plane holds it */
 static int second_held(const cloth *c, int i) { return c->cand2_on[i] == 2 || c->cand2_on[i] == 9; }

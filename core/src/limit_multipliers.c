@@ -5,17 +5,7 @@
  * factor in this step (c->lim_rho). */
 #include <math.h>
 #include "internal.h"
-
-/* A link whose violation a round shrank by less than RHO_SHRINK gets a
- * penalty RHO_GROWTH times stiffer, up to RHO_MAX: the augmented
- * Lagrangian's rule for a penalty too soft (Nocedal-Wright Alg. 17.4). */
-#define RHO_SHRINK 0.25
-#define RHO_GROWTH 10.0
-#define RHO_MAX 1e3
-/* A link whose violation a round with a stiffened penalty shrank by less
- * than this part does not respond to its force: the constraints dictate its
- * length, and a multiplier would only grow without bound. */
-#define DICTATED_SHRINK 0.01
+#include "tuning.h"
 
 /* the body solved with the cloth holding vertex i, or -1 */
 static int held_by(const cloth *c, int i) { return c->body_held && c->vbody && c->vbody[i] >= 0 ? c->vbody[i] : -1; }

@@ -9,7 +9,7 @@
 #include "assembly.h"
 #include "mat3.h"
 #include "mpcg.h"
-
+#include "tuning.h"
 
 /* A = M - beta h df/dv - gamma h^2 df/dx (eq. 21 for beta = gamma = 1),
  * keeping each link's K = df_i/dx_j for the right-hand side, and in the same
@@ -94,13 +94,6 @@ static void constraint_forces(cloth *c, const double *dv, const double *b, doubl
     }
 }
 
-/* 1 if a sequential link within its limit at x0 is past it at x1 by more
- * than a quarter of delta: its linearisation missed the stiffening. A link
- * between two vertices held in full by the same thing (the world, or one
- * body) is left out: its length is their targets' (two vertices sticking to
- * one box stay 7% apart through any number of corrections, measured). */
-#define NEWTON_CROSS 1.25
-
 static int crossed_limit(const cloth *c, const double *x0, const double *x1)
 {
     double lim = 1.0 + c->desc.material.delta, lim1 = 1.0 + NEWTON_CROSS * c->desc.material.delta;
@@ -117,11 +110,6 @@ static int crossed_limit(const cloth *c, const double *x0, const double *x1)
     }
     return 0;
 }
-
-/* Once the corrections have converged, the elongation limit's multipliers
- * are updated (limit_multipliers.c) and the step corrected again while any
- * changed by more than LIMIT_TOL of its limit length. */
-#define LIMIT_TOL 1e-6
 
 /* |S b|: the free components' part of a vector (S the constraint filter) */
 static double free_norm(const cloth *c, const double *b)

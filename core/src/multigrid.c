@@ -26,6 +26,7 @@
 #include <string.h>
 #include "mat3.h"
 #include "multigrid.h"
+#include "tuning.h"
 
 #define NSTEN 25
 #define CENTER 12
@@ -356,11 +357,6 @@ static inline void filter_row(const multigrid *mg, int l, int i, double acc[3])
 }
 
 static inline const bsr *level_matrix(const multigrid *mg, int l) { return l ? &mg->lev[l].M : mg->A0; }
-
-/* A sweep's rows wait on each other, so the core cannot run ahead to fetch
- * the next rows itself: they are fetched this many rows ahead, far enough to
- * hide a memory access where the levels do not fit the cache. */
-#define SWEEP_PREFETCH_ROWS 8
 
 /* Fetch row i's blocks and inverse diagonal block into the cache */
 MAT3_INLINE void prefetch_row(const bsr *A, const double *Dinv, int i)

@@ -5,6 +5,7 @@
 
 #include "bsr.h"
 #include "galerkin.h"
+#include "tuning.h"
 
 #define MG_MAX_LEVELS 16
 
@@ -44,7 +45,6 @@ typedef struct multigrid {
 /* Levels for an R x C grid of A0's pattern, coarsened by two while a level has over 64 nodes. 0; -1 on
  * no memory (or a grid too large to plan); -2 when the coarsest level would have more than
  * MG_DENSE_MAX unknowns (a grid with a side under 5 nodes does not coarsen). */
-#define MG_DENSE_MAX 3072
 int mg_create(multigrid *mg, int R, int C, const bsr *A0);
 void mg_free(multigrid *mg);
 

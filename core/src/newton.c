@@ -11,15 +11,7 @@
 #include "mat3.h"
 #include "mpcg.h"
 #include "self_contact.h"
-
-/* A step also ends only once the energy it can have made (the residual R's
- * work at v_new, and the leftover momentum's on the bodies) is within this
- * share of what the exact step dissipates (potential_step_dissipation). */
-#define NEWTON_GAIN_SHARE 0.25
-
-/* That bound is no less than the kinetic energy of the cloth moving at this
- * fraction of newton_tolerance: a cloth at rest jitters at about it. */
-#define NEWTON_REL_FLOOR 1e-4
+#include "tuning.h"
 
 /* Solve the Newton matrix in c->A for ddv (cold start), rhs P->b, the
  * constrained components held at P->z. */
@@ -63,7 +55,7 @@ static double line_search(cloth *c, const step_eq *q, const double *dv, const do
     size_t n3 = 3 * (size_t)c->n;
     double t = tmax;
     *ready = 0;
-    for (int k = 0; k < 16; k++, t *= 0.5) {
+    for (int k = 0; k < LINE_SEARCH_HALVINGS; k++, t *= 0.5) {
         for (size_t j = 0; j < n3; j++) c->dvt[j] = dv[j] + t * ddv[j];
         if (k == 0) {
             potential_state(c, q, c->dvt);
@@ -74,7 +66,7 @@ static double line_search(cloth *c, const step_eq *q, const double *dv, const do
         *phi += bodies ? bodies_newton_energy(c, t) : 0.0;
         *ready = k == 0;
         if (!(slope < 0.0)) break; /* not a descent direction (CG cut short): the full step */
-        if (*phi <= phi0 + 1e-4 * t * slope) break;
+        if (*phi <= phi0 + LINE_SEARCH_ARMIJO * t * slope) break;
         /* the change is within the potential's rounding: nothing to decide */
         if (fabs(t * slope) <= 1e-13 * (fabs(phi0) + fabs(*phi))) break;
     }

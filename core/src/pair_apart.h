@@ -6,9 +6,7 @@
 #ifndef ODECLOTH_PAIR_APART_H
 #define ODECLOTH_PAIR_APART_H
 
-/* A bound proves a pair apart only beyond D by this share: the pair's
- * distance, computed otherwise, has rounding of its own */
-#define PAIR_APART_MARGIN (1.0 + 1e-6)
+#include "tuning.h"
 
 /* Triangle (a, b, c)'s frame into f (12): its unit normal, then the unit
  * normals of its sides (ab, bc, ca) in its plane, outward; zeros when it is

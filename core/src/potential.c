@@ -7,6 +7,7 @@
 #include "mat3.h"
 #include "spring_predicted.h"
 #include "self_contact.h"
+#include "tuning.h"
 
 void potential_begin(cloth *c, double h, int bdf2, step_eq *q)
 {
@@ -123,16 +124,6 @@ static double energy_at_start(const cloth *c)
     }
     return E;
 }
-
-/* Newton's matrix gives a slack sequential link this share of its taut stiffness
- * along itself, halved for each matrix in a row it stays slack: the exact Hessian's
- * zero would carry it far past its kink, and the exact Hessian returns for Newton's
- * last steps. */
-#define SLACK_SHARE 0.1
-#define SLACK_AGE_MAX 60
-
-/* The matrix's blocks are fetched this many links of a type ahead */
-#define ASSEMBLY_PREFETCH_LINKS 8
 
 /* The vertices' terms of R and Phi into b (inertia, gravity, external forces, BDF2's e) */
 static double inertia_terms(const cloth *c, const step_eq *q, const double *dv, double *b)

@@ -9,12 +9,7 @@
 #include "self_ccd.h"
 #include "sweep_grid.h"
 #include "vec3.h"
-
-#define SELF_CCD_PASSES 4        /* impulse passes per round */
-#define SELF_CCD_ZONE_ROUNDS 500 /* zone sweeps at most */
-#define SELF_CCD_THROW 2.0       /* an impulse moving a corner more than this times its closing */
-#define SELF_CCD_UNSTRETCH 10    /* unstretch sweeps per round */
-#define SELF_CCD_SLACK 1e-6      /* an edge this far over its limit is left as it is */
+#include "tuning.h"
 
 struct self_ccd {
     int n, ntri, nedge;

@@ -28,8 +28,7 @@
 #ifndef ODECLOTH_SELF_CCD_H
 #define ODECLOTH_SELF_CCD_H
 
-#define SELF_CCD_HELD_MASS 1e6
-#define SELF_CCD_ROUNDS 8
+#include "tuning.h"
 
 typedef struct self_ccd self_ccd;
 

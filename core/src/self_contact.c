@@ -9,25 +9,7 @@
 #include "pair_apart.h"
 #include "sweep_grid.h"
 #include "vec3.h"
-
-/* A touch is a pair within this share of the thickness when coplanar (ccd.h);
- * an update stops at this share of the way to its first. */
-#define SELF_CONTACT_TOUCH 1e-3
-#define SELF_CONTACT_STOP 0.5
-
-/* Candidate pairs: those whose vertices' regions (boxes: their paths and the
- * step's start widened by the skin) come within D; while every vertex stays in its
- * region they hold every pair within D and every touch of a motion that stays there. */
-#define SELF_CONTACT_SKIN 1.0 /* thicknesses */
-#define SELF_CONTACT_LONG 16.0 /* a motion longer than this many thicknesses is swept without a list */
-#define SELF_CONTACT_FEW 512   /* at most one vertex in this many (and one) outside their regions: grow theirs, */
-#define SELF_CONTACT_FEW_MAX 16 /* and no more: each growth tests the whole cloth, a relisting is linear */
-
-/* Close pairs: the candidates whose distance at reference positions may be
- * under D plus twice this many thicknesses. While no vertex is farther than
- * that from its reference, no other candidate comes within D. */
-#define SELF_CONTACT_SLACK 0.25
-#define SELF_CONTACT_SPARE 3 /* earlier references' close pairs kept: Newton's start tries several positions */
+#include "tuning.h"
 
 /* A growable list of index pairs */
 typedef struct pair_list {

@@ -8,10 +8,7 @@
 #include "vec3.h"
 #include "self_contact.h"
 #include "odecloth/selfcollision.h"
-
-#define SC_PASSES 3
-#define SC_EDGE_SLACK 0.02  /* barycentric slack: a point over an edge or corner counts */
-#define SC_OVER_MARGIN 0.25 /* barycentric slack for "over the triangle" before a crossing */
+#include "tuning.h"
 
 struct cloth_self_collision {
     int rows, cols, n, ntri;

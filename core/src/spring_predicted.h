@@ -7,9 +7,7 @@
 
 #include "internal.h"
 #include "mat3.h"
-
-/* Below this length a link has no direction; it exerts no force. */
-#define SPRING_MIN_LENGTH 1e-12
+#include "tuning.h"
 
 /* E, f_i (may be NULL) and K (may be NULL) of the link; *slack (may be
  * NULL) whether it is shorter than its rest length; lim (may be NULL) the

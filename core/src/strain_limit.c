@@ -40,16 +40,7 @@
 #include <math.h>
 #include <string.h>
 #include "internal.h"
-
-/* strain accepted as "at the limit": relative to lmax */
-#define SL_TOL 1e-9
-#define SL_CG_TOL 1e-3
-#define SL_CG_MAX 100
-/* Levenberg-Marquardt damping of the link system, relative to its diagonal */
-#define SL_MU_MIN 1e-8
-#define SL_MU_MAX 1e4
-#define SL_INNER 4
-#define SL_HALVINGS 6
+#include "tuning.h"
 
 /* Vertices held by a rigid body solved with the cloth (cloth_body) move, in
  * their constrained directions, with the body: W_i then also has the body's

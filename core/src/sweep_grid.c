@@ -5,8 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "sweep_grid.h"
-
-#define SWEEP_FAR 1e15 /* cell coordinates beyond this are not hashed */
+#include "tuning.h"
 
 struct sweep_grid {
     const double *box;

@@ -10,7 +10,7 @@
 #ifndef ODECLOTH_SWEEP_GRID_H
 #define ODECLOTH_SWEEP_GRID_H
 
-#define SWEEP_GRID_MAX_CELLS 64
+#include "tuning.h"
 
 typedef struct sweep_grid sweep_grid;
 
