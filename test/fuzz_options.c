@@ -18,7 +18,7 @@
  * with libFuzzer, with examples/common/options.c and ODE.
  *
  * Note: on success demo_parse also initialises ODE and registers
- * dCloseODE with atexit (issue 7 report: a parser with side effects), so
+ * dCloseODE with atexit (a parser with side effects), so
  * every accepted input adds an atexit entry; harmless at this count. */
 #include <fcntl.h>
 #include <stdint.h>

@@ -17,8 +17,7 @@
  *    history between steps (dcloth_internal.h: vc[], whether each vertex
  *    was in contact, sticking, its last contact force, which decides
  *    release and the friction cone): restoring the core alone leaves that
- *    history at step 160's. Measured and printed (the figure is in the
- *    issue 7 report); asserted only that the rerun stays finite and in
+ *    history at step 160's. Measured and printed; asserted only that the rerun stays finite and in
  *    contact. As a control, the rerun from a restore made right after the
  *    save (so the plugin's history is the saved step's) must be bitwise the
  *    first run: the history is the only thing missing.

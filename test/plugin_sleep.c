@@ -1,5 +1,5 @@
 /* Plugin: sleeping (dClothSetAutoSleep), the cost of a cloth in proportion
- * to what happens in its scene (issue 6).
+ * to what happens in its scene.
  *
  * A 21x21 cloth dropped 5 cm onto a static 0.6 m box (top at z = 0.6):
  *   1. off by default: it never sleeps;

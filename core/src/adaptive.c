@@ -1,70 +1,11 @@
-/* The accuracy-driven controller (issue 6.4a): substeps per frame, CG
- * tolerance and method from an error estimate, with rollback. See the block
- * "accuracy-driven stepping" at the end of cloth.h for the contract.
- *
- * Why a global estimate: the local estimate below (the old controller) met
- * the request on the chart's sphere but missed it 2.4x at 1e-3 on the
- * swing, where the turning points amplify earlier errors (a 1e-9 m
- * perturbation grows to mm by 2 s) and backward Euler's error stops scaling
- * with h; it was also up to 10x over the frontier's cost on the sphere (a
- * contact switching on makes dv / h jump). A shadow run at 2 h sees both:
- * for a first-order method x_2h - x_h is the error of x_h wherever the
- * error is k(t) h, whatever k(t) holds (measured on the swing: the estimate
- * within 0.7-1.4x of the true error through the run). The shadow costs
- * about half the cloth's steps.
- *
- * Choosing h from it: E(t) = k int h dt when h changes from frame to frame
- * (each step's error, propagated, is about h times what a unit step's would
- * be), so k = E / int h dt is the error per unit step and second,
- * amplification included, and a step h from now on adds about k h per
- * second: h = AIM tolerance / k. (n E / request, the constant-h rule, let
- * the error of coarse early frames drive n to hundreds.) k is a maximum
- * decaying over KMEM seconds: the difference's norm can pass near zero as
- * it turns.
- *
- * Why symplectic Euler: at tight tolerances the exact motion keeps stiff
- * stretch modes ringing that backward Euler damps unless h w << 1; on the
- * swing it needs h = 1/24576 (9.6 CPU s per s) for 1.3x the request at
- * 1e-3, and BDF2 stalls at 1.4 mm (1/1536 and 1/3072), while symplectic
- * Euler at its stability limit is within the request for 0.2 CPU s per s.
- * Its error is first order too, so the same shadow estimates it; the shadow
- * at 2 h must be stable as well, hence SYM_FRAC.
- *
- * The local estimate (no shadow): backward Euler's local errors are h^2/2
- * x'' in position and h^2/2 x''' in velocity. The step's own velocity change
- * dv_k = h a_k gives the first; the second, summed over the frame's n
- * substeps, is n h^2/2 |a'| = h/2 |a_n - a_0|, differenced over the whole
- * frame rather than substep by substep, since the CG's error makes each a_k
- * noisy. Both parts scale as 1/n for a frame, so the next n is
- * n E / (0.7 budget).
- *
- * The CG tolerance: the stopping test is relative to the right-hand side,
- * h f, so an inexact solve is a relative error of about cg in the force,
- * repeated every substep (the warm start carries it on): a bias held for
- * the run's time t moves the positions by up to cg |a| t^2 / 2 (measured:
- * cg 0.1 left 5 mm on an 11x11 swing at any n). The shadow makes the same
- * error, so it does not see it: it is bounded a priori, cg = CGF tolerance /
- * (|a| t), t the simulated time so far (at least velocity_weight). That
- * bound is pessimistic: on the chart's swing CG 1e-2 and 1e-5 give the same
- * errors to 3% at every h, and a factor 10x looser than 0.2 changed the
- * controller's errors by under 15% (3e-3: 2.56 -> 2.93 mm) for 20-30% less
- * CPU; CGF = 1 is half the budget by the bound. */
+/* The accuracy-driven controller (odecloth/adaptive.h): substeps per frame, CG tolerance and
+ * method from a shadow run's error estimate, with rollback. Why a shadow at 2 h, symplectic
+ * Euler and the a-priori CG bound: docs/solver.md, "The accuracy-driven controller". */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include "internal.h"
-
-static const double AIM = 0.5;      /* the global estimate's aim, a fraction of the request */
-static const double KMEM = 0.5;     /* s, how long a large k is remembered */
-static const double SYM_FRAC = 0.4; /* symplectic Euler's h, a fraction of its stable step */
-static const double CGF = 1.0;      /* CG tolerance factor, above */
-/* At the first frame symplectic Euler is chosen when its substeps cost less
- * than SYM_PREFER times backward Euler's: backward Euler's first-frame k
- * understates its need (on the swing k grew 0.45 -> 1 within three frames,
- * and at 3e-3 fixed steps need 10-20x the substeps that frame asked for),
- * and three such frames left an error the motion amplified to 6.8 mm by
- * 2 s (ratio 0.82) against 0.5 mm with symplectic Euler from the start. */
-static const double SYM_PREFER = 2.0;
+#include "tuning.h"
 
 struct cloth_adaptive {
     const cloth *owner;
@@ -376,10 +317,10 @@ static double stable_step(cloth_adaptive *a, const cloth *c, int iters)
 
 /* Newton's residual, an impulse of velocity size r a step, is a bias r / h in
  * the acceleration: held over the horizon it moves the positions by at most
- * CGF / 2 of the request, as the CG tolerance's bias does (top of the file). */
+ * ADAPTIVE_CGF / 2 of the request, as the CG tolerance's bias does (top of the file). */
 static double newton_bound(const cloth_adaptive *a, double h)
 {
-    return CGF * a->d.tolerance * h / fmax(a->d.velocity_weight, a->elapsed);
+    return ADAPTIVE_CGF * a->d.tolerance * h / fmax(a->d.velocity_weight, a->elapsed);
 }
 
 /* The shadow restarted from the cloth's state at the frame's start (a->snap):
@@ -407,7 +348,7 @@ static void new_method(cloth_adaptive *a, cloth_method m)
 /* CPU cost of a backward Euler substep in symplectic Euler substeps (one
  * force evaluation and update each): measured on the 21x21 cloth with block
  * Jacobi, 0.33 ms + 0.02 ms per CG iteration against 0.133 ms. */
-static double be_cost(double iterations) { return 2.5 + 0.15 * iterations; }
+static double be_cost(double iterations) { return ADAPTIVE_BE_COST_FIXED + ADAPTIVE_BE_COST_PER_CG * iterations; }
 
 cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, cloth_adaptive_stats *stats)
 {
@@ -449,21 +390,21 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
          * bounded by stability, at 2 h for the shadow), else backward Euler */
         method = a->method;
         if (a->d.allow_explicit && a->have_prev && a->h_scale > 0.0) {
-            double nb = a->method == CLOTH_BACKWARD_EULER ? n : frame_dt * a->k_be / (AIM * a->d.tolerance);
+            double nb = a->method == CLOTH_BACKWARD_EULER ? n : frame_dt * a->k_be / (ADAPTIVE_AIM * a->d.tolerance);
             double cost_be = fmax(nb, 2.0) * be_cost(a->it_be);
             /* measured (40 power iterations, then 6 from the last vector)
              * while symplectic Euler runs or might be within 2x */
             if (a->method == CLOTH_SYMPLECTIC_EULER || a->h_stab == 0.0 ||
-                frame_dt / (SYM_FRAC * a->h_scale * a->h_stab) < 2.0 * cost_be) {
+                frame_dt / (ADAPTIVE_SYM_FRAC * a->h_scale * a->h_stab) < 2.0 * cost_be) {
                 a->h_stab = stable_step(a, c, a->h_stab > 0.0 ? 6 : 40);
-                double hs = SYM_FRAC * a->h_scale * a->h_stab;
+                double hs = ADAPTIVE_SYM_FRAC * a->h_scale * a->h_stab;
                 int ns = hs > 0.0 ? clamp_substeps(a, frame_dt / hs, 1) : n_top(a, 1);
                 if (a->method == CLOTH_SYMPLECTIC_EULER && n < ns) n = ns;
                 if (a->method == CLOTH_BACKWARD_EULER && ns < n_top(a, 1) && ns < cost_be) {
                     method = CLOTH_SYMPLECTIC_EULER;
                     a->k_be = a->k_err;
                     n = ns;
-                } else if (a->method == CLOTH_SYMPLECTIC_EULER && (cost_be < 0.35 * n || ns >= n_top(a, 1))) {
+                } else if (a->method == CLOTH_SYMPLECTIC_EULER && (cost_be < ADAPTIVE_BACK_TO_IMPLICIT * n || ns >= n_top(a, 1))) {
                     method = CLOTH_BACKWARD_EULER;
                     n = clamp_substeps(a, nb, 1);
                 }
@@ -527,7 +468,7 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
             a->d.allow_explicit && !tried_explicit) {
             tried_explicit = 1;
             a->h_stab = stable_step(a, c, 40);
-            double hs = SYM_FRAC * a->h_scale * a->h_stab;
+            double hs = ADAPTIVE_SYM_FRAC * a->h_scale * a->h_stab;
             int ns = hs > 0.0 ? clamp_substeps(a, frame_dt / hs, 1) : n_top(a, 1);
             if (ns < n_top(a, 1)) {
                 const attempt tb = t;
@@ -549,10 +490,10 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
                           !run_shadow(a, ns, frame_dt / ns, &st.steps, &st.cg_iterations);
                 double d = sok ? rms_diff(cloth_positions(c), a->alt->x, a->n) : 0.0;
                 double k0 = fmax(gb, d) / (hb * frame_dt);
-                double cost_be = fmax(frame_dt * k0 / (AIM * a->d.tolerance), 2.0) * be_cost(its);
+                double cost_be = fmax(frame_dt * k0 / (ADAPTIVE_AIM * a->d.tolerance), 2.0) * be_cost(its);
                 a->k_be = k0;
                 a->it_be = its;
-                if (sok && ns < SYM_PREFER * cost_be) {
+                if (sok && ns < ADAPTIVE_SYM_PREFER * cost_be) {
                     method = a->method = CLOTH_SYMPLECTIC_EULER;
                     t = ts;
                     n = ns;
@@ -609,13 +550,13 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
              * backward Euler once the step would cost more than it */
             a->h_scale *= 0.5;
             int ns = clamp_substeps(a, 2.0 * n, 1);
-            double cost_be = fmax(frame_dt * a->k_be / (AIM * a->d.tolerance), 2.0) * be_cost(a->it_be);
+            double cost_be = fmax(frame_dt * a->k_be / (ADAPTIVE_AIM * a->d.tolerance), 2.0) * be_cost(a->it_be);
             if (ns > n && ns < cost_be) {
                 n = ns;
             } else {
                 method = CLOTH_BACKWARD_EULER;
                 new_method(a, method);
-                n = clamp_substeps(a, frame_dt * a->k_be / (AIM * a->d.tolerance), 1);
+                n = clamp_substeps(a, frame_dt * a->k_be / (ADAPTIVE_AIM * a->d.tolerance), 1);
             }
             continue;
         }
@@ -625,9 +566,9 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
             n = clamp_substeps(a, 2.0 * n, global);
             cg = clampd(0.1 * cg, a->d.cg_tolerance_min, a->d.cg_tolerance_max);
         } else if (global) {
-            n = clamp_substeps(a, n * g_est / (AIM * budget), 1);
+            n = clamp_substeps(a, n * g_est / (ADAPTIVE_AIM * budget), 1);
         } else {
-            n = clamp_substeps(a, fmax(2.0 * n, n * st.error_estimate / (0.7 * budget)), global);
+            n = clamp_substeps(a, fmax(2.0 * n, n * st.error_estimate / (ADAPTIVE_LOCAL_AIM * budget)), global);
         }
     }
     cloth_set_solver(c, &user);
@@ -641,12 +582,12 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
         st.global_estimate = a->carried + g_est;
         /* the next frame: the estimate is E = k int h dt (first order, k
          * the error per unit step and time, amplification included); a step
-         * h from now on adds k h per second: h = AIM tolerance / k, a
+         * h from now on adds k h per second: h = ADAPTIVE_AIM tolerance / k, a
          * fraction of the request, at most halving n at once */
         a->h_int += st.h * frame_dt;
-        a->k_err = fmax(g_est / a->h_int, a->k_err * exp(-frame_dt / KMEM));
+        a->k_err = fmax(g_est / a->h_int, a->k_err * exp(-frame_dt / ADAPTIVE_KMEM));
         if (method == CLOTH_BACKWARD_EULER) a->k_be = a->k_err;
-        double want = frame_dt * a->k_err / (AIM * a->d.tolerance);
+        double want = frame_dt * a->k_err / (ADAPTIVE_AIM * a->d.tolerance);
         a->n_next = clamp_substeps(a, fmax(want, 0.5 * n), 1);
     } else {
         if (global) { /* the shadow failed where the cloth did not: start it again */
@@ -655,15 +596,15 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
         st.global_estimate = NAN;
         st.over_budget = !(st.error_estimate <= 2.0 * budget);
         /* the next frame: aim at 0.7 of the budget, at most halving n at once */
-        a->n_next = clamp_substeps(a, fmax(n * st.error_estimate / (0.7 * budget), 0.5 * n), global);
+        a->n_next = clamp_substeps(a, fmax(n * st.error_estimate / (ADAPTIVE_LOCAL_AIM * budget), 0.5 * n), global);
     }
     st.requested = a->d.tolerance * t_end;
     /* The CG tolerance for the next frame (see the top of the file): a bias
      * of cg |a| in the acceleration held for the time so far, bounded by
-     * CGF / 2 of the request tolerance * t. */
+     * ADAPTIVE_CGF / 2 of the request tolerance * t. */
     double a_mean = 2.0 * t.ex / (n * st.h * st.h);
     double horizon = fmax(a->d.velocity_weight, a->elapsed);
-    a->cg_next = a_mean > 0.0 ? CGF * a->d.tolerance / (horizon * a_mean) : a->d.cg_tolerance_max;
+    a->cg_next = a_mean > 0.0 ? ADAPTIVE_CGF * a->d.tolerance / (horizon * a_mean) : a->d.cg_tolerance_max;
     a->cg_next = clampd(a->cg_next, a->d.cg_tolerance_min, a->d.cg_tolerance_max);
     if (stats) *stats = st;
     return CLOTH_OK;

@@ -148,6 +148,29 @@
  * unknowns than this (a side under 5 nodes does not coarsen) takes block Jacobi instead. */
 #define MG_DENSE_MAX 3072
 
+/* ------------------------------------------------ the accuracy-driven controller (adaptive.c) */
+
+/* The next frame's step aims the global estimate at ADAPTIVE_AIM of the request (1) and the local
+ * one at ADAPTIVE_LOCAL_AIM of the frame's budget (1): room for the estimate's own error. A large
+ * error rate is remembered ADAPTIVE_KMEM s (the difference's norm can pass near zero as it turns).
+ * Symplectic Euler steps at ADAPTIVE_SYM_FRAC of its stable step (1), so the shadow's 2 h is stable
+ * too. ADAPTIVE_CGF scales the a-priori CG tolerance (1: half the budget by its bound). */
+#define ADAPTIVE_AIM 0.5
+#define ADAPTIVE_LOCAL_AIM 0.7
+#define ADAPTIVE_KMEM 0.5
+#define ADAPTIVE_SYM_FRAC 0.4
+#define ADAPTIVE_CGF 1.0
+
+/* The first frame takes symplectic Euler when its substeps cost less than ADAPTIVE_SYM_PREFER
+ * times backward Euler's (1; backward Euler's first-frame estimate understates its need); later
+ * frames go back to backward Euler when it costs under ADAPTIVE_BACK_TO_IMPLICIT of symplectic
+ * Euler (1). A backward Euler substep costs ADAPTIVE_BE_COST_FIXED + ADAPTIVE_BE_COST_PER_CG per
+ * CG iteration symplectic substeps (1). */
+#define ADAPTIVE_SYM_PREFER 2.0
+#define ADAPTIVE_BACK_TO_IMPLICIT 0.35
+#define ADAPTIVE_BE_COST_FIXED 2.5
+#define ADAPTIVE_BE_COST_PER_CG 0.15
+
 /* -------------------------------------------------------------------------- numerics */
 
 /* Below this length (m) a link has no direction; it exerts no force. */
