@@ -121,7 +121,7 @@ static double cell_size(sweep_grid *g)
 static int reserve(sweep_grid *g, int n)
 {
     if (n <= g->cap) return 0;
-    size_t c = (size_t)n;
+    size_t c = (size_t)n + (size_t)n / 2;
     int *big = realloc(g->big, c * sizeof *big), *stamp, *out;
     if (big) g->big = big;
     stamp = realloc(g->stamp, c * sizeof *stamp);
@@ -131,7 +131,7 @@ static int reserve(sweep_grid *g, int n)
     double *side = realloc(g->side, c * sizeof *side);
     if (side) g->side = side;
     if (!big || !stamp || !out || !side) return -1;
-    g->cap = n;
+    g->cap = (int)c;
     return 0;
 }
 
@@ -193,14 +193,15 @@ int sweep_grid_build(sweep_grid *g, const double *box, int n)
         g->start = start;
         g->bucket_cap = nb;
     }
-    if (total > g->entry_cap) {
-        int *e = realloc(g->entry, total * sizeof *e);
+    if (total > g->entry_cap) { /* grown by half again at least: a step's lists rarely reallocate */
+        size_t cap = total > g->entry_cap + g->entry_cap / 2 ? total : g->entry_cap + g->entry_cap / 2;
+        int *e = realloc(g->entry, cap * sizeof *e);
         if (!e) {
             g->n = 0;
             return -1;
         }
         g->entry = e;
-        g->entry_cap = total;
+        g->entry_cap = cap;
     }
     g->nbucket = nb;
     /* counting sort: tallies at start[b + 2], summed into each bucket's
