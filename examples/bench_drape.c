@@ -33,7 +33,7 @@
  *               [--solver linearized|newton|both] [--precond P] [--max-wall S]
  *               [--self-collision T] [--fabric F] [--fast] [--check] [--steps]
  *
- * ctest: bench drape --fast --out out/bench_fast
+ * Test bench_drape in test/CMakeLists.txt.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>

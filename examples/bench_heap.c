@@ -25,7 +25,7 @@
  * heap at the end (HEAP_LAYERS_MIN layers somewhere), so the count is not of a
  * cloth that never met itself.
  *
- * ctest: physics heap_no_crossing --grid 31 --no-images --check --out out/bench_fast
+ * Test physics_heap_no_crossing in test/CMakeLists.txt.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>

@@ -61,7 +61,7 @@
  * Euler between h_S / 2 and 2 h_S, and the top mode's zeta is within 10% of
  * c_t w_max / (2 k_t).
  *
- * ctest: bench stability --fast --check --out out/bench_fast
+ * Test bench_stability in test/CMakeLists.txt.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>

@@ -63,8 +63,8 @@
  * implicit series has an order and that each preconditioner's errors are
  * be_1e-5's within 1% (it has no controller).
  *
- * ctest: bench workprecision --fast --check --out out/bench_fast
- * ctest: bench workprecision_cotton --cotton --fast --check --out out/bench_fast
+ * Test bench_workprecision in test/CMakeLists.txt.
+ * Test bench_workprecision_cotton in test/CMakeLists.txt.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>

@@ -6,7 +6,7 @@
  *   drape_pinned [--grid N] [--hz F] [--seconds T] [--alpha A] [--method be|bdf2|symplectic|explicit]
  *
  * A short run is a smoke test (every step must succeed):
- * ctest: demo drape_pinned --seconds 0.5
+ * Test demo_drape_pinned in test/CMakeLists.txt.
  */
 #include <stdio.h>
 #include <stdlib.h>
