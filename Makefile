@@ -15,6 +15,8 @@
 #   make fuzz       build the libFuzzer harnesses (clang, ASan + UBSan) into
 #                   build-fuzz/ and run each for FUZZ_SECONDS (default 60)
 #   make install    install into PREFIX (default /usr/local)
+#   make format     lay out the C sources as .clang-format says (clang-format -i;
+#                   .ci/format-check checks it)
 #   make clean      remove build/ and build-san/
 
 PREFIX ?= /usr/local
@@ -26,7 +28,7 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CTEST_ARGS ?= --output-on-failure -j2 -LE soak
 
 DEPS := libode-dev libccd-dev cmake pkg-config libosmesa6-dev libpng-dev libglfw3-dev \
-        xvfb xauth gnuplot-nox clang libclang-rt-dev valgrind
+        xvfb xauth gnuplot-nox clang libclang-rt-dev valgrind clang-format
 # Only `make video` needs these (the demos' --video pipes frames to ffmpeg).
 VIDEO_DEPS := ffmpeg
 VIDEO_DIR ?= $(BUILD)/video
@@ -41,7 +43,7 @@ MAKEFLAGS += --no-print-directory
 # Targets run one after another (deps before build); the parallelism is
 # inside the CMake build.
 .NOTPARALLEL:
-.PHONY: all build deps video-deps test demo video sanitize bench install clean fuzz
+.PHONY: all build deps video-deps test demo video sanitize bench install clean fuzz format
 
 all: build
 
@@ -153,6 +155,9 @@ install: $(BUILD)/CMakeCache.txt
 	$(CMAKE) -S . -B $(BUILD) -DCMAKE_INSTALL_PREFIX=$(PREFIX)
 	$(CMAKE) --build $(BUILD) -j $(JOBS)
 	$(CMAKE) --install $(BUILD)
+
+format: deps
+	.ci/format-check --fix
 
 clean:
 	rm -rf $(BUILD) $(SAN_BUILD)
