@@ -132,7 +132,7 @@ FUZZERS := $(patsubst test/fuzz_%.c,%,$(wildcard test/fuzz_*.c))
 # What each harness is built with besides itself (default: the core).
 FUZZ_INC = -Icore/include -Icore/src -Iplugin/include -Iplugin/src -Iexamples/common -Itest
 FUZZ_SRC_default := $(wildcard core/src/*.c)
-FUZZ_SRC_options := examples/common/options.c $(FUZZ_SRC_default) $(wildcard plugin/src/*.c)
+FUZZ_SRC_options := examples/common/options.c examples/common/cli.c $(FUZZ_SRC_default) $(wildcard plugin/src/*.c)
 FUZZ_LIBS_options = $$(pkg-config --cflags --libs ode ccd)
 FUZZ_SRC_plugin_state := $(FUZZ_SRC_default) $(wildcard plugin/src/*.c)
 FUZZ_LIBS_plugin_state = $(FUZZ_LIBS_options)
