@@ -28,7 +28,8 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CTEST_ARGS ?= --output-on-failure -j2 -LE soak
 
 DEPS := libode-dev libccd-dev cmake pkg-config libosmesa6-dev libpng-dev libglfw3-dev \
-        xvfb xauth gnuplot-nox clang libclang-rt-dev valgrind clang-format
+        xvfb xauth gnuplot-nox clang libclang-rt-dev valgrind clang-format \
+        libfreetype-dev fonts-dejavu-core
 # Only `make video` needs these (the demos' --video pipes frames to ffmpeg).
 VIDEO_DEPS := ffmpeg
 VIDEO_DIR ?= $(BUILD)/video
