@@ -14,6 +14,8 @@
 #                   and bench_workprecision --cotton
 #   make fuzz       build the libFuzzer harnesses (clang, ASan + UBSan) into
 #                   build-fuzz/ and run each for FUZZ_SECONDS (default 60)
+#   make docs       regenerate the generated docs (docs/api.md from the public
+#                   headers, docs/benchmarks.md from the benchmarks' CSVs)
 #   make install    install into PREFIX (default /usr/local)
 #   make format     lay out the C sources as .clang-format says (clang-format -i;
 #                   .ci/format-check checks it)
@@ -44,7 +46,7 @@ MAKEFLAGS += --no-print-directory
 # Targets run one after another (deps before build); the parallelism is
 # inside the CMake build.
 .NOTPARALLEL:
-.PHONY: all build deps video-deps test demo video sanitize bench install clean fuzz format
+.PHONY: all build deps video-deps test demo video sanitize bench install clean fuzz docs format
 
 all: build
 
@@ -149,6 +151,13 @@ fuzz: deps
 	    $(FUZZ_BUILD)/fuzz_$(f) -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=2048 \
 	        -print_final_stats=1 -artifact_prefix=$(FUZZ_BUILD)/ \
 	        $(FUZZ_BUILD)/corpus_$(f) test/corpus/$(f);)
+
+# Each docs/NAME.md written by docs/gen/NAME.sh (sh + awk only); test/docs/check.sh
+# fails when a committed one differs from what its script writes now.
+GENERATED_DOCS := api benchmarks
+docs:
+	@set -e; for d in $(GENERATED_DOCS); do sh docs/gen/$$d.sh . > docs/$$d.md.tmp; \
+	    mv docs/$$d.md.tmp docs/$$d.md; echo "wrote docs/$$d.md"; done
 
 # The prefix is given at configure time too, so that GNUInstallDirs picks the
 # layout for it (lib/<multiarch> under /usr on Debian).

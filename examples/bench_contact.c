@@ -1,4 +1,4 @@
-/* bench_contact: what contacts cost per step (issue 4's benchmark).
+/* bench_contact: what contacts cost per step (make bench).
  *
  * A cotton cloth (1 m square, 0.2 kg) released touching (6 mm above) the top of a
  * static collider and let settle for 2 s (h = 1/60 up to 41x41, 1/240 above), on: a sphere (radius

@@ -839,7 +839,7 @@ static int parse_options(options *o, int argc, char **argv)
 
 /* The drape's cost per step against the vertex count n = N^2, fitted as
  * n^p by least squares on the logs of the finished rows from N = 41 up:
- * what the issue's linear-cost target (p <= 1.15) is judged on. */
+ * what the linear-cost target (p <= 1.15) is judged on. */
 typedef struct scaling {
     int m;
     double logn[4], logc[4], it_lo, it_hi;

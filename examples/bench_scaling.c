@@ -1,8 +1,8 @@
-/* bench_scaling: cost against node count (issue 6.3).
+/* bench_scaling: cost against node count.
  *
  * bench_step's scene (a 1 m, 0.2 kg cotton cloth pinned at two adjacent
- * corners, starting horizontal), backward Euler + block-Jacobi MPCG, CG
- * tolerance 1e-3, h = 1/60 s, for grids from 21x21 up: per grid the median
+ * corners, starting horizontal), the default solver (cloth_default_desc),
+ * h = 1/60 s, for grids from 21x21 up: per grid the median
  * CPU time of a step (CLOCK_PROCESS_CPUTIME_ID) and the mean CG iterations
  * over the first --steps steps, and the memory per node. Memory: the growth
  * of the process's resident set (/proc/self/statm) from before cloth_create

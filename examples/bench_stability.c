@@ -1,4 +1,4 @@
-/* bench_stability: where each integrator fails (issue 6.2).
+/* bench_stability: where each integrator fails.
  *
  * Scene: the 1 m cotton cloth (21x21, 0.2 kg) pinned at two adjacent corners
  * that are 0.8 m apart, so the cloth between them is compressed by 20% for

@@ -1,8 +1,8 @@
-/* bench_step: speed of the implicit step (issue 3's benchmark).
+/* bench_step: speed of the implicit step (make bench).
  *
  * Cotton cloth, 1 m square, 0.2 kg, pinned at two adjacent corners, starting
- * horizontal, 2 s simulated, CG relative tolerance 1e-3 (block-diagonal
- * weighted norm), single thread. For each grid, step size and preconditioner:
+ * horizontal, 2 s simulated, the default solver (the Newton step; CG
+ * relative tolerance 1e-3 for the linearised one), single thread. For each grid, step size and preconditioner:
  * steps per second (wall clock, median of the per-step times reported too) and
  * CG iterations per step. Writes DIR/bench_step.csv and, with gnuplot,
  * DIR/bench_step.png.

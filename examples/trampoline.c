@@ -12,7 +12,7 @@
  * the four pins carry the weight of cloth and box: the vertical pin forces
  * sum to (m_cloth + m_box) g within 2% (a closed form). The box's speed at
  * the end is printed, not asserted: the hammock and box swing as a
- * pendulum that only the cloth's link damping slows (below; issue 4's
+ * pendulum that only the cloth's link damping slows (below; the
  * "no jitter" is asserted by test/plugin_coupling: a box resting on a
  * pinned cloth moves at most 0.14 mm/s). The step holds the elongation
  * limit as a constraint in its Newton corrections (step.c), with a budget

@@ -606,7 +606,7 @@ static void landing_reference(const sys *s, rng *g)
     int iters[3];
     const double floors[3] = {0.0, 1e-300, 1e3 * landing};
     for (int v = 0; v < 3; v++) {
-        mpcg_problem pr = {&s->A, b, S, z, P, NULL, 0, NULL, NULL, tol, 10 * N, NULL, floors[v], 0, 0.0, NULL};
+        mpcg_problem pr = {&s->A, b, S, z, P, NULL, 0, NULL, NULL, tol, 10 * N, NULL, floors[v], 0, 0.0, NULL, 0};
         memset(x, 0, sizeof(double) * N);
         mpcg_result res = mpcg_run(&pr, x, w);
         CHECK(res.failure == CLOTH_FAIL_NONE, "landing (floor %g): failure %d", floors[v], (int)res.failure);
@@ -640,7 +640,7 @@ static void error_stop(const sys *s, rng *g)
     }
     for (int k = 0; k < N; k++) b[k] = rng_range(g, -1, 1);
     make_precond(&s->A, S, 1, P);
-    mpcg_problem pr = {&s->A, b, S, z, P, NULL, 0, NULL, NULL, 1e-10, 10 * N, NULL, 0.0, 0, 0.0, m};
+    mpcg_problem pr = {&s->A, b, S, z, P, NULL, 0, NULL, NULL, 1e-10, 10 * N, NULL, 0.0, 0, 0.0, m, 0};
     mpcg_result full = mpcg_run(&pr, x, w);
     double size = 0.0, err = 0.0;
     for (int i = 0; i < n; i++)

@@ -1,6 +1,6 @@
-/* Unit: the plastic rule of interlaced links (paper eq. 8-12, paper.md sec. 3).
+/* Unit: the plastic rule of interlaced links (paper eq. 8-12; docs/model.md).
  *
- * The rule, as paper.md states it (plastic iff d / l0 <= alpha):
+ * The rule, as the paper states it (plastic iff d / l0 <= alpha):
  *   - entering the plastic region sets l1 to the entry length d;
  *   - while plastic, d < l1 ratchets l1 down to d; d >= l1 keeps l1, and the
  *     law is then k_s above l1 (int_law: k_hi = k_s, k_lo = k_b, rest l1);

@@ -207,6 +207,8 @@ struct cloth {
                                   dictated by the constraints, left to the plain law) */
     unsigned char *slack_age;  /* n_seq: the Newton iterates in a row each link has been
                                   slack in this step (potential.c) */
+    double diss_links;         /* the links' part of the last potential_residual's dissipation */
+    double diss_e0;            /* the links' energy at x0 without the limit (NaN: not yet this step) */
     double *dv_saved, *con_saved; /* 3n each (linearized.c): dv and con_new when the
                                   corrections last converged */
     double *K_seq, *K_int;     /* per-link 3x3 df_i/dx_j (linearized.c's K v products) */

@@ -170,7 +170,7 @@ cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, do
     if (sv->warm_start) memcpy(c->dv, S0->dv_prev, n3 * sizeof *c->dv);
     else memset(c->dv, 0, n3 * sizeof *c->dv);
     mpcg_problem P = {&c->A, b, c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL,
-                      sv->cg_tolerance, sv->cg_max_iterations, NULL, 0.0, 0, 0.0, NULL};
+                      sv->cg_tolerance, sv->cg_max_iterations, NULL, 0.0, 0, 0.0, NULL, 0};
     mpcg_bodies bodies;
     P.bodies = bodies_prepare(c, h, cfac, &bodies);
     mpcg_result r = linsolve_run(c, &P, c->dv);

@@ -59,6 +59,7 @@ mpcg_result linsolve_run(cloth *c, mpcg_problem *P, double *x)
     P->ctx = NULL;
     if (pc == CLOTH_PRECOND_MULTIGRID) {
         mg_setup(&c->mg, &c->A, c->S, c->cflag, c->pre);
+        P->sym_checked = c->mg.nlev > 1; /* mg_setup checked A->sym */
         P->pc = mg_apply;
         P->ctx = &c->mg;
     } else if (pc == CLOTH_PRECOND_JACOBI) {
@@ -68,5 +69,6 @@ mpcg_result linsolve_run(cloth *c, mpcg_problem *P, double *x)
     mpcg_result r = pc == CLOTH_PRECOND_SSOR ? ssor_run(P, c->cflag, c->Ah, x, c->cg) : mpcg_run(P, x, c->cg);
     P->ctx = NULL;
     P->pc = NULL;
+    P->sym_checked = 0;
     return r;
 }

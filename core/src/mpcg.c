@@ -34,7 +34,7 @@ static double dot(const double *a, const double *b, size_t n)
 mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const double *z,
                        const double *Pinv, double tol, int max_iter, double *x, double *w)
 {
-    mpcg_problem P = {A, b, S, z, Pinv, NULL, 0, NULL, NULL, tol, max_iter, NULL, 0.0, 0, 0.0, NULL};
+    mpcg_problem P = {A, b, S, z, Pinv, NULL, 0, NULL, NULL, tol, max_iter, NULL, 0.0, 0, 0.0, NULL, 0};
     return mpcg_run(&P, x, w);
 }
 
@@ -42,7 +42,7 @@ mpcg_result mpcg_solve_pc(const bsr *A, const double *b, const double *S, const 
                           const double *Dinv, mpcg_precond_fn pc, void *ctx, double tol, int max_iter,
                           double *x, double *w)
 {
-    mpcg_problem P = {A, b, S, z, Dinv, NULL, 0, pc, ctx, tol, max_iter, NULL, 0.0, 0, 0.0, NULL};
+    mpcg_problem P = {A, b, S, z, Dinv, NULL, 0, pc, ctx, tol, max_iter, NULL, 0.0, 0, 0.0, NULL, 0};
     return mpcg_run(&P, x, w);
 }
 
@@ -269,7 +269,7 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
     filter_inplace(P, x);
     for (size_t k = 0; k < N; k++) x[k] += z[k];
     bsr_mul(A, x, t);
-    if (A->sym) bsr_check_sym(A, A->val, A->sym); /* for bsr_mul_sym below */
+    if (A->sym && !P->sym_checked) bsr_check_sym(A, A->val, A->sym); /* for bsr_mul_sym below */
     for (size_t k = 0; k < N; k++) r[k] = b[k] - t[k];
     if (B) { /* the bodies' residual rhs - M u + J^T P (b - A dv) at u = 0 */
         memset(B->u, 0, NB * sizeof *B->u);

@@ -76,6 +76,7 @@ typedef struct mpcg_problem {
      * root (Newton's share of its goal) */
     double abs_err2;
     const double *mass;
+    int sym_checked; /* 1: A->sym is current for A->val (bsr_check_sym done by the caller) */
 } mpcg_problem;
 
 /* bodies.c, the solver's body operations (P->bodies not NULL):

@@ -3,7 +3,7 @@
  * Why: with a diagonal or block-diagonal preconditioner the CG iteration
  * count grows with the grid's width (the stiff springs spread information one
  * node per iteration); a multigrid V-cycle keeps it nearly flat.
- * How (as measured on the prototype in DESIGN.md):
+ * How (as measured on a prototype):
  *  - coarsen by two in each grid direction (node 2I of a level is node I of
  *    the next), bilinear prolongation W, restriction W^T;
  *  - Galerkin coarse operators W^T A W (galerkin.c) rebuilt for every solve: a Newton
@@ -286,8 +286,10 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
     if (mg->nlev > 1) {
         mg_level *F = &mg->lev[0];
         int nf = 0;
+        if (A->sym) bsr_check_sym(A, A->val, A->sym);
         for (int i = 0; i < F->n; i++) {
-            F->symrow[i] = (unsigned char)row_symmetric(A, Dinv0, i);
+            F->symrow[i] = (unsigned char)(A->sym ? A->sym[i] && mat3_is_sym(Dinv0 + 9 * (size_t)i)
+                                                  : row_symmetric(A, Dinv0, i));
             for (int k = A->diag[i]; k < A->row_ptr[i + 1]; k++) {
                 int j = A->col[k];
                 F->fidx[k] = constrained[i] || constrained[j] ? nf : -1;

@@ -52,7 +52,7 @@ void mg_free(multigrid *mg);
  * fine matrix S A S (Tamstorf, Jones, McCormick 2015: constrained directions
  * removed before coarsening), the diagonal inverses, and the Cholesky factor
  * of the coarsest level. Dinv0: the fine level's inverse diagonal blocks of
- * S A S + (I - S). */
+ * S A S + (I - S). With more than one level, A->sym is checked here. */
 void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char *constrained,
               double *Dinv0);
 

@@ -14,7 +14,7 @@
 
 /* A step also ends only once the energy it can have made (the residual R's
  * work at v_new, and the leftover momentum's on the bodies) is within this
- * share of what the exact step dissipates (potential_dissipation too). */
+ * share of what the exact step dissipates (potential_step_dissipation). */
 #define NEWTON_GAIN_SHARE 0.25
 
 /* That bound is no less than the kinetic energy of the cloth moving at this
@@ -221,7 +221,7 @@ static double leftover_work(const cloth *c, const double *b)
 /* Whether the iterate dv (b = -R there, assembled) can have made no more
  * energy than NEWTON_GAIN_SHARE of what the exact step dissipates: the work of
  * R's free part at v_new, each held body's at its velocity, the leftover's. */
-static int energy_bounded(const cloth *c, const step_eq *q, const mpcg_problem *P, const double *b, const double *dv,
+static int energy_bounded(cloth *c, const step_eq *q, const mpcg_problem *P, const double *b, const double *dv,
                           double mt)
 {
     double work = 0.0, diss = 0.0, tol = NEWTON_REL_FLOOR * c->desc.solver.newton_tolerance;
@@ -237,7 +237,7 @@ static int energy_bounded(const cloth *c, const step_eq *q, const mpcg_problem *
         diss += 0.5 * bodies_step_energy(c);
     }
     double gain = leftover_work(c, b) - work;
-    diss += potential_dissipation(c, q);
+    diss += potential_step_dissipation(c, q);
     return gain <= NEWTON_GAIN_SHARE * diss + 0.5 * mt * tol * tol;
 }
 
@@ -253,15 +253,17 @@ static double contact_free_share(cloth *c, const step_eq *q, const double *dv, c
     return self_contact_max_step(c->self_contact, c->xt, c->vt);
 }
 
-/* One Newton iteration from dv (b = -R there): solve, search (not on the first, which lands the
- * constraints), take (*taken: the share of the update). *size gets the full step's size, *ready
- * whether b is assembled at the new dv; returns the CG's failure (NONE, or a cut-short solve's). */
+/* One Newton iteration from dv (b = -R there; with matrix, the Newton matrix too): solve, search
+ * (not on the first, which lands the constraints), take (*taken: the share of the update). *size
+ * gets the full step's size, *ready whether b is assembled at the new dv; returns the CG's failure
+ * (NONE, or a cut-short solve's). */
 static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *P, double *dv, double *phi,
-                                      int first, double *size, int *ready, double *taken, cloth_step_stats *st)
+                                      int first, int matrix, double *size, int *ready, double *taken,
+                                      cloth_step_stats *st)
 {
     size_t n3 = 3 * (size_t)c->n;
     double *ddv = c->ddv;
-    potential_matrix(c, q, 1); /* at dv: c->x_new, c->v_new are its */
+    if (!matrix) potential_matrix(c, q, 1); /* at dv: c->x_new, c->v_new are its */
     mpcg_result r = linear_solve(c, P, ddv);
     *ready = 0;
     st->iterations += r.iterations;
@@ -334,7 +336,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     limit_multipliers_begin(c);
     int landed = newton_start(c, &q, dv);
     mpcg_problem P = {&c->A, b, c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL,
-                      sv->newton_cg_tolerance, sv->cg_max_iterations, NULL, 0.0, 1, 0.0, NULL};
+                      sv->newton_cg_tolerance, sv->cg_max_iterations, NULL, 0.0, 1, 0.0, NULL, 0};
     mpcg_bodies bodies;
     P.bodies = bodies_prepare(c, h, q.cfac, &bodies);
     double mt = 0.0;
@@ -345,6 +347,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     P.mass = c->mass;
     int it = 0, limit_rounds = 0, assembled = 0, landing = 1; /* limit_rounds: the multipliers' updates so far */
     int ready = 0; /* b already at dv (the line search's full step) */
+    int matrix = 0; /* the Newton matrix already at dv */
     int since = 0; /* iterations since the contacts or multipliers changed */
     double phi = NAN, size = INFINITY, rn = INFINITY, goal = sv->newton_tolerance;
     int conv = 0, pending = !landed; /* pending: constraints the iterate has not landed */
@@ -352,8 +355,11 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     for (;;) {
         if (!assembled) { /* the residual at dv, and whether it is small enough */
             if (!ready) {
+                /* with constraints to land no iterate converges: the matrix comes in the same pass */
+                matrix = pending && since < sv->newton_iterations;
                 potential_state(c, &q, dv);
-                potential_residual(c, &q, dv, b);
+                double at = matrix ? potential_assemble(c, &q, dv, b, 1) : potential_residual(c, &q, dv, b);
+                if (phi != phi) phi = at + (P.bodies ? bodies_energy(c) : 0.0);
             }
             ready = 0;
             assembled = 1;
@@ -406,7 +412,8 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         /* the share serves the size test; iterations after it is met are
          * for the energy bound, whose residual only a full solve reduces */
         P.abs_err2 = size > goal ? mt * pow(sv->newton_cg_share * goal, 2) : 0.0;
-        cloth_failure f = newton_iteration(c, &q, &P, dv, &phi, landing, &size, &ready, &taken, st);
+        cloth_failure f = newton_iteration(c, &q, &P, dv, &phi, landing, matrix, &size, &ready, &taken, st);
+        matrix = 0;
         /* the constraints landed, or the share taken of the way (self-contact): the next lands the rest */
         int rest = 0; /* constrained components still to land */
         for (size_t k = 0; landing && k < 3 * (size_t)c->n; k++) {

@@ -1,4 +1,4 @@
-/* The plastic rule of interlaced links (paper eq. 8-12, paper.md sec. 3), and the update of both link
+/* The plastic rule of interlaced links (paper eq. 8-12; docs/model.md), and the update of both link
  * types' plastic state; the spring law of each link type and region is inline in internal.h. */
 #include <math.h>
 #include "internal.h"

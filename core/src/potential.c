@@ -40,6 +40,7 @@ void potential_begin(cloth *c, double h, int bdf2, step_eq *q)
             for (int r = 0; r < 3; r++) ut[3 * e + r] = w[r] * inv;
         }
     }
+    c->diss_e0 = NAN;
 }
 
 void potential_state(cloth *c, const step_eq *q, const double *dv)
@@ -67,6 +68,15 @@ MAT3_INLINE spring_law law_of(const cloth *c, int t, int e)
     double rho = c->lim_rho[e], shift = c->lim_shift[e];
     s.k_lim *= rho;
     if (shift != 0.0) s.lim -= shift / rho;
+    return s;
+}
+
+/* the law of link e of type t without the elongation limit */
+MAT3_INLINE spring_law base_law(const cloth *c, int t, int e)
+{
+    spring_law s = t ? int_law(&c->desc.material, c->lint[e].rest, c->st.plastic[e], c->st.l1[e])
+                     : seq_law(&c->desc.material, c->seq[e].rest, c->st.seq_set[e]);
+    s.k_lim = 0.0;
     return s;
 }
 
@@ -101,6 +111,19 @@ MAT3_INLINE double link_rate(const double *v, int i, int j, const double *u)
     return (v[3 * j] - v[3 * i]) * u[0] + (v[3 * j + 1] - v[3 * i + 1]) * u[1] + (v[3 * j + 2] - v[3 * i + 2]) * u[2];
 }
 
+/* The links' energy at x0 without the elongation limit, along the step's directions */
+static double energy_at_start(const cloth *c)
+{
+    const double *x0 = c->st.x;
+    double E = 0.0;
+    for (int es = 0, ei = 0, t, e; next_link(c, &es, &ei, &t, &e);) {
+        int i, j;
+        const double *u = link_ends(c, t, e, &i, &j);
+        E += spring_predicted(x0 + 3 * i, x0 + 3 * j, u, base_law(c, t, e), 0.0, NULL, NULL, NULL);
+    }
+    return E;
+}
+
 /* Newton's matrix gives a slack sequential link this share of its taut stiffness
  * along itself, halved for each matrix in a row it stays slack: the exact Hessian's
  * zero would carry it far past its kink, and the exact Hessian returns for Newton's
@@ -111,11 +134,11 @@ MAT3_INLINE double link_rate(const double *v, int i, int j, const double *u)
 /* The matrix's blocks are fetched this many links of a type ahead */
 #define ASSEMBLY_PREFETCH_LINKS 8
 
-double potential_residual(cloth *c, const step_eq *q, const double *dv, double *b)
+/* The vertices' terms of R and Phi into b (inertia, gravity, external forces, BDF2's e) */
+static double inertia_terms(const cloth *c, const step_eq *q, const double *dv, double *b)
 {
-    const cloth_material *m = &c->desc.material;
-    const double *x = c->x_new, *v = c->v_new;
-    double cf = q->cfac, P = 0.0, f[3];
+    const double *v = c->v_new;
+    double cf = q->cfac, P = 0.0;
     for (int i = 0; i < c->n; i++)
         for (int r = 0; r < 3; r++) {
             size_t k = 3 * (size_t)i + (size_t)r;
@@ -123,28 +146,65 @@ double potential_residual(cloth *c, const step_eq *q, const double *dv, double *
             b[k] = cf * fc + e - c->mass[i] * dv[k];
             P += (0.5 * c->mass[i] * dv[k] - e) * dv[k] - cf * fc * v[k];
         }
+    return P;
+}
+
+/* Link (i, j)'s Bregman gap and damper work in backward Euler's dissipation, less its
+ * energy at x0 (potential_begin's e0): its force f (limit share lim) and energy E at x. */
+MAT3_INLINE double link_dissipation(const cloth *c, int i, int j, double E, const double f[3], const double lim[2],
+                                    double damp_vu2)
+{
+    const double *x0 = c->st.x, *x = c->x_new;
+    double gap = lim[0] - E;
+    for (int r = 0; r < 3; r++) {
+        double w = x[3 * j + r] - x[3 * i + r];
+        gap -= (f[r] - lim[1] * w) * ((x0[3 * j + r] - x0[3 * i + r]) - w);
+    }
+    return gap + damp_vu2;
+}
+
+/* One pass over the links at c->x_new, c->v_new (node-major): with b, their impulses added
+ * into b, their share of Phi added to P (returned) and backward Euler's dissipation less the
+ * links' energy at x0 into c->diss_links;
+ * with mat, their Newton blocks assembled into c->A (stiffen: potential_matrix's). */
+MAT3_INLINE double links_pass(cloth *c, const step_eq *q, double P, double *b, int mat, int stiffen)
+{
+    const cloth_material *m = &c->desc.material;
+    const double *x = c->x_new, *v = c->v_new;
+    double cf = q->cfac, cf2 = cf * cf, D = 0.0, f[3], K[9], blk[9], lim[2];
+    int diss = b && !q->bdf2;
     for (int es = 0, ei = 0, t, e; next_link(c, &es, &ei, &t, &e);) {
-        int i, j;
+        int i, j, slack, ahead = e + ASSEMBLY_PREFETCH_LINKS;
+        if (mat && ahead < (t ? c->n_int : c->n_seq))
+            assemble_prefetch(c, (t ? c->lint : c->seq)[ahead].j, (t ? c->int_blk : c->seq_blk) + 2 * ahead);
         const double *u = link_ends(c, t, e, &i, &j);
-        double damp = t ? m->c_b : m->c_t, vu = link_rate(v, i, j, u), rate = damp * vu;
-        P += spring_predicted(x + 3 * i, x + 3 * j, u, law_of(c, t, e), 0.0, f, NULL, NULL) + 0.5 * cf * damp * vu * vu;
+        unsigned char *age = !mat || t || !stiffen ? NULL : c->slack_age + e;
+        double damp = t ? m->c_b : m->c_t, w = age ? ldexp(SLACK_SHARE, -*age) : 0.0;
+        double E = spring_predicted_lim(x + 3 * i, x + 3 * j, u, law_of(c, t, e), w, b ? f : NULL, mat ? K : NULL,
+                                        &slack, diss ? lim : NULL);
+        if (age) *age = slack ? (unsigned char)(*age < SLACK_AGE_MAX ? *age + 1 : *age) : 0;
+        if (mat) {
+            for (int r = 0; r < 3; r++)
+                for (int s = 0; s < 3; s++) blk[3 * r + s] = cf2 * K[3 * r + s] + cf * damp * u[r] * u[s];
+            assemble_link(c, i, j, (t ? c->int_blk : c->seq_blk) + 2 * e, blk);
+        }
+        if (!b) continue;
+        double vu = link_rate(v, i, j, u), rate = damp * vu;
+        P += E + 0.5 * cf * damp * vu * vu;
         for (int r = 0; r < 3; r++) {
             double fr = cf * (f[r] + rate * u[r]);
             b[3 * i + r] += fr;
             b[3 * j + r] -= fr;
         }
+        if (diss) D += link_dissipation(c, i, j, E, f, lim, cf * damp * vu * vu);
     }
-    /* air drag, a damper with its normals and areas at x~ */
-    if (air_on(c)) P += cf * air_eval(c, c->st.x, c->st.v, q->h, v, cf, b, NULL, 0.0);
-    if (c->self_contact) P += self_contact_eval(c->self_contact, x, cf, b, NULL);
+    if (b) c->diss_links = diss ? D : 0.0;
     return P;
 }
 
-void potential_matrix(cloth *c, const step_eq *q, int stiffen)
+/* The matrix's diagonal blocks set to the masses (and the rest zeroed where links add) */
+static void matrix_begin(cloth *c)
 {
-    const cloth_material *m = &c->desc.material;
-    const double *x = c->x_new;
-    double cf = q->cfac, cf2 = cf * cf, K[9], blk[9];
     bsr *A = &c->A;
     if (!c->links_own_blocks) bsr_zero(A);
     for (int i = 0; i < c->n; i++) {
@@ -152,28 +212,48 @@ void potential_matrix(cloth *c, const step_eq *q, int stiffen)
         memset(B, 0, 9 * sizeof *B);
         B[0] = B[4] = B[8] = c->mass[i];
     }
-    for (int es = 0, ei = 0, t, e; next_link(c, &es, &ei, &t, &e);) {
-        int i, j, slack, ahead = e + ASSEMBLY_PREFETCH_LINKS;
-        if (ahead < (t ? c->n_int : c->n_seq))
-            assemble_prefetch(c, (t ? c->lint : c->seq)[ahead].j, (t ? c->int_blk : c->seq_blk) + 2 * ahead);
-        const double *u = link_ends(c, t, e, &i, &j);
-        unsigned char *age = t || !stiffen ? NULL : c->slack_age + e;
-        double damp = t ? m->c_b : m->c_t, w = age ? ldexp(SLACK_SHARE, -*age) : 0.0;
-        spring_predicted(x + 3 * i, x + 3 * j, u, law_of(c, t, e), w, NULL, K, &slack);
-        if (age) *age = slack ? (unsigned char)(*age < SLACK_AGE_MAX ? *age + 1 : *age) : 0;
-        for (int r = 0; r < 3; r++)
-            for (int s = 0; s < 3; s++) blk[3 * r + s] = cf2 * K[3 * r + s] + cf * damp * u[r] * u[s];
-        assemble_link(c, i, j, (t ? c->int_blk : c->seq_blk) + 2 * e, blk);
-    }
-    if (air_on(c)) air_eval(c, c->st.x, c->st.v, q->h, c->v_new, 0.0, NULL, A, cf);
-    if (c->self_contact) self_contact_eval(c->self_contact, x, cf, NULL, A);
+}
+
+/* The air's and self-contact's terms at c->x_new, c->v_new: into b and added to P (with b), into c->A
+ * (with mat) */
+static double other_terms(cloth *c, const step_eq *q, double P, double *b, int mat)
+{
+    double cf = q->cfac;
+    const double *x = c->x_new, *v = c->v_new;
+    /* air drag, a damper with its normals and areas at x~ */
+    if (b && air_on(c)) P += cf * air_eval(c, c->st.x, c->st.v, q->h, v, cf, b, NULL, 0.0);
+    if (b && c->self_contact) P += self_contact_eval(c->self_contact, x, cf, b, NULL);
+    if (mat && air_on(c)) air_eval(c, c->st.x, c->st.v, q->h, v, 0.0, NULL, &c->A, cf);
+    if (mat && c->self_contact) self_contact_eval(c->self_contact, x, cf, NULL, &c->A);
+    return P;
+}
+
+double potential_residual(cloth *c, const step_eq *q, const double *dv, double *b)
+{
+    double P = links_pass(c, q, inertia_terms(c, q, dv, b), b, 0, 0);
+    return other_terms(c, q, P, b, 0);
+}
+
+void potential_matrix(cloth *c, const step_eq *q, int stiffen)
+{
+    matrix_begin(c);
+    links_pass(c, q, 0.0, NULL, 1, stiffen);
+    other_terms(c, q, 0.0, NULL, 1);
 }
 
 double potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b, int stiffen)
 {
-    double P = potential_residual(c, q, dv, b);
-    potential_matrix(c, q, stiffen);
-    return P;
+    double P = inertia_terms(c, q, dv, b);
+    matrix_begin(c);
+    P = links_pass(c, q, P, b, 1, stiffen);
+    return other_terms(c, q, P, b, 1);
+}
+
+double potential_step_dissipation(cloth *c, const step_eq *q)
+{
+    if (q->bdf2) return 0.0;
+    if (c->diss_e0 != c->diss_e0) c->diss_e0 = energy_at_start(c);
+    return c->diss_e0 + c->diss_links;
 }
 
 void potential_momentum_residual(const cloth *c, const step_eq *q, const double *dv, double out[3])

@@ -29,7 +29,7 @@ void potential_begin(cloth *c, double h, int bdf2, step_eq *q);
 void potential_state(cloth *c, const step_eq *q, const double *dv);
 
 /* At c->x_new, c->v_new (potential_state first): b = -R; returns Phi there,
- * bit for bit as potential_value. */
+ * bit for bit as potential_value (and the sums potential_step_dissipation takes). */
 double potential_residual(cloth *c, const step_eq *q, const double *dv, double *b);
 
 /* At c->x_new, c->v_new: the Newton matrix M + cfac C + cfac^2 K (Phi's
@@ -37,7 +37,7 @@ double potential_residual(cloth *c, const step_eq *q, const double *dv, double *
  * stiffened (potential.c: SLACK_SHARE). */
 void potential_matrix(cloth *c, const step_eq *q, int stiffen);
 
-/* potential_residual and potential_matrix at once */
+/* potential_residual and potential_matrix at once, in one pass over the links */
 double potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b, int stiffen);
 
 /* The sum of R over every row at dv, out (3): M dv - e - cfac f_c summed,
@@ -53,5 +53,9 @@ double potential_value(const cloth *c, const step_eq *q, const double *dv, doubl
  * BDF2): the dampers' work and the links' Bregman gaps U(x0) - U(x) - grad U(x).(x0 - x),
  * without the elongation limit's piece (its multiplier shifts it off the springs' energy). */
 double potential_dissipation(const cloth *c, const step_eq *q);
+
+/* potential_dissipation at the last potential_residual's (or _assemble's) point, from that
+ * pass's sums */
+double potential_step_dissipation(cloth *c, const step_eq *q);
 
 #endif

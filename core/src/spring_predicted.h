@@ -12,9 +12,10 @@
 #define SPRING_MIN_LENGTH 1e-12
 
 /* E, f_i (may be NULL) and K (may be NULL) of the link; *slack (may be
- * NULL) whether it is shorter than its rest length. */
-MAT3_INLINE double spring_predicted(const double xi[3], const double xj[3], const double u0[3], spring_law s,
-                                    double w, double f_i[3], double K[9], int *slack)
+ * NULL) whether it is shorter than its rest length; lim (may be NULL) the
+ * elongation limit's share: its energy, and c with its force on i c (xj - xi). */
+MAT3_INLINE double spring_predicted_lim(const double xi[3], const double xj[3], const double u0[3], spring_law s,
+                                        double w, double f_i[3], double K[9], int *slack, double lim[2])
 {
     double u[3] = {xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]};
     double d = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
@@ -29,10 +30,15 @@ MAT3_INLINE double spring_predicted(const double xi[3], const double xj[3], cons
         ks = w * s.k_hi;
     }
     if (slack) *slack = d < s.rest;
+    if (lim) lim[0] = lim[1] = 0.0;
     if (d > s.lim) {
         fe += s.k_lim * (d - s.lim);
         k += s.k_lim;
         E += 0.5 * s.k_lim * (d - s.lim) * (d - s.lim);
+        if (lim && d > SPRING_MIN_LENGTH) {
+            lim[0] = 0.5 * s.k_lim * (d - s.lim) * (d - s.lim);
+            lim[1] = s.k_lim * (d - s.lim) / d;
+        }
     }
     /* compression: the length along u0, (x_j - x_i) . u0 = d (u . u0) */
     double sc = d * (u[0] * u0[0] + u[1] * u0[1] + u[2] * u0[2]) - s.rest, kc = 0.0;
@@ -52,6 +58,12 @@ MAT3_INLINE double spring_predicted(const double xi[3], const double xj[3], cons
             if (ks != 0.0) K[3 * a + b] += ks * uu;
         }
     return E;
+}
+
+MAT3_INLINE double spring_predicted(const double xi[3], const double xj[3], const double u0[3], spring_law s,
+                                    double w, double f_i[3], double K[9], int *slack)
+{
+    return spring_predicted_lim(xi, xj, u0, s, w, f_i, K, slack, NULL);
 }
 
 #endif

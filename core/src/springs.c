@@ -9,7 +9,7 @@
  *   K   = df_i/dx_j = k uu^T + k (1 - l/d)(I - uu^T)          (eq. 14)
  * K's eigenvalues are k (along u) and k (1 - l/d) (twice, across u); the
  * latter is negative when d < l, and an indefinite matrix breaks CG. The
- * paper's rule (section 3.2 / paper.md sec. 4): when d < l keep only k uu^T.
+ * paper's rule (section 3.2; docs/model.md): when d < l keep only k uu^T.
  * A sequential link past its elongation limit lim adds 1/2 k_lim (d - lim)^2:
  * the force gains k_lim (d - lim) u, K's along-u stiffness k_lim and its
  * across-u term (force magnitude / d) stays positive. */

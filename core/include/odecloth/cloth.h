@@ -588,7 +588,7 @@ ODECLOTH_API cloth_status cloth_state_read(cloth_state *s, const void *buf, size
 ODECLOTH_API cloth_status cloth_state_write_file(const cloth_state *s, FILE *f, cloth_error *err);
 ODECLOTH_API cloth_status cloth_state_read_file(cloth_state *s, FILE *f, cloth_error *err);
 
-/* ---------------------------------------- accuracy-driven stepping (issue 6) */
+/* ------------------------------------------------ accuracy-driven stepping */
 
 /* Steps a cloth frame by frame, choosing the substeps per frame, the CG
  * tolerance and the method from an error estimate instead of the user

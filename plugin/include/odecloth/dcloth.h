@@ -247,7 +247,7 @@ ODECLOTH_API cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dRe
  * off. They keep a box's, capsule's, cylinder's, convex's or trimesh's edges
  * and corners from passing between the cloth's vertices; off, g gets vertex
  * contacts, and a box, trimesh or convex the link tests below, cheaper (a
- * 1000-triangle trimesh under an 81x81 cloth: README) and enough where no
+ * 1000-triangle trimesh under an 81x81 cloth: docs/benchmarks.md) and enough where no
  * edge pokes into a triangle. Other classes have vertex contacts only either
  * way. Forget a geom (enable it) before destroying it. */
 ODECLOTH_API cloth_status dClothSetTriangleTests(dClothID c, dGeomID g, int enable);
