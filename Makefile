@@ -17,6 +17,8 @@
 #   make docs       regenerate the generated docs (docs/api.md from the public
 #                   headers, docs/benchmarks.md from the benchmarks' CSVs)
 #   make install    install into PREFIX (default /usr/local)
+#   make format     lay out the C sources as .clang-format says (clang-format -i;
+#                   .ci/format-check checks it)
 #   make clean      remove build/ and build-san/
 
 PREFIX ?= /usr/local
@@ -28,7 +30,8 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CTEST_ARGS ?= --output-on-failure -j2 -LE soak
 
 DEPS := libode-dev libccd-dev cmake pkg-config libosmesa6-dev libpng-dev libglfw3-dev \
-        xvfb xauth gnuplot-nox clang libclang-rt-dev valgrind
+        xvfb xauth gnuplot-nox clang libclang-rt-dev valgrind clang-format \
+        libfreetype-dev fonts-dejavu-core
 # Only `make video` needs these (the demos' --video pipes frames to ffmpeg).
 VIDEO_DEPS := ffmpeg
 VIDEO_DIR ?= $(BUILD)/video
@@ -43,7 +46,7 @@ MAKEFLAGS += --no-print-directory
 # Targets run one after another (deps before build); the parallelism is
 # inside the CMake build.
 .NOTPARALLEL:
-.PHONY: all build deps video-deps test demo video sanitize bench install clean fuzz docs
+.PHONY: all build deps video-deps test demo video sanitize bench install clean fuzz docs format
 
 all: build
 
@@ -132,7 +135,7 @@ FUZZERS := $(patsubst test/fuzz_%.c,%,$(wildcard test/fuzz_*.c))
 # What each harness is built with besides itself (default: the core).
 FUZZ_INC = -Icore/include -Icore/src -Iplugin/include -Iplugin/src -Iexamples/common -Itest
 FUZZ_SRC_default := $(wildcard core/src/*.c)
-FUZZ_SRC_options := examples/common/options.c $(FUZZ_SRC_default) $(wildcard plugin/src/*.c)
+FUZZ_SRC_options := examples/common/options.c examples/common/cli.c $(FUZZ_SRC_default) $(wildcard plugin/src/*.c)
 FUZZ_LIBS_options = $$(pkg-config --cflags --libs ode ccd)
 FUZZ_SRC_plugin_state := $(FUZZ_SRC_default) $(wildcard plugin/src/*.c)
 FUZZ_LIBS_plugin_state = $(FUZZ_LIBS_options)
@@ -162,6 +165,9 @@ install: $(BUILD)/CMakeCache.txt
 	$(CMAKE) -S . -B $(BUILD) -DCMAKE_INSTALL_PREFIX=$(PREFIX)
 	$(CMAKE) --build $(BUILD) -j $(JOBS)
 	$(CMAKE) --install $(BUILD)
+
+format: deps
+	.ci/format-check --fix
 
 clean:
 	rm -rf $(BUILD) $(SAN_BUILD)

@@ -19,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "odecloth/dcloth.h"
+#include "common/cli.h"
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -153,20 +154,31 @@ int main(int argc, char **argv)
     const char *out = "out/bench";
     int grids[8] = {21, 81}, ng = 2;
     double seconds = 2.0;
-    for (int a = 1; a < argc; a++) {
-        const char *v = a + 1 < argc ? argv[a + 1] : NULL;
-        if (!strcmp(argv[a], "--help") || !strcmp(argv[a], "-h")) {
+    static const struct option options[] = {
+        {"help", no_argument, NULL, 'h'},
+        {"out", required_argument, NULL, 'o'},
+        {"seconds", required_argument, NULL, 's'},
+        {"grids", required_argument, NULL, 'g'},
+        {NULL, 0, NULL, 0},
+    };
+    cli_start();
+    for (;;) {
+        const char *arg = NULL;
+        int opt = cli_next(argc, argv, options, &arg);
+        char *v = optarg;
+        if (opt == CLI_END) break;
+        if (opt == 'h') {
             puts("usage: bench_contact [--out DIR] [--grids 21,81] [--seconds T]\n"
                  "Contact cost per step of a cloth settling on a sphere, a box and a\n"
                  "1000-triangle trimesh. Writes DIR/bench_contact.csv and .png.");
             return 0;
-        } else if (v && !strcmp(argv[a], "--out")) {
+        } else if (opt == 'o') {
             out = v;
-        } else if (v && !strcmp(argv[a], "--seconds")) {
+        } else if (opt == 's') {
             seconds = atof(v);
-        } else if (v && !strcmp(argv[a], "--grids")) {
+        } else if (opt == 'g') {
             ng = 0;
-            for (char *s = (char *)v; *s && ng < 8;) {
+            for (char *s = v; *s && ng < 8;) {
                 grids[ng] = (int)strtol(s, &s, 10);
                 if (grids[ng] < 3) {
                     fprintf(stderr, "bench_contact: grid sizes must be >= 3\n");
@@ -177,10 +189,9 @@ int main(int argc, char **argv)
                 else break;
             }
         } else {
-            fprintf(stderr, "bench_contact: unknown or incomplete option '%s' (try --help)\n", argv[a]);
+            fprintf(stderr, "bench_contact: unknown or incomplete option '%s' (try --help)\n", arg);
             return 2;
         }
-        a++;
     }
     if (!(seconds > 0.0)) {
         fprintf(stderr, "bench_contact: --seconds must be > 0\n");

@@ -33,7 +33,7 @@
  *               [--solver linearized|newton|both] [--precond P] [--max-wall S]
  *               [--self-collision T] [--fabric F] [--fast] [--check] [--steps]
  *
- * ctest: bench drape --fast --out out/bench_fast
+ * Test bench_drape in test/CMakeLists.txt.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -753,61 +753,81 @@ static int parse_scenes(options *o, const char *v)
 }
 
 /* 0 to run, else the exit status (2: bad option, 0: --help). */
+enum { OPT_SCENE = BENCH_OWN, OPT_SOLVER, OPT_PRECOND, OPT_SELF_COLLISION, OPT_FABRIC, OPT_STEPS, OPT_MAX_WALL };
+
+static const struct option own_options[] = {
+    {"scene", required_argument, NULL, OPT_SCENE},
+    {"solver", required_argument, NULL, OPT_SOLVER},
+    {"precond", required_argument, NULL, OPT_PRECOND},
+    {"self-collision", required_argument, NULL, OPT_SELF_COLLISION},
+    {"fabric", required_argument, NULL, OPT_FABRIC},
+    {"steps", no_argument, NULL, OPT_STEPS},
+    {"max-wall", required_argument, NULL, OPT_MAX_WALL},
+    {NULL, 0, NULL, 0},
+};
+
+/* This program's own options (bench_take_fn). */
+static int take_option(void *ctx, int opt, const char *v)
+{
+    options *o = ctx;
+    char *end;
+    switch (opt) {
+    case OPT_SCENE:
+        return parse_scenes(o, v) ? 2 : 0;
+    case OPT_SOLVER: {
+        int k = !strcmp(v, "linearized") ? 0 : !strcmp(v, "newton") ? 1 : !strcmp(v, "both") ? 2 : -1;
+        if (k < 0) {
+            fprintf(stderr, "bench_drape: --solver '%s' must be linearized, newton or both\n", v);
+            return 2;
+        }
+        o->solvers[0] = k != 1;
+        o->solvers[1] = k != 0;
+        return 0;
+    }
+    case OPT_PRECOND: {
+        int k = 0;
+        while (k < 5 && strcmp(v, precond_name[k])) k++;
+        if (k == 5) {
+            fprintf(stderr, "bench_drape: --precond '%s' must be auto, block-jacobi, jacobi, multigrid or ssor\n",
+                    v);
+            return 2;
+        }
+        g_precond = (cloth_precond)k;
+        return 0;
+    }
+    case OPT_SELF_COLLISION:
+        g_self = strtod(v, &end);
+        if (end == v || *end || !(g_self >= 0) || !(g_self <= 1)) {
+            fprintf(stderr, "bench_drape: --self-collision '%s' must be a thickness in [0, 1] m (0: off)\n", v);
+            return 2;
+        }
+        return 0;
+    case OPT_FABRIC:
+        g_fabric = 0;
+        while (g_fabric < NFABRICS && strcmp(v, fabric_name[g_fabric])) g_fabric++;
+        if (g_fabric == NFABRICS) {
+            fprintf(stderr, "bench_drape: --fabric '%s' must be cotton, wool, silk, denim or polyester\n", v);
+            return 2;
+        }
+        return 0;
+    case OPT_STEPS:
+        o->steps = 1;
+        return 0;
+    default: /* OPT_MAX_WALL */
+        o->max_wall = strtod(v, &end);
+        if (end == v || *end || !(o->max_wall > 0) || !(o->max_wall <= 1e6)) {
+            fprintf(stderr, "bench_drape: --max-wall '%s' must be a number of seconds in (0, 1e6]\n", v);
+            return 2;
+        }
+        return 0;
+    }
+}
+
+/* Fills o from the command line; 0 to go on, -1 after --help, else the exit status. */
 static int parse_options(options *o, int argc, char **argv)
 {
-    for (int a = 1; a < argc; a++) {
-        const char *v = a + 1 < argc ? argv[a + 1] : NULL;
-        int took = bench_option(&o->b, argc, argv, &a);
-        if (took < 0) return took == -1 ? 2 : -1;
-        if (took) continue;
-        if (v && !strcmp(argv[a], "--scene")) {
-            if (parse_scenes(o, v)) return 2;
-        } else if (v && !strcmp(argv[a], "--solver")) {
-            int k = !strcmp(v, "linearized") ? 0 : !strcmp(v, "newton") ? 1 : !strcmp(v, "both") ? 2 : -1;
-            if (k < 0) {
-                fprintf(stderr, "bench_drape: --solver '%s' must be linearized, newton or both\n", v);
-                return 2;
-            }
-            o->solvers[0] = k != 1;
-            o->solvers[1] = k != 0;
-        } else if (v && !strcmp(argv[a], "--precond")) {
-            int k = 0;
-            while (k < 5 && strcmp(v, precond_name[k])) k++;
-            if (k == 5) {
-                fprintf(stderr, "bench_drape: --precond '%s' must be auto, block-jacobi, jacobi, multigrid or ssor\n",
-                        v);
-                return 2;
-            }
-            g_precond = (cloth_precond)k;
-        } else if (v && !strcmp(argv[a], "--self-collision")) {
-            char *end;
-            g_self = strtod(v, &end);
-            if (end == v || *end || !(g_self >= 0) || !(g_self <= 1)) {
-                fprintf(stderr, "bench_drape: --self-collision '%s' must be a thickness in [0, 1] m (0: off)\n", v);
-                return 2;
-            }
-        } else if (v && !strcmp(argv[a], "--fabric")) {
-            g_fabric = 0;
-            while (g_fabric < NFABRICS && strcmp(v, fabric_name[g_fabric])) g_fabric++;
-            if (g_fabric == NFABRICS) {
-                fprintf(stderr, "bench_drape: --fabric '%s' must be cotton, wool, silk, denim or polyester\n", v);
-                return 2;
-            }
-        } else if (!strcmp(argv[a], "--steps")) {
-            o->steps = 1;
-            continue;
-        } else if (v && !strcmp(argv[a], "--max-wall")) {
-            char *end;
-            o->max_wall = strtod(v, &end);
-            if (end == v || *end || !(o->max_wall > 0) || !(o->max_wall <= 1e6)) {
-                fprintf(stderr, "bench_drape: --max-wall '%s' must be a number of seconds in (0, 1e6]\n", v);
-                return 2;
-            }
-        } else {
-            return bench_unknown(&o->b, argv[a]);
-        }
-        a++;
-    }
+    int rc = bench_parse(&o->b, own_options, take_option, o, argc, argv);
+    if (rc >= 0) return rc ? rc : -1;
     if (!o->any_scene)
         for (int k = 0; k < NSCENES; k++) o->scenes[k] = 1;
     if (!o->solvers[0] && !o->solvers[1]) o->solvers[0] = o->solvers[1] = 1;

@@ -25,7 +25,7 @@
  * heap at the end (HEAP_LAYERS_MIN layers somewhere), so the count is not of a
  * cloth that never met itself.
  *
- * ctest: physics heap_no_crossing --grid 31 --no-images --check --out out/bench_fast
+ * Test physics_heap_no_crossing in test/CMakeLists.txt.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -277,35 +277,51 @@ static int parse_number(const char *opt, const char *v, double lo, double hi, do
     return 0;
 }
 
+enum { OPT_NO_IMAGES = BENCH_OWN, OPT_SELF_COLLISION, OPT_MAX_WALL, OPT_TURNS, OPT_SWIRL, OPT_SECONDS };
+
+static const struct option own_options[] = {
+    {"no-images", no_argument, NULL, OPT_NO_IMAGES},
+    {"self-collision", required_argument, NULL, OPT_SELF_COLLISION},
+    {"max-wall", required_argument, NULL, OPT_MAX_WALL},
+    {"turns", required_argument, NULL, OPT_TURNS},
+    {"swirl", required_argument, NULL, OPT_SWIRL},
+    {"seconds", required_argument, NULL, OPT_SECONDS},
+    {NULL, 0, NULL, 0},
+};
+
+/* This program's own options (bench_take_fn). */
+static int take_option(void *ctx, int opt, const char *v)
+{
+    options *o = ctx;
+    int bad = 0;
+    switch (opt) {
+    case OPT_NO_IMAGES:
+        o->images = 0;
+        break;
+    case OPT_SELF_COLLISION:
+        bad = !strcmp(v, "0") ? (o->thickness = 0, 0) : parse_number("--self-collision", v, 0, 1, &o->thickness);
+        break;
+    case OPT_MAX_WALL:
+        bad = parse_number("--max-wall", v, 0, 1e6, &o->max_wall);
+        break;
+    case OPT_TURNS:
+        bad = parse_number("--turns", v, 0, 10, &o->turns);
+        break;
+    case OPT_SWIRL:
+        bad = parse_number("--swirl", v, 0, 0.5, &o->swirl);
+        break;
+    default: /* OPT_SECONDS */
+        bad = parse_number("--seconds", v, 0, 60, &o->seconds);
+        break;
+    }
+    return bad ? 2 : 0;
+}
+
+/* Fills o from the command line; 0 to go on, -1 after --help, else the exit status. */
 static int parse_options(options *o, int argc, char **argv)
 {
-    for (int a = 1; a < argc; a++) {
-        const char *v = a + 1 < argc ? argv[a + 1] : NULL;
-        int took = bench_option(&o->b, argc, argv, &a);
-        if (took < 0) return took == -1 ? 2 : -1;
-        if (took) continue;
-        if (!strcmp(argv[a], "--no-images")) {
-            o->images = 0;
-            continue;
-        }
-        int bad;
-        if (v && !strcmp(argv[a], "--self-collision")) {
-            bad = !strcmp(v, "0") ? (o->thickness = 0, 0) : parse_number(argv[a], v, 0, 1, &o->thickness);
-        } else if (v && !strcmp(argv[a], "--max-wall")) {
-            bad = parse_number(argv[a], v, 0, 1e6, &o->max_wall);
-        } else if (v && !strcmp(argv[a], "--turns")) {
-            bad = parse_number(argv[a], v, 0, 10, &o->turns);
-        } else if (v && !strcmp(argv[a], "--swirl")) {
-            bad = parse_number(argv[a], v, 0, 0.5, &o->swirl);
-        } else if (v && !strcmp(argv[a], "--seconds")) {
-            bad = parse_number(argv[a], v, 0, 60, &o->seconds);
-        } else {
-            return bench_unknown(&o->b, argv[a]);
-        }
-        if (bad) return 2;
-        a++;
-    }
-    return 0;
+    int rc = bench_parse(&o->b, own_options, take_option, o, argc, argv);
+    return rc < 0 ? 0 : rc ? rc : -1;
 }
 
 int main(int argc, char **argv)

@@ -100,44 +100,57 @@ static const char usage[] =
     "MPCG (h = 1/60, tol 1e-3) against node count, with the scaling exponent.\n"
     "Writes DIR/bench_scaling.csv and .png (default DIR out/bench).";
 
+enum { OPT_STEPS = BENCH_OWN, OPT_GRIDS };
+
+static const struct option own_options[] = {
+    {"steps", required_argument, NULL, OPT_STEPS},
+    {"grids", required_argument, NULL, OPT_GRIDS},
+    {NULL, 0, NULL, 0},
+};
+
+typedef struct scaling_opts {
+    int grids[16], ng, steps;
+} scaling_opts;
+
+/* --steps N, --grids A,B,... (bench_take_fn). */
+static int take_option(void *ctx, int opt, const char *v)
+{
+    scaling_opts *so = ctx;
+    if (opt == OPT_STEPS) {
+        char *end;
+        long s = strtol(v, &end, 10);
+        if (*end || s < 1 || s > 100000) {
+            fprintf(stderr, "bench_scaling: --steps '%s' must be a whole number in [1, 100000]\n", v);
+            return 2;
+        }
+        so->steps = (int)s;
+        return 0;
+    }
+    so->ng = 0;
+    for (const char *p = v; *p && so->ng < 16;) {
+        char *end;
+        long g = strtol(p, &end, 10);
+        if (end == p || g < 3 || g > 2000) {
+            fprintf(stderr, "bench_scaling: --grids '%s': sizes must be whole numbers in [3, 2000]\n", v);
+            return 2;
+        }
+        so->grids[so->ng++] = (int)g;
+        p = *end == ',' ? end + 1 : end;
+        if (*end && *end != ',') {
+            fprintf(stderr, "bench_scaling: --grids '%s': separate sizes with commas\n", v);
+            return 2;
+        }
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     bench_opts o = {"bench_scaling", usage, "out/bench", 0, 0, 0};
-    int grids[16] = {21, 41, 81, 121, 161}, ng = 5, steps = 30;
-    for (int a = 1; a < argc; a++) {
-        const char *v = a + 1 < argc ? argv[a + 1] : NULL;
-        int took = bench_option(&o, argc, argv, &a);
-        if (took < 0) return took == -1 ? 2 : 0;
-        if (took) continue;
-        if (v && !strcmp(argv[a], "--steps")) {
-            char *end;
-            long s = strtol(v, &end, 10);
-            if (*end || s < 1 || s > 100000) {
-                fprintf(stderr, "bench_scaling: --steps '%s' must be a whole number in [1, 100000]\n", v);
-                return 2;
-            }
-            steps = (int)s;
-        } else if (v && !strcmp(argv[a], "--grids")) {
-            ng = 0;
-            for (const char *p = v; *p && ng < 16;) {
-                char *end;
-                long g = strtol(p, &end, 10);
-                if (end == p || g < 3 || g > 2000) {
-                    fprintf(stderr, "bench_scaling: --grids '%s': sizes must be whole numbers in [3, 2000]\n", v);
-                    return 2;
-                }
-                grids[ng++] = (int)g;
-                p = *end == ',' ? end + 1 : end;
-                if (*end && *end != ',') {
-                    fprintf(stderr, "bench_scaling: --grids '%s': separate sizes with commas\n", v);
-                    return 2;
-                }
-            }
-        } else {
-            return bench_unknown(&o, argv[a]);
-        }
-        a++;
-    }
+    scaling_opts so = {{21, 41, 81, 121, 161}, 5, 30};
+    int rc = bench_parse(&o, own_options, take_option, &so, argc, argv);
+    if (rc >= 0) return rc;
+    int *grids = so.grids, ng = so.ng, steps = so.steps;
     if (o.check) {
         fprintf(stderr, "bench_scaling: --check: this benchmark asserts nothing (timings are not tests)\n");
         return 2;

@@ -61,7 +61,7 @@
  * Euler between h_S / 2 and 2 h_S, and the top mode's zeta is within 10% of
  * c_t w_max / (2 k_t).
  *
- * ctest: bench stability --fast --check --out out/bench_fast
+ * Test bench_stability in test/CMakeLists.txt.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -495,27 +495,31 @@ static void chart(const bench_opts *o, int grid, double T, int fast)
     bench_run_gnuplot(o, "bench_stability");
 }
 
+static const struct option own_options[] = {
+    {"seconds", required_argument, NULL, BENCH_OWN},
+    {NULL, 0, NULL, 0},
+};
+
+/* --seconds T into *(double *)ctx (bench_take_fn). */
+static int take_option(void *ctx, int opt, const char *v)
+{
+    (void)opt;
+    double *T = ctx;
+    char *end;
+    *T = strtod(v, &end);
+    if (*end || !(*T > 0.0) || !isfinite(*T)) {
+        fprintf(stderr, "bench_stability: --seconds '%s' must be a number > 0\n", v);
+        return 2;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     bench_opts o = {"bench_stability", usage, "out/bench", 0, 0, 0};
     double T = 1.0;
-    for (int a = 1; a < argc; a++) {
-        const char *v = a + 1 < argc ? argv[a + 1] : NULL;
-        int took = bench_option(&o, argc, argv, &a);
-        if (took < 0) return took == -1 ? 2 : 0;
-        if (took) continue;
-        if (v && !strcmp(argv[a], "--seconds")) {
-            char *end;
-            T = strtod(v, &end);
-            if (*end || !(T > 0.0) || !isfinite(T)) {
-                fprintf(stderr, "bench_stability: --seconds '%s' must be a number > 0\n", v);
-                return 2;
-            }
-            a++;
-        } else {
-            return bench_unknown(&o, argv[a]);
-        }
-    }
+    int rc = bench_parse(&o, own_options, take_option, &T, argc, argv);
+    if (rc >= 0) return rc;
     const int fast = o.fast, check = o.check, grid = o.grid ? o.grid : fast ? 11 : 21;
     if (fast) T = 0.25;
     FILE *csv = bench_open_csv(&o, "bench_stability");

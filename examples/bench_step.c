@@ -29,6 +29,7 @@
 #include <time.h>
 #include "odecloth/cloth.h"
 #include "bench_util.h"
+#include "cli.h"
 
 typedef struct result {
     int steps, done, failed;
@@ -141,9 +142,25 @@ int main(int argc, char **argv)
     double cap = 40.0, seconds = 2.0;
     int use_pc[4] = {1, 1, 1, 1}, use_hz[2] = {1, 1}, hash = 0, reps = 1;
     const char *pcn[4] = {"jacobi", "block", "ssor", "multigrid"};
-    for (int a = 1; a < argc; a++) {
-        const char *v = a + 1 < argc ? argv[a + 1] : NULL;
-        if (!strcmp(argv[a], "--help") || !strcmp(argv[a], "-h")) {
+    static const struct option options[] = {
+        {"help", no_argument, NULL, 'h'},
+        {"hash", no_argument, NULL, 'H'},
+        {"precond", required_argument, NULL, 'p'},
+        {"hz", required_argument, NULL, 'z'},
+        {"out", required_argument, NULL, 'o'},
+        {"cap", required_argument, NULL, 'c'},
+        {"reps", required_argument, NULL, 'r'},
+        {"seconds", required_argument, NULL, 's'},
+        {"grids", required_argument, NULL, 'g'},
+        {NULL, 0, NULL, 0},
+    };
+    cli_start();
+    for (;;) {
+        const char *arg = NULL;
+        int opt = cli_next(argc, argv, options, &arg);
+        char *v = optarg;
+        if (opt == CLI_END) break;
+        if (opt == 'h') {
             puts("usage: bench_step [--out DIR] [--grids 21,41,81,161] [--cap SECONDS] [--seconds T]\n"
                  "                  [--precond jacobi,block,ssor,multigrid] [--hz 60,240] [--hash] [--reps N]\n"
                  "Steps per second and CG iterations of backward Euler + MPCG for a pinned\n"
@@ -152,10 +169,9 @@ int main(int argc, char **argv)
                  "--precond, --hz: only those rows; --hash: print a hash of the final positions;\n"
                  "--reps N: each row N times (medians, and 'best': each step's fastest time).");
             return 0;
-        } else if (!strcmp(argv[a], "--hash")) {
+        } else if (opt == 'H') {
             hash = 1;
-            continue;
-        } else if (v && !strcmp(argv[a], "--precond")) {
+        } else if (opt == 'p') {
             for (int p = 0; p < 4; p++) use_pc[p] = 0;
             for (const char *s = v; *s;) {
                 size_t len = strcspn(s, ",");
@@ -169,9 +185,9 @@ int main(int argc, char **argv)
                 s += len;
                 if (*s == ',') s++;
             }
-        } else if (v && !strcmp(argv[a], "--hz")) {
+        } else if (opt == 'z') {
             use_hz[0] = use_hz[1] = 0;
-            for (char *s = (char *)v; *s;) {
+            for (char *s = v; *s;) {
                 long hz = strtol(s, &s, 10);
                 if (hz == 60) use_hz[0] = 1;
                 else if (hz == 240) use_hz[1] = 1;
@@ -182,17 +198,17 @@ int main(int argc, char **argv)
                 if (*s == ',') s++;
                 else break;
             }
-        } else if (v && !strcmp(argv[a], "--out")) {
+        } else if (opt == 'o') {
             out = v;
-        } else if (v && !strcmp(argv[a], "--cap")) {
+        } else if (opt == 'c') {
             cap = atof(v);
-        } else if (v && !strcmp(argv[a], "--reps")) {
+        } else if (opt == 'r') {
             reps = atoi(v);
-        } else if (v && !strcmp(argv[a], "--seconds")) {
+        } else if (opt == 's') {
             seconds = atof(v);
-        } else if (v && !strcmp(argv[a], "--grids")) {
+        } else if (opt == 'g') {
             ng = 0;
-            for (char *s = (char *)v; *s && ng < 16;) {
+            for (char *s = v; *s && ng < 16;) {
                 grids[ng] = (int)strtol(s, &s, 10);
                 if (grids[ng] < 3) {
                     fprintf(stderr, "bench_step: grid sizes must be >= 3\n");
@@ -203,10 +219,9 @@ int main(int argc, char **argv)
                 else break;
             }
         } else {
-            fprintf(stderr, "bench_step: unknown or incomplete option '%s' (try --help)\n", argv[a]);
+            fprintf(stderr, "bench_step: unknown or incomplete option '%s' (try --help)\n", arg);
             return 2;
         }
-        a++;
     }
     if (!(cap > 0.0) || !(seconds > 0.0) || reps < 1) {
         fprintf(stderr, "bench_step: --cap and --seconds must be > 0, --reps >= 1\n");

@@ -125,12 +125,8 @@ static void chart(const bench_opts *o, const int *grids, int ng)
 int main(int argc, char **argv)
 {
     bench_opts o = {"bench_tension", "usage: bench_tension [--out DIR] [--grid N] [--fast]\n", "out/bench", 0, 0, 0};
-    for (int a = 1; a < argc; a++) {
-        int t = bench_option(&o, argc, argv, &a);
-        if (t == -2) return 0;
-        if (t < 0) return 2;
-        if (t == 0) return bench_unknown(&o, argv[a]);
-    }
+    int rc = bench_parse(&o, NULL, NULL, NULL, argc, argv);
+    if (rc >= 0) return rc;
     int grids[2] = {41, 81}, ng = 2;
     if (o.grid) grids[0] = o.grid, ng = 1;
     else if (o.fast) grids[0] = 21, ng = 1;

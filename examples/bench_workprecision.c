@@ -63,8 +63,8 @@
  * implicit series has an order and that each preconditioner's errors are
  * be_1e-5's within 1% (it has no controller).
  *
- * ctest: bench workprecision --fast --check --out out/bench_fast
- * ctest: bench workprecision_cotton --cotton --fast --check --out out/bench_fast
+ * Test bench_workprecision in test/CMakeLists.txt.
+ * Test bench_workprecision_cotton in test/CMakeLists.txt.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -677,33 +677,47 @@ static int parse_seconds(const char *opt, const char *v, double *T)
     return 1;
 }
 
-/* Takes this program's own options at argv[*a]: 1 taken, 0 not one, -1 bad. */
-static int own_option(options *op, int argc, char **argv, int *a)
+enum { OPT_COTTON = BENCH_OWN, OPT_SCENE, OPT_SPHERE_SECONDS, OPT_SWING_SECONDS, OPT_ORDER_WINDOW };
+
+static const struct option own_options[] = {
+    {"cotton", no_argument, NULL, OPT_COTTON},
+    {"scene", required_argument, NULL, OPT_SCENE},
+    {"sphere-seconds", required_argument, NULL, OPT_SPHERE_SECONDS},
+    {"swing-seconds", required_argument, NULL, OPT_SWING_SECONDS},
+    {"order-window", required_argument, NULL, OPT_ORDER_WINDOW},
+    {NULL, 0, NULL, 0},
+};
+
+/* This program's own options (bench_take_fn). */
+static int take_option(void *ctx, int opt, const char *v)
 {
-    const char *arg = argv[*a], *v = *a + 1 < argc ? argv[*a + 1] : NULL;
-    if (!strcmp(arg, "--cotton")) return op->cotton = 1;
-    if (!v) return 0;
-    if (!strcmp(arg, "--scene")) {
+    options *op = ctx;
+    switch (opt) {
+    case OPT_COTTON:
+        op->cotton = 1;
+        return 0;
+    case OPT_SCENE:
         op->only = !strcmp(v, "swing") ? SWING : !strcmp(v, "sphere") ? SPHERE : -2;
         if (op->only == -2) {
             fprintf(stderr, "bench_workprecision: --scene '%s' must be swing or sphere\n", v);
-            return -1;
+            return 2;
         }
-    } else if (!strcmp(arg, "--sphere-seconds") || !strcmp(arg, "--swing-seconds")) {
-        if (!parse_seconds(arg, v, arg[2] == 's' && arg[3] == 'p' ? &op->sphere_T : &op->swing_T)) return -1;
-    } else if (!strcmp(arg, "--order-window")) {
+        return 0;
+    case OPT_SPHERE_SECONDS:
+        return parse_seconds("--sphere-seconds", v, &op->sphere_T) ? 0 : 2;
+    case OPT_SWING_SECONDS:
+        return parse_seconds("--swing-seconds", v, &op->swing_T) ? 0 : 2;
+    default: { /* OPT_ORDER_WINDOW */
         char *end;
         op->window[0] = strtod(v, &end);
         op->window[1] = *end == ',' ? strtod(end + 1, &end) : 0.0;
         if (*end || !(op->window[0] > 0) || !(op->window[1] > op->window[0])) {
             fprintf(stderr, "bench_workprecision: --order-window '%s' must be LO,HI with 0 < LO < HI (Hz)\n", v);
-            return -1;
+            return 2;
         }
-    } else {
         return 0;
     }
-    ++*a;
-    return 1;
+    }
 }
 
 /* Fills op from the command line; returns -1 to go on, else the exit status. */
@@ -713,14 +727,8 @@ static int parse_options(options *op, int argc, char **argv)
     op->o = (bench_opts){"bench_workprecision", usage, "out/bench", 0, 0, 0};
     op->only = -1;
     op->sphere_T = 0.25;
-    for (int a = 1; a < argc; a++) {
-        int took = bench_option(&op->o, argc, argv, &a);
-        if (took < 0) return took == -1 ? 2 : 0;
-        if (took) continue;
-        took = own_option(op, argc, argv, &a);
-        if (took < 0) return 2;
-        if (!took) return bench_unknown(&op->o, argv[a]);
-    }
+    int rc = bench_parse(&op->o, own_options, take_option, op, argc, argv);
+    if (rc >= 0) return rc;
     if (!op->swing_T) op->swing_T = op->o.fast || op->cotton ? 1.0 : 2.0;
     op->name = op->cotton ? "bench_workprecision_cotton" : "bench_workprecision";
     op->ngrids = 1;

@@ -17,7 +17,7 @@
  * drapes' common claims (penetration within the thickness, strain within
  * delta). Full size: `crease_time --check` (21 x 21, 60 steps/s).
  *
- * ctest: demo crease_time --check --short --no-images --grid 15
+ * Test demo_crease_time in test/CMakeLists.txt.
  */
 #include <string.h>
 #include "common/drape.h"

@@ -19,8 +19,8 @@
  * examples/common/drape.h (alpha 0 hangs flat again, a run whose links
  * yielded keeps clearly more crease, growing with alpha).
  *
- * ctest: demo crumple --check --short --no-images
- * ctest: demo crumple_linearized --check --short --no-images --solver linearized
+ * Test demo_crumple in test/CMakeLists.txt.
+ * Test demo_crumple_linearized in test/CMakeLists.txt.
  */
 #include "common/drape.h"
 

@@ -13,7 +13,7 @@
  * a perfectly inelastic hit of the whole cloth would be 2 / 2.2 = 9%); the
  * curtain's hem swings by more than 5 cm.
  *
- * ctest: demo curtain --check --short --no-images
+ * Test demo_curtain in test/CMakeLists.txt.
  */
 #include <math.h>
 #include <string.h>

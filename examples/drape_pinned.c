@@ -6,13 +6,14 @@
  *   drape_pinned [--grid N] [--hz F] [--seconds T] [--alpha A] [--method be|bdf2|symplectic|explicit]
  *
  * A short run is a smoke test (every step must succeed):
- * ctest: demo drape_pinned --seconds 0.5
+ * Test demo_drape_pinned in test/CMakeLists.txt.
  */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include "odecloth/cloth.h"
+#include "common/cli.h"
 
 static void usage(void)
 {
@@ -35,21 +36,34 @@ int main(int argc, char **argv)
 {
     cloth_desc d = cloth_default_desc();
     double hz = 60.0, seconds = 3.0;
-    for (int a = 1; a < argc; a++) {
-        const char *o = argv[a];
-        const char *v = a + 1 < argc ? argv[a + 1] : NULL;
-        if (!strcmp(o, "--help") || !strcmp(o, "-h")) {
+    static const struct option options[] = {
+        {"help", no_argument, NULL, 'h'},
+        {"grid", required_argument, NULL, 'g'},
+        {"hz", required_argument, NULL, 'z'},
+        {"seconds", required_argument, NULL, 's'},
+        {"alpha", required_argument, NULL, 'a'},
+        {"precond", required_argument, NULL, 'p'},
+        {"method", required_argument, NULL, 'm'},
+        {NULL, 0, NULL, 0},
+    };
+    cli_start();
+    for (;;) {
+        const char *o = NULL;
+        int opt = cli_next(argc, argv, options, &o);
+        const char *v = optarg;
+        if (opt == CLI_END) break;
+        if (opt == 'h') {
             usage();
             return 0;
-        } else if (v && !strcmp(o, "--grid")) {
+        } else if (opt == 'g') {
             d.rows = d.cols = atoi(v);
-        } else if (v && !strcmp(o, "--hz")) {
+        } else if (opt == 'z') {
             hz = atof(v);
-        } else if (v && !strcmp(o, "--seconds")) {
+        } else if (opt == 's') {
             seconds = atof(v);
-        } else if (v && !strcmp(o, "--alpha")) {
+        } else if (opt == 'a') {
             d.material.alpha = atof(v);
-        } else if (v && !strcmp(o, "--precond")) {
+        } else if (opt == 'p') {
             if (!strcmp(v, "block")) d.solver.precond = CLOTH_PRECOND_BLOCK_JACOBI;
             else if (!strcmp(v, "jacobi")) d.solver.precond = CLOTH_PRECOND_JACOBI;
             else if (!strcmp(v, "mg")) d.solver.precond = CLOTH_PRECOND_MULTIGRID;
@@ -58,7 +72,7 @@ int main(int argc, char **argv)
                 fprintf(stderr, "drape_pinned: unknown preconditioner '%s'\n", v);
                 return 2;
             }
-        } else if (v && !strcmp(o, "--method")) {
+        } else if (opt == 'm') {
             if (!strcmp(v, "be")) d.solver.method = CLOTH_BACKWARD_EULER;
             else if (!strcmp(v, "bdf2")) d.solver.method = CLOTH_BDF2;
             else if (!strcmp(v, "symplectic")) d.solver.method = CLOTH_SYMPLECTIC_EULER;
@@ -71,7 +85,6 @@ int main(int argc, char **argv)
             fprintf(stderr, "drape_pinned: unknown or incomplete option '%s' (try --help)\n", o);
             return 2;
         }
-        a++;
     }
     if (!(hz > 0.0) || !(seconds > 0.0)) {
         fprintf(stderr, "drape_pinned: --hz and --seconds must be > 0\n");

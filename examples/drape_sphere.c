@@ -11,8 +11,8 @@
  * each larger alpha clearly more) and that no vertex went past the
  * thickness into a body nor stretched past delta.
  *
- * ctest: demo drape_sphere --check --short --no-images --alpha 0,0.5,0.8,1
- * ctest: demo drape_sphere_linearized --check --short --no-images --alpha 0,0.5,0.8,1 --solver linearized
+ * Test demo_drape_sphere in test/CMakeLists.txt.
+ * Test demo_drape_sphere_linearized in test/CMakeLists.txt.
  */
 #include "common/drape.h"
 

@@ -12,21 +12,21 @@
  * mean crease grows with alpha too, and no vertex went past the thickness
  * into a body nor stretched past delta.
  *
- * ctest: demo drape_table --check --short --no-images --alpha 0,0.5,0.8
+ * Test demo_drape_table in test/CMakeLists.txt.
  *
  * The same with ODE's box geom as the table (vertex and libccd triangle
  * contacts), lifted off over its edges, at cotton's own bending and the
  * paper's rule (what it tested before the drapes' defaults changed; with
  * them, alpha 1 reaches strain 0.0305 in the short run):
- * ctest: demo drape_table_box --box-table --check --short --no-images --alpha 0,1 --bending 20 --memory 0
+ * Test demo_drape_table_box in test/CMakeLists.txt.
  *
  * The fabric cotton in physical units (--fabric), taken off by two corners
  * and laid down as a person does (--removal two), with the paper's rule: the
  * elastic cloth lies flat, within the thickness and the elongation limit:
- * ctest: demo drape_table_two_corners --check --short --no-images --alpha 0 --fabric cotton --removal two --memory 0
+ * Test demo_drape_table_two_corners in test/CMakeLists.txt.
  *
  * The metrics themselves, against closed forms on a folded cloth:
- * ctest: demo metrics --selftest
+ * Test demo_metrics in test/CMakeLists.txt.
  */
 #include "common/drape.h"
 

@@ -11,7 +11,7 @@
  * stay") where cotton's links yielded, and no more where they did not.
  * --alpha A overrides both fabrics' alpha.
  *
- * ctest: demo fabrics --check --short --no-images
+ * Test demo_fabrics in test/CMakeLists.txt.
  */
 #include <string.h>
 #include "common/drape.h"

@@ -11,7 +11,7 @@
  * half is above the pin's lowest point) and flaps both ways sideways by
  * more than 5 cm.
  *
- * ctest: demo flag --check --short --no-images
+ * Test demo_flag in test/CMakeLists.txt.
  */
 #include <math.h>
 #include <string.h>

@@ -18,6 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "common/cli.h"
 #include "common/intersections.h"
 
 static const char usage[] =
@@ -147,20 +148,22 @@ static int count_file(const char *path)
 
 int main(int argc, char **argv)
 {
-    int bad = 0, files = 0, a = 1;
-    for (; a < argc && argv[a][0] == '-' && argv[a][1]; a++) {
-        if (!strcmp(argv[a], "--")) {
-            a++;
-            break;
-        }
-        if (!strcmp(argv[a], "--help") || !strcmp(argv[a], "-h")) {
-            fputs(usage, stdout);
-            return 0;
-        }
-        fprintf(stderr, "obj_intersections: unknown option '%s'\n%s", argv[a], usage);
+    static const struct option options[] = {
+        {"help", no_argument, NULL, 'h'},
+        {NULL, 0, NULL, 0},
+    };
+    const char *arg = NULL;
+    cli_start();
+    int opt = cli_next(argc, argv, options, &arg), bad = 0, files = 0;
+    if (opt == 'h') {
+        fputs(usage, stdout);
+        return 0;
+    }
+    if (opt == CLI_UNKNOWN) { /* the only option is --help: a file comes first */
+        fprintf(stderr, "obj_intersections: unknown option '%s'\n%s", arg, usage);
         return 2;
     }
-    for (; a < argc; a++, files++)
+    for (int a = optind; a < argc; a++, files++)
         if (count_file(argv[a])) bad = 1;
     if (!files) {
         fprintf(stderr, "obj_intersections: no files given\n%s", usage);

@@ -37,7 +37,7 @@
  * wall time); until session 7 it ran the short one without, when --check
  * also asked the box to move under 1 cm/s.
  *
- * ctest: demo trampoline --check --no-images
+ * Test demo_trampoline in test/CMakeLists.txt.
  */
 #include <math.h>
 #include <string.h>

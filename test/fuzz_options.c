@@ -127,6 +127,8 @@ typedef struct seed {
     const char *p;
     size_t n;
 } seed;
+/* clang-format would put each string of a seed on a line of its own */
+/* clang-format off */
 #define SEED(lit) {lit, sizeof lit - 1}
 static const seed seeds[] = {
     SEED("--grid\0" "21\0" "--alpha\0" "0,0.5,0.8,1\0" "--material\0" "wool\0"),
@@ -137,6 +139,7 @@ static const seed seeds[] = {
     SEED("--grid\0" "3\0" "--alpha\0" "1\0" "--smooth\0" "0\0" "--size\0" "32x4096\0"),
     SEED("--fabric\0" "denim\0" "--removal\0" "two\0" "--crease-grip\0" "0.04\0" "--memory\0" "1\0"),
 };
+/* clang-format on */
 #define NSEEDS (sizeof seeds / sizeof seeds[0])
 
 static const char *const words[] = {

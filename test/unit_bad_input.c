@@ -78,6 +78,8 @@ static void expect_desc_rejected(const cloth_desc *d, const char *what, int allo
     if (s == CLOTH_OK) cloth_destroy(out);
 }
 
+/* clang-format would put each entry of this table on a line of its own */
+/* clang-format off */
 typedef struct dfield { const char *name; size_t off; } dfield;
 #define DF(f) {#f, offsetof(cloth_desc, f)}
 static const dfield desc_doubles[] = {
@@ -89,6 +91,7 @@ static const dfield desc_doubles[] = {
     DF(material.tension_yield), DF(material.tension_set),
     DF(solver.cg_tolerance), DF(solver.strain_fail),
 };
+/* clang-format on */
 #define NDESC_DOUBLES (sizeof desc_doubles / sizeof desc_doubles[0])
 #define NMATERIAL_DOUBLES 15 /* the material.* entries, in order, from index 14 */
 #define MATERIAL_FIRST 14

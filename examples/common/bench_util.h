@@ -4,6 +4,7 @@
 #ifndef ODECLOTH_BENCH_UTIL_H
 #define ODECLOTH_BENCH_UTIL_H
 
+#include <getopt.h>
 #include <stdio.h>
 
 typedef struct bench_opts {
@@ -14,14 +15,16 @@ typedef struct bench_opts {
     int fast, check;    /* --fast, --check */
 } bench_opts;
 
-/* Takes argv[*a] if it is --out DIR, --grid N (3..1001), --fast, --check
- * or --help / -h (prints o->usage), advancing *a past a value: 1 taken,
- * 0 not one of these, -1 bad value (message printed): exit 2, -2 help
- * printed: exit 0. */
-int bench_option(bench_opts *o, int argc, char **argv, int *a);
+/* A program's own options: a getopt_long table ending in a zero entry whose
+ * vals are BENCH_OWN and up, and take(ctx, val, value): 0 taken, else the
+ * exit status (message printed). */
+enum { BENCH_OWN = 256 };
+typedef int (*bench_take_fn)(void *ctx, int opt, const char *value);
 
-/* The message for an option no one took; returns 2 (the exit status). */
-int bench_unknown(const bench_opts *o, const char *arg);
+/* Parses argv: --out DIR, --grid N (3..1001), --fast, --check and --help / -h
+ * (prints o->usage) into o, the program's own options through take. Returns
+ * -1 to go on, 0 after --help, else the exit status (2: message printed). */
+int bench_parse(bench_opts *o, const struct option *own, bench_take_fn take, void *ctx, int argc, char **argv);
 
 /* CPU seconds of the process (CLOCK_PROCESS_CPUTIME_ID). */
 double bench_cpu_now(void);

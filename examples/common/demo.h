@@ -104,8 +104,9 @@ void demo_image_destroy(demo_image *im);
 int demo_png_available(void);
 /* 0 on success; else prints why (no libpng, cannot open, ...) and returns -1. */
 int demo_png_write(const char *path, const demo_image *im);
-/* Text in the built-in 5x7 font (ASCII 32-126), each dot scale x scale
- * pixels, top-left at (x, y); clipped to the image. Returns the width. */
+/* Text in the labels' font (font.c), its capitals 7 * scale pixels tall
+ * with their top at y, starting at x; clipped to the image. Returns the
+ * width (0 without a font: no labels, said once on stderr). */
 int demo_text(demo_image *im, int x, int y, int scale, const unsigned char rgb[3], const char *s);
 int demo_text_width(int scale, const char *s);
 /* Copy src into dst with its top-left at (x, y), clipped. */

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
+#include "cli.h"
 #include "demo.h"
 
 static const char common_usage[] =
@@ -130,7 +131,154 @@ static int parse_fabric(const char *s, int *fabric)
     return -1;
 }
 
-int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char **argv)
+enum {
+    OPT_OBJ = 256, OPT_CHECK, OPT_SHORT, OPT_NO_IMAGES, OPT_TRACE, OPT_PHASES, OPT_BOX_TABLE, OPT_SELFTEST,
+    OPT_SLEEP, OPT_VIEW, OPT_VIDEO, OPT_ALPHA, OPT_MATERIAL, OPT_FABRIC, OPT_SELF_COLLISION, OPT_CREASE_GRIP,
+    OPT_REMOVAL, OPT_MEMORY, OPT_BENDING, OPT_SOLVER, OPT_GRID, OPT_HZ, OPT_OUT, OPT_FRAMES, OPT_VIEW_FRAMES,
+    OPT_SMOOTH, OPT_SIZE, OPT_CSV,
+};
+
+static const struct option options[] = {
+    {"help", no_argument, NULL, 'h'},
+    {"obj", no_argument, NULL, OPT_OBJ},
+    {"check", no_argument, NULL, OPT_CHECK},
+    {"short", no_argument, NULL, OPT_SHORT},
+    {"no-images", no_argument, NULL, OPT_NO_IMAGES},
+    {"trace", no_argument, NULL, OPT_TRACE},
+    {"phases", no_argument, NULL, OPT_PHASES},
+    {"box-table", no_argument, NULL, OPT_BOX_TABLE},
+    {"selftest", no_argument, NULL, OPT_SELFTEST},
+    {"sleep", no_argument, NULL, OPT_SLEEP},
+    {"view", no_argument, NULL, OPT_VIEW},
+    {"video", no_argument, NULL, OPT_VIDEO},
+    {"alpha", required_argument, NULL, OPT_ALPHA},
+    {"material", required_argument, NULL, OPT_MATERIAL},
+    {"fabric", required_argument, NULL, OPT_FABRIC},
+    {"self-collision", required_argument, NULL, OPT_SELF_COLLISION},
+    {"crease-grip", required_argument, NULL, OPT_CREASE_GRIP},
+    {"removal", required_argument, NULL, OPT_REMOVAL},
+    {"memory", required_argument, NULL, OPT_MEMORY},
+    {"bending", required_argument, NULL, OPT_BENDING},
+    {"solver", required_argument, NULL, OPT_SOLVER},
+    {"grid", required_argument, NULL, OPT_GRID},
+    {"steps-per-second", required_argument, NULL, OPT_HZ},
+    {"hz", required_argument, NULL, OPT_HZ},
+    {"out", required_argument, NULL, OPT_OUT},
+    {"frames", required_argument, NULL, OPT_FRAMES},
+    {"view-frames", required_argument, NULL, OPT_VIEW_FRAMES},
+    {"smooth", required_argument, NULL, OPT_SMOOTH},
+    {"size", required_argument, NULL, OPT_SIZE},
+    {"csv", required_argument, NULL, OPT_CSV},
+    {NULL, 0, NULL, 0},
+};
+
+/* A flag (an option without a value): 1 if opt is one, else 0. */
+static int take_flag(demo_opts *o, int opt)
+{
+    switch (opt) {
+    case OPT_OBJ: o->obj = 1; return 1;
+    case OPT_CHECK: o->check = 1; return 1;
+    case OPT_SHORT: o->short_run = 1; return 1;
+    case OPT_NO_IMAGES: o->images = 0; return 1;
+    case OPT_TRACE: o->trace = o->phases = 1; return 1;
+    case OPT_PHASES: o->phases = 1; return 1;
+    case OPT_BOX_TABLE: o->box_table = 1; return 1;
+    case OPT_SELFTEST: o->selftest = 1; return 1;
+    case OPT_SLEEP: o->sleep = 1; return 1;
+    case OPT_VIEW: o->view = 1; return 1;
+    case OPT_VIDEO: o->video = 1; return 1;
+    default: return 0;
+    }
+}
+
+/* An option with the value v; opt_name is how it was spelled (for messages).
+ * 0 taken, 2 refused (message printed). */
+static int take_value(demo_opts *o, int opt, const char *opt_name, const char *v)
+{
+    switch (opt) {
+    case OPT_ALPHA:
+        if (parse_alphas(o, v)) return bad(o, opt_name, v, "want up to 8 numbers in [0, 1], comma-separated");
+        break;
+    case OPT_MATERIAL:
+        o->material_set = 1;
+        o->material_name = v;
+        if (!strcmp(v, "cotton")) o->material = CLOTH_COTTON;
+        else if (!strcmp(v, "wool")) o->material = CLOTH_WOOL;
+        else if (!strcmp(v, "elastic")) o->material = CLOTH_ELASTIC;
+        else return bad(o, opt_name, v, "want cotton, wool or elastic");
+        break;
+    case OPT_FABRIC:
+        if (parse_fabric(v, &o->fabric)) return bad(o, opt_name, v, "want cotton, wool, silk, denim or polyester");
+        o->fabric_name = v;
+        break;
+    case OPT_SELF_COLLISION:
+        if (parse_double(v, &o->self_thickness) || !(o->self_thickness > 0.0) || o->self_thickness > 0.1)
+            return bad(o, opt_name, v, "want a thickness in (0, 0.1] m");
+        break;
+    case OPT_CREASE_GRIP:
+        if (parse_double(v, &o->crease_grip) || !(o->crease_grip > 0.0) || o->crease_grip > 100.0)
+            return bad(o, opt_name, v, "want a number in (0, 100] N");
+        break;
+    case OPT_REMOVAL:
+        if (!strcmp(v, "four")) o->removal = 1;
+        else if (!strcmp(v, "two")) o->removal = 2;
+        else return bad(o, opt_name, v, "want two or four");
+        break;
+    case OPT_MEMORY:
+        if (!strcmp(v, "0")) o->memory = 0;
+        else if (!strcmp(v, "1")) o->memory = 1;
+        else return bad(o, opt_name, v, "want 0 or 1");
+        break;
+    case OPT_BENDING:
+        if (parse_double(v, &o->k_b) || !(o->k_b > 0.0) || o->k_b > 1e4)
+            return bad(o, opt_name, v, "want a number in (0, 10000]");
+        break;
+    case OPT_SOLVER:
+        if (!strcmp(v, "linearized")) o->solver = 1 + CLOTH_LINEARIZED;
+        else if (!strcmp(v, "newton")) o->solver = 1 + CLOTH_NEWTON;
+        else return bad(o, opt_name, v, "want linearized or newton");
+        break;
+    case OPT_GRID:
+        if (parse_int(v, 3, 161, &o->grid)) return bad(o, opt_name, v, "want a whole number in 3..161");
+        break;
+    case OPT_HZ:
+        if (parse_double(v, &o->hz) || o->hz < 10.0 || o->hz > 10000.0)
+            return bad(o, opt_name, v, "want a number in 10..10000");
+        o->hz_set = 1;
+        break;
+    case OPT_OUT:
+        if (!*v) return bad(o, opt_name, v, "empty directory name");
+        o->out = v;
+        break;
+    case OPT_FRAMES:
+        if (parse_int(v, 0, 1000, &o->frames)) return bad(o, opt_name, v, "want a whole number in 0..1000");
+        break;
+    case OPT_VIEW_FRAMES:
+        if (parse_int(v, 1, 1000000, &o->view_frames))
+            return bad(o, opt_name, v, "want a whole number in 1..1000000");
+        o->view = 1;
+        break;
+    case OPT_SMOOTH:
+        if (parse_int(v, 0, 3, &o->smooth)) return bad(o, opt_name, v, "want 0, 1, 2 or 3");
+        break;
+    case OPT_SIZE: {
+        int w, h;
+        char tail;
+        if (sscanf(v, "%dx%d%c", &w, &h, &tail) != 2 || w < 32 || h < 32 || w > 4096 || h > 4096)
+            return bad(o, opt_name, v, "want WxH, each 32..4096");
+        o->width = w;
+        o->height = h;
+        break;
+    }
+    case OPT_CSV:
+        if (!*v) return bad(o, opt_name, v, "empty file name");
+        o->csv = v;
+        break;
+    }
+    return 0;
+}
+
+static void set_defaults(demo_opts *o, const char *prog)
 {
     static char out_default[256];
     memset(o, 0, sizeof *o);
@@ -146,92 +294,30 @@ int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char
     o->width = 400;
     o->height = 300;
     o->images = 1;
-    for (int a = 1; a < argc; a++) {
-        const char *opt = argv[a];
-        const char *v = a + 1 < argc ? argv[a + 1] : NULL;
-        /* flags */
-        if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
+}
+
+int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char **argv)
+{
+    set_defaults(o, prog);
+    cli_start();
+    for (;;) {
+        const char *arg = NULL;
+        int opt = cli_next(argc, argv, options, &arg);
+        if (opt == CLI_END) break;
+        if (opt == 'h') {
             fputs(usage, stdout);
             fputs(common_usage, stdout);
             return 1;
         }
-        if (!strcmp(opt, "--obj")) { o->obj = 1; continue; }
-        if (!strcmp(opt, "--check")) { o->check = 1; continue; }
-        if (!strcmp(opt, "--short")) { o->short_run = 1; continue; }
-        if (!strcmp(opt, "--no-images")) { o->images = 0; continue; }
-        if (!strcmp(opt, "--trace")) { o->trace = o->phases = 1; continue; }
-        if (!strcmp(opt, "--phases")) { o->phases = 1; continue; }
-        if (!strcmp(opt, "--box-table")) { o->box_table = 1; continue; }
-        if (!strcmp(opt, "--selftest")) { o->selftest = 1; continue; }
-        if (!strcmp(opt, "--sleep")) { o->sleep = 1; continue; }
-        if (!strcmp(opt, "--view")) { o->view = 1; continue; }
-        if (!strcmp(opt, "--video")) { o->video = 1; continue; }
-        /* options with a value */
-        if (strncmp(opt, "--", 2)) return bad(o, "argument", opt, "not an option");
-        if (!v) return bad(o, opt, NULL, "needs a value");
-        a++;
-        if (!strcmp(opt, "--alpha")) {
-            if (parse_alphas(o, v)) return bad(o, opt, v, "want up to 8 numbers in [0, 1], comma-separated");
-        } else if (!strcmp(opt, "--material")) {
-            o->material_set = 1;
-            o->material_name = v;
-            if (!strcmp(v, "cotton")) o->material = CLOTH_COTTON;
-            else if (!strcmp(v, "wool")) o->material = CLOTH_WOOL;
-            else if (!strcmp(v, "elastic")) o->material = CLOTH_ELASTIC;
-            else return bad(o, opt, v, "want cotton, wool or elastic");
-        } else if (!strcmp(opt, "--fabric")) {
-            if (parse_fabric(v, &o->fabric)) return bad(o, opt, v, "want cotton, wool, silk, denim or polyester");
-            o->fabric_name = v;
-        } else if (!strcmp(opt, "--self-collision")) {
-            if (parse_double(v, &o->self_thickness) || !(o->self_thickness > 0.0) || o->self_thickness > 0.1)
-                return bad(o, opt, v, "want a thickness in (0, 0.1] m");
-        } else if (!strcmp(opt, "--crease-grip")) {
-            if (parse_double(v, &o->crease_grip) || !(o->crease_grip > 0.0) || o->crease_grip > 100.0)
-                return bad(o, opt, v, "want a number in (0, 100] N");
-        } else if (!strcmp(opt, "--removal")) {
-            if (!strcmp(v, "four")) o->removal = 1;
-            else if (!strcmp(v, "two")) o->removal = 2;
-            else return bad(o, opt, v, "want two or four");
-        } else if (!strcmp(opt, "--memory")) {
-            if (!strcmp(v, "0")) o->memory = 0;
-            else if (!strcmp(v, "1")) o->memory = 1;
-            else return bad(o, opt, v, "want 0 or 1");
-        } else if (!strcmp(opt, "--bending")) {
-            if (parse_double(v, &o->k_b) || !(o->k_b > 0.0) || o->k_b > 1e4)
-                return bad(o, opt, v, "want a number in (0, 10000]");
-        } else if (!strcmp(opt, "--solver")) {
-            if (!strcmp(v, "linearized")) o->solver = 1 + CLOTH_LINEARIZED;
-            else if (!strcmp(v, "newton")) o->solver = 1 + CLOTH_NEWTON;
-            else return bad(o, opt, v, "want linearized or newton");
-        } else if (!strcmp(opt, "--grid")) {
-            if (parse_int(v, 3, 161, &o->grid)) return bad(o, opt, v, "want a whole number in 3..161");
-        } else if (!strcmp(opt, "--steps-per-second") || !strcmp(opt, "--hz")) {
-            if (parse_double(v, &o->hz) || o->hz < 10.0 || o->hz > 10000.0)
-                return bad(o, opt, v, "want a number in 10..10000");
-            o->hz_set = 1;
-        } else if (!strcmp(opt, "--out")) {
-            if (!*v) return bad(o, opt, v, "empty directory name");
-            o->out = v;
-        } else if (!strcmp(opt, "--frames")) {
-            if (parse_int(v, 0, 1000, &o->frames)) return bad(o, opt, v, "want a whole number in 0..1000");
-        } else if (!strcmp(opt, "--view-frames")) {
-            if (parse_int(v, 1, 1000000, &o->view_frames)) return bad(o, opt, v, "want a whole number in 1..1000000");
-            o->view = 1;
-        } else if (!strcmp(opt, "--smooth")) {
-            if (parse_int(v, 0, 3, &o->smooth)) return bad(o, opt, v, "want 0, 1, 2 or 3");
-        } else if (!strcmp(opt, "--size")) {
-            int w, h;
-            char tail;
-            if (sscanf(v, "%dx%d%c", &w, &h, &tail) != 2 || w < 32 || h < 32 || w > 4096 || h > 4096)
-                return bad(o, opt, v, "want WxH, each 32..4096");
-            o->width = w;
-            o->height = h;
-        } else if (!strcmp(opt, "--csv")) {
-            if (!*v) return bad(o, opt, v, "empty file name");
-            o->csv = v;
-        } else {
-            return bad(o, "unknown option", opt, "not one of the options");
-        }
+        if (opt == CLI_OPERAND || (opt == CLI_UNKNOWN && strncmp(arg, "--", 2)))
+            return bad(o, "argument", arg, "not an option");
+        if (opt == CLI_UNKNOWN) return bad(o, "unknown option", arg, "not one of the options");
+        if (opt == CLI_NO_VALUE) return bad(o, arg, NULL, "needs a value");
+        if (take_flag(o, opt)) continue;
+        /* the option as spelled, without an =value */
+        char name[32];
+        snprintf(name, sizeof name, "%.*s", (int)strcspn(arg, "="), arg);
+        if (take_value(o, opt, name, optarg)) return 2;
     }
     if (o->fabric && o->material_set)
         return bad(o, "--fabric", o->fabric_name, "give --material or --fabric, not both");
