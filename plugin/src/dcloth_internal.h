@@ -176,13 +176,13 @@ struct dxCloth {
     int edge_start_cap, edge_ent_cap, edge_stamp_cap;
     int edge_hits;       /* vertex contacts set by link tests this step     */
     dcloth_geom_list edge_off; /* geoms whose link tests are off (dClothSetEdgeTests) */
-    /* the bodies this step touched, each as it was before (world.c) */
+    /* the bodies this step touched, each as it was before (journal.c) */
     struct body_rec {
         dBodyID b;
         dReal f[3], t[3], lv[3], av[3];
     } *journal;
     int njournal, journal_cap;
-    /* the cloth's whole state before a step, for dClothWorldStep's undo (world.c) */
+    /* the cloth's whole state before a step, for dClothWorldStep's undo (world_step.c) */
     struct dClothState *undo;
     /* sleeping (sleep.c): the settings and state, and the geoms near it
      * when it fell asleep (sleep.n of them) */
@@ -243,12 +243,12 @@ static inline double dcloth_dot3(const double *a, const double *b)
  * so held_run never exceeds it (statefile.c checks it on reading). */
 #define DCLOTH_HOLD_MAX_HALVINGS 16
 
-/* dcloth.c: put g in list l (in nonzero) or take it out, and wake the
+/* geom_lists.c: put g in list l (in nonzero) or take it out, and wake the
  * cloth; CLOTH_ENOMEM (reported for `who`) when memory ran out */
 int dcloth_geom_list_set(dClothID c, dcloth_geom_list *l, dGeomID g, int in, const char *who);
 int dcloth_geom_list_has(const dcloth_geom_list *l, dGeomID g);
 
-/* Set c->err and return code (printf-style). */
+/* fail.c: set c->err and return code (printf-style). */
 cloth_status dcloth_fail(dClothID c, cloth_status code, const char *fmt, ...);
 
 /* dcloth.c: geom g's mu and thickness for this step: the cloth's, changed
@@ -283,10 +283,12 @@ double dcloth_relative_speed(dBodyID b, const double *x, const double *v);
  * faster than this per step may reach it before it wakes. */
 #define DCLOTH_WAKE_REACH 0.25
 
-/* world.c: note body b's force, torque and velocities before this step
+/* journal.c: note body b's force, torque and velocities before this step
  * first changes them (0, or -1 on no memory: then the step must not change
  * b); the journal is emptied at each step's start. */
 int dcloth_touch(dClothID c, dBodyID b);
+/* journal.c: put the journal's bodies back as they were, and empty it */
+void dcloth_journal_undo(dClothID c);
 
 /* sleep.c: before a step, 1 if the cloth sleeps through it (then the step
  * is done: forces re-applied, stats set), -1 on no memory; after a solved

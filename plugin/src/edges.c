@@ -463,16 +463,3 @@ int dcloth_edge_contacts(dClothID c, const struct dcloth_surf *sf, double h, dou
     }
     return hits;
 }
-
-
-cloth_status dClothSetEdgeTests(dClothID c, dGeomID g, int enable)
-{
-    if (!c) return CLOTH_EINVAL;
-    if (!g) return dcloth_fail(c, CLOTH_EINVAL, "dClothSetEdgeTests: geom is 0");
-    return dcloth_geom_list_set(c, &c->edge_off, g, !enable, "dClothSetEdgeTests");
-}
-
-int dClothGetEdgeTests(dClothID c, dGeomID g)
-{
-    return c && g && !dcloth_geom_list_has(&c->edge_off, g);
-}
