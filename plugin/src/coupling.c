@@ -6,6 +6,11 @@
 #include <string.h>
 #include <time.h>
 #include "dcloth_internal.h"
+#include "body_motion.h"
+#include "broadphase.h"
+#include "contact_offers.h"
+#include "edges.h"
+#include "vertex_contacts.h"
 
 static double wall(void)
 {
@@ -63,20 +68,6 @@ static double wall(void)
  * vertices, beyond (1 + delta)(1 + SLIP_STRAIN) of its rest length (the
  * projection's rounding); after a Newton step, beyond its limit_tolerance. */
 #define SLIP_STRAIN 1e-4
-
-/* Where a point fixed in body b's frame (local) is now (w) and where it
- * will be at the end of the step (target, advanced along its velocity):
- * what a pin to a body, and a contact sticking to a kinematic body, aim at. */
-static void follow_body(dBodyID b, const double local[3], double h, double w[3], double target[3])
-{
-    dVector3 p, pv;
-    dBodyGetRelPointPos(b, local[0], local[1], local[2], p);
-    dBodyGetPointVel(b, p[0], p[1], p[2], pv);
-    for (int r = 0; r < 3; r++) {
-        w[r] = p[r];
-        target[r] = p[r] + h * pv[r];
-    }
-}
 
 /* Decide the vertex's contact for this step: none (returns 0), sticking or
  * sliding; fills its constraint and, sliding, its friction force. newton:
@@ -209,7 +200,7 @@ static int contact_rule(dClothID c, int i, double h, double mass, const double g
         }
         nw->anchored = 1;
         double w[3];
-        follow_body(nw->body, nw->anchor, h, w, k->target);
+        dcloth_follow_body(nw->body, nw->anchor, h, w, k->target);
         double off = nw->gap + n[0] * (w[0] - x[0]) + n[1] * (w[1] - x[1]) + n[2] * (w[2] - x[2]);
         for (int r = 0; r < 3; r++) k->target[r] -= off * n[r];
     }
@@ -415,6 +406,26 @@ static cloth_status held_run_step(dClothID c, cloth *core, double h, cloth_step_
     return s;
 }
 
+/* For the step of h seconds, every vertex's nearest surface among the candidate geoms of c->space, into
+ * c->vc_new (geom 0 where there is none within reach): the vertices', the triangles' and the links' tests.
+ * Returns the number of candidate geoms, or -1 when memory ran out. */
+static int find_contacts(dClothID c, double h)
+{
+    double extra = dcloth_newton_reach(c, h);
+    if (dcloth_find_surfaces(c, h, extra) < 0) return -1;
+    dcloth_vertex_contacts(c, h, extra);
+    c->tri_hits = 0;
+    for (int a = 0; a < c->ncand; a++) c->tri_hits += dcloth_triangle_contacts(c, &c->surf[a], h);
+    c->edge_hits = 0;
+    for (int a = 0; a < c->ncand; a++) {
+        int e = dcloth_edge_contacts(c, &c->surf[a], h, extra);
+        if (e < 0) return -1;
+        c->edge_hits += e;
+    }
+    dcloth_drop_unfit_seconds(c);
+    return c->ncand;
+}
+
 cloth_status dClothStep(dClothID c, dReal h)
 {
     if (!c) return CLOTH_EINVAL;
@@ -426,7 +437,7 @@ cloth_status dClothStep(dClothID c, dReal h)
     int sl = dcloth_sleep_before(c, h, t0);
     if (sl < 0) return dcloth_fail(c, CLOTH_ENOMEM, "dClothStep: out of memory for the candidate geoms");
     if (sl > 0) return CLOTH_OK;
-    int cand = dcloth_find_contacts(c, h);
+    int cand = find_contacts(c, h);
     st.seconds_contacts = wall() - t0;
     if (cand < 0) return dcloth_fail(c, CLOTH_ENOMEM, "dClothStep: out of memory for the candidate geoms");
     st.candidates = cand;
@@ -455,7 +466,7 @@ cloth_status dClothStep(dClothID c, dReal h)
             if (!p->active) continue;
             double target[3];
             if (p->body) {
-                follow_body(p->body, p->local, h, p->world, target);
+                dcloth_follow_body(p->body, p->local, h, p->world, target);
             } else {
                 memcpy(target, p->local, sizeof target);
             }

@@ -60,22 +60,13 @@ typedef struct vcontact {
     double sec_normal[3], sec_point[3], sec_gap, sec_thickness, sec_vbody[3];
 } vcontact;
 
-/* contacts.c: before contact (g, body, n, gap at point) is offered to
- * vertex contact vc (kept if deeper), note it, or vc's present contact if
- * it is to be replaced, as vc's opposite when the two geoms differ and
- * their normals oppose (DCLOTH_PINCH_COS) */
+
+/* DCLOTH_PINCH_COS decides when two contacts' normals oppose (a pinch) */
 #define DCLOTH_PINCH_COS 0.5
-void dcloth_offer_opposite(vcontact *vc, dGeomID g, dBodyID body, const double n[3], double gap,
-                           const double point[3]);
-
-/* contacts.c: a contact vc does not keep, offered as its second surface: kept if g is
- * static or kinematic (vc's own geom too: an edge's plane), the normals neither oppose
- * (the pinch's) nor lie within DCLOTH_SECOND_COS (their line ill-posed), deepest so far */
+/* and DCLOTH_SECOND_COS when two planes lie too near parallel to be a second surface */
 #define DCLOTH_SECOND_COS 0.99
-void dcloth_offer_second(vcontact *vc, dGeomID g, double t, dBodyID body, const double n[3], const double point[3],
-                         double gap);
 
-/* A set of geoms (dcloth.c): g[0..n) */
+/* A set of geoms (geom_lists.c): g[0..n) */
 typedef struct dcloth_geom_list {
     dGeomID *g;
     int n, cap;
@@ -261,23 +252,6 @@ void dcloth_surface(dClothID c, dGeomID g, double *mu, double *thickness);
 #define DCLOTH_THICKNESS_MIN 1e-6
 #define DCLOTH_THICKNESS_MAX 10.0
 
-/* contacts.c: for the step of h seconds, every vertex's nearest surface
- * among the candidate geoms of c->space, into c->vc_new (geom 0 where there
- * is none within reach). Returns the number of candidate geoms, or -1 when
- * memory for the candidate list ran out. */
-int dcloth_find_contacts(dClothID c, double h);
-/* Vertices with no contact this step whose end positions x1 lie deeper in
- * a candidate geom's shell than `depth` of its thickness: given that
- * contact (the shell's plane there, its gap measured from x0); how many */
-int dcloth_find_late_contacts(dClothID c, const double *x0, const double *x1, double depth);
-/* contacts.c: the broadphase alone, reaching `reach` m further: c->cand,
- * c->ncand (and vc_new cleared); the count or -1 as above. */
-int dcloth_find_candidates(dClothID c, double h, double reach);
-/* an upper bound of the speed of any point of geom g (0 without a body) */
-double dcloth_geom_speed(dGeomID g);
-/* the speed of a vertex (x, v) relative to body b's point at x (b 0: |v|) */
-void dcloth_relative_velocity(dBodyID b, const double *x, const double *v, double r[3]);
-double dcloth_relative_speed(dBodyID b, const double *x, const double *v);
 
 /* A sleeping cloth watches this far around it (m): a body moving toward it
  * faster than this per step may reach it before it wakes. */

@@ -5,6 +5,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "body_motion.h"
+#include "contact_offers.h"
 #include "edges.h"
 
 /* A link's middle counts as nearer than an end below this fraction of

@@ -7,6 +7,7 @@
 #include <string.h>
 #include <time.h>
 #include "dcloth_internal.h"
+#include "broadphase.h"
 
 /* Does geom g's body move faster than the threshold anywhere on the geom?
  * (linear speed plus angular speed times the AABB's half diagonal) */

@@ -27,6 +27,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "dcloth_internal.h"
+#include "body_motion.h"
+#include "contact_offers.h"
 #include "polytope.h"
 
 /* EPA's tolerance, of the thickness, for a triangle within its shell (the
