@@ -1,5 +1,5 @@
-/* The plugin's cloth object (dcloth.c), contact detection (contacts.c) and
- * the coupled step (coupling.c). */
+/* The plugin's cloth object (struct dxCloth) and what every stage of its
+ * step (step.c) shares: a vertex's contact, a pin, the tolerances. */
 #ifndef ODECLOTH_DCLOTH_INTERNAL_H
 #define ODECLOTH_DCLOTH_INTERNAL_H
 
@@ -60,7 +60,6 @@ typedef struct vcontact {
     double sec_normal[3], sec_point[3], sec_gap, sec_thickness, sec_vbody[3];
 } vcontact;
 
-
 /* DCLOTH_PINCH_COS decides when two contacts' normals oppose (a pinch) */
 #define DCLOTH_PINCH_COS 0.5
 /* and DCLOTH_SECOND_COS when two planes lie too near parallel to be a second surface */
@@ -119,11 +118,11 @@ struct dxCloth {
     int surf_cap;
     double surf_tmax;
     int tri_hits;        /* vertex contacts set by triangle tests this step  */
-    /* moving bodies solved with the cloth this step (coupling.c) */
+    /* moving bodies solved with the cloth this step (body_coupling.c) */
     int implicit;        /* 1: couple dynamic bodies implicitly (default)   */
     dClothFailureMode on_failure; /* what a failed solve gives (dcloth.h)   */
     int held_run;        /* steps held in a row: each retries the next in one
-                            more substep halving (coupling.c)               */
+                            more substep halving (body_coupling.c)          */
     dClothFrictionFn *friction_fn; /* per-geom friction (NULL: mu for all)  */
     void *friction_data;
     dClothSurfaceFn *surface_fn;   /* per-geom mu and thickness (NULL: none) */
@@ -222,7 +221,7 @@ cloth_status dcloth_read_state(dClothID c, const char *name, const unsigned char
 
 /* A vertex within this fraction of the thickness of touching at the end of
  * the step (predicted) is held on the surface, so a resting vertex stays in
- * contact instead of falling free every other step (coupling.c). */
+ * contact instead of falling free every other step (contact_rule.c). */
 #define DCLOTH_CONTACT_SLOP 0.1
 
 static inline double dcloth_dot3(const double *a, const double *b)
@@ -230,7 +229,7 @@ static inline double dcloth_dot3(const double *a, const double *b)
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-/* coupling.c: a held run retries in at most this many substep halvings,
+/* body_coupling.c: a held run retries in at most this many substep halvings,
  * so held_run never exceeds it (statefile.c checks it on reading). */
 #define DCLOTH_HOLD_MAX_HALVINGS 16
 
@@ -252,52 +251,8 @@ void dcloth_surface(dClothID c, dGeomID g, double *mu, double *thickness);
 #define DCLOTH_THICKNESS_MIN 1e-6
 #define DCLOTH_THICKNESS_MAX 10.0
 
-
 /* A sleeping cloth watches this far around it (m): a body moving toward it
  * faster than this per step may reach it before it wakes. */
 #define DCLOTH_WAKE_REACH 0.25
-
-/* journal.c: note body b's force, torque and velocities before this step
- * first changes them (0, or -1 on no memory: then the step must not change
- * b); the journal is emptied at each step's start. */
-int dcloth_touch(dClothID c, dBodyID b);
-/* journal.c: put the journal's bodies back as they were, and empty it */
-void dcloth_journal_undo(dClothID c);
-
-/* sleep.c: before a step, 1 if the cloth sleeps through it (then the step
- * is done: forces re-applied, stats set), -1 on no memory; after a solved
- * step, whether it now falls asleep. */
-int dcloth_sleep_before(dClothID c, double h, double t0);
-void dcloth_sleep_after(dClothID c);
-
-/* momentum.c: after a solved step, the torque (N m) the cloth's angular momentum change calls for
- * beyond its forces and the constraints' shares of the leftover force F */
-void dcloth_leftover_torque(dClothID c, double h, const double F[3], double wsum, double T[3]);
-/* eigen6.c: eigenvalues d and orthonormal eigenvectors (columns of V) of
- * the symmetric 6x6 matrix A, destroyed (cyclic Jacobi rotations) */
-void dcloth_eigen6(double A[6][6], double d[6], double V[6][6]);
-/* momentum.c: change the angular momentum of the cloth and its moving holders by dL (N m s), the rigid
- * turn of least energy their joints and the cloth's other constraints allow (docs/contacts.md); done:
- * the change made; -1 (nothing done) if a body's journal ran out of memory */
-int dcloth_turn(dClothID c, const double dL[3], double done[3]);
-/* momentum.c: after a solved step, take the moving bodies' share of the leftover torque out by the turn;
- * sets c->holder, R (each body gets -w R, w its vertices' shares) and st's turned and couple */
-void dcloth_leftover(dClothID c, double h, const double F[3], double wsum, double R[3], dClothStepStats *st);
-/* vertex_force.c: the force (N) vertex i's constraint puts on its body, with its share by force size of
- * the leftover force F (the share returned: 0 unless that body moves) */
-double dcloth_vertex_force(dClothID c, int i, const double F[3], double wsum, double f[3]);
-/* vertex_force.c: the body that takes vertex i's force f: its pin's or contact's, or when pinched and
- * pushed toward that contact's body, the opposite one; 0 for none */
-dBodyID dcloth_force_body(dClothID c, int i, const double f[3]);
-/* vertex_force.c: vertex i's contact force (N) without its second plane's (a static or kinematic geom) */
-void dcloth_first_force(cloth *core, int i, double f[3]);
-/* vertex_force.c: 1 + the index of the body solved with the cloth holding vertex i's constraint, or 0 */
-int dcloth_held_by_coupled(dClothID c, int i);
-
-/* triangles.c: cloth triangles against a box, capsule or cylinder (libccd)
- * over a step of h seconds, with the geom's surface s;
- * sets deeper contacts of the triangles' vertices in c->vc_new. Returns the
- * number of vertex contacts it set (0 for other classes). */
-int dcloth_triangle_contacts(dClothID c, const struct dcloth_surf *s, double h);
 
 #endif

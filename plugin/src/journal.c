@@ -2,6 +2,7 @@
  * accumulators and velocities), so that dClothWorldStep can put them back. */
 #include <stdlib.h>
 #include "dcloth_internal.h"
+#include "journal.h"
 
 int dcloth_touch(dClothID c, dBodyID b)
 {

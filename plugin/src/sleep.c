@@ -8,6 +8,8 @@
 #include <time.h>
 #include "dcloth_internal.h"
 #include "broadphase.h"
+#include "journal.h"
+#include "sleep.h"
 
 /* Does geom g's body move faster than the threshold anywhere on the geom?
  * (linear speed plus angular speed times the AABB's half diagonal) */

@@ -7,7 +7,7 @@
  * thickness (the Minkowski sum with a sphere), is tested against the geom
  * with libccd's GJK + EPA penetration query (MPR's direction, taken along
  * the line of centres, was wrong at box corners). The triangle is grown by the
- * thickness plus a margin, as vertices are (contacts.c), so a triangle held
+ * thickness plus a margin, as vertices are (vertex_contacts.c), so a triangle held
  * exactly at the thickness is still seen and stays held instead of falling
  * free every other step. A triangle the geom enters gives its three vertices
  * a contact along the separating direction. The lift the contact point needs
@@ -30,6 +30,7 @@
 #include "body_motion.h"
 #include "contact_offers.h"
 #include "polytope.h"
+#include "triangles.h"
 
 /* EPA's tolerance, of the thickness, for a triangle within its shell (the
  * loose one, 1e-3, serves to detect moving triangles). Measured with the

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "dcloth_internal.h"
+#include "journal.h"
 
 /* The cloth's whole state before a step (dClothSave), for undo. */
 static int save_undo(dClothID c)
