@@ -27,6 +27,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "dcloth_internal.h"
+#include "geom_support.h"
+#include "geom_triangles.h"
 #include "body_motion.h"
 #include "contact_offers.h"
 #include "polytope.h"
@@ -54,14 +56,6 @@ typedef struct tri_shape {
     double radius;
 } tri_shape;
 
-typedef struct geom_shape {
-    dGeomID g;
-    int cls;
-    double half[3];   /* box half lengths; capsule / cylinder: r, half length */
-    const double *pts; /* convex: points in the geom's frame, and how many */
-    int npts;
-} geom_shape;
-
 static void tri_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out)
 {
     const tri_shape *t = obj;
@@ -80,45 +74,6 @@ static void tri_center(const void *obj, ccd_vec3_t *out)
 {
     const tri_shape *t = obj;
     for (int k = 0; k < 3; k++) out->v[k] = (t->v[0][k] + t->v[1][k] + t->v[2][k]) / 3.0;
-}
-
-static void geom_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out)
-{
-    const geom_shape *s = obj;
-    const dReal *o = dGeomGetPosition(s->g), *R = dGeomGetRotation(s->g);
-    const double *d = dir->v;
-    double p[3], q[3];
-    for (int k = 0; k < 3; k++) p[k] = R[k] * d[0] + R[4 + k] * d[1] + R[8 + k] * d[2]; /* R^T d */
-    if (s->cls == dBoxClass) {
-        for (int k = 0; k < 3; k++) q[k] = p[k] >= 0.0 ? s->half[k] : -s->half[k];
-    } else if (s->cls == dCapsuleClass) { /* an end point, grown by r */
-        double r = s->half[0], l = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]), f = l > 0.0 ? r / l : 0.0;
-        q[0] = f * p[0];
-        q[1] = f * p[1];
-        q[2] = (p[2] >= 0.0 ? s->half[1] : -s->half[1]) + f * p[2];
-    } else if (s->cls == dConvexClass) { /* the farthest point along d */
-        int best = 0;
-        double bd = -INFINITY;
-        for (int k = 0; k < s->npts; k++) {
-            const double *a = s->pts + 3 * k;
-            double e = a[0] * p[0] + a[1] * p[1] + a[2] * p[2];
-            if (e > bd) bd = e, best = k;
-        }
-        for (int k = 0; k < 3; k++) q[k] = s->pts[3 * best + k];
-    } else { /* cylinder: the rim point of the cap toward d */
-        double r = s->half[0], rho = sqrt(p[0] * p[0] + p[1] * p[1]), f = rho > 0.0 ? r / rho : 0.0;
-        q[0] = f * p[0];
-        q[1] = f * p[1];
-        q[2] = p[2] >= 0.0 ? s->half[1] : -s->half[1];
-    }
-    for (int k = 0; k < 3; k++) out->v[k] = o[k] + R[4 * k] * q[0] + R[4 * k + 1] * q[1] + R[4 * k + 2] * q[2];
-}
-
-static void geom_center(const void *obj, ccd_vec3_t *out)
-{
-    const geom_shape *s = obj;
-    const dReal *o = dGeomGetPosition(s->g);
-    for (int k = 0; k < 3; k++) out->v[k] = o[k];
 }
 
 /* Barycentric coordinates of p's projection on triangle v, clamped to the
@@ -318,7 +273,7 @@ static void mesh_least(const convex_query *q, const tri_shape *ts, double r, dou
  * is within the face, where the face's plane is the geom's nearest */
 static int over_face(const convex_query *q, const double face[3], const double x[3])
 {
-    const geom_shape *gs = q->shape;
+    const dcloth_geom_shape *gs = q->shape;
     const dReal *R = dGeomGetRotation(q->g), *o = dGeomGetPosition(q->g);
     double l[3], d[3] = {x[0] - o[0], x[1] - o[1], x[2] - o[2]};
     int axis = 0;
@@ -379,13 +334,9 @@ static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, 
     const double *xv = cloth_positions(c->core) + 3 * (size_t)i;
     /* only deeper than the vertex's own contact, with no rounding margin */
     dcloth_offer_opposite(vc, q->g, q->body, n, gap, pos->v);
-    double height = dcloth_dot3(n, xv) - plane, pt[3], vb[3] = {0.0, 0.0, 0.0};
+    double height = dcloth_dot3(n, xv) - plane, pt[3], vb[3];
     for (int r = 0; r < 3; r++) pt[r] = xv[r] - height * n[r];
-    if (q->body) {
-        dVector3 pv;
-        dBodyGetPointVel(q->body, pos->v[0], pos->v[1], pos->v[2], pv);
-        for (int r = 0; r < 3; r++) vb[r] = pv[r];
-    }
+    dcloth_point_velocity(q->body, pos->v, vb);
     if (merge_tie(c, q, vc, k, n, gap, pt, vb, w)) return;
     if (vc->geom && vc->gap <= gap) return;
     /* on a face's own plane, a vertex's own contact with the geom is the
@@ -394,16 +345,8 @@ static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, 
     /* the point reported (and pushed at while asleep): under the vertex
      * on the geom's face (support) where measured, else on the plane
      * through EPA's point, which may be any point of the overlap */
-    vc->geom = q->g;
-    vc->thickness = q->surf->thickness;
-    vc->mu = q->surf->mu;
-    vc->body = q->body;
-    for (int r = 0; r < 3; r++) {
-        vc->normal[r] = n[r];
-        vc->point[r] = pt[r];
-        vc->vbody[r] = vb[r];
-    }
-    vc->gap = gap;
+    dcloth_set_contact(vc, q->surf, q->body, n, pt, gap);
+    memcpy(vc->vbody, vb, sizeof vc->vbody); /* the body's point under the contact, not under the vertex */
     vc->from_triangle = 1;
     vc->tri = k;
     vc->query = c->tri_query;
@@ -615,17 +558,11 @@ static int mesh_fetch(dClothID c, dGeomID g, int nt)
         c->mesh_cap = nt;
     }
     int ne = 0;
+    dcloth_geom_triangles(g, dTriMeshClass, nt, c->mesh_v);
     for (int j = 0; j < nt; j++) {
-        dVector3 a, b, e;
-        dGeomTriMeshGetTriangle(g, j, &a, &b, &e);
-        double *t = c->mesh_v + 9 * j;
+        const double *t = c->mesh_v + 9 * j;
         int finite = 1;
-        for (int r = 0; r < 3; r++) {
-            t[r] = a[r];
-            t[3 + r] = b[r];
-            t[6 + r] = e[r];
-            finite = finite && isfinite(a[r]) && isfinite(b[r]) && isfinite(e[r]);
-        }
+        for (int r = 0; r < 3; r++) finite = finite && isfinite(t[r]) && isfinite(t[3 + r]) && isfinite(t[6 + r]);
         for (int k = 0; k < 3; k++) c->mesh_convex[3 * j + k] = 1; /* open until a neighbour is found */
         /* a triangle with a coordinate not finite (mesh_contacts skips it)
          * is not sorted: NaN makes the order inconsistent */
@@ -878,41 +815,21 @@ int dcloth_triangle_contacts(dClothID c, const struct dcloth_surf *sf, double h)
 {
     dGeomID g = sf->g;
     if (!dClothGetTriangleTests(c, g)) return 0;
-    geom_shape gs = {0};
-    gs.g = g;
-    gs.cls = dGeomGetClass(g);
-    if (gs.cls == dBoxClass) {
-        dVector3 L;
-        dGeomBoxGetLengths(g, L);
-        for (int k = 0; k < 3; k++) gs.half[k] = 0.5 * L[k];
-    } else if (gs.cls == dCapsuleClass || gs.cls == dCylinderClass) {
-        dReal r, len;
-        if (gs.cls == dCapsuleClass) dGeomCapsuleGetParams(g, &r, &len);
-        else dGeomCylinderGetParams(g, &r, &len);
-        gs.half[0] = r;
-        gs.half[1] = 0.5 * len;
-        gs.half[2] = 0.0;
-    } else if (gs.cls == dConvexClass) {
-        int k = 0;
-        while (k < c->ncvx && c->cvx[k].g != g) k++;
-        if (k == c->ncvx) return 0; /* no points handed over: vertex contacts only */
-        gs.pts = c->cvx[k].p;
-        gs.npts = c->cvx[k].n;
-    } else if (gs.cls != dTriMeshClass) {
-        return 0;
-    }
+    dcloth_geom_shape gs;
+    /* a convex without points handed over: vertex contacts only */
+    if (!dcloth_geom_shape_of(c, g, &gs) && gs.cls != dTriMeshClass) return 0;
     double t = sf->thickness;
     ccd_t ccd;
     CCD_INIT(&ccd);
-    ccd.support1 = geom_support;
+    ccd.support1 = dcloth_geom_support;
     ccd.support2 = tri_support;
-    ccd.center1 = geom_center;
+    ccd.center1 = dcloth_geom_center;
     ccd.center2 = tri_center;
     ccd.max_iterations = 40;
     ccd.epa_tolerance = 1e-3 * t;
     ccd_t fine = ccd;
     fine.epa_tolerance = EPA_FINE * t;
-    convex_query q = {.shape = &gs, .support = geom_support, .center = geom_center, .g = g, .body = dGeomGetBody(g), .surf = sf};
+    convex_query q = {.shape = &gs, .support = dcloth_geom_support, .center = dcloth_geom_center, .g = g, .body = dGeomGetBody(g), .surf = sf};
     q.moving = dcloth_geom_speed(g) * h > SWEEP_NEGLIGIBLE * t; /* not ODE's jitter of a body at rest */
     q.cls = gs.cls;
     dcloth_polytope box;
