@@ -141,37 +141,44 @@ struct dxCloth {
     dcloth_geom_list tri_off;
     /* boxes whose triangle tests are decided by the geometry (dClothSetExactTriangleTests) */
     dcloth_geom_list tri_exact;
-    /* a trimesh's triangles this step (triangles.c): 9 world coordinates
-     * and 3 edge flags (1: the surface turns convexly there, or ends) each,
-     * and the edges for matching neighbours */
-    double *mesh_v;
-    unsigned char *mesh_convex;
-    struct mesh_edge {
-        double a[3], b[3]; /* the ends, a before b (lexicographic)         */
-        int tri, e;        /* triangle j, edge e (from corner e to e + 1)  */
-    } *mesh_edges;
-    int mesh_cap;
-    /* the cloth's triangles in a hash grid, for a mesh's (triangles.c) */
-    double *grid_box;    /* 6 per cloth triangle: its box, grown          */
-    int *grid_stamp;     /* per cloth triangle: the last mesh triangle + 1 */
-    int *grid_head;      /* per bucket: its first entry, -1 if none       */
-    int *grid_next, *grid_tri;
-    long long *grid_key;
-    int grid_nbuck, grid_cap;
-    /* a box's or trimesh's triangles for the link tests (edges.c): 9 world
-     * coordinates each, then 6 box bounds each */
-    double *edge_tri;
-    int edge_cap;
-    int *edge_start, *edge_ent, *edge_stamp; /* their grid (edges.c) and a stamp each */
-    int edge_start_cap, edge_ent_cap, edge_stamp_cap;
+    /* mesh_contacts.c's scratch: a trimesh's triangles this step, 9 world
+     * coordinates and 3 edge flags (1: the surface turns convexly there, or
+     * ends) each, and the edges for matching neighbours; then the cloth's
+     * triangles in a hash grid, for the mesh's */
+    struct mesh_scratch {
+        double *v;
+        unsigned char *convex;
+        struct mesh_edge {
+            double a[3], b[3]; /* the ends, a before b (lexicographic)         */
+            int tri, e;        /* triangle j, edge e (from corner e to e + 1)  */
+        } *edges;
+        int cap;
+        double *grid_box;    /* 6 per cloth triangle: its box, grown          */
+        int *grid_stamp;     /* per cloth triangle: the last mesh triangle + 1 */
+        int *grid_head;      /* per bucket: its first entry, -1 if none       */
+        int *grid_next, *grid_tri;
+        long long *grid_key;
+        int grid_nbuck, grid_cap;
+    } mesh;
+    /* edges.c's scratch: a box's or trimesh's triangles for the link tests,
+     * 9 world coordinates each, then 6 box bounds each; their grid and a
+     * stamp each */
+    struct edge_scratch {
+        double *tri;
+        int cap;
+        int *start, *ent, *stamp;
+        int start_cap, ent_cap, stamp_cap;
+    } edge;
     int edge_hits;       /* vertex contacts set by link tests this step     */
     dcloth_geom_list edge_off; /* geoms whose link tests are off (dClothSetEdgeTests) */
-    /* the bodies this step touched, each as it was before (journal.c) */
-    struct body_rec {
-        dBodyID b;
-        dReal f[3], t[3], lv[3], av[3];
-    } *journal;
-    int njournal, journal_cap;
+    /* journal.c's: the bodies this step touched, each as it was before */
+    struct body_journal {
+        struct body_rec {
+            dBodyID b;
+            dReal f[3], t[3], lv[3], av[3];
+        } *rec;
+        int n, cap;
+    } journal;
     /* the cloth's whole state before a step, for dClothWorldStep's undo (world_step.c) */
     struct dClothState *undo;
     /* sleeping (sleep.c): the settings and state, and the geoms near it

@@ -103,18 +103,18 @@ static int segment_meets(const double *a, const double *b, const double *t)
     return v >= 0.0 && u + v <= 1.0 && s >= 0.0 && s <= 1.0;
 }
 
-/* The geom's triangles, world frame, into c->edge_tri (9 each) with their
+/* The geom's triangles, world frame, into c->edge.tri (9 each) with their
  * boxes (6 each); how many, or -1 when memory ran out. */
 static int fetch_triangles(dClothID c, dGeomID g, int cls)
 {
     int nt = dcloth_geom_triangle_count(g, cls);
-    if (nt > c->edge_cap) {
-        double *p = realloc(c->edge_tri, 15 * (size_t)nt * sizeof *p);
+    if (nt > c->edge.cap) {
+        double *p = realloc(c->edge.tri, 15 * (size_t)nt * sizeof *p);
         if (!p) return -1;
-        c->edge_tri = p;
-        c->edge_cap = nt;
+        c->edge.tri = p;
+        c->edge.cap = nt;
     }
-    double *tb = c->edge_tri, *box = c->edge_tri + 9 * (size_t)nt;
+    double *tb = c->edge.tri, *box = c->edge.tri + 9 * (size_t)nt;
     dcloth_geom_triangles(g, cls, nt, tb);
     for (int j = 0; j < nt; j++)
         for (int r = 0; r < 3; r++) {
@@ -162,7 +162,7 @@ static void cell_range(const tri_grid *gr, const double *lo, const double *hi, i
  * gr; -1 when memory ran out. */
 static int grid_build(dClothID c, int nt, tri_grid *gr)
 {
-    const double *box = c->edge_tri + 9 * (size_t)nt;
+    const double *box = c->edge.tri + 9 * (size_t)nt;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, size = 0.0;
     for (int j = 0; j < nt; j++) {
         double e = 0.0;
@@ -185,8 +185,8 @@ static int grid_build(dClothID c, int nt, tri_grid *gr)
     }
     if (!isfinite(gr->cell)) gr->cell = 1.0; /* one cell */
     gr->nt = nt;
-    if (ensure(&c->edge_start, &c->edge_start_cap, (int)ncell + 1) < 0) return -1;
-    int *start = c->edge_start;
+    if (ensure(&c->edge.start, &c->edge.start_cap, (int)ncell + 1) < 0) return -1;
+    int *start = c->edge.start;
     memset(start, 0, ((size_t)ncell + 1) * sizeof *start);
     for (int pass = 0; pass < 2; pass++) {
         for (int j = 0; j < nt; j++) {
@@ -198,20 +198,20 @@ static int grid_build(dClothID c, int nt, tri_grid *gr)
                 for (int y = c0[1]; y <= c1[1]; y++)
                     for (int x = c0[0]; x <= c1[0]; x++) {
                         int k = x + gr->dim[0] * (y + gr->dim[1] * z);
-                        if (pass) c->edge_ent[start[k]++] = j;
+                        if (pass) c->edge.ent[start[k]++] = j;
                         else start[k + 1]++;
                     }
         }
         if (pass) break;
         for (long long k = 0; k < ncell; k++) start[k + 1] += start[k];
-        if (ensure(&c->edge_ent, &c->edge_ent_cap, start[ncell] > 0 ? start[ncell] : 1) < 0) return -1;
+        if (ensure(&c->edge.ent, &c->edge.ent_cap, start[ncell] > 0 ? start[ncell] : 1) < 0) return -1;
     }
     for (long long k = ncell; k > 0; k--) start[k] = start[k - 1]; /* the fill moved each start to the next */
     start[0] = 0;
     gr->start = start;
-    gr->ent = c->edge_ent;
-    if (ensure(&c->edge_stamp, &c->edge_stamp_cap, nt) < 0) return -1;
-    if (nt > 0) memset(c->edge_stamp, 0, (size_t)nt * sizeof *c->edge_stamp);
+    gr->ent = c->edge.ent;
+    if (ensure(&c->edge.stamp, &c->edge.stamp_cap, nt) < 0) return -1;
+    if (nt > 0) memset(c->edge.stamp, 0, (size_t)nt * sizeof *c->edge.stamp);
     return 0;
 }
 
@@ -221,7 +221,7 @@ static int grid_build(dClothID c, int nt, tri_grid *gr)
 static int link_query(const dClothID c, const tri_grid *gr, int stamp, int tie, const double *a, const double *b,
                       double r, double *d2, double p[3], double q[3])
 {
-    const double *tb = c->edge_tri, *box = c->edge_tri + 9 * (size_t)gr->nt;
+    const double *tb = c->edge.tri, *box = c->edge.tri + 9 * (size_t)gr->nt;
     double lo[3], hi[3], end_a = INFINITY, end_b = INFINITY, mid = INFINITY;
     int c0[3], c1[3];
     for (int k = 0; k < 3; k++) lo[k] = fmin(a[k], b[k]) - r, hi[k] = fmax(a[k], b[k]) + r;
@@ -233,10 +233,10 @@ static int link_query(const dClothID c, const tri_grid *gr, int stamp, int tie, 
                 for (int m = gr->start[k]; m < gr->start[k + 1]; m++) {
                     int j = gr->ent[m];
                     const double *bx = box + 6 * j, *t = tb + 9 * j;
-                    if (c->edge_stamp[j] == stamp || bx[1] < lo[0] || bx[0] > hi[0] || bx[3] < lo[1] ||
+                    if (c->edge.stamp[j] == stamp || bx[1] < lo[0] || bx[0] > hi[0] || bx[3] < lo[1] ||
                         bx[2] > hi[1] || bx[5] < lo[2] || bx[4] > hi[2])
                         continue;
-                    c->edge_stamp[j] = stamp;
+                    c->edge.stamp[j] = stamp;
                     if (segment_meets(a, b, t)) return 0;
                     double ea = point_triangle(a, t, t + 3, t + 6), eb = point_triangle(b, t, t + 3, t + 6);
                     end_a = fmin(end_a, ea);

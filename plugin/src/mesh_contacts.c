@@ -56,35 +56,35 @@ static int edge_order(const void *pa, const void *pb)
     return 0;
 }
 
-/* Fetch the mesh's nt triangles (world frame) into c->mesh_v, and flag each
+/* Fetch the mesh's nt triangles (world frame) into c->mesh.v, and flag each
  * edge convex (the neighbour across it turns away below this face's plane)
  * or open (no neighbour); flat and concave edges are 0. Edges are matched by
  * their ends' coordinates (ODE hands shared corners over transformed alike).
  * Returns -1 when memory ran out. */
 static int mesh_fetch(dClothID c, dGeomID g, int nt)
 {
-    if (nt > c->mesh_cap) {
-        double *v = realloc(c->mesh_v, 9 * (size_t)nt * sizeof *v);
-        if (v) c->mesh_v = v;
-        unsigned char *f = v ? realloc(c->mesh_convex, 3 * (size_t)nt) : NULL;
-        if (f) c->mesh_convex = f;
-        struct mesh_edge *e = f ? realloc(c->mesh_edges, 3 * (size_t)nt * sizeof *e) : NULL;
-        if (e) c->mesh_edges = e;
+    if (nt > c->mesh.cap) {
+        double *v = realloc(c->mesh.v, 9 * (size_t)nt * sizeof *v);
+        if (v) c->mesh.v = v;
+        unsigned char *f = v ? realloc(c->mesh.convex, 3 * (size_t)nt) : NULL;
+        if (f) c->mesh.convex = f;
+        struct mesh_edge *e = f ? realloc(c->mesh.edges, 3 * (size_t)nt * sizeof *e) : NULL;
+        if (e) c->mesh.edges = e;
         if (!e) return -1;
-        c->mesh_cap = nt;
+        c->mesh.cap = nt;
     }
     int ne = 0;
-    dcloth_geom_triangles(g, dTriMeshClass, nt, c->mesh_v);
+    dcloth_geom_triangles(g, dTriMeshClass, nt, c->mesh.v);
     for (int j = 0; j < nt; j++) {
-        const double *t = c->mesh_v + 9 * j;
+        const double *t = c->mesh.v + 9 * j;
         int finite = 1;
         for (int r = 0; r < 3; r++) finite = finite && isfinite(t[r]) && isfinite(t[3 + r]) && isfinite(t[6 + r]);
-        for (int k = 0; k < 3; k++) c->mesh_convex[3 * j + k] = 1; /* open until a neighbour is found */
+        for (int k = 0; k < 3; k++) c->mesh.convex[3 * j + k] = 1; /* open until a neighbour is found */
         /* a triangle with a coordinate not finite (mesh_contacts skips it)
          * is not sorted: NaN makes the order inconsistent */
         if (!finite) continue;
         for (int k = 0; k < 3; k++) {
-            struct mesh_edge *m = c->mesh_edges + ne++;
+            struct mesh_edge *m = c->mesh.edges + ne++;
             const double *p0 = t + 3 * k, *p1 = t + 3 * ((k + 1) % 3);
             int swap = 0;
             for (int r = 0; r < 3; r++)
@@ -98,14 +98,14 @@ static int mesh_fetch(dClothID c, dGeomID g, int nt)
             m->e = k;
         }
     }
-    qsort(c->mesh_edges, (size_t)ne, sizeof *c->mesh_edges, edge_order);
+    qsort(c->mesh.edges, (size_t)ne, sizeof *c->mesh.edges, edge_order);
     for (int i = 0; i + 1 < ne; i++) {
-        struct mesh_edge *m = c->mesh_edges + i, *o = m + 1;
+        struct mesh_edge *m = c->mesh.edges + i, *o = m + 1;
         if (edge_order(m, o) != 0) continue;
         /* m's triangle against o's far corner, and o's against m's */
         for (int s = 0; s < 2; s++) {
             const struct mesh_edge *x = s ? o : m, *y = s ? m : o;
-            const double *t = c->mesh_v + 9 * x->tri, *u = c->mesh_v + 9 * y->tri + 3 * ((y->e + 2) % 3);
+            const double *t = c->mesh.v + 9 * x->tri, *u = c->mesh.v + 9 * y->tri + 3 * ((y->e + 2) % 3);
             double e1[3], e2[3], f[3], d[3];
             for (int r = 0; r < 3; r++) {
                 e1[r] = t[3 + r] - t[r];
@@ -117,7 +117,7 @@ static int mesh_fetch(dClothID c, dGeomID g, int nt)
             f[2] = e1[0] * e2[1] - e1[1] * e2[0];
             double fl = sqrt(dcloth_dot3(f, f)), el = sqrt(dcloth_dot3(e1, e1) + dcloth_dot3(e2, e2));
             /* below the plane by more than rounding of the mesh's size */
-            c->mesh_convex[3 * x->tri + x->e] = fl > 0.0 && dcloth_dot3(f, d) / fl < -1e-9 * el;
+            c->mesh.convex[3 * x->tri + x->e] = fl > 0.0 && dcloth_dot3(f, d) / fl < -1e-9 * el;
         }
         i++;
     }
@@ -142,24 +142,24 @@ static int grid_build(dClothID c, const convex_query *q, double h, double geom_s
                       long long dim[3])
 {
     int nt = c->ntri;
-    if (8 * nt > c->grid_cap) {
+    if (8 * nt > c->mesh.grid_cap) {
         int cap = 8 * nt, nb = 1;
         while (nb < 2 * cap) nb *= 2;
-        double *bx = realloc(c->grid_box, 6 * (size_t)nt * sizeof *bx);
-        if (bx) c->grid_box = bx;
-        int *st = bx ? realloc(c->grid_stamp, (size_t)nt * sizeof *st) : NULL;
-        if (st) c->grid_stamp = st;
-        int *hd = st ? realloc(c->grid_head, (size_t)nb * sizeof *hd) : NULL;
-        if (hd) c->grid_head = hd;
-        int *nx = hd ? realloc(c->grid_next, (size_t)cap * sizeof *nx) : NULL;
-        if (nx) c->grid_next = nx;
-        int *tr = nx ? realloc(c->grid_tri, (size_t)cap * sizeof *tr) : NULL;
-        if (tr) c->grid_tri = tr;
-        long long *ky = tr ? realloc(c->grid_key, (size_t)cap * sizeof *ky) : NULL;
-        if (ky) c->grid_key = ky;
+        double *bx = realloc(c->mesh.grid_box, 6 * (size_t)nt * sizeof *bx);
+        if (bx) c->mesh.grid_box = bx;
+        int *st = bx ? realloc(c->mesh.grid_stamp, (size_t)nt * sizeof *st) : NULL;
+        if (st) c->mesh.grid_stamp = st;
+        int *hd = st ? realloc(c->mesh.grid_head, (size_t)nb * sizeof *hd) : NULL;
+        if (hd) c->mesh.grid_head = hd;
+        int *nx = hd ? realloc(c->mesh.grid_next, (size_t)cap * sizeof *nx) : NULL;
+        if (nx) c->mesh.grid_next = nx;
+        int *tr = nx ? realloc(c->mesh.grid_tri, (size_t)cap * sizeof *tr) : NULL;
+        if (tr) c->mesh.grid_tri = tr;
+        long long *ky = tr ? realloc(c->mesh.grid_key, (size_t)cap * sizeof *ky) : NULL;
+        if (ky) c->mesh.grid_key = ky;
         if (!ky) return -1;
-        c->grid_cap = cap;
-        c->grid_nbuck = nb;
+        c->mesh.grid_cap = cap;
+        c->mesh.grid_nbuck = nb;
     }
     const double *x = cloth_positions(c->core), *v = cloth_velocities(c->core);
     double shell_r = q->surf->thickness * (1.0 + DCLOTH_CONTACT_MARGIN), side = 0.0, hi[3];
@@ -173,7 +173,7 @@ static int grid_build(dClothID c, const convex_query *q, double h, double geom_s
         for (int a = 0; a < 3; a++) sweep = fmax(sweep, dcloth_relative_speed(q->body, x + 3 * p[a], v + 3 * p[a]));
         double reach = h * sweep;
         if (!(reach <= geom_span)) reach = geom_span;
-        double r = shell_r + reach, *b = c->grid_box + 6 * k;
+        double r = shell_r + reach, *b = c->mesh.grid_box + 6 * k;
         for (int a = 0; a < 3; a++) {
             b[2 * a] = fmin(x[3 * p[0] + a], fmin(x[3 * p[1] + a], x[3 * p[2] + a])) - r;
             b[2 * a + 1] = fmax(x[3 * p[0] + a], fmax(x[3 * p[1] + a], x[3 * p[2] + a])) + r;
@@ -181,7 +181,7 @@ static int grid_build(dClothID c, const convex_query *q, double h, double geom_s
             lo[a] = fmin(lo[a], b[2 * a]);
             hi[a] = fmax(hi[a], b[2 * a + 1]);
         }
-        c->grid_stamp[k] = 0;
+        c->mesh.grid_stamp[k] = 0;
     }
     if (!(side > 0.0) || !isfinite(side)) return -1;
     /* at most ~1e6 cells a side: a larger span (a cloth flung far) uses
@@ -190,10 +190,10 @@ static int grid_build(dClothID c, const convex_query *q, double h, double geom_s
     if (!isfinite(side)) return -1; /* coordinates near overflow */
     *s = side;
     for (int a = 0; a < 3; a++) dim[a] = (long long)((hi[a] - lo[a]) / side) + 1;
-    for (int b = 0; b < c->grid_nbuck; b++) c->grid_head[b] = -1;
+    for (int b = 0; b < c->mesh.grid_nbuck; b++) c->mesh.grid_head[b] = -1;
     int n = 0;
     for (int k = 0; k < nt; k++) {
-        const double *b = c->grid_box + 6 * k;
+        const double *b = c->mesh.grid_box + 6 * k;
         long long i0[3], i1[3], i[3];
         for (int a = 0; a < 3; a++) {
             i0[a] = (long long)((b[2 * a] - lo[a]) / side);
@@ -203,13 +203,13 @@ static int grid_build(dClothID c, const convex_query *q, double h, double geom_s
         for (i[2] = i0[2]; i[2] <= i1[2]; i[2]++)
             for (i[1] = i0[1]; i[1] <= i1[1]; i[1]++)
                 for (i[0] = i0[0]; i[0] <= i1[0]; i[0]++) {
-                    if (n == c->grid_cap) return -1; /* rounding gave a box 3 cells: never seen */
+                    if (n == c->mesh.grid_cap) return -1; /* rounding gave a box 3 cells: never seen */
                     long long key = cell_key(i, dim);
-                    int bk = bucket(key, c->grid_nbuck);
-                    c->grid_key[n] = key;
-                    c->grid_tri[n] = k;
-                    c->grid_next[n] = c->grid_head[bk];
-                    c->grid_head[bk] = n++;
+                    int bk = bucket(key, c->mesh.grid_nbuck);
+                    c->mesh.grid_key[n] = key;
+                    c->mesh.grid_tri[n] = k;
+                    c->mesh.grid_next[n] = c->mesh.grid_head[bk];
+                    c->mesh.grid_head[bk] = n++;
                 }
     }
     return 0;
@@ -238,7 +238,7 @@ int dcloth_mesh_contacts(dClothID c, convex_query *q, double h, ccd_t *ccd, ccd_
     const dReal *o = dGeomGetPosition(q->g), *R = dGeomGetRotation(q->g);
     double llo[3] = {INFINITY, INFINITY, INFINITY}, lhi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int m = 0; m < 3 * nt; m++) {
-        const double *x = c->mesh_v + 3 * m;
+        const double *x = c->mesh.v + 3 * m;
         double d[3] = {x[0] - o[0], x[1] - o[1], x[2] - o[2]};
         for (int k = 0; k < 3; k++) {
             double l = R[k] * d[0] + R[4 + k] * d[1] + R[8 + k] * d[2]; /* R^T d */
@@ -254,7 +254,7 @@ int dcloth_mesh_contacts(dClothID c, convex_query *q, double h, ccd_t *ccd, ccd_
     ccd->support1 = fine->support1 = prism_support;
     ccd->center1 = fine->center1 = prism_center;
     for (int j = 0; j < nt; j++) {
-        const double *a = c->mesh_v + 9 * j, *b = a + 3, *e = a + 6;
+        const double *a = c->mesh.v + 9 * j, *b = a + 3, *e = a + 6;
         double u[3], w[3], nrm[3];
         for (int r = 0; r < 3; r++) {
             u[r] = b[r] - a[r];
@@ -285,7 +285,7 @@ int dcloth_mesh_contacts(dClothID c, convex_query *q, double h, ccd_t *ccd, ccd_
         }
         q->span = dcloth_diagonal(q->aabb);
         q->face = nrm;
-        q->convex = c->mesh_convex + 3 * j;
+        q->convex = c->mesh.convex + 3 * j;
         for (int k = 0; k < 3; k++) {
             const double *p0 = ps.p[k], *p1 = ps.p[(k + 1) % 3];
             double d[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]}, *o = q->out[k];
@@ -305,11 +305,11 @@ int dcloth_mesh_contacts(dClothID c, convex_query *q, double h, ccd_t *ccd, ccd_
             for (i[1] = i0[1]; i[1] <= i1[1]; i[1]++)
                 for (i[0] = i0[0]; i[0] <= i1[0]; i[0]++) {
                     long long key = cell_key(i, dim);
-                    for (int e = c->grid_head[bucket(key, c->grid_nbuck)]; e >= 0; e = c->grid_next[e]) {
-                        int k = c->grid_tri[e];
-                        if (c->grid_key[e] != key || c->grid_stamp[k] == j + 1) continue;
-                        c->grid_stamp[k] = j + 1;
-                        const double *b = c->grid_box + 6 * k;
+                    for (int e = c->mesh.grid_head[bucket(key, c->mesh.grid_nbuck)]; e >= 0; e = c->mesh.grid_next[e]) {
+                        int k = c->mesh.grid_tri[e];
+                        if (c->mesh.grid_key[e] != key || c->mesh.grid_stamp[k] == j + 1) continue;
+                        c->mesh.grid_stamp[k] = j + 1;
+                        const double *b = c->mesh.grid_box + 6 * k;
                         if (b[1] < q->aabb[0] || b[0] > q->aabb[1] || b[3] < q->aabb[2] || b[2] > q->aabb[3] ||
                             b[5] < q->aabb[4] || b[4] > q->aabb[5])
                             continue;

@@ -68,7 +68,7 @@ cloth_status dClothStep(dClothID c, dReal h)
     dClothStepStats st;
     memset(&st, 0, sizeof st);
     double t0 = wall();
-    c->njournal = 0;
+    c->journal.n = 0;
     int sl = dcloth_sleep_before(c, h, t0);
     if (sl < 0) return dcloth_fail(c, CLOTH_ENOMEM, "dClothStep: out of memory for the candidate geoms");
     if (sl > 0) return CLOTH_OK;
