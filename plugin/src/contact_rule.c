@@ -21,24 +21,17 @@
  * 0.114 mm with the rule as it is). */
 #define STICK_WEIGHT 0.1
 
-/* Decide the vertex's contact for this step: none (returns 0), sticking or
- * sliding; fills its constraint and, sliding, its friction force. newton:
- * the core decides contacts within its step (candidates). */
-int dcloth_contact_rule(dClothID c, int i, double h, double mass, const double g[3], vcontact *nw,
-                        const vcontact *old, cloth_constraint *k, dClothStepStats *st, int forced, int newton)
+/* Pinched: the opposite contact's surface (another geom, facing this
+ * one) would be entered by this contact's target. The vertex then
+ * aims midway between the two targets along the normal, held (never
+ * released, let go or left apart) and sliding: each surface takes
+ * half of what the two thicknesses lack. Before, a vertex kept only
+ * the nearer surface's target, inside the other: between two closing
+ * plates the cloth went through the lower one by 3.9 cm and the step
+ * failed (box meshes; plugin_pinch). */
+static void pinch(vcontact *nw, double h)
 {
-    const double *x = cloth_positions(c->core) + 3 * i, *v = cloth_velocities(c->core) + 3 * i;
     const double *n = nw->normal;
-    double rel[3] = {v[0] - nw->vbody[0], v[1] - nw->vbody[1], v[2] - nw->vbody[2]};
-    double vn = dcloth_dot3(rel, n);
-    /* Pinched: the opposite contact's surface (another geom, facing this
-     * one) would be entered by this contact's target. The vertex then
-     * aims midway between the two targets along the normal, held (never
-     * released, let go or left apart) and sliding: each surface takes
-     * half of what the two thicknesses lack. Before, a vertex kept only
-     * the nearer surface's target, inside the other: between two closing
-     * plates the cloth went through the lower one by 3.9 cm and the step
-     * failed (box meshes; plugin_pinch). */
     double d1 = h * dcloth_dot3(nw->vbody, n) - nw->gap, dmid = d1;
     nw->pinched = 0;
     if (nw->opp_geom && nw->opp_geom != nw->geom) {
@@ -52,6 +45,47 @@ int dcloth_contact_rule(dClothID c, int i, double h, double mass, const double g
         }
     }
     nw->pinch_shift = dmid - d1;
+}
+
+/* A vertex sticking to a kinematic body is held at a point fixed in the
+ * body's frame, the anchor set when it began to stick, as a pin is.
+ * Advancing its own position by the body's point velocity every step,
+ * it drifted off the body's rigid motion (outward on a turning body, r
+ * (w h)^2 / 2 per step, accumulating while it sticks). Measured on
+ * soak_turntable (100,000 steps): without the anchor, one snap at step
+ * 46,680 put 0.0127 J of kinetic energy in the table's frame (bound
+ * 0.01 J); with it, at most 0.0024 J. Dynamic bodies keep the velocity
+ * form: anchored to a rolling ball, the curtain's cloth overstretched
+ * (strain 0.03106, delta 0.03). Across the surface the target stays on
+ * the shell. */
+static void anchor(vcontact *nw, const vcontact *old, int had, const double *x, double h, cloth_constraint *k)
+{
+    const double *n = nw->normal;
+    if (had && old->anchored && old->body == nw->body) {
+        memcpy(nw->anchor, old->anchor, sizeof nw->anchor);
+    } else {
+        dVector3 l;
+        dBodyGetPosRelPoint(nw->body, x[0], x[1], x[2], l);
+        for (int r = 0; r < 3; r++) nw->anchor[r] = l[r];
+    }
+    nw->anchored = 1;
+    double w[3];
+    dcloth_follow_body(nw->body, nw->anchor, h, w, k->target);
+    double off = nw->gap + n[0] * (w[0] - x[0]) + n[1] * (w[1] - x[1]) + n[2] * (w[2] - x[2]);
+    for (int r = 0; r < 3; r++) k->target[r] -= off * n[r];
+}
+
+/* Decide the vertex's contact for this step: none (returns 0), sticking or
+ * sliding; fills its constraint and, sliding, its friction force. newton:
+ * the core decides contacts within its step (candidates). */
+int dcloth_contact_rule(dClothID c, int i, double h, double mass, const double g[3], vcontact *nw,
+                        const vcontact *old, cloth_constraint *k, dClothStepStats *st, int forced, int newton)
+{
+    const double *x = cloth_positions(c->core) + 3 * i, *v = cloth_velocities(c->core) + 3 * i;
+    const double *n = nw->normal;
+    double rel[3] = {v[0] - nw->vbody[0], v[1] - nw->vbody[1], v[2] - nw->vbody[2]};
+    double vn = dcloth_dot3(rel, n);
+    pinch(nw, h);
     forced = forced || nw->pinched;
     if (!forced && nw->gap > 0.0 && nw->gap + h * vn > DCLOTH_CONTACT_SLOP * nw->thickness) return 0; /* stays apart */
     /* apart but approaching: a candidate, which the Newton step holds only
@@ -126,36 +160,12 @@ int dcloth_contact_rule(dClothID c, int i, double h, double mass, const double g
      * (negative gap) removed along the normal (paper eq. 22) */
     k->vertex = i;
     for (int r = 0; r < 3; r++) {
-        k->target[r] = x[r] + h * nw->vbody[r] - nw->gap * n[r] + (dmid - d1) * n[r];
+        k->target[r] = x[r] + h * nw->vbody[r] - nw->gap * n[r] + nw->pinch_shift * n[r];
         k->axis[r] = n[r];
         nw->friction[r] = 0.0;
     }
-    /* A vertex sticking to a kinematic body is held at a point fixed in the
-     * body's frame, the anchor set when it began to stick, as a pin is.
-     * Advancing its own position by the body's point velocity every step,
-     * it drifted off the body's rigid motion (outward on a turning body, r
-     * (w h)^2 / 2 per step, accumulating while it sticks). Measured on
-     * soak_turntable (100,000 steps): without the anchor, one snap at step
-     * 46,680 put 0.0127 J of kinetic energy in the table's frame (bound
-     * 0.01 J); with it, at most 0.0024 J. Dynamic bodies keep the velocity
-     * form: anchored to a rolling ball, the curtain's cloth overstretched
-     * (strain 0.03106, delta 0.03). Across the surface the target stays on
-     * the shell. */
     nw->anchored = 0;
-    if (stick && nw->body && dBodyIsKinematic(nw->body)) {
-        if (had && old->anchored && old->body == nw->body) {
-            memcpy(nw->anchor, old->anchor, sizeof nw->anchor);
-        } else {
-            dVector3 l;
-            dBodyGetPosRelPoint(nw->body, x[0], x[1], x[2], l);
-            for (int r = 0; r < 3; r++) nw->anchor[r] = l[r];
-        }
-        nw->anchored = 1;
-        double w[3];
-        dcloth_follow_body(nw->body, nw->anchor, h, w, k->target);
-        double off = nw->gap + n[0] * (w[0] - x[0]) + n[1] * (w[1] - x[1]) + n[2] * (w[2] - x[2]);
-        for (int r = 0; r < 3; r++) k->target[r] -= off * n[r];
-    }
+    if (stick && nw->body && dBodyIsKinematic(nw->body)) anchor(nw, old, had, x, h, k);
     k->ndof = stick ? 3 : 1;
     nw->sticking = stick;
     if (!stick && mu > 0.0 && limit > 0.0) {
