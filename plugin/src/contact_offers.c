@@ -45,7 +45,8 @@ int dcloth_second_fits(const vcontact *vc, dBodyID body, const double n[3])
 void dcloth_offer_second(vcontact *vc, dGeomID g, double t, dBodyID body, const double n[3], const double point[3],
                          double gap)
 {
-    if (!dcloth_second_fits(vc, body, n) || (vc->sec_geom && vc->sec_gap <= gap) || !plane_finite(n, point, gap)) return;
+    if (!dcloth_second_fits(vc, body, n) || (vc->sec_geom && vc->sec_gap <= gap) || !plane_finite(n, point, gap))
+        return;
     vc->sec_geom = g;
     vc->sec_body = body;
     vc->sec_thickness = t;

@@ -409,7 +409,8 @@ cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dReal *points, i
     if (count < 0 || (count > 0 && !points))
         return dcloth_fail(c, CLOTH_EINVAL, "dClothSetConvexPoints: %d points at %p", count, (const void *)points);
     for (int k = 0; k < 3 * count; k++)
-        if (!isfinite(points[k])) return dcloth_fail(c, CLOTH_EINVAL, "dClothSetConvexPoints: point %d is not finite", k / 3);
+        if (!isfinite(points[k]))
+            return dcloth_fail(c, CLOTH_EINVAL, "dClothSetConvexPoints: point %d is not finite", k / 3);
     int at = 0;
     while (at < c->ncvx && c->cvx[at].g != g) at++;
     if (!points || count == 0) { /* forget */

@@ -81,55 +81,19 @@ typedef struct vpin {
 
 struct dxCloth {
     cloth *core;
-    dWorldID world;
-    dSpaceID space;
-    dGeomID box;         /* broadphase proxy: the cloth's swept AABB        */
-    dGeomID sphere;      /* narrowphase proxy: one vertex                    */
-    dGeomID ray;         /* narrowphase proxy over heightfields              */
-    double thickness, mu;
-    unsigned long category, collide;
     int n, ntri;
     int *tri;            /* 3 ntri                                          */
-    unsigned tri_query;  /* triangle queries so far (vcontact's query)       */
-    double *share_sum;   /* n: per lead, a triangle contact's force (workspace) */
-    vcontact *vc, *vc_new; /* n: committed and candidate contact states      */
-    vpin *pin;           /* n                                               */
-    double *fext;        /* 3n: the user's forces plus sliding friction, handed
-                            to the core for the step                        */
-    double *fuser;       /* 3n: the core's own external forces (the user's),
-                            put back after each step                        */
-    double *fadd;        /* 3n: dClothAddVertexForce's, for the next step    */
-    double *x0;          /* 3n: positions at the step's start               */
-    double *v0;          /* 3n: velocities at the step's start              */
-    double *vfix;        /* 3n: velocities after the step's contact fix-up  */
-    dBodyID *holder;     /* n: the body that takes each vertex's force, or 0 */
-    dBodyID *turn_bodies; /* n: the moving bodies the turn moves (workspace) */
-    double *turn_dv;     /* 3n: the turn's velocity change (workspace)      */
-    cloth_state *save;   /* the core's state at the step's start (re-solves) */
-    dGeomID *cand;       /* candidate geoms of the step                     */
-    int ncand, cand_cap;
-    /* each candidate's mu and thickness this step (surf[a] for cand[a]),
-     * a scratch copy for a broadphase redone wider, and the largest
-     * thickness the surface callback has given since it was set */
-    struct dcloth_surf {
-        dGeomID g;
-        double mu, thickness;
-    } *surf, *surf_old;
-    int surf_cap;
-    double surf_tmax;
-    int tri_hits;        /* vertex contacts set by triangle tests this step  */
-    /* moving bodies solved with the cloth this step (body_coupling.c) */
+    /* configuration: what the user set */
+    dWorldID world;
+    dSpaceID space;
+    double thickness, mu;
+    unsigned long category, collide;
     int implicit;        /* 1: couple dynamic bodies implicitly (default)   */
     dClothFailureMode on_failure; /* what a failed solve gives (dcloth.h)   */
-    int held_run;        /* steps held in a row: each retries the next in one
-                            more substep halving (body_coupling.c)          */
     dClothFrictionFn *friction_fn; /* per-geom friction (NULL: mu for all)  */
     void *friction_data;
     dClothSurfaceFn *surface_fn;   /* per-geom mu and thickness (NULL: none) */
     void *surface_data;
-    dBodyID *bodies;
-    cloth_body *bdesc;
-    int nbodies, bodies_cap;
     /* convex geoms' points, for triangle tests (dClothSetConvexPoints) */
     struct cvx_points {
         dGeomID g;
@@ -141,6 +105,55 @@ struct dxCloth {
     dcloth_geom_list tri_off;
     /* boxes whose triangle tests are decided by the geometry (dClothSetExactTriangleTests) */
     dcloth_geom_list tri_exact;
+    dcloth_geom_list edge_off; /* geoms whose link tests are off (dClothSetEdgeTests) */
+    /* carried from one step to the next (dClothSave copies these, and surf_tmax) */
+    vcontact *vc, *vc_new; /* n: committed and candidate contact states      */
+    vpin *pin;           /* n                                               */
+    double *fadd;        /* 3n: dClothAddVertexForce's, for the next step    */
+    int held_run;        /* steps held in a row: each retries the next in one
+                            more substep halving (body_coupling.c)          */
+    /* sleeping (sleep.c): the settings and state, and the geoms near it
+     * when it fell asleep (sleep.n of them) */
+    struct sleep_state {
+        int on, steps, still, asleep, n;
+        double speed;
+        double gravity[3];   /* the world's gravity when it fell asleep     */
+    } sleep;
+    double *sleep_geoms;      /* per candidate then: position (3), and the
+                                 geom itself in sleep_ids                   */
+    dGeomID *sleep_ids;
+    int sleep_cap;
+    dClothStepStats stats; /* the last step's                                 */
+    char err[256];         /* the last failed call's message                  */
+    /* the cloth's whole state before a step, for dClothWorldStep's undo (world_step.c) */
+    struct dClothState *undo;
+    /* the step's (step.c): its start, to solve it again from */
+    double *fext;        /* 3n: the user's forces plus sliding friction, handed
+                            to the core for the step                        */
+    double *fuser;       /* 3n: the core's own external forces (the user's),
+                            put back after each step                        */
+    double *x0;          /* 3n: positions at the step's start               */
+    double *v0;          /* 3n: velocities at the step's start              */
+    cloth_state *save;   /* the core's state at the step's start (re-solves) */
+    /* the broadphase's (broadphase.c) */
+    dGeomID box;         /* broadphase proxy: the cloth's swept AABB        */
+    dGeomID *cand;       /* candidate geoms of the step                     */
+    int ncand, cand_cap;
+    /* each candidate's mu and thickness this step (surf[a] for cand[a]),
+     * a scratch copy for a broadphase redone wider, and the largest
+     * thickness the surface callback has given since it was set */
+    struct dcloth_surf {
+        dGeomID g;
+        double mu, thickness;
+    } *surf, *surf_old;
+    int surf_cap;
+    double surf_tmax;
+    /* the vertex tests' (vertex_contacts.c) */
+    dGeomID sphere;      /* narrowphase proxy: one vertex                    */
+    dGeomID ray;         /* narrowphase proxy over heightfields              */
+    /* the triangle tests' (triangles.c, triangle_query.c) */
+    unsigned tri_query;  /* triangle queries so far (vcontact's query)       */
+    int tri_hits;        /* vertex contacts set by triangle tests this step  */
     /* mesh_contacts.c's scratch: a trimesh's triangles this step, 9 world
      * coordinates and 3 edge flags (1: the surface turns convexly there, or
      * ends) each, and the edges for matching neighbours; then the cloth's
@@ -170,7 +183,17 @@ struct dxCloth {
         int start_cap, ent_cap, stamp_cap;
     } edge;
     int edge_hits;       /* vertex contacts set by link tests this step     */
-    dcloth_geom_list edge_off; /* geoms whose link tests are off (dClothSetEdgeTests) */
+    /* the active set's (active_set.c) */
+    double *share_sum;   /* n: per lead, a triangle contact's force (workspace) */
+    /* the moving bodies solved with the cloth this step (body_coupling.c) */
+    dBodyID *bodies;
+    cloth_body *bdesc;
+    int nbodies, bodies_cap;
+    /* the reactions' (reactions.c, momentum.c) */
+    double *vfix;        /* 3n: velocities after the step's contact fix-up  */
+    dBodyID *holder;     /* n: the body that takes each vertex's force, or 0 */
+    dBodyID *turn_bodies; /* n: the moving bodies the turn moves (workspace) */
+    double *turn_dv;     /* 3n: the turn's velocity change (workspace)      */
     /* journal.c's: the bodies this step touched, each as it was before */
     struct body_journal {
         struct body_rec {
@@ -179,21 +202,6 @@ struct dxCloth {
         } *rec;
         int n, cap;
     } journal;
-    /* the cloth's whole state before a step, for dClothWorldStep's undo (world_step.c) */
-    struct dClothState *undo;
-    /* sleeping (sleep.c): the settings and state, and the geoms near it
-     * when it fell asleep (sleep.n of them) */
-    struct sleep_state {
-        int on, steps, still, asleep, n;
-        double speed;
-        double gravity[3];   /* the world's gravity when it fell asleep     */
-    } sleep;
-    double *sleep_geoms;      /* per candidate then: position (3), and the
-                                 geom itself in sleep_ids                   */
-    dGeomID *sleep_ids;
-    int sleep_cap;
-    dClothStepStats stats;
-    char err[256];
 };
 
 /* save.c: a snapshot of a cloth (dClothSave); statefile.c reads and writes

@@ -130,7 +130,10 @@ static int mesh_fetch(dClothID c, dGeomID g, int nt)
  * cloth triangles to test: a 1000-triangle mesh against all 800 of a 21x21
  * cloth's, brute force, took 31 ms a step. Returns -1 when memory ran out;
  * the cell side and origin in s and lo, the grid's size in cells in dim. */
-static long long cell_key(const long long i[3], const long long dim[3]) { return i[0] + dim[0] * (i[1] + dim[1] * i[2]); }
+static long long cell_key(const long long i[3], const long long dim[3])
+{
+    return i[0] + dim[0] * (i[1] + dim[1] * i[2]);
+}
 
 static int bucket(long long key, int nbuck)
 {
