@@ -311,6 +311,26 @@ static void refine_swept(const convex_query *q, const tri_shape *ts, double shel
     }
 }
 
+/* The plane along n through q's support (returned: n . x there): each vertex's height above it less the
+ * thickness t (above), whether it reaches the plane within the step of h seconds (reaches, v the cloth's
+ * velocities, p the triangle's vertices); ahead kept only while each vertex w weighs reaches it */
+static double heights(const convex_query *q, const tri_shape *ts, const double *v, const int *p, const double n[3],
+                      double t, double h, const double w[3], double above[3], int reaches[3], int *ahead)
+{
+    ccd_vec3_t nd = {{n[0], n[1], n[2]}}, sp;
+    q->support(q->shape, &nd, &sp);
+    double support = n[0] * sp.v[0] + n[1] * sp.v[1] + n[2] * sp.v[2];
+    for (int a = 0; a < 3; a++) {
+        const double *xa = ts->v[a];
+        double rv[3];
+        above[a] = n[0] * xa[0] + n[1] * xa[1] + n[2] * xa[2] - support - t;
+        dcloth_relative_velocity(q->body, xa, v + 3 * p[a], rv);
+        reaches[a] = above[a] + h * dcloth_dot3(rv, n) <= DCLOTH_CONTACT_SLOP * t;
+        if (*ahead && w[a] > 0.0 && !reaches[a]) *ahead = 0;
+    }
+    return support;
+}
+
 /* Cloth triangle k against the shape: sets its vertices' contacts where
  * deeper than what they have; returns how many it set. */
 int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, ccd_t *ccd, ccd_t *fine)
@@ -402,19 +422,7 @@ int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, cc
     if (ahead) memcpy(n, face, sizeof face);
     double above[3] = {0.0, 0.0, 0.0};
     int reaches[3] = {0, 0, 0};
-    if (clear || ahead) {
-        ccd_vec3_t nd = {{n[0], n[1], n[2]}}, sp;
-        q->support(q->shape, &nd, &sp);
-        support = n[0] * sp.v[0] + n[1] * sp.v[1] + n[2] * sp.v[2];
-        for (int a = 0; a < 3; a++) {
-            const double *xa = ts.v[a];
-            double rv[3];
-            above[a] = n[0] * xa[0] + n[1] * xa[1] + n[2] * xa[2] - support - t;
-            dcloth_relative_velocity(q->body, xa, v + 3 * p[a], rv);
-            reaches[a] = above[a] + h * dcloth_dot3(rv, n) <= DCLOTH_CONTACT_SLOP * t;
-            if (ahead && w[a] > 0.0 && !reaches[a]) ahead = 0;
-        }
-    }
+    if (clear || ahead) support = heights(q, &ts, v, p, n, t, h, w, above, reaches, &ahead);
     double fsup = 0.0;
     int fl = clear && face_plane(q, n, face, &fsup);
     int hits = 0;
