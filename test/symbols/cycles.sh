@@ -108,6 +108,6 @@ END {
     }
     nedges = 0
     for (key in via) nedges++
-    print "cycles: " n " files, " nedges " calls between files, " bad " cycle(s)"
+    print "cycles: " n " files, " nedges " calls between files, " bad " group(s) of files calling each other round"
     exit bad > 0
 }'
