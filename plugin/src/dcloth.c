@@ -6,15 +6,6 @@
 #include <string.h>
 #include "dcloth_internal.h"
 
-cloth_status dcloth_fail(dClothID c, cloth_status code, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(c->err, sizeof c->err, fmt, ap);
-    va_end(ap);
-    return code;
-}
-
 static cloth_status create_fail(cloth_error *err, cloth_status code, const char *msg)
 {
     if (err) {
@@ -136,7 +127,7 @@ void dClothDestroy(dClothID c)
     free(c->surf_old);
     free(c->bodies);
     free(c->bdesc);
-    free(c->journal);
+    free(c->journal.rec);
     dClothStateDestroy(c->undo);
     free(c->sleep_geoms);
     free(c->sleep_ids);
@@ -144,19 +135,19 @@ void dClothDestroy(dClothID c)
     free(c->cvx);
     free(c->tri_off.g);
     free(c->tri_exact.g);
-    free(c->mesh_v);
-    free(c->mesh_convex);
-    free(c->mesh_edges);
-    free(c->grid_box);
-    free(c->grid_stamp);
-    free(c->grid_head);
-    free(c->grid_next);
-    free(c->grid_tri);
-    free(c->grid_key);
-    free(c->edge_tri);
-    free(c->edge_start);
-    free(c->edge_ent);
-    free(c->edge_stamp);
+    free(c->mesh.v);
+    free(c->mesh.convex);
+    free(c->mesh.edges);
+    free(c->mesh.grid_box);
+    free(c->mesh.grid_stamp);
+    free(c->mesh.grid_head);
+    free(c->mesh.grid_next);
+    free(c->mesh.grid_tri);
+    free(c->mesh.grid_key);
+    free(c->edge.tri);
+    free(c->edge.start);
+    free(c->edge.ent);
+    free(c->edge.stamp);
     free(c->edge_off.g);
     free(c);
 }
@@ -408,60 +399,6 @@ cloth_status dClothSetSpace(dClothID c, dSpaceID space)
     return CLOTH_OK;
 }
 
-int dcloth_geom_list_set(dClothID c, dcloth_geom_list *l, dGeomID g, int in, const char *who)
-{
-    int at = 0;
-    while (at < l->n && l->g[at] != g) at++;
-    if (!in) {
-        if (at < l->n) l->g[at] = l->g[--l->n];
-    } else if (at == l->n) {
-        if (l->n == l->cap) {
-            int cap = l->cap ? 2 * l->cap : 4;
-            dGeomID *p = realloc(l->g, (size_t)cap * sizeof *p);
-            if (!p) return dcloth_fail(c, CLOTH_ENOMEM, "%s: out of memory", who);
-            l->g = p;
-            l->cap = cap;
-        }
-        l->g[l->n++] = g;
-    }
-    dClothWake(c);
-    return CLOTH_OK;
-}
-
-int dcloth_geom_list_has(const dcloth_geom_list *l, dGeomID g)
-{
-    for (int k = 0; k < l->n; k++)
-        if (l->g[k] == g) return 1;
-    return 0;
-}
-
-cloth_status dClothSetTriangleTests(dClothID c, dGeomID g, int enable)
-{
-    if (!c) return CLOTH_EINVAL;
-    if (!g) return dcloth_fail(c, CLOTH_EINVAL, "dClothSetTriangleTests: geom is 0");
-    return dcloth_geom_list_set(c, &c->tri_off, g, !enable, "dClothSetTriangleTests");
-}
-
-int dClothGetTriangleTests(dClothID c, dGeomID g)
-{
-    return c && g && !dcloth_geom_list_has(&c->tri_off, g);
-}
-
-cloth_status dClothSetExactTriangleTests(dClothID c, dGeomID g, int enable)
-{
-    if (!c) return CLOTH_EINVAL;
-    if (!g) return dcloth_fail(c, CLOTH_EINVAL, "dClothSetExactTriangleTests: geom is 0");
-    if (dGeomGetClass(g) != dBoxClass)
-        return dcloth_fail(c, CLOTH_EINVAL, "dClothSetExactTriangleTests: the geom is not a box (class %d)",
-                           dGeomGetClass(g));
-    return dcloth_geom_list_set(c, &c->tri_exact, g, enable != 0, "dClothSetExactTriangleTests");
-}
-
-int dClothGetExactTriangleTests(dClothID c, dGeomID g)
-{
-    return c && g && dcloth_geom_list_has(&c->tri_exact, g);
-}
-
 cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dReal *points, int count)
 {
     if (!c) return CLOTH_EINVAL;
@@ -472,7 +409,8 @@ cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dReal *points, i
     if (count < 0 || (count > 0 && !points))
         return dcloth_fail(c, CLOTH_EINVAL, "dClothSetConvexPoints: %d points at %p", count, (const void *)points);
     for (int k = 0; k < 3 * count; k++)
-        if (!isfinite(points[k])) return dcloth_fail(c, CLOTH_EINVAL, "dClothSetConvexPoints: point %d is not finite", k / 3);
+        if (!isfinite(points[k]))
+            return dcloth_fail(c, CLOTH_EINVAL, "dClothSetConvexPoints: point %d is not finite", k / 3);
     int at = 0;
     while (at < c->ncvx && c->cvx[at].g != g) at++;
     if (!points || count == 0) { /* forget */

@@ -1,5 +1,5 @@
-/* The plugin's cloth object (dcloth.c), contact detection (contacts.c) and
- * the coupled step (coupling.c). */
+/* The plugin's cloth object (struct dxCloth) and what every stage of its
+ * step (step.c) shares: a vertex's contact, a pin, the tolerances. */
 #ifndef ODECLOTH_DCLOTH_INTERNAL_H
 #define ODECLOTH_DCLOTH_INTERNAL_H
 
@@ -60,22 +60,12 @@ typedef struct vcontact {
     double sec_normal[3], sec_point[3], sec_gap, sec_thickness, sec_vbody[3];
 } vcontact;
 
-/* contacts.c: before contact (g, body, n, gap at point) is offered to
- * vertex contact vc (kept if deeper), note it, or vc's present contact if
- * it is to be replaced, as vc's opposite when the two geoms differ and
- * their normals oppose (DCLOTH_PINCH_COS) */
+/* DCLOTH_PINCH_COS decides when two contacts' normals oppose (a pinch) */
 #define DCLOTH_PINCH_COS 0.5
-void dcloth_offer_opposite(vcontact *vc, dGeomID g, dBodyID body, const double n[3], double gap,
-                           const double point[3]);
-
-/* contacts.c: a contact vc does not keep, offered as its second surface: kept if g is
- * static or kinematic (vc's own geom too: an edge's plane), the normals neither oppose
- * (the pinch's) nor lie within DCLOTH_SECOND_COS (their line ill-posed), deepest so far */
+/* and DCLOTH_SECOND_COS when two planes lie too near parallel to be a second surface */
 #define DCLOTH_SECOND_COS 0.99
-void dcloth_offer_second(vcontact *vc, dGeomID g, double t, dBodyID body, const double n[3], const double point[3],
-                         double gap);
 
-/* A set of geoms (dcloth.c): g[0..n) */
+/* A set of geoms (geom_lists.c): g[0..n) */
 typedef struct dcloth_geom_list {
     dGeomID *g;
     int n, cap;
@@ -91,55 +81,19 @@ typedef struct vpin {
 
 struct dxCloth {
     cloth *core;
-    dWorldID world;
-    dSpaceID space;
-    dGeomID box;         /* broadphase proxy: the cloth's swept AABB        */
-    dGeomID sphere;      /* narrowphase proxy: one vertex                    */
-    dGeomID ray;         /* narrowphase proxy over heightfields              */
-    double thickness, mu;
-    unsigned long category, collide;
     int n, ntri;
     int *tri;            /* 3 ntri                                          */
-    unsigned tri_query;  /* triangle queries so far (vcontact's query)       */
-    double *share_sum;   /* n: per lead, a triangle contact's force (workspace) */
-    vcontact *vc, *vc_new; /* n: committed and candidate contact states      */
-    vpin *pin;           /* n                                               */
-    double *fext;        /* 3n: the user's forces plus sliding friction, handed
-                            to the core for the step                        */
-    double *fuser;       /* 3n: the core's own external forces (the user's),
-                            put back after each step                        */
-    double *fadd;        /* 3n: dClothAddVertexForce's, for the next step    */
-    double *x0;          /* 3n: positions at the step's start               */
-    double *v0;          /* 3n: velocities at the step's start              */
-    double *vfix;        /* 3n: velocities after the step's contact fix-up  */
-    dBodyID *holder;     /* n: the body that takes each vertex's force, or 0 */
-    dBodyID *turn_bodies; /* n: the moving bodies the turn moves (workspace) */
-    double *turn_dv;     /* 3n: the turn's velocity change (workspace)      */
-    cloth_state *save;   /* the core's state at the step's start (re-solves) */
-    dGeomID *cand;       /* candidate geoms of the step                     */
-    int ncand, cand_cap;
-    /* each candidate's mu and thickness this step (surf[a] for cand[a]),
-     * a scratch copy for a broadphase redone wider, and the largest
-     * thickness the surface callback has given since it was set */
-    struct dcloth_surf {
-        dGeomID g;
-        double mu, thickness;
-    } *surf, *surf_old;
-    int surf_cap;
-    double surf_tmax;
-    int tri_hits;        /* vertex contacts set by triangle tests this step  */
-    /* moving bodies solved with the cloth this step (coupling.c) */
+    /* configuration: what the user set */
+    dWorldID world;
+    dSpaceID space;
+    double thickness, mu;
+    unsigned long category, collide;
     int implicit;        /* 1: couple dynamic bodies implicitly (default)   */
     dClothFailureMode on_failure; /* what a failed solve gives (dcloth.h)   */
-    int held_run;        /* steps held in a row: each retries the next in one
-                            more substep halving (coupling.c)               */
     dClothFrictionFn *friction_fn; /* per-geom friction (NULL: mu for all)  */
     void *friction_data;
     dClothSurfaceFn *surface_fn;   /* per-geom mu and thickness (NULL: none) */
     void *surface_data;
-    dBodyID *bodies;
-    cloth_body *bdesc;
-    int nbodies, bodies_cap;
     /* convex geoms' points, for triangle tests (dClothSetConvexPoints) */
     struct cvx_points {
         dGeomID g;
@@ -151,39 +105,13 @@ struct dxCloth {
     dcloth_geom_list tri_off;
     /* boxes whose triangle tests are decided by the geometry (dClothSetExactTriangleTests) */
     dcloth_geom_list tri_exact;
-    /* a trimesh's triangles this step (triangles.c): 9 world coordinates
-     * and 3 edge flags (1: the surface turns convexly there, or ends) each,
-     * and the edges for matching neighbours */
-    double *mesh_v;
-    unsigned char *mesh_convex;
-    struct mesh_edge {
-        double a[3], b[3]; /* the ends, a before b (lexicographic)         */
-        int tri, e;        /* triangle j, edge e (from corner e to e + 1)  */
-    } *mesh_edges;
-    int mesh_cap;
-    /* the cloth's triangles in a hash grid, for a mesh's (triangles.c) */
-    double *grid_box;    /* 6 per cloth triangle: its box, grown          */
-    int *grid_stamp;     /* per cloth triangle: the last mesh triangle + 1 */
-    int *grid_head;      /* per bucket: its first entry, -1 if none       */
-    int *grid_next, *grid_tri;
-    long long *grid_key;
-    int grid_nbuck, grid_cap;
-    /* a box's or trimesh's triangles for the link tests (edges.c): 9 world
-     * coordinates each, then 6 box bounds each */
-    double *edge_tri;
-    int edge_cap;
-    int *edge_start, *edge_ent, *edge_stamp; /* their grid (edges.c) and a stamp each */
-    int edge_start_cap, edge_ent_cap, edge_stamp_cap;
-    int edge_hits;       /* vertex contacts set by link tests this step     */
     dcloth_geom_list edge_off; /* geoms whose link tests are off (dClothSetEdgeTests) */
-    /* the bodies this step touched, each as it was before (world.c) */
-    struct body_rec {
-        dBodyID b;
-        dReal f[3], t[3], lv[3], av[3];
-    } *journal;
-    int njournal, journal_cap;
-    /* the cloth's whole state before a step, for dClothWorldStep's undo (world.c) */
-    struct dClothState *undo;
+    /* carried from one step to the next (dClothSave copies these, and surf_tmax) */
+    vcontact *vc, *vc_new; /* n: committed and candidate contact states      */
+    vpin *pin;           /* n                                               */
+    double *fadd;        /* 3n: dClothAddVertexForce's, for the next step    */
+    int held_run;        /* steps held in a row: each retries the next in one
+                            more substep halving (body_coupling.c)          */
     /* sleeping (sleep.c): the settings and state, and the geoms near it
      * when it fell asleep (sleep.n of them) */
     struct sleep_state {
@@ -195,8 +123,85 @@ struct dxCloth {
                                  geom itself in sleep_ids                   */
     dGeomID *sleep_ids;
     int sleep_cap;
-    dClothStepStats stats;
-    char err[256];
+    dClothStepStats stats; /* the last step's                                 */
+    char err[256];         /* the last failed call's message                  */
+    /* the cloth's whole state before a step, for dClothWorldStep's undo (world_step.c) */
+    struct dClothState *undo;
+    /* the step's (step.c): its start, to solve it again from */
+    double *fext;        /* 3n: the user's forces plus sliding friction, handed
+                            to the core for the step                        */
+    double *fuser;       /* 3n: the core's own external forces (the user's),
+                            put back after each step                        */
+    double *x0;          /* 3n: positions at the step's start               */
+    double *v0;          /* 3n: velocities at the step's start              */
+    cloth_state *save;   /* the core's state at the step's start (re-solves) */
+    /* the broadphase's (broadphase.c) */
+    dGeomID box;         /* broadphase proxy: the cloth's swept AABB        */
+    dGeomID *cand;       /* candidate geoms of the step                     */
+    int ncand, cand_cap;
+    /* each candidate's mu and thickness this step (surf[a] for cand[a]),
+     * a scratch copy for a broadphase redone wider, and the largest
+     * thickness the surface callback has given since it was set */
+    struct dcloth_surf {
+        dGeomID g;
+        double mu, thickness;
+    } *surf, *surf_old;
+    int surf_cap;
+    double surf_tmax;
+    /* the vertex tests' (vertex_contacts.c) */
+    dGeomID sphere;      /* narrowphase proxy: one vertex                    */
+    dGeomID ray;         /* narrowphase proxy over heightfields              */
+    /* the triangle tests' (triangles.c, triangle_query.c) */
+    unsigned tri_query;  /* triangle queries so far (vcontact's query)       */
+    int tri_hits;        /* vertex contacts set by triangle tests this step  */
+    /* mesh_contacts.c's scratch: a trimesh's triangles this step, 9 world
+     * coordinates and 3 edge flags (1: the surface turns convexly there, or
+     * ends) each, and the edges for matching neighbours; then the cloth's
+     * triangles in a hash grid, for the mesh's */
+    struct mesh_scratch {
+        double *v;
+        unsigned char *convex;
+        struct mesh_edge {
+            double a[3], b[3]; /* the ends, a before b (lexicographic)         */
+            int tri, e;        /* triangle j, edge e (from corner e to e + 1)  */
+        } *edges;
+        int cap;
+        double *grid_box;    /* 6 per cloth triangle: its box, grown          */
+        int *grid_stamp;     /* per cloth triangle: the last mesh triangle + 1 */
+        int *grid_head;      /* per bucket: its first entry, -1 if none       */
+        int *grid_next, *grid_tri;
+        long long *grid_key;
+        int grid_nbuck, grid_cap;
+    } mesh;
+    /* edges.c's scratch: a box's or trimesh's triangles for the link tests,
+     * 9 world coordinates each, then 6 box bounds each; their grid and a
+     * stamp each */
+    struct edge_scratch {
+        double *tri;
+        int cap;
+        int *start, *ent, *stamp;
+        int start_cap, ent_cap, stamp_cap;
+    } edge;
+    int edge_hits;       /* vertex contacts set by link tests this step     */
+    /* the active set's (active_set.c) */
+    double *share_sum;   /* n: per lead, a triangle contact's force (workspace) */
+    /* the moving bodies solved with the cloth this step (body_coupling.c) */
+    dBodyID *bodies;
+    cloth_body *bdesc;
+    int nbodies, bodies_cap;
+    /* the reactions' (reactions.c, momentum.c) */
+    double *vfix;        /* 3n: velocities after the step's contact fix-up  */
+    dBodyID *holder;     /* n: the body that takes each vertex's force, or 0 */
+    dBodyID *turn_bodies; /* n: the moving bodies the turn moves (workspace) */
+    double *turn_dv;     /* 3n: the turn's velocity change (workspace)      */
+    /* journal.c's: the bodies this step touched, each as it was before */
+    struct body_journal {
+        struct body_rec {
+            dBodyID b;
+            dReal f[3], t[3], lv[3], av[3];
+        } *rec;
+        int n, cap;
+    } journal;
 };
 
 /* save.c: a snapshot of a cloth (dClothSave); statefile.c reads and writes
@@ -231,7 +236,7 @@ cloth_status dcloth_read_state(dClothID c, const char *name, const unsigned char
 
 /* A vertex within this fraction of the thickness of touching at the end of
  * the step (predicted) is held on the surface, so a resting vertex stays in
- * contact instead of falling free every other step (coupling.c). */
+ * contact instead of falling free every other step (contact_rule.c). */
 #define DCLOTH_CONTACT_SLOP 0.1
 
 static inline double dcloth_dot3(const double *a, const double *b)
@@ -239,16 +244,16 @@ static inline double dcloth_dot3(const double *a, const double *b)
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-/* coupling.c: a held run retries in at most this many substep halvings,
+/* body_coupling.c: a held run retries in at most this many substep halvings,
  * so held_run never exceeds it (statefile.c checks it on reading). */
 #define DCLOTH_HOLD_MAX_HALVINGS 16
 
-/* dcloth.c: put g in list l (in nonzero) or take it out, and wake the
+/* geom_lists.c: put g in list l (in nonzero) or take it out, and wake the
  * cloth; CLOTH_ENOMEM (reported for `who`) when memory ran out */
 int dcloth_geom_list_set(dClothID c, dcloth_geom_list *l, dGeomID g, int in, const char *who);
 int dcloth_geom_list_has(const dcloth_geom_list *l, dGeomID g);
 
-/* Set c->err and return code (printf-style). */
+/* fail.c: set c->err and return code (printf-style). */
 cloth_status dcloth_fail(dClothID c, cloth_status code, const char *fmt, ...);
 
 /* dcloth.c: geom g's mu and thickness for this step: the cloth's, changed
@@ -261,67 +266,8 @@ void dcloth_surface(dClothID c, dGeomID g, double *mu, double *thickness);
 #define DCLOTH_THICKNESS_MIN 1e-6
 #define DCLOTH_THICKNESS_MAX 10.0
 
-/* contacts.c: for the step of h seconds, every vertex's nearest surface
- * among the candidate geoms of c->space, into c->vc_new (geom 0 where there
- * is none within reach). Returns the number of candidate geoms, or -1 when
- * memory for the candidate list ran out. */
-int dcloth_find_contacts(dClothID c, double h);
-/* Vertices with no contact this step whose end positions x1 lie deeper in
- * a candidate geom's shell than `depth` of its thickness: given that
- * contact (the shell's plane there, its gap measured from x0); how many */
-int dcloth_find_late_contacts(dClothID c, const double *x0, const double *x1, double depth);
-/* contacts.c: the broadphase alone, reaching `reach` m further: c->cand,
- * c->ncand (and vc_new cleared); the count or -1 as above. */
-int dcloth_find_candidates(dClothID c, double h, double reach);
-/* an upper bound of the speed of any point of geom g (0 without a body) */
-double dcloth_geom_speed(dGeomID g);
-/* the speed of a vertex (x, v) relative to body b's point at x (b 0: |v|) */
-void dcloth_relative_velocity(dBodyID b, const double *x, const double *v, double r[3]);
-double dcloth_relative_speed(dBodyID b, const double *x, const double *v);
-
 /* A sleeping cloth watches this far around it (m): a body moving toward it
  * faster than this per step may reach it before it wakes. */
 #define DCLOTH_WAKE_REACH 0.25
-
-/* world.c: note body b's force, torque and velocities before this step
- * first changes them (0, or -1 on no memory: then the step must not change
- * b); the journal is emptied at each step's start. */
-int dcloth_touch(dClothID c, dBodyID b);
-
-/* sleep.c: before a step, 1 if the cloth sleeps through it (then the step
- * is done: forces re-applied, stats set), -1 on no memory; after a solved
- * step, whether it now falls asleep. */
-int dcloth_sleep_before(dClothID c, double h, double t0);
-void dcloth_sleep_after(dClothID c);
-
-/* momentum.c: after a solved step, the torque (N m) the cloth's angular momentum change calls for
- * beyond its forces and the constraints' shares of the leftover force F */
-void dcloth_leftover_torque(dClothID c, double h, const double F[3], double wsum, double T[3]);
-/* eigen6.c: eigenvalues d and orthonormal eigenvectors (columns of V) of
- * the symmetric 6x6 matrix A, destroyed (cyclic Jacobi rotations) */
-void dcloth_eigen6(double A[6][6], double d[6], double V[6][6]);
-/* momentum.c: change the angular momentum of the cloth and its moving holders by dL (N m s), the rigid
- * turn of least energy their joints and the cloth's other constraints allow (docs/contacts.md); done:
- * the change made; -1 (nothing done) if a body's journal ran out of memory */
-int dcloth_turn(dClothID c, const double dL[3], double done[3]);
-/* momentum.c: after a solved step, take the moving bodies' share of the leftover torque out by the turn;
- * sets c->holder, R (each body gets -w R, w its vertices' shares) and st's turned and couple */
-void dcloth_leftover(dClothID c, double h, const double F[3], double wsum, double R[3], dClothStepStats *st);
-/* vertex_force.c: the force (N) vertex i's constraint puts on its body, with its share by force size of
- * the leftover force F (the share returned: 0 unless that body moves) */
-double dcloth_vertex_force(dClothID c, int i, const double F[3], double wsum, double f[3]);
-/* vertex_force.c: the body that takes vertex i's force f: its pin's or contact's, or when pinched and
- * pushed toward that contact's body, the opposite one; 0 for none */
-dBodyID dcloth_force_body(dClothID c, int i, const double f[3]);
-/* vertex_force.c: vertex i's contact force (N) without its second plane's (a static or kinematic geom) */
-void dcloth_first_force(cloth *core, int i, double f[3]);
-/* vertex_force.c: 1 + the index of the body solved with the cloth holding vertex i's constraint, or 0 */
-int dcloth_held_by_coupled(dClothID c, int i);
-
-/* triangles.c: cloth triangles against a box, capsule or cylinder (libccd)
- * over a step of h seconds, with the geom's surface s;
- * sets deeper contacts of the triangles' vertices in c->vc_new. Returns the
- * number of vertex contacts it set (0 for other classes). */
-int dcloth_triangle_contacts(dClothID c, const struct dcloth_surf *s, double h);
 
 #endif

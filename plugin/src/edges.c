@@ -5,7 +5,11 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "body_motion.h"
+#include "contact_offers.h"
 #include "edges.h"
+#include "geom_support.h"
+#include "geom_triangles.h"
 
 /* A link's middle counts as nearer than an end below this fraction of
  * their squared distance, and ties with it within it */
@@ -99,44 +103,19 @@ static int segment_meets(const double *a, const double *b, const double *t)
     return v >= 0.0 && u + v <= 1.0 && s >= 0.0 && s <= 1.0;
 }
 
-/* The geom's triangles, world frame, into c->edge_tri (9 each) with their
+/* The geom's triangles, world frame, into c->edge.tri (9 each) with their
  * boxes (6 each); how many, or -1 when memory ran out. */
 static int fetch_triangles(dClothID c, dGeomID g, int cls)
 {
-    int nt = cls == dBoxClass ? 12 : dGeomTriMeshGetTriangleCount(g);
-    if (nt > c->edge_cap) {
-        double *p = realloc(c->edge_tri, 15 * (size_t)nt * sizeof *p);
+    int nt = dcloth_geom_triangle_count(g, cls);
+    if (nt > c->edge.cap) {
+        double *p = realloc(c->edge.tri, 15 * (size_t)nt * sizeof *p);
         if (!p) return -1;
-        c->edge_tri = p;
-        c->edge_cap = nt;
+        c->edge.tri = p;
+        c->edge.cap = nt;
     }
-    double *tb = c->edge_tri, *box = c->edge_tri + 9 * (size_t)nt;
-    if (cls == dBoxClass) {
-        dVector3 L;
-        dGeomBoxGetLengths(g, L);
-        const dReal *o = dGeomGetPosition(g), *R = dGeomGetRotation(g);
-        double corner[8][3];
-        for (int k = 0; k < 8; k++) {
-            double l[3] = {(k & 1 ? 0.5 : -0.5) * L[0], (k & 2 ? 0.5 : -0.5) * L[1], (k & 4 ? 0.5 : -0.5) * L[2]};
-            for (int r = 0; r < 3; r++)
-                corner[k][r] = o[r] + R[4 * r] * l[0] + R[4 * r + 1] * l[1] + R[4 * r + 2] * l[2];
-        }
-        /* face (axis a, side s): its corners in turn around it, two triangles */
-        for (int a = 0; a < 3; a++)
-            for (int s = 0; s < 2; s++) {
-                int u = 1 << ((a + 1) % 3), v = 1 << ((a + 2) % 3), base = s << a;
-                int q[4] = {base, base | u, base | u | v, base | v};
-                int f = 2 * (2 * a + s), tri[2][3] = {{q[0], q[1], q[2]}, {q[0], q[2], q[3]}};
-                for (int m = 0; m < 2; m++)
-                    for (int e = 0; e < 3; e++) memcpy(tb + 9 * (f + m) + 3 * e, corner[tri[m][e]], sizeof corner[0]);
-            }
-    } else {
-        for (int j = 0; j < nt; j++) {
-            dVector3 a, b, e;
-            dGeomTriMeshGetTriangle(g, j, &a, &b, &e);
-            for (int r = 0; r < 3; r++) tb[9 * j + r] = a[r], tb[9 * j + 3 + r] = b[r], tb[9 * j + 6 + r] = e[r];
-        }
-    }
+    double *tb = c->edge.tri, *box = c->edge.tri + 9 * (size_t)nt;
+    dcloth_geom_triangles(g, cls, nt, tb);
     for (int j = 0; j < nt; j++)
         for (int r = 0; r < 3; r++) {
             const double *t = tb + 9 * j;
@@ -183,7 +162,7 @@ static void cell_range(const tri_grid *gr, const double *lo, const double *hi, i
  * gr; -1 when memory ran out. */
 static int grid_build(dClothID c, int nt, tri_grid *gr)
 {
-    const double *box = c->edge_tri + 9 * (size_t)nt;
+    const double *box = c->edge.tri + 9 * (size_t)nt;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, size = 0.0;
     for (int j = 0; j < nt; j++) {
         double e = 0.0;
@@ -206,8 +185,8 @@ static int grid_build(dClothID c, int nt, tri_grid *gr)
     }
     if (!isfinite(gr->cell)) gr->cell = 1.0; /* one cell */
     gr->nt = nt;
-    if (ensure(&c->edge_start, &c->edge_start_cap, (int)ncell + 1) < 0) return -1;
-    int *start = c->edge_start;
+    if (ensure(&c->edge.start, &c->edge.start_cap, (int)ncell + 1) < 0) return -1;
+    int *start = c->edge.start;
     memset(start, 0, ((size_t)ncell + 1) * sizeof *start);
     for (int pass = 0; pass < 2; pass++) {
         for (int j = 0; j < nt; j++) {
@@ -219,20 +198,20 @@ static int grid_build(dClothID c, int nt, tri_grid *gr)
                 for (int y = c0[1]; y <= c1[1]; y++)
                     for (int x = c0[0]; x <= c1[0]; x++) {
                         int k = x + gr->dim[0] * (y + gr->dim[1] * z);
-                        if (pass) c->edge_ent[start[k]++] = j;
+                        if (pass) c->edge.ent[start[k]++] = j;
                         else start[k + 1]++;
                     }
         }
         if (pass) break;
         for (long long k = 0; k < ncell; k++) start[k + 1] += start[k];
-        if (ensure(&c->edge_ent, &c->edge_ent_cap, start[ncell] > 0 ? start[ncell] : 1) < 0) return -1;
+        if (ensure(&c->edge.ent, &c->edge.ent_cap, start[ncell] > 0 ? start[ncell] : 1) < 0) return -1;
     }
     for (long long k = ncell; k > 0; k--) start[k] = start[k - 1]; /* the fill moved each start to the next */
     start[0] = 0;
     gr->start = start;
-    gr->ent = c->edge_ent;
-    if (ensure(&c->edge_stamp, &c->edge_stamp_cap, nt) < 0) return -1;
-    if (nt > 0) memset(c->edge_stamp, 0, (size_t)nt * sizeof *c->edge_stamp);
+    gr->ent = c->edge.ent;
+    if (ensure(&c->edge.stamp, &c->edge.stamp_cap, nt) < 0) return -1;
+    if (nt > 0) memset(c->edge.stamp, 0, (size_t)nt * sizeof *c->edge.stamp);
     return 0;
 }
 
@@ -242,7 +221,7 @@ static int grid_build(dClothID c, int nt, tri_grid *gr)
 static int link_query(const dClothID c, const tri_grid *gr, int stamp, int tie, const double *a, const double *b,
                       double r, double *d2, double p[3], double q[3])
 {
-    const double *tb = c->edge_tri, *box = c->edge_tri + 9 * (size_t)gr->nt;
+    const double *tb = c->edge.tri, *box = c->edge.tri + 9 * (size_t)gr->nt;
     double lo[3], hi[3], end_a = INFINITY, end_b = INFINITY, mid = INFINITY;
     int c0[3], c1[3];
     for (int k = 0; k < 3; k++) lo[k] = fmin(a[k], b[k]) - r, hi[k] = fmax(a[k], b[k]) + r;
@@ -254,10 +233,10 @@ static int link_query(const dClothID c, const tri_grid *gr, int stamp, int tie, 
                 for (int m = gr->start[k]; m < gr->start[k + 1]; m++) {
                     int j = gr->ent[m];
                     const double *bx = box + 6 * j, *t = tb + 9 * j;
-                    if (c->edge_stamp[j] == stamp || bx[1] < lo[0] || bx[0] > hi[0] || bx[3] < lo[1] ||
+                    if (c->edge.stamp[j] == stamp || bx[1] < lo[0] || bx[0] > hi[0] || bx[3] < lo[1] ||
                         bx[2] > hi[1] || bx[5] < lo[2] || bx[4] > hi[2])
                         continue;
-                    c->edge_stamp[j] = stamp;
+                    c->edge.stamp[j] = stamp;
                     if (segment_meets(a, b, t)) return 0;
                     double ea = point_triangle(a, t, t + 3, t + 6), eb = point_triangle(b, t, t + 3, t + 6);
                     end_a = fmin(end_a, ea);
@@ -282,38 +261,11 @@ static int link_query(const dClothID c, const tri_grid *gr, int stamp, int tie, 
     return 1;
 }
 
-/* A convex's points (its frame) and a segment grown by r, as libccd shapes */
-typedef struct cvx_shape {
-    dGeomID g;
-    const double *p;
-    int n;
-} cvx_shape;
+/* A segment grown by r, as a libccd shape */
 typedef struct seg_shape {
     const double *a, *b;
     double r;
 } seg_shape;
-
-static void cvx_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out)
-{
-    const cvx_shape *s = obj;
-    const dReal *o = dGeomGetPosition(s->g), *R = dGeomGetRotation(s->g);
-    const double *d = dir->v;
-    double l[3], best = -INFINITY;
-    int at = 0;
-    for (int k = 0; k < 3; k++) l[k] = R[k] * d[0] + R[4 + k] * d[1] + R[8 + k] * d[2];
-    for (int j = 0; j < s->n; j++) {
-        double e = dcloth_dot3(s->p + 3 * j, l);
-        if (e > best) best = e, at = j;
-    }
-    const double *q = s->p + 3 * at;
-    for (int k = 0; k < 3; k++) out->v[k] = o[k] + R[4 * k] * q[0] + R[4 * k + 1] * q[1] + R[4 * k + 2] * q[2];
-}
-
-static void cvx_center(const void *obj, ccd_vec3_t *out)
-{
-    const dReal *o = dGeomGetPosition(((const cvx_shape *)obj)->g);
-    for (int k = 0; k < 3; k++) out->v[k] = o[k];
-}
 
 static void seg_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out)
 {
@@ -331,7 +283,7 @@ static void seg_center(const void *obj, ccd_vec3_t *out)
 
 /* The distance from the convex to segment [a, b] if under r (0 or less:
  * they meet), with n the way out of the convex toward it; INFINITY if not */
-static double convex_distance(const cvx_shape *cv, const double *a, const double *b, double r, ccd_t *ccd,
+static double convex_distance(const dcloth_geom_shape *cv, const double *a, const double *b, double r, ccd_t *ccd,
                               double n[3])
 {
     seg_shape sg = {a, b, r};
@@ -347,7 +299,7 @@ static double convex_distance(const cvx_shape *cv, const double *a, const double
 /* Link [a, b] against convex cv within reach r, as link_query: 1 if its
  * middle is nearer than its ends by more than EPA's tolerance (tol), then
  * n and q, a point of the convex's supporting plane along n. */
-static int convex_query(const cvx_shape *cv, const double *a, const double *b, double r, double tol, ccd_t *ccd,
+static int convex_query(const dcloth_geom_shape *cv, const double *a, const double *b, double r, double tol, ccd_t *ccd,
                         double n[3], double q[3])
 {
     double na[3], nb[3];
@@ -356,7 +308,7 @@ static int convex_query(const cvx_shape *cv, const double *a, const double *b, d
     double ends = fmin(convex_distance(cv, a, a, r, ccd, na), convex_distance(cv, b, b, r, ccd, nb));
     if (!(mid < ends - tol)) return 0;
     ccd_vec3_t d = {{n[0], n[1], n[2]}}, sp;
-    cvx_support(cv, &d, &sp);
+    dcloth_geom_support(cv, &d, &sp);
     for (int k = 0; k < 3; k++) q[k] = sp.v[k];
     return 1;
 }
@@ -381,24 +333,9 @@ static int offer(dClothID c, int i, const struct dcloth_surf *sf, dBodyID body, 
         return 0;
     }
     vcontact was = *vc;
-    vc->geom = sf->g;
-    vc->thickness = sf->thickness;
-    vc->mu = sf->mu;
-    vc->body = body;
-    for (int r = 0; r < 3; r++) {
-        vc->normal[r] = n[r];
-        vc->point[r] = x[r] - height * n[r];
-        vc->vbody[r] = 0.0;
-    }
-    if (body) { /* the body's velocity under the vertex, as for its own contacts */
-        dVector3 pv;
-        dBodyGetPointVel(body, vc->point[0], vc->point[1], vc->point[2], pv);
-        for (int r = 0; r < 3; r++) vc->vbody[r] = pv[r];
-    }
-    vc->gap = gap;
+    dcloth_set_contact(vc, sf, body, n, p, gap);
     vc->from_triangle = 1; /* a shared contact: the triangles' release rules */
     vc->tri = -1;          /* a link's, not one triangle's: judged per vertex */
-    vc->weight = 1.0;
     if (was.geom) /* the plane replaced, the second */
         dcloth_offer_second(vc, was.geom, was.thickness, was.body, was.normal, was.point, was.gap);
     return 1;
@@ -416,10 +353,9 @@ static int left_alone(dClothID c, int i, dGeomID g, dBodyID b, int newton)
 int dcloth_edge_contacts(dClothID c, const struct dcloth_surf *sf, double h, double extra)
 {
     dGeomID g = sf->g;
-    int cls = dGeomGetClass(g), k = 0;
-    while (k < c->ncvx && c->cvx[k].g != g) k++;
-    cvx_shape cv = {g, k < c->ncvx ? c->cvx[k].p : NULL, k < c->ncvx ? c->cvx[k].n : 0};
-    if (cls == dConvexClass && cv.n == 0) return 0; /* no points handed over */
+    dcloth_geom_shape cv;
+    int cls = dGeomGetClass(g);
+    if (!dcloth_geom_shape_of(c, g, &cv) && cls == dConvexClass) return 0; /* no points handed over */
     if ((cls != dBoxClass && cls != dTriMeshClass && cls != dConvexClass) || dClothGetTriangleTests(c, g) ||
         !dClothGetEdgeTests(c, g))
         return 0;
@@ -428,7 +364,8 @@ int dcloth_edge_contacts(dClothID c, const struct dcloth_surf *sf, double h, dou
     if (nt < 0 || (cls != dConvexClass && grid_build(c, nt, &gr) < 0)) return -1;
     ccd_t ccd;
     CCD_INIT(&ccd);
-    ccd.support1 = cvx_support, ccd.support2 = seg_support, ccd.center1 = cvx_center, ccd.center2 = seg_center;
+    ccd.support1 = dcloth_geom_support, ccd.support2 = seg_support;
+    ccd.center1 = dcloth_geom_center, ccd.center2 = seg_center;
     ccd.max_iterations = 40;
     ccd.epa_tolerance = EDGE_EPA * sf->thickness;
     dReal aabb[6];
@@ -462,17 +399,4 @@ int dcloth_edge_contacts(dClothID c, const struct dcloth_surf *sf, double h, dou
         if (!c->pin[L.j].active) hits += offer(c, L.j, sf, body, n, q);
     }
     return hits;
-}
-
-
-cloth_status dClothSetEdgeTests(dClothID c, dGeomID g, int enable)
-{
-    if (!c) return CLOTH_EINVAL;
-    if (!g) return dcloth_fail(c, CLOTH_EINVAL, "dClothSetEdgeTests: geom is 0");
-    return dcloth_geom_list_set(c, &c->edge_off, g, !enable, "dClothSetEdgeTests");
-}
-
-int dClothGetEdgeTests(dClothID c, dGeomID g)
-{
-    return c && g && !dcloth_geom_list_has(&c->edge_off, g);
 }

@@ -2,6 +2,7 @@
  * turns: their momenta and constraints). */
 #include <math.h>
 #include "dcloth_internal.h"
+#include "eigen6.h"
 
 void dcloth_eigen6(double A[6][6], double d[6], double V[6][6])
 {

@@ -2,10 +2,14 @@
  * dampers and compression are not central at the end-of-step positions,
  * backward Euler measures the change at the start's, the solves stop at a
  * tolerance), and the rigid turn of least energy that takes it out of the
- * cloth and the moving bodies holding it, together (coupling.c). */
+ * cloth and the moving bodies holding it, together (reactions.c). */
 #include <math.h>
 #include <string.h>
 #include "dcloth_internal.h"
+#include "eigen6.h"
+#include "journal.h"
+#include "momentum.h"
+#include "vertex_force.h"
 
 static void cross_add(const double *r, const double *f, double s, double *t)
 {
@@ -308,21 +312,3 @@ int dcloth_turn(dClothID c, const double dL[3], double done[3])
     return ok ? 0 : -1;
 }
 
-void dcloth_leftover(dClothID c, double h, const double F[3], double wsum, double R[3], dClothStepStats *st)
-{
-    double T[3], W = 0.0, f[3];
-    for (int i = 0; i < c->n; i++) {
-        c->holder[i] = 0;
-        if (!c->pin[i].active && !c->vc_new[i].active) continue;
-        W += dcloth_vertex_force(c, i, F, wsum, f);
-        c->holder[i] = dcloth_force_body(c, i, f);
-    }
-    dcloth_leftover_torque(c, h, F, wsum, T);
-    double dL[3] = {-h * W * T[0], -h * W * T[1], -h * W * T[2]}, done[3] = {0.0, 0.0, 0.0};
-    if (W > 0.0) dcloth_turn(c, dL, done);
-    for (int r = 0; r < 3; r++) {
-        R[r] = W > 0.0 ? T[r] + done[r] / (h * W) : 0.0;
-        st->turned[r] = -done[r]; /* done is the change the turn made: -(what it took out) */
-        st->couple[r] = -W * R[r];
-    }
-}

@@ -7,30 +7,9 @@
 #include <string.h>
 #include <time.h>
 #include "dcloth_internal.h"
-
-cloth_status dClothSetAutoSleep(dClothID c, int on, dReal speed, int steps)
-{
-    if (!c) return CLOTH_EINVAL;
-    if (on && (!(speed > 0.0) || !isfinite(speed)))
-        return dcloth_fail(c, CLOTH_EINVAL, "dClothSetAutoSleep: speed = %g must be finite and > 0", speed);
-    if (on && steps < 1) return dcloth_fail(c, CLOTH_EINVAL, "dClothSetAutoSleep: steps = %d must be >= 1", steps);
-    c->sleep.on = on != 0;
-    if (on) {
-        c->sleep.speed = speed;
-        c->sleep.steps = steps;
-    }
-    dClothWake(c);
-    return CLOTH_OK;
-}
-
-int dClothIsSleeping(dClothID c) { return c ? c->sleep.asleep : 0; }
-
-void dClothWake(dClothID c)
-{
-    if (!c) return;
-    c->sleep.asleep = 0;
-    c->sleep.still = 0;
-}
+#include "broadphase.h"
+#include "journal.h"
+#include "sleep.h"
 
 /* Does geom g's body move faster than the threshold anywhere on the geom?
  * (linear speed plus angular speed times the AABB's half diagonal) */

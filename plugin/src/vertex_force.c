@@ -1,8 +1,9 @@
 /* The force each constrained vertex puts on its body, and which body takes it
- * (dcloth_internal.h): shared by the step's reactions (coupling.c) and the
- * angular-momentum turn (momentum.c), which call nothing back. */
+ * (vertex_force.h): shared by the step's reactions (reactions.c), the
+ * angular-momentum turn (momentum.c) and the active set's peel. */
 #include <math.h>
 #include "dcloth_internal.h"
+#include "vertex_force.h"
 
 /* 1 + the index of the body solved with the cloth that holds vertex i's
  * constraint, or 0 if none does */

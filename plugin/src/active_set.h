@@ -1,0 +1,20 @@
+/* The active set (active_set.c): which pins and contacts hold in each solve of a step. */
+#ifndef ODECLOTH_ACTIVE_SET_H
+#define ODECLOTH_ACTIVE_SET_H
+
+#include "dcloth_internal.h"
+
+/* A step is solved at most this many times (its active set changing between solves) */
+#define DCLOTH_RESOLVE_PASSES 8
+
+/* This pass's constraints for the step of h seconds: pins, contacts by the contact rule, candidates,
+ * and the external forces with sliding friction; counted in st */
+void dcloth_constrain(dClothID c, double h, dClothStepStats *st);
+/* After the step's solve number `passes`: the contacts its result shows wrong changed for the next
+ * solve; how many (0: settled) */
+int dcloth_revise(dClothID c, double h, int passes, dClothStepStats *st);
+/* After the step (Newton): marks (let_go) each carrier of a triangle contact that, as a whole, pulled;
+ * the next step lets it go */
+void dcloth_mark_pulled_shares(dClothID c);
+
+#endif

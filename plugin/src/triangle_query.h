@@ -1,0 +1,41 @@
+/* One cloth triangle against one convex shape of a geom (triangle_query.c). */
+#ifndef ODECLOTH_TRIANGLE_QUERY_H
+#define ODECLOTH_TRIANGLE_QUERY_H
+
+#include <ccd/ccd.h>
+#include "dcloth_internal.h"
+#include "polytope.h"
+
+/* a triangle moving less than this, of the thickness, per step is at rest */
+#define SWEEP_NEGLIGIBLE 1e-3
+
+
+/* What one convex shape of geom g (the geom itself, or one triangle of a
+ * mesh) offers the cloth's triangles. */
+typedef struct convex_query {
+    const void *shape;
+    ccd_support_fn support;
+    ccd_center_fn center;
+    const double *face; /* a mesh triangle's outward unit normal, or NULL */
+    double out[3][3];   /* its edges' outward normals in its plane          */
+    const unsigned char *convex; /* its edges' flags (mesh_convex)         */
+    double aabb[6];   /* the shape's, world frame */
+    double span;      /* its diagonal */
+    dGeomID g;
+    dBodyID body;
+    const struct dcloth_surf *surf; /* the geom's mu and thickness this step */
+    int moving;       /* the geom moves more than SWEEP_NEGLIGIBLE per step */
+    int cls;          /* the geom's class (dTriMeshClass: face is set) */
+    const dcloth_polytope *poly; /* the shape as a polytope (an exact box), or NULL */
+} convex_query;
+
+/* libccd's support and centre of a cloth triangle grown by a radius (the query's second shape) */
+void dcloth_tri_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out);
+void dcloth_tri_center(const void *obj, ccd_vec3_t *out);
+/* Cloth triangle k against q's shape over the step of h seconds (ccd: libccd's loose query, fine: its tight
+ * one): sets its vertices' contacts where deeper than what they have; returns how many it set. */
+int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, ccd_t *ccd, ccd_t *fine);
+/* the diagonal of a box (6 bounds: x lo, x hi, y lo, ...) */
+double dcloth_diagonal(const double aabb[6]);
+
+#endif

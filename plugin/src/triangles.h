@@ -1,0 +1,13 @@
+/* Cloth triangles against convex geoms and trimeshes (triangles.c). */
+#ifndef ODECLOTH_TRIANGLES_H
+#define ODECLOTH_TRIANGLES_H
+
+#include "dcloth_internal.h"
+
+/* cloth triangles against a box, capsule, cylinder, convex or trimesh (libccd)
+ * over a step of h seconds, with the geom's surface s;
+ * sets deeper contacts of the triangles' vertices in c->vc_new. Returns the
+ * number of vertex contacts it set (0 for other classes). */
+int dcloth_triangle_contacts(dClothID c, const struct dcloth_surf *s, double h);
+
+#endif
