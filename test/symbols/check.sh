@@ -2,13 +2,17 @@
 # The shared libraries export exactly the functions their public headers
 # mark ODECLOTH_API: none missing (declared, not defined) and no internal
 # name leaked (defined and exported, not declared); and no function the
-# headers name that the library defines left unmarked (so hidden).
-# usage: check.sh SHARED STATIC HEADER... (a library, shared and static,
+# headers name that the library defines left unmarked (so hidden). The
+# installed static library defines globally only those functions too (its
+# internal names are local: a user's own functions cannot clash with them).
+# usage: check.sh SHARED INTERNAL PUBLIC_STATIC HEADER... (a library: shared,
+# the build's static archive of its objects, the installed static library;
 # and the headers it implements)
 set -u
 lib=$1
 static=$2
-shift 2
+public=$3
+shift 3
 if ! command -v nm >/dev/null; then
     echo "symbols: nm not found (binutils)"
     exit 1
@@ -29,6 +33,9 @@ defined=$(nm --defined-only "$static" 2>/dev/null | awk '$2 == "T" { print $3 }'
 named=$(echo "$code" | grep -o '[A-Za-z_][A-Za-z0-9_]*[[:space:]]*(' | sed -E 's/[[:space:]]*\($//' | sort -u)
 unmarked=$(comm -12 <(echo "$defined") <(echo "$named") | comm -23 - <(echo "$declared"))
 leaked=$(comm -23 <(echo "$exported") <(echo "$declared"))
+# every global the installed static library defines (functions and data)
+global=$(nm --defined-only --extern-only "$public" 2>/dev/null | awk 'NF == 3 { print $3 }' | sort -u)
+static_leaked=$(comm -23 <(echo "$global") <(echo "$declared"))
 status=0
 if [ -n "$missing" ]; then
     echo "symbols: declared ODECLOTH_API in the headers but not exported by $(basename "$lib"):"
@@ -45,5 +52,14 @@ if [ -n "$leaked" ]; then
     echo "$leaked" | sed 's/^/  /'
     status=1
 fi
-echo "symbols: $(basename "$lib"): $(echo "$exported" | wc -l) exported, $(echo "$declared" | wc -l) declared"
+if [ -z "$global" ]; then
+    echo "symbols: nothing read from $public"
+    status=1
+elif [ -n "$static_leaked" ]; then
+    echo "symbols: global in $(basename "$public") but not declared ODECLOTH_API in a public header:"
+    echo "$static_leaked" | sed 's/^/  /'
+    status=1
+fi
+echo "symbols: $(basename "$lib"): $(echo "$exported" | wc -l) exported, $(echo "$declared" | wc -l) declared;" \
+    "$(basename "$public"): $(echo "$global" | wc -l) global"
 exit $status
