@@ -11,41 +11,6 @@
 #include "vertex_contacts.h"
 #include "vertex_force.h"
 
-/* A free vertex that ends a step deeper than this fraction of the thickness
- * inside its shell makes the step be solved again with it held, up to
- * DCLOTH_RESOLVE_PASSES solves in all. 8, not 4: lifting a cloth off a box over
- * its edges, contacts let go in waves, one pass after another, and a step
- * whose budget ran out kept its last solve's strain: drape_table
- * --box-table, alpha 1 (--short) 0.0310 with 4; at --grid 41, 0.0405 with
- * 6 (one step took 7 solves, four took 5; delta 0.03); with 8, 0.0300. */
-#define RESOLVE_DEPTH 0.1
-/* a let-go spreads along the links (below) from the PEEL_AFTER-th solve
- * of a step */
-#define PEEL_AFTER 3
-
-/* A triangle's contact lets go of a vertex it pulls onto the body harder
- * than LETGO_PULL of the tension of a link at the elongation limit (k_t
- * delta l0, l0 the grid spacing), within the step: the vertex is left free
- * and the step solved again (one of the DCLOTH_RESOLVE_PASSES; a vertex let go
- * that then ends inside its shell is held again, forced). Never let go (as
- * it was), they held a cloth lifted off a box table by its corners until
- * its links tore (drape_table --box-table: strain 0.46, step 367). Not at
- * any pull: a cloth lying over an edge is bent there, and the rim vertices'
- * contacts hold them down against the bending. Measured at 0.15 (cotton
- * 21x21: 0.45 N, about 100 vertex weights): the 21x21 lift at the limit,
- * 0.0300; plugin_coupling's 0.5 kg box on a pinned cloth 0.19%, 0.14 mm/s;
- * an 81x81 cloth at rest on a box 56 ms a step (53 never letting go). A
- * threshold of 100 vertex weights instead (the first form) re-solved most
- * 81x81 steps (116 ms) and, with no gravity, let go at any pull and failed
- * a step. The 41x41 lift reaches 0.054 (open). Vertex contacts keep their
- * rule (contact_rule: let go the step after they pulled). */
-#define LETGO_PULL 0.15
-
-/* A link counts as past the elongation limit, for sliding its sticking
- * vertices, beyond (1 + delta)(1 + SLIP_STRAIN) of its rest length (the
- * projection's rounding); after a Newton step, beyond its limit_tolerance. */
-#define SLIP_STRAIN 1e-4
-
 /* a link's tension at the elongation limit (N): k_t delta l0, l0 the grid spacing */
 static double letgo_tension(const cloth_desc *cd)
 {

@@ -4,9 +4,6 @@
 
 #include "dcloth_internal.h"
 
-/* A step is solved at most this many times (its active set changing between solves) */
-#define DCLOTH_RESOLVE_PASSES 8
-
 /* This pass's constraints for the step of h seconds: pins, contacts by the contact rule, candidates,
  * and the external forces with sliding friction; counted in st */
 void dcloth_constrain(dClothID c, double h, dClothStepStats *st);

@@ -7,20 +7,6 @@
 #include "body_motion.h"
 #include "contact_rule.h"
 
-/* A triangle's contact held over from the last step sticks (static
- * friction) only on vertices that carry at least this barycentric weight of
- * the contact point; the others slide. Why: a triangle lying on an edge like
- * a plank, touching it next to one vertex, held its far vertex (weight 0.018, 4 cm above the table top) on
- * the triangle's plane; the cloth's links pulling that vertex toward the
- * table read as a normal force of 22-300 N on it, and friction that large
- * anchored it to the turning table: a lock that stretched its link to strain
- * 0.11 (soak_turntable, 13,225 of 100,000 steps over 0.035); sliding, the
- * vertex lets its links relax (0.0300, none over 0.035). A new contact
- * sticks whatever its weight, stopping the approach: sliding at first too,
- * a cylinder's rim came within 0 of a triangle at impact (plugin_colliders,
- * 0.114 mm with the rule as it is). */
-#define STICK_WEIGHT 0.1
-
 /* Pinched: the opposite contact's surface (another geom, facing this
  * one) would be entered by this contact's target. The vertex then
  * aims midway between the two targets along the normal, held (never

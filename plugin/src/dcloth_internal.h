@@ -4,6 +4,7 @@
 #define ODECLOTH_DCLOTH_INTERNAL_H
 
 #include "odecloth/dcloth.h"
+#include "tuning.h"
 
 /* dReal is double at the boundary: positions are handed out without copies. */
 typedef char dcloth_dreal_must_be_double[sizeof(dReal) == sizeof(double) ? 1 : -1];
@@ -59,11 +60,6 @@ typedef struct vcontact {
     dBodyID sec_body;
     double sec_normal[3], sec_point[3], sec_gap, sec_thickness, sec_vbody[3];
 } vcontact;
-
-/* DCLOTH_PINCH_COS decides when two contacts' normals oppose (a pinch) */
-#define DCLOTH_PINCH_COS 0.5
-/* and DCLOTH_SECOND_COS when two planes lie too near parallel to be a second surface */
-#define DCLOTH_SECOND_COS 0.99
 
 /* A set of geoms (geom_lists.c): g[0..n) */
 typedef struct dcloth_geom_list {
@@ -225,20 +221,6 @@ struct dClothState {
 cloth_status dcloth_read_state(dClothID c, const char *name, const unsigned char *buf, size_t len,
                                const dGeomID *geoms, int ngeoms, const dBodyID *bodies, int nbodies);
 
-/* Vertices and triangles are seen this fraction of the thickness beyond it:
- * one held exactly at the thickness is then still seen (a shape that only
- * touches reports no contact, so such a vertex fell free every other step). */
-#define DCLOTH_CONTACT_MARGIN 0.25
-
-/* Distances below this fraction of the thickness are rounding: a vertex the
- * last step put on its shell reads a gap of about -1e-17 m. */
-#define DCLOTH_TOUCH 1e-6
-
-/* A vertex within this fraction of the thickness of touching at the end of
- * the step (predicted) is held on the surface, so a resting vertex stays in
- * contact instead of falling free every other step (contact_rule.c). */
-#define DCLOTH_CONTACT_SLOP 0.1
-
 static inline double dcloth_dot3(const double *a, const double *b)
 {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
@@ -265,9 +247,5 @@ void dcloth_surface(dClothID c, dGeomID g, double *mu, double *thickness);
  * made libccd crash: found by plugin_fuzz_api). */
 #define DCLOTH_THICKNESS_MIN 1e-6
 #define DCLOTH_THICKNESS_MAX 10.0
-
-/* A sleeping cloth watches this far around it (m): a body moving toward it
- * faster than this per step may reach it before it wakes. */
-#define DCLOTH_WAKE_REACH 0.25
 
 #endif

@@ -11,10 +11,6 @@
 #include "geom_support.h"
 #include "geom_triangles.h"
 
-/* A link's middle counts as nearer than an end below this fraction of
- * their squared distance, and ties with it within it */
-#define EDGE_TIE 1e-6
-
 static void sub3(const double *a, const double *b, double *r)
 {
     for (int k = 0; k < 3; k++) r[k] = a[k] - b[k];
@@ -125,13 +121,9 @@ static int fetch_triangles(dClothID c, dGeomID g, int cls)
     return nt;
 }
 
-/* EPA's tolerance, of the thickness, for a link against a convex's points */
-#define EDGE_EPA 1e-6
-
 /* The fetched triangles bucketed in a uniform grid over their box, cells
- * of a triangle's mean size (at most GRID_DIM a side), so a link meets only
+ * of a triangle's mean size (at most EDGE_GRID_DIM a side), so a link meets only
  * the triangles near it. */
-#define GRID_DIM 64
 typedef struct tri_grid {
     double lo[3], cell;
     int dim[3], nt;
@@ -174,12 +166,12 @@ static int grid_build(dClothID c, int nt, tri_grid *gr)
         size += e / nt;
     }
     double ext = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
-    gr->cell = fmax(size, ext / GRID_DIM);
+    gr->cell = fmax(size, ext / EDGE_GRID_DIM);
     if (!(gr->cell > 0.0) || !isfinite(gr->cell) || !isfinite(ext)) gr->cell = INFINITY;
     long long ncell = 1;
     for (int k = 0; k < 3; k++) {
         double d = isfinite(gr->cell) ? floor((hi[k] - lo[k]) / gr->cell) + 1.0 : 1.0;
-        gr->dim[k] = d > GRID_DIM ? GRID_DIM : (int)d;
+        gr->dim[k] = d > EDGE_GRID_DIM ? EDGE_GRID_DIM : (int)d;
         gr->lo[k] = isfinite(lo[k]) ? lo[k] : 0.0;
         ncell *= gr->dim[k];
     }

@@ -218,15 +218,9 @@ static int grid_build(dClothID c, const convex_query *q, double h, double geom_s
     return 0;
 }
 
-/* A trimesh's triangles as prisms (prism_shape), each against the cloth
- * triangles near it (grid_build). The prism's depth: half the triangle's
- * shortest edge and half the least side of the mesh's box in its own frame,
- * at most MESH_PRISM_DEPTH thicknesses: deeper than a cloth is pushed in,
- * and (for a mesh like a box or a plate) shallower than the mesh, so a
- * prism does not poke out of its far side (5 cm prisms of a 4 cm plate
- * pushed a cloth pressed on its near side through it: crumple). Triangles
- * of zero area are skipped. */
-#define MESH_PRISM_DEPTH 10.0
+/* A trimesh's triangles as prisms (prism_shape), each against the cloth triangles near it
+ * (grid_build); a prism half as deep as the triangle's shortest edge and the mesh's least side,
+ * at most MESH_PRISM_DEPTH thicknesses (tuning.h). Triangles of zero area are skipped. */
 int dcloth_mesh_contacts(dClothID c, convex_query *q, double h, ccd_t *ccd, ccd_t *fine)
 {
     int nt = dGeomTriMeshGetTriangleCount(q->g), hits = 0;

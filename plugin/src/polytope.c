@@ -4,12 +4,8 @@
 #include <math.h>
 #include <string.h>
 #include "polytope.h"
+#include "tuning.h"
 
-/* heights within this fraction of the radius tie (a feature's vertices): far above the rounding a symmetric
- * scene's solves accumulate, so mirror images pick mirror features */
-#define FEATURE_TIE 1e-6
-/* edges whose directions' cross product is shorter than this are parallel: no axis of their own */
-#define EDGE_PARALLEL 1e-6
 /* points of a clipped feature: a quadrilateral clipped by three sides has at most seven */
 #define MAXP 12
 

@@ -13,30 +13,6 @@
 #include "polytope.h"
 #include "triangle_query.h"
 
-/* gaps this close, of the thickness, tie: rounding, far below EPA's fine tolerance */
-#define TIE 1e-9
-/* gaps this close, of the thickness, tie for merging mirror-image contacts: far above the rounding a
- * symmetric scene's solves accumulate, far below a contact's own scale */
-#define MERGE_TIE 1e-6
-
-/* A mesh triangle's prism gives a contact along directions within
- * acos(MESH_FACE_COS) = 8 degrees of its face's normal, and beyond only
- * across an edge where the surface turns convexly or ends, never into the
- * face (EPA's direction for a swept triangle barely touching a top face's
- * prism pointed down, through it, and held the cloth on the mesh table as
- * it was lifted: strain 0.051). Across a flat edge the surface goes on as
- * the face: a direction leaning over it comes from the prism's side wall,
- * which stands inside the mesh. A cloth triangle barely over such an edge
- * (the diagonal of a box's face) was pushed sideways out of it (drape_table
- * on the mesh table: strain 0.0331 at the drop), and a direction 54
- * degrees off the normal (accepted while this was 60 degrees) replaced
- * vertices' own contacts with the face and let a cloth thrown at 4-6 m/s
- * through a flat 2-triangle mesh by up to 6.4 mm (review of session 6;
- * plugin_mesh_impact). Without the convex edges' directions a falling
- * cloth's triangles took the box's top edges through them
- * (plugin_colliders, trimesh). */
-#define MESH_FACE_COS 0.99
-
 typedef struct tri_shape {
     const double *v[3];
     double radius;
@@ -111,20 +87,9 @@ static int mesh_direction(const convex_query *q, const double n[3])
     return q->convex[best];
 }
 
-/* A triangle ahead of a geom takes the plane of the face it faces as each
- * vertex's (triangle_query), where its normal is within acos(AHEAD_PARALLEL)
- * = 8 degrees of the contact direction and the geom has a flat face there
- * (a box's, a cylinder's cap, a mesh triangle; a convex's, where the
- * tightly converged direction is taken as the face's). The face's own
- * normal, not the direction found: a plane through a support along a
- * direction off a 2 m face's normal by 3 degrees passes 5 cm above it at
- * the face's centre (plugin_mesh_impact, measured). Not on a round
- * surface: there the plane is a tangent, and vertices held on it stop
- * short of the surface by up to l^2 / (2 rho); a cloth dropped on a
- * capsule landed buckled and rested 5 mm higher (plugin_colliders,
- * measured). Returns 0 where there is no such face. */
-#define AHEAD_PARALLEL 0.99
-
+/* The face a triangle ahead of a geom faces, where its normal is within acos(AHEAD_PARALLEL) of
+ * the contact direction and the geom is flat there (a box's face, a cylinder's cap, a mesh
+ * triangle, a convex's face): its own normal into face. Returns 0 where there is no such face. */
 static int flat_face(const convex_query *q, const double n[3], double face[3])
 {
     const dReal *R = dGeomGetRotation(q->g);
@@ -240,7 +205,7 @@ static int merge_tie(dClothID c, const convex_query *q, vcontact *vc, int k, con
         vc->vbody[r] = 0.5 * (vc->vbody[r] + vb[r]);
     }
     vc->gap = 0.5 * (vc->gap + gap);
-    if (w > vc->weight + TIE) { /* the triangle whose point weighs the vertex most carries it */
+    if (w > vc->weight + TRI_TIE) { /* the triangle whose point weighs the vertex most carries it */
         vc->weight = w;
         vc->tri = k;
         vc->query = c->tri_query;
@@ -265,7 +230,7 @@ static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, 
     if (vc->geom && vc->gap <= gap) return;
     /* on a face's own plane, a vertex's own contact with the geom is the
      * same plane: kept where they tie to rounding */
-    if (exact && vc->geom == q->g && vc->gap <= gap + TIE * q->surf->thickness) return;
+    if (exact && vc->geom == q->g && vc->gap <= gap + TRI_TIE * q->surf->thickness) return;
     /* the point reported (and pushed at while asleep): under the vertex
      * on the geom's face (support) where measured, else on the plane
      * through EPA's point, which may be any point of the overlap */

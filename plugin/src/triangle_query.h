@@ -6,10 +6,6 @@
 #include "dcloth_internal.h"
 #include "polytope.h"
 
-/* a triangle moving less than this, of the thickness, per step is at rest */
-#define SWEEP_NEGLIGIBLE 1e-3
-
-
 /* What one convex shape of geom g (the geom itself, or one triangle of a
  * mesh) offers the cloth's triangles. */
 typedef struct convex_query {

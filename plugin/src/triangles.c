@@ -32,16 +32,6 @@
 #include "triangle_query.h"
 #include "triangles.h"
 
-/* EPA's tolerance, of the thickness, for a triangle within its shell (the
- * loose one, 1e-3, serves to detect moving triangles). Measured with the
- * refinement on every class, plugin_coupling_light's 0.5 kg box on a pinned
- * cloth (worst pin-force imbalance, worst box speed over the last 2 s, bound
- * 2% and 1 mm/s): 1e-5: 0.08%, 0.16 mm/s; 3e-6: 0.10%, 0.36; 1e-6: 0.24%,
- * 0.60; 3e-7: 0.16%, 0.29; 1e-7: 0.24%, 0.42; with the loose tolerance
- * alone: 15%, 36 mm/s. A cloth at rest on a capsule: kinetic energy 1-7e-5
- * J loose, 1.1e-7 J refined (plugin_colliders). */
-#define EPA_FINE 1e-6
-
 int dcloth_triangle_contacts(dClothID c, const struct dcloth_surf *sf, double h)
 {
     dGeomID g = sf->g;
