@@ -134,6 +134,10 @@ double potential_residual(cloth *c, const step_eq *q, const double *dv, double *
             b[3 * j + r] -= fr;
         }
     }
+    if (crease_law_on(m)) { /* the crease law's hinges (crease_law.c), pushing as at the step's start */
+        P += crease_energy(c, x, c->st.x);
+        crease_forces(c, x, c->st.x, cf, b);
+    }
     /* air drag, a damper with its normals and areas at x~ */
     if (air_on(c)) P += cf * air_eval(c, c->st.x, c->st.v, q->h, v, cf, b, NULL, 0.0);
     if (c->self_contact) P += self_contact_eval(c->self_contact, x, cf, b, NULL);
@@ -165,6 +169,7 @@ void potential_matrix(cloth *c, const step_eq *q, int stiffen)
             for (int s = 0; s < 3; s++) blk[3 * r + s] = cf2 * K[3 * r + s] + cf * damp * u[r] * u[s];
         assemble_link(c, i, j, (t ? c->int_blk : c->seq_blk) + 2 * e, blk);
     }
+    if (crease_law_on(m)) crease_matrix(c, x, c->st.x, cf2);
     if (air_on(c)) air_eval(c, c->st.x, c->st.v, q->h, c->v_new, 0.0, NULL, A, cf);
     if (c->self_contact) self_contact_eval(c->self_contact, x, cf, NULL, A);
 }
@@ -206,6 +211,7 @@ double potential_value(const cloth *c, const step_eq *q, const double *dv, doubl
         P += spring_predicted(x + 3 * i, x + 3 * j, u, law_of(c, t, e), 0.0, NULL, NULL, NULL) +
              0.5 * cf * damp * vu * vu;
     }
+    if (crease_law_on(m)) P += crease_energy(c, x, c->st.x);
     if (air_on(c)) P += cf * air_eval(c, c->st.x, c->st.v, q->h, v, 0.0, NULL, NULL, 0.0);
     if (c->self_contact) P += self_contact_eval(c->self_contact, x, cf, NULL, NULL);
     return P;
@@ -236,5 +242,6 @@ double potential_dissipation(const cloth *c, const step_eq *q)
             D += gap + damp * rate * rate;
         }
     }
+    if (crease_law_on(m)) D += crease_dissipation(c, x0, x);
     return D;
 }

@@ -26,6 +26,10 @@ static const char common_usage[] =
     "  --crease-grip G        N, (0, 100]: a remembered crease's pull, k_s = G / the grid's\n"
     "                         spacing (the same at every grid; drape_table, drape_sphere;\n"
     "                         with --fabric and plastic memory on: 0.04 by default)\n"
+    "  --crease-law S         N m/m per radian, (0, 100]: the crease law (material.k_crease\n"
+    "                         = 4 S / the grid's spacing): a set kept within the yield angle\n"
+    "                         2 acos(alpha) of each fold, resisting unfolding with S per length\n"
+    "                         of crease (drape_table, drape_sphere, crumple)\n"
     "  --removal four|two     drape_table, drape_sphere, fabrics: the cloth taken off by its\n"
     "                         four corners, spread flat over the floor and lowered (the\n"
     "                         paper's; default), or by two corners and laid down free edge\n"
@@ -188,6 +192,9 @@ int demo_parse(demo_opts *o, const char *prog, const char *usage, int argc, char
         } else if (!strcmp(opt, "--crease-grip")) {
             if (parse_double(v, &o->crease_grip) || !(o->crease_grip > 0.0) || o->crease_grip > 100.0)
                 return bad(o, opt, v, "want a number in (0, 100] N");
+        } else if (!strcmp(opt, "--crease-law")) {
+            if (parse_double(v, &o->crease_law) || !(o->crease_law > 0.0) || o->crease_law > 100.0)
+                return bad(o, opt, v, "want a number in (0, 100] N m/m per radian");
         } else if (!strcmp(opt, "--removal")) {
             if (!strcmp(v, "four")) o->removal = 1;
             else if (!strcmp(v, "two")) o->removal = 2;
