@@ -1,9 +1,6 @@
-/* The crease law (material.k_crease > 0; docs/materials.md, "The crease law"). An interlaced link's set is a
- * fold angle: the turning at its middle node, its halves at rest, kept as the chord l1 = l0 cos(phi_p / 2).
- * The set stays within the yield angle 2 acos(alpha) of the link's fold angle. Unfolding is resisted by a
- * hinge: a spring of stiffness k_crease from the middle node to its ends' midpoint whose rest length is the
- * set's sagitta (l0 / 2) sin(phi_p / 2), acting along its direction at the step's start (springs.c's frozen
- * compression), so a crease spread flat still pushes to its side. */
+/* The crease law (material.k_crease; docs/materials.md, "The crease law"): a link's set fold angle, kept as
+ * its chord l1, stays within the yield angle of its fold; a hinge from the middle node to its ends' midpoint,
+ * rest length the set's sagitta, resists unfolding along its direction at the step's start. */
 #include <math.h>
 #include "internal.h"
 #include "bsr.h"

@@ -94,10 +94,9 @@ void plastic_rule_time(const cloth_material *m, double rest, double d, double h,
 int crease_law_on(const cloth_material *m);
 double crease_fold_angle(double rest, double d);
 void crease_rule(double alpha, double rest, double d, int *plastic, double *l1);
-/* The hinge of set interlaced link e at positions x, pushing along its sagitta's direction at x0: its energy,
- * the force on its ends' midpoint f_mid (half on each end, -f_mid on the middle node) and K = df_mid/dx_m
- * (either may be NULL). The sums over the set links: energy; f += scale forces; A += scale Hessian (after
- * the links' blocks are written); out += (df/dx) w at x; and the convex gap E(x0) - E(x) - f(x).(x0 - x). */
+/* Set link e's hinge at x, pushing along its sagitta at x0: energy, force f_mid on its ends' midpoint (-f_mid
+ * on the middle node), K = df_mid/dx_m (NULL allowed). Then the sums over set links: energy, f += scale forces,
+ * A += scale Hessian (after the links' blocks), out += (df/dx) w, the gap E(x0) - E(x) - f(x).(x0 - x). */
 double crease_hinge(const cloth *c, int e, const double *x, const double *x0, double f_mid[3], double K[9]);
 double crease_energy(const cloth *c, const double *x, const double *x0);
 void crease_forces(const cloth *c, const double *x, const double *x0, double scale, double *f);

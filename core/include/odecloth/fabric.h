@@ -85,9 +85,8 @@ typedef struct cloth_fabric {
                                     tension plasticity; 0 in the presets: off) */
     double tension_set;    /* 1     in [0, 1]: passed through, likewise    */
     double crease_stiffness; /* N (N m/m per radian) >= 0: the crease law's
-                                    moment per length of a slight crease
-                                    across one link family, per radian of
-                                    unfolding; 0 = off (the presets)       */
+                                    moment per length of crease per radian
+                                    near flat; 0 = off (the presets)       */
 } cloth_fabric;
 
 typedef enum cloth_fabric_kind {
