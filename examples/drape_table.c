@@ -25,6 +25,10 @@
  * elastic cloth lies flat, within the thickness and the elongation limit:
  * ctest: demo drape_table_two_corners --check --short --no-images --alpha 0 --fabric cotton --removal two --memory 0
  *
+ * The same with the crease law (--crease-law) at alpha 0.8: its hinges keep the cloth within the thickness
+ * and the elongation limit, every step taken:
+ * ctest: demo drape_table_crease --check --short --no-images --alpha .8 --fabric cotton --removal two --crease-law .01
+ *
  * The metrics themselves, against closed forms on a folded cloth:
  * ctest: demo metrics --selftest
  */
