@@ -25,6 +25,10 @@
  * elastic cloth lies flat, within the thickness and the elongation limit:
  * Test demo_drape_table_two_corners in test/CMakeLists.txt.
  *
+ * The same with the crease law (--crease-law) at alpha 0.8: its hinges keep the cloth within the thickness
+ * and the elongation limit, every step taken:
+ * Test demo_drape_table_crease in test/CMakeLists.txt.
+ *
  * The metrics themselves, against closed forms on a folded cloth:
  * Test demo_metrics in test/CMakeLists.txt.
  */

@@ -49,8 +49,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "fabrics: give one --alpha at most\n");
         return 2;
     }
-    if (o.fabric || o.crease_grip > 0.0) {
-        fprintf(stderr, "fabrics: --fabric and --crease-grip are drape_table's, drape_sphere's and crumple's\n");
+    if (o.fabric || o.crease_grip > 0.0 || o.crease_law > 0.0) {
+        fprintf(stderr, "fabrics: --fabric, --crease-grip and --crease-law are drape_table's, drape_sphere's and "
+                        "crumple's\n");
         return 2;
     }
     /* the table as drape_table runs it (its bending and plastic memory,

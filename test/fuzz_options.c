@@ -8,7 +8,7 @@
  * its usage text promises: grid 3..161, steps per second 10..10000, 0..8
  * alphas each in [0, 1], frames 0..1000, smooth 0..3, picture 32..4096
  * pixels a side, a known material, a known fabric and not with --material,
- * a removal 0..2, a crease grip in [0, 100], a non-empty output directory, flags 0 or
+ * a removal 0..2, a crease grip and a crease law in [0, 100], a non-empty output directory, flags 0 or
  * 1. A violation prints the arguments and aborts.
  *
  * CTest (label fuzz): main() replays test/corpus/options/ and 30,000
@@ -104,6 +104,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (o.fabric && o.material_set) violation("both --fabric and --material", argc, argv);
         if (o.removal < 0 || o.removal > 2) violation("removal out of 0..2", argc, argv);
         if (!(o.crease_grip >= 0.0 && o.crease_grip <= 100.0)) violation("crease grip out of [0, 100]", argc, argv);
+        if (!(o.crease_law >= 0.0 && o.crease_law <= 100.0)) violation("crease law out of [0, 100]", argc, argv);
         if (!o.out || !o.out[0]) violation("empty output directory", argc, argv);
         if (o.csv && !o.csv[0]) violation("empty csv name", argc, argv);
         int flags[] = {o.obj,    o.check,     o.short_run,    o.images,
@@ -138,6 +139,7 @@ static const seed seeds[] = {
     SEED("--help\0"),
     SEED("--grid\0" "3\0" "--alpha\0" "1\0" "--smooth\0" "0\0" "--size\0" "32x4096\0"),
     SEED("--fabric\0" "denim\0" "--removal\0" "two\0" "--crease-grip\0" "0.04\0" "--memory\0" "1\0"),
+    SEED("--fabric\0" "cotton\0" "--crease-law\0" "0.02\0" "--grid\0" "41\0"),
 };
 /* clang-format on */
 #define NSEEDS (sizeof seeds / sizeof seeds[0])
@@ -145,7 +147,8 @@ static const seed seeds[] = {
 static const char *const words[] = {
     "--grid", "--alpha", "--material", "--steps-per-second", "--hz", "--out", "--obj", "--frames", "--smooth",
     "--size", "--no-images", "--video", "--csv", "--phases", "--trace", "--box-table", "--short", "--check",
-    "--help", "-h", "--fabric", "--removal", "--crease-grip", "--memory", "two", "four", "denim", "polyester",
+    "--help", "-h", "--fabric", "--removal", "--crease-grip", "--crease-law", "--memory", "two", "four", "denim",
+    "polyester",
     "100", "100.0001",
     "", "-", "--", "nan", "inf", "-inf", "1e999", "-0", "0x10", "161", "162", "2", "10000", "10000.0001", "9.99",
     "4096x4096", "31x32", "1x", "x1", "32x32x", "0,0,0,0,0,0,0,0", "0,0,0,0,0,0,0,0,0", ",", "1,", ",1", "0.5,,1",

@@ -8,7 +8,7 @@
  *     error, quickly, not a giant allocation or a crash);
  *   - width, height, density <= 0; negative stiffnesses or damping;
  *     alpha outside [0, 1]; plastic_memory not 0 or 1; tau_set, tau_recover < 0, set_hardening
- *     outside [0, 1]; delta <= 0; k_delta < 0 (k_delta 0 is valid: no
+ *     outside [0, 1]; k_crease > 0 with the time law; delta <= 0; k_delta < 0 (k_delta 0 is valid: no
  *     stiffening); axis_u or axis_v zero, or parallel
  *     (or antiparallel); cg_tolerance outside (0, 1); cg_max_iterations < 1;
  *     unknown method/precond; negative strain_limit_iterations;
@@ -88,12 +88,12 @@ static const dfield desc_doubles[] = {
     DF(gravity[2]), DF(material.k_t), DF(material.k_c), DF(material.k_b), DF(material.k_s),
     DF(material.alpha), DF(material.delta), DF(material.k_delta), DF(material.c_t), DF(material.c_b),
     DF(material.density), DF(material.tau_set), DF(material.tau_recover), DF(material.set_hardening),
-    DF(material.tension_yield), DF(material.tension_set),
+    DF(material.tension_yield), DF(material.tension_set), DF(material.k_crease),
     DF(solver.cg_tolerance), DF(solver.strain_fail),
 };
 /* clang-format on */
 #define NDESC_DOUBLES (sizeof desc_doubles / sizeof desc_doubles[0])
-#define NMATERIAL_DOUBLES 15 /* the material.* entries, in order, from index 14 */
+#define NMATERIAL_DOUBLES 16 /* the material.* entries, in order, from index 14 */
 #define MATERIAL_FIRST 14
 
 /* material fields by offset within cloth_material */
@@ -110,14 +110,14 @@ static void check_create(void)
     const char *nf_name[3] = {"NaN", "inf", "-inf"};
 
     /* sanity: the table covers every double of the desc, and the default is valid */
-    /* ten doubles, the one int plastic_memory (checked by BAD below), five doubles */
+    /* ten doubles, the one int plastic_memory (checked by BAD below), six doubles */
     CHECK(offsetof(cloth_material, plastic_memory) == 10 * sizeof(double) &&
               offsetof(cloth_material, tau_set) == 11 * sizeof(double) &&
               sizeof(cloth_material) == (NMATERIAL_DOUBLES + 1) * sizeof(double),
           "cloth_material has fields this test misses");
     CHECK(strcmp(desc_doubles[MATERIAL_FIRST].name, "material.k_t") == 0 &&
               strcmp(desc_doubles[MATERIAL_FIRST + 9].name, "material.density") == 0 &&
-              strcmp(desc_doubles[MATERIAL_FIRST + NMATERIAL_DOUBLES - 1].name, "material.tension_set") == 0 &&
+              strcmp(desc_doubles[MATERIAL_FIRST + NMATERIAL_DOUBLES - 1].name, "material.k_crease") == 0 &&
               strcmp(desc_doubles[MATERIAL_FIRST + NMATERIAL_DOUBLES].name, "solver.cg_tolerance") == 0,
           "table order");
     CHECK(cloth_desc_validate(&d0, NULL) == CLOTH_OK, "the default desc is invalid");
@@ -183,6 +183,8 @@ static void check_create(void)
     BAD(d.material.tension_yield = -1e-300, "tension_yield -1e-300");
     BAD(d.material.tension_set = 1.0 + 1e-12, "tension_set above 1");
     BAD(d.material.tension_set = -1e-9, "tension_set -1e-9");
+    BAD((d.material.k_crease = 1.0, d.material.tau_set = 1.0), "k_crease with tau_set");
+    BAD((d.material.k_crease = 1.0, d.material.set_hardening = 0.5), "k_crease with set_hardening");
     BAD(d.material.plastic_memory = -1, "plastic_memory -1");
     BAD(d.material.plastic_memory = 2, "plastic_memory 2");
     BAD(d.material.plastic_memory = INT_MAX, "plastic_memory INT_MAX");

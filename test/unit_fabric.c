@@ -47,10 +47,10 @@ static void check_fields(void)
     static const char *names[] = {"tensile",     "bending",        "density", "compression", "alpha",
                                   "spreading",   "delta",          "k_delta", "tau_tension", "tau_bending",
                                   "bend_curvature", "tau_set",     "tau_recover", "set_hardening",
-                                  "tension_yield",  "tension_set"};
-    static const int positive[] = {1, 1, 1, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+                                  "tension_yield",  "tension_set", "crease_stiffness"};
+    static const int positive[] = {1, 1, 1, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
     const cloth_fabric base = cloth_fabric_preset(CLOTH_FABRIC_COTTON);
-    for (int k = 0; k < 16; k++) {
+    for (int k = 0; k < 17; k++) {
         const double bad[] = {NAN, INFINITY, -INFINITY, -1.0, -1e-300, 0.0};
         for (int b = 0; b < 6; b++) {
             if (bad[b] == 0.0 && !positive[k]) continue;
@@ -67,7 +67,7 @@ static void check_fields(void)
     }
     /* the field order the loop above assumes */
     CHECK(offsetof(cloth_fabric, bend_curvature) == 10 * sizeof(double) &&
-              sizeof(cloth_fabric) == 16 * sizeof(double),
+              sizeof(cloth_fabric) == 17 * sizeof(double),
           "cloth_fabric layout");
     cloth_fabric f = base;
     f.alpha = 1.0 + 1e-12;
@@ -88,6 +88,23 @@ static void check_fields(void)
     CHECK(cloth_fabric_material(&f, 0.01, 0.01, &mtp, NULL) == CLOTH_OK && mtp.tension_yield == f.delta &&
               mtp.tension_set == 1.0,
           "tension_yield, tension_set pass through");
+    /* the crease law: a moment per length, the hinge 4 S dy / dx^2 (mean of both directions); not with the
+     * time-dependent law */
+    f = base;
+    f.crease_stiffness = 0.02;
+    cloth_material mc, mr;
+    CHECK(cloth_fabric_material(&f, 0.05, 0.05, &mc, NULL) == CLOTH_OK &&
+              fabs(mc.k_crease - 4.0 * 0.02 / 0.05) <= 1e-15 * mc.k_crease,
+          "k_crease %g at 5 cm cells, want 4 S / h = 1.6", mc.k_crease);
+    CHECK(cloth_fabric_material(&f, 0.06, 0.04, &mr, NULL) == CLOTH_OK &&
+              fabs(mr.k_crease - 0.5 * (4.0 * 0.02 * 0.04 / 0.0036 + 4.0 * 0.02 * 0.06 / 0.0016)) <=
+                  1e-14 * mr.k_crease,
+          "k_crease %g at 6 x 4 cm cells, want the mean of both directions", mr.k_crease);
+    CHECK(base.crease_stiffness == 0.0 && cloth_fabric_material(&base, 0.05, 0.05, &mc, NULL) == CLOTH_OK &&
+              mc.k_crease == 0.0,
+          "the preset leaves the crease law off");
+    f.tau_set = 2.0;
+    refused(&f, 0.05, 0.05, "fabric.crease_stiffness", "crease_stiffness with tau_set");
     /* the time-dependent plastic law passes through */
     f = base;
     f.tau_set = 2.0, f.tau_recover = 20.0, f.set_hardening = 1.0;

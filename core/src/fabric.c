@@ -22,6 +22,7 @@ cloth_status cloth_fabric_validate(const cloth_fabric *f, cloth_error *err)
         {"tau_set", f->tau_set, 0},         {"tau_recover", f->tau_recover, 0},
         {"set_hardening", f->set_hardening, 0},
         {"tension_yield", f->tension_yield, 0}, {"tension_set", f->tension_set, 0},
+        {"crease_stiffness", f->crease_stiffness, 0},
     };
     for (size_t k = 0; k < sizeof q / sizeof q[0]; k++) {
         if (!isfinite(q[k].v))
@@ -38,6 +39,9 @@ cloth_status cloth_fabric_validate(const cloth_fabric *f, cloth_error *err)
                          f->tension_yield, f->delta);
     if (f->tension_set > 1.0)
         return error_set(err, CLOTH_EINVAL, "fabric.tension_set = %g must be in [0, 1]", f->tension_set);
+    if (f->crease_stiffness > 0.0 && (f->tau_set > 0.0 || f->tau_recover > 0.0 || f->set_hardening > 0.0))
+        return error_set(err, CLOTH_EINVAL, "fabric.crease_stiffness = %g takes the crease law: tau_set, "
+                         "tau_recover and set_hardening must be 0", f->crease_stiffness);
     return CLOTH_OK;
 }
 
@@ -102,6 +106,14 @@ static cloth_status link_stiffnesses(const cloth_fabric *f, double dx, double dy
     return CLOTH_OK;
 }
 
+/* The crease law's hinge stiffness for a moment S per length and radian near flat: a hinge of a link with
+ * halves dx turns its middle node with k dx^2 / 4 per radian, one per dy of crease, so k = 4 S dy / dx^2;
+ * the mean of the two thread directions. */
+static double crease_per_link(double S, double dx, double dy)
+{
+    return 2.0 * S * (dy / (dx * dx) + dx / (dy * dy));
+}
+
 cloth_status cloth_fabric_material(const cloth_fabric *f, double dx, double dy, cloth_material *out,
                                    cloth_error *err)
 {
@@ -126,10 +138,11 @@ cloth_status cloth_fabric_material(const cloth_fabric *f, double dx, double dy, 
     m.set_hardening = f->set_hardening;
     m.tension_yield = f->tension_yield;
     m.tension_set = f->tension_set;
+    m.k_crease = crease_per_link(f->crease_stiffness, dx, dy);
     /* a fabric and spacing of extreme scales can overflow or underflow */
     const struct { const char *name; double v; int positive; } r[] = {
         {"k_t", m.k_t, 1}, {"k_c", m.k_c, 1}, {"k_b", m.k_b, 1},
-        {"k_s", m.k_s, 0}, {"c_t", m.c_t, 0}, {"c_b", m.c_b, 0}};
+        {"k_s", m.k_s, 0}, {"c_t", m.c_t, 0}, {"c_b", m.c_b, 0}, {"k_crease", m.k_crease, 0}};
     for (size_t k = 0; k < sizeof r / sizeof r[0]; k++)
         if (!isfinite(r[k].v) || (r[k].positive && !(r[k].v > 0.0)))
             return error_set(err, CLOTH_EINVAL, "fabric material at spacing %g x %g m: %s = %g is out of range",

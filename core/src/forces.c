@@ -32,6 +32,7 @@ void forces_eval(const cloth *c, const double *x, const double *v, int with_grav
         add3(f + 3 * i, fe, 1.0);
         add3(f + 3 * j, fe, -1.0);
     }
+    if (crease_law_on(m)) crease_forces(c, x, x, 1.0, f); /* the hinges along their own sagittas */
     if (with_gravity)
         for (int i = 0; i < c->n; i++) {
             add3(f + 3 * i, c->desc.gravity, c->mass[i]);
@@ -69,7 +70,7 @@ double elastic_energy(const cloth *c, const double *x)
     for (int e = 0; e < c->n_int; e++)
         E += link_energy(x + 3 * c->lint[e].i, x + 3 * c->lint[e].j,
                          int_law(m, c->lint[e].rest, c->st.plastic[e], c->st.l1[e]));
-    return E;
+    return crease_law_on(m) ? E + crease_energy(c, x, x) : E;
 }
 
 cloth_energy cloth_energies(const cloth *c)
@@ -160,7 +161,7 @@ int update_plastic_energy(cloth *c, double h, double *elastic)
         count += p;
         E += link_energy_d(d, int_law(m, c->lint[e].rest, p, c->st.l1[e]));
     }
-    *elastic = E;
+    *elastic = crease_law_on(m) ? E + crease_energy(c, x, x) : E;
     return count;
 }
 

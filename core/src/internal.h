@@ -58,7 +58,7 @@ typedef struct link_topo {
 
 /* The spring law of link e in its current region, inline for the links' loops:
  * sequential: (k_t, k_c, l0); interlaced elastic: (k_b, k_b, l0);
- * interlaced plastic: (k_s, k_b, l1). */
+ * interlaced plastic: (k_s, k_b, l1); with the crease law (k_b, k_b, l1) and a hinge (crease_law.c). */
 static inline spring_law seq_law(const cloth_material *m, double rest, double set)
 {
     /* eq. 6-7: asymmetric, tension k_t, compression k_c << k_t; past the
@@ -73,7 +73,9 @@ static inline spring_law int_law(const cloth_material *m, double rest, int plast
 {
     /* eq. 9-10: elastic bend; eq. 11-12: around the plastic rest length l1,
      * unbending (d > l1) is resisted by the spreading stiffness k_s, further bending by k_b */
-    spring_law e = {m->k_b, m->k_b, rest, 0.0, HUGE_VAL}, p = {m->k_s, m->k_b, l1, 0.0, HUGE_VAL};
+    double k_open = m->k_crease > 0.0 ? m->k_b : m->k_s; /* the crease law: bending about the set; its hinge
+                                                              resists unfolding (crease_law.c) */
+    spring_law e = {m->k_b, m->k_b, rest, 0.0, HUGE_VAL}, p = {k_open, m->k_b, l1, 0.0, HUGE_VAL};
     return plastic ? p : e;
 }
 
@@ -87,6 +89,20 @@ void plastic_rule_memory(double alpha, int memory, double rest, double d, int *p
  * the yield as of the last update. */
 void plastic_rule_time(const cloth_material *m, double rest, double d, double h, int *plastic, double *l1,
                        double *perm, int *bent);
+/* The crease law (material.k_crease; crease_law.c): whether m asks for it; a link's fold angle at chord d;
+ * and its rule, the set's chord *l1 kept within the yield angle 2 acos(alpha) of the fold (*plastic: l1 < rest). */
+int crease_law_on(const cloth_material *m);
+double crease_fold_angle(double rest, double d);
+void crease_rule(double alpha, double rest, double d, int *plastic, double *l1);
+/* Set link e's hinge at x, pushing along its sagitta at x0: energy, force f_mid on its ends' midpoint (-f_mid
+ * on the middle node), K = df_mid/dx_m (NULL allowed). Then the sums over set links: energy, f += scale forces,
+ * A += scale Hessian (after the links' blocks), out += (df/dx) w, the gap E(x0) - E(x) - f(x).(x0 - x). */
+double crease_hinge(const cloth *c, int e, const double *x, const double *x0, double f_mid[3], double K[9]);
+double crease_energy(const cloth *c, const double *x, const double *x0);
+void crease_forces(const cloth *c, const double *x, const double *x0, double scale, double *f);
+void crease_matrix(cloth *c, const double *x, const double *x0, double scale);
+void crease_Kw(const cloth *c, const double *x, const double *w, double *out);
+double crease_dissipation(const cloth *c, const double *x0, const double *x);
 /* Whether m asks for the time-dependent law (any of its three fields > 0). */
 int plastic_time_on(const cloth_material *m);
 struct cloth_state;

@@ -48,6 +48,10 @@ static void assemble(cloth *c, const double *x, const double *v, double beta_h, 
             assemble_link(c, i, j, bl + 2 * e, blk);
         }
     }
+    if (crease_law_on(m)) { /* the crease law's hinges (crease_law.c) */
+        crease_forces(c, x, x, 1.0, fout);
+        crease_matrix(c, x, x, gamma_h2);
+    }
     /* air drag: its normals and areas at x, constant over the step (no df/dx) */
     if (air_on(c)) air_eval(c, x, NULL, 0.0, v, 1.0, fout, A, beta_h);
 }
@@ -152,6 +156,7 @@ cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, do
     if (bdf2)
         for (size_t k = 0; k < n3; k++) b[k] += c->mass[k / 3] * (v0[k] - S0->v_prev[k]) / 3.0;
     add_Kw(c, w, b);
+    if (crease_law_on(&c->desc.material)) crease_Kw(c, x0, w, b);
 
     constraints_build(c, a, v0, cfac, xs, frac);
     const cloth_solver *sv = &c->desc.solver;

@@ -65,7 +65,7 @@ cloth_status cloth_material_validate(const cloth_material *m, cloth_error *err)
         {"k_s", m->k_s, 0}, {"alpha", m->alpha, 0}, {"delta", m->delta, 1},
         {"k_delta", m->k_delta, 0}, {"c_t", m->c_t, 0}, {"c_b", m->c_b, 0}, {"density", m->density, 1},
         {"tau_set", m->tau_set, 0}, {"tau_recover", m->tau_recover, 0}, {"set_hardening", m->set_hardening, 0},
-        {"tension_yield", m->tension_yield, 0}, {"tension_set", m->tension_set, 0},
+        {"tension_yield", m->tension_yield, 0}, {"tension_set", m->tension_set, 0}, {"k_crease", m->k_crease, 0},
     };
     for (size_t k = 0; k < sizeof f / sizeof f[0]; k++) {
         if (bad(f[k].v))
@@ -83,6 +83,9 @@ cloth_status cloth_material_validate(const cloth_material *m, cloth_error *err)
                          m->tension_yield, m->delta);
     if (m->tension_set > 1.0)
         return error_set(err, CLOTH_EINVAL, "material.tension_set = %g must be in [0, 1]", m->tension_set);
+    if (m->k_crease > 0.0 && plastic_time_on(m))
+        return error_set(err, CLOTH_EINVAL, "material.k_crease = %g takes the crease law: tau_set, tau_recover and "
+                         "set_hardening must be 0", m->k_crease);
     if (m->plastic_memory != 0 && m->plastic_memory != 1)
         return error_set(err, CLOTH_EINVAL, "material.plastic_memory = %d must be 0 or 1", m->plastic_memory);
     return CLOTH_OK;

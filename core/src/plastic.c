@@ -44,7 +44,10 @@ void plastic_rule(double alpha, double rest, double d, int *plastic, double *l1)
 int plastic_update_link(const cloth_material *m, struct cloth_state *s, int e, double rest, double d, double h)
 {
     int p = s->plastic[e];
-    if (plastic_time_on(m)) {
+    if (crease_law_on(m)) {
+        crease_rule(m->alpha, rest, d, &p, &s->l1[e]);
+        s->bent[e] = m->alpha > 0.0 && d <= m->alpha * rest;
+    } else if (plastic_time_on(m)) {
         int b = s->bent[e];
         plastic_rule_time(m, rest, d, h, &p, &s->l1[e], &s->perm[e], &b);
         s->bent[e] = (unsigned char)b;

@@ -205,12 +205,17 @@ static void matrix_begin(cloth *c)
     }
 }
 
-/* The air's and self-contact's terms at c->x_new, c->v_new: into b and added to P (with b), into c->A
- * (with mat) */
+/* The crease hinges', air's and self-contact's terms at c->x_new, c->v_new: into b and added to P
+ * (with b), into c->A (with mat) */
 static double other_terms(cloth *c, const step_eq *q, double P, double *b, int mat)
 {
     double cf = q->cfac;
     const double *x = c->x_new, *v = c->v_new;
+    if (crease_law_on(&c->desc.material)) { /* the crease law's hinges (crease_law.c), pushing as at the start */
+        if (b) P += crease_energy(c, x, c->st.x);
+        if (b) crease_forces(c, x, c->st.x, cf, b);
+        if (mat) crease_matrix(c, x, c->st.x, cf * cf);
+    }
     /* air drag, a damper with its normals and areas at x~ */
     if (b && air_on(c)) P += cf * air_eval(c, c->st.x, c->st.v, q->h, v, cf, b, NULL, 0.0);
     if (b && c->self_contact) P += self_contact_eval(c->self_contact, x, cf, b, NULL);
@@ -244,7 +249,8 @@ double potential_step_dissipation(cloth *c, const step_eq *q)
 {
     if (q->bdf2) return 0.0;
     if (c->diss_e0 != c->diss_e0) c->diss_e0 = energy_at_start(c);
-    return c->diss_e0 + c->diss_links;
+    double D = c->diss_e0 + c->diss_links;
+    return crease_law_on(&c->desc.material) ? D + crease_dissipation(c, c->st.x, c->x_new) : D;
 }
 
 void potential_momentum_residual(const cloth *c, const step_eq *q, const double *dv, double out[3])
@@ -277,6 +283,7 @@ double potential_value(const cloth *c, const step_eq *q, const double *dv, doubl
         P += spring_predicted(x + 3 * i, x + 3 * j, u, law_of(c, t, e), 0.0, NULL, NULL, NULL) +
              0.5 * cf * damp * vu * vu;
     }
+    if (crease_law_on(m)) P += crease_energy(c, x, c->st.x);
     if (air_on(c)) P += cf * air_eval(c, c->st.x, c->st.v, q->h, v, 0.0, NULL, NULL, 0.0);
     if (c->self_contact) P += self_contact_eval(c->self_contact, x, cf, NULL, NULL);
     return P;
@@ -307,5 +314,6 @@ double potential_dissipation(const cloth *c, const step_eq *q)
             D += gap + damp * rate * rate;
         }
     }
+    if (crease_law_on(m)) D += crease_dissipation(c, x0, x);
     return D;
 }

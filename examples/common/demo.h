@@ -35,6 +35,8 @@ typedef struct demo_opts {
                                      interlaced stiffness k_b (0: the preset's) */
     double crease_grip;           /* --crease-grip G: N, with plastic memory a
                                      crease's pull k_s = G / spacing (0: the demo's) */
+    double crease_law;            /* --crease-law S: N, material.k_crease = 2 S /
+                                     spacing (0: the demo's)                */
     int removal;                  /* --removal: 1 four corners (the paper's),
                                      2 two corners (a person's); 0 = the demo's */
     int memory;                   /* --memory 0|1: material.plastic_memory

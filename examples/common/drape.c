@@ -579,9 +579,10 @@ int drape_material_main(const demo_opts *o, const demo_scene *s, const char *tit
 {
     drape_variant v[DEMO_MAX_ALPHAS];
     drape_result r[DEMO_MAX_ALPHAS];
-    if (o->fabric || o->crease_grip > 0.0) {
+    if (o->fabric || o->crease_grip > 0.0 || o->crease_law > 0.0) {
         fprintf(stderr,
-                "%s: --fabric and --crease-grip are drape_table's, drape_sphere's and crumple's; use --material\n",
+                "%s: --fabric, --crease-grip and --crease-law are drape_table's, drape_sphere's and crumple's; "
+                "use --material\n",
                 o->prog);
         return 2;
     }

@@ -23,6 +23,8 @@ int demo_material(const demo_opts *o, double size, int fabric_default, cloth_mat
     }
     if (o->k_b > 0.0) m.k_b = o->k_b;
     if (o->memory >= 0) m.plastic_memory = o->memory;
+    /* a crease's moment per length: the link stiffness for this spacing (cloth_fabric's crease_stiffness) */
+    if (o->crease_law > 0.0) m.k_crease = 4.0 * o->crease_law * (o->grid - 1) / size;
     *out = m;
     return 0;
 }

@@ -27,6 +27,10 @@ static const char common_usage[] =
     "  --crease-grip G        N, (0, 100]: a remembered crease's pull, k_s = G / the grid's\n"
     "                         spacing (the same at every grid; drape_table, drape_sphere;\n"
     "                         with --fabric and plastic memory on: 0.04 by default)\n"
+    "  --crease-law S         N m/m per radian, (0, 100]: the crease law (material.k_crease\n"
+    "                         = 4 S / the grid's spacing): a set kept within the yield angle\n"
+    "                         2 acos(alpha) of each fold, resisting unfolding with S per length\n"
+    "                         of crease (drape_table, drape_sphere, crumple)\n"
     "  --removal four|two     drape_table, drape_sphere, fabrics: the cloth taken off by its\n"
     "                         four corners, spread flat over the floor and lowered (the\n"
     "                         paper's; default), or by two corners and laid down free edge\n"
@@ -134,7 +138,7 @@ static int parse_fabric(const char *s, int *fabric)
 enum {
     OPT_OBJ = 256, OPT_CHECK, OPT_SHORT, OPT_NO_IMAGES, OPT_TRACE, OPT_PHASES, OPT_BOX_TABLE, OPT_SELFTEST,
     OPT_SLEEP, OPT_VIEW, OPT_VIDEO, OPT_ALPHA, OPT_MATERIAL, OPT_FABRIC, OPT_SELF_COLLISION, OPT_CREASE_GRIP,
-    OPT_REMOVAL, OPT_MEMORY, OPT_BENDING, OPT_SOLVER, OPT_GRID, OPT_HZ, OPT_OUT, OPT_FRAMES, OPT_VIEW_FRAMES,
+    OPT_CREASE_LAW, OPT_REMOVAL, OPT_MEMORY, OPT_BENDING, OPT_SOLVER, OPT_GRID, OPT_HZ, OPT_OUT, OPT_FRAMES, OPT_VIEW_FRAMES,
     OPT_SMOOTH, OPT_SIZE, OPT_CSV,
 };
 
@@ -156,6 +160,7 @@ static const struct option options[] = {
     {"fabric", required_argument, NULL, OPT_FABRIC},
     {"self-collision", required_argument, NULL, OPT_SELF_COLLISION},
     {"crease-grip", required_argument, NULL, OPT_CREASE_GRIP},
+    {"crease-law", required_argument, NULL, OPT_CREASE_LAW},
     {"removal", required_argument, NULL, OPT_REMOVAL},
     {"memory", required_argument, NULL, OPT_MEMORY},
     {"bending", required_argument, NULL, OPT_BENDING},
@@ -218,6 +223,10 @@ static int take_value(demo_opts *o, int opt, const char *opt_name, const char *v
     case OPT_CREASE_GRIP:
         if (parse_double(v, &o->crease_grip) || !(o->crease_grip > 0.0) || o->crease_grip > 100.0)
             return bad(o, opt_name, v, "want a number in (0, 100] N");
+        break;
+    case OPT_CREASE_LAW:
+        if (parse_double(v, &o->crease_law) || !(o->crease_law > 0.0) || o->crease_law > 100.0)
+            return bad(o, opt_name, v, "want a number in (0, 100] N m/m per radian");
         break;
     case OPT_REMOVAL:
         if (!strcmp(v, "four")) o->removal = 1;

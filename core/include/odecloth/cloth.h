@@ -94,6 +94,12 @@ typedef struct cloth_material {
     double tension_yield; /* 1, in [0, delta]: yield stretch; 0 = off        */
     double tension_set;   /* 1, in [0, 1]: share of the stretch past the
                              yield kept (1: perfectly plastic, 0: none)       */
+    /* The crease law (ours: core/src/crease_law.c, docs/materials.md): a link's set fold angle stays within
+     * 2 acos(alpha) of its fold; a hinge at its middle node resists unfolding in place of k_s. 0 (the default):
+     * the rules above, bit for bit; > 0 needs tau_set, tau_recover, set_hardening 0 (plastic_memory unused). */
+    double k_crease;      /* N/m, >= 0: the hinge's stiffness, middle node
+                             against its ends' midpoint (cloth_fabric:
+                             4 crease_stiffness / spacing)                     */
 } cloth_material;
 
 /* A preset's values; an unknown preset gives cotton. */

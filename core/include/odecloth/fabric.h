@@ -41,6 +41,9 @@
  *     tau_set, tau_recover, set_hardening (seconds and a ratio: the same
  *     at every spacing) and the tension plasticity's tension_yield,
  *     tension_set (ratios) are passed through; plastic_memory is 0.
+ *   - the crease law's k_crease = 4 crease_stiffness / h (the mean of
+ *     4 S dy / dx^2 and 4 S dx / dy^2): a moment per length of crease, the
+ *     same at every grid (docs/materials.md, "The crease law").
  */
 #ifndef ODECLOTH_FABRIC_H
 #define ODECLOTH_FABRIC_H
@@ -81,6 +84,9 @@ typedef struct cloth_fabric {
     double tension_yield;  /* 1     in [0, delta]: passed through (cloth_material's
                                     tension plasticity; 0 in the presets: off) */
     double tension_set;    /* 1     in [0, 1]: passed through, likewise    */
+    double crease_stiffness; /* N (N m/m per radian) >= 0: the crease law's
+                                    moment per length of crease per radian
+                                    near flat; 0 = off (the presets)       */
 } cloth_fabric;
 
 typedef enum cloth_fabric_kind {
