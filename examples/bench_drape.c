@@ -752,7 +752,6 @@ static int parse_scenes(options *o, const char *v)
     }
 }
 
-/* 0 to run, else the exit status (2: bad option, 0: --help). */
 enum { OPT_SCENE = BENCH_OWN, OPT_SOLVER, OPT_PRECOND, OPT_SELF_COLLISION, OPT_FABRIC, OPT_STEPS, OPT_MAX_WALL };
 
 static const struct option own_options[] = {

@@ -12,30 +12,7 @@
  * the four pins carry the weight of cloth and box: the vertical pin forces
  * sum to (m_cloth + m_box) g within 2% (a closed form). The box's speed at
  * the end is printed, not asserted: the hammock and box swing as a
- * pendulum that only the cloth's link damping slows (below; the
- * "no jitter" is asserted by test/plugin_coupling: a box resting on a
- * pinned cloth moves at most 0.14 mm/s). The step holds the elongation
- * limit as a constraint in its Newton corrections (step.c), with a budget
- * of 32 of them here, and a sticking contact on a link past the limit
- * slides (plugin/src/coupling.c).
- * Measured (3 s run, session 7): strain 0.0300, penetration 0.06 mm, pins
- * 31.400 N against 31.392 N (+0.03%), the box at 2.0 cm/s at the end: the
- * hammock still rocks. Over grids 17-25 x
- * 60/75/90 steps/s (15 runs): strain 0.0300-0.0301 (all within delta +
- * 1e-4), pins within 0.78%, the box over 1 cm/s at the end in 8 (a swing
- * of period ~1.1 s started by the box's tilt at first contact, decaying
- * about 30% a half period: nothing but the cloth's link damping takes
- * energy out of a pendulum; at 4.5 s, 4 of 15 still over 1 cm/s), 0.5-6 s
- * of wall time. Session 6 measured 7 of 15 (the default run at 9.7 mm/s);
- * the contact changes of session 7 moved which grids swing. Before
- * sticking contacts on overstretched links slid: 0.0300-0.0385 (9 over
- * delta + 1e-4, on links between vertices the box holds); before the limit
- * was held in the corrections (and the projection's levers and held pairs
- * mended, strain_limit.c): 0.038-0.046; before the Newton corrections and
- * the contacts found by the box's approach: 0.14-0.34, pins up to 11.6%
- * off, 16 s of wall time. CTest runs the full run with --check (1.5 s of
- * wall time); until session 7 it ran the short one without, when --check
- * also asked the box to move under 1 cm/s.
+ * pendulum that only the cloth's link damping slows (docs/demos.md).
  *
  * Test demo_trampoline in test/CMakeLists.txt.
  */

@@ -1,4 +1,4 @@
-/* Two-way coupling between a cloth and ODE bodies (plugin/src/coupling.c):
+/* Two-way coupling between a cloth and ODE bodies (plugin/src/body_coupling.c, reactions.c):
  * what the cloth does to a body must be what the body does to the cloth.
  * Default cloth everywhere: 21 x 21 nodes, 1 m square, horizontal at z = 1,
  * cotton, 0.2 kg; h = 1/60 s, dClothWorldStep (cloth, then dWorldStep).

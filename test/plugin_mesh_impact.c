@@ -19,7 +19,7 @@
  *
  * Why (measured before the mends in triangles.c and mpcg.c): a direction
  * off a mesh face's normal across its flat diagonal replaced vertices' own
- * contacts (the review of session 6 saw -6.4 mm); on every collider the
+ * contacts (one vertex 6.4 mm through); on every collider the
  * contact point EPA picks between parallel faces is arbitrary, and the
  * lift shared from it stopped vertices short: the cloth crumpled on
  * impact, vertices reached 0.9-3.7 mm inside the face, and the centre

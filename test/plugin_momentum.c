@@ -1,5 +1,5 @@
 /* Plugin: momentum is exchanged between the cloth and ODE bodies, never
- * created (plugin/src/coupling.c). After dClothStep and before dWorldStep a
+ * created (plugin/src/reactions.c). After dClothStep and before dWorldStep a
  * body's force and torque accumulators hold what the cloth gave it; the
  * cloth got its pin and contact forces (dClothGetPinForce,
  * dClothGetContactForce) at its vertices' end-of-step positions, where the

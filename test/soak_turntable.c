@@ -177,7 +177,7 @@ int main(void)
     /* no creep past the elongation limit while the cloth sticks to the
      * turning table: measured none of 100,000 steps over 0.035, max 0.0300
      * (before a triangle's contact slid on a vertex it barely holds,
-     * coupling.c STICK_WEIGHT: 63 steps, 0.044; before contacts were judged
+     * STICK_WEIGHT: 63 steps, 0.044; before contacts were judged
      * by the speed relative to the table: 8396 steps, 0.186) */
     CHECK(strain_over == 0 && strain_max <= 0.035,
           "strain: %ld of %ld steps over 0.035 (none allowed), max %.4f", strain_over, steps,

@@ -88,6 +88,7 @@ static void draw_glyph(void *ctx, FT_Face f, long pen)
 {
     const ink_at *t = ctx;
     const FT_Bitmap *b = &f->glyph->bitmap;
+    if (b->pixel_mode != FT_PIXEL_MODE_GRAY) return; /* a font's embedded 1-bit bitmap: not coverage bytes */
     int x0 = t->x + (int)((pen + 32) >> 6) + f->glyph->bitmap_left, y0 = t->baseline - f->glyph->bitmap_top;
     for (int r = 0; r < (int)b->rows; r++)
         for (int c = 0; c < (int)b->width; c++) {
@@ -109,7 +110,7 @@ int demo_text(demo_image *im, int x, int y, int scale, const unsigned char rgb[3
     FT_Face f = sized_face(scale);
     if (!f) return 0;
     ink_at t = {im, x, y + 7 * scale, rgb};
-    return lay_out(f, s, FT_LOAD_RENDER, draw_glyph, &t);
+    return lay_out(f, s, FT_LOAD_RENDER | FT_LOAD_NO_BITMAP, draw_glyph, &t);
 }
 
 #else /* no FreeType */
