@@ -135,13 +135,20 @@ static result run(int N, double hz, cloth_precond pc, double seconds, double cap
     return r;
 }
 
-int main(int argc, char **argv)
+/* What the command line asks for */
+typedef struct bench_args {
+    const char *out;
+    int grids[16], ng;
+    double cap, seconds;
+    int use_pc[4], use_hz[2], hash, reps;
+} bench_args;
+
+static const char *const pcn[4] = {"jacobi", "block", "ssor", "multigrid"};
+
+/* The options into a: -1 to run, else the exit status (0 after --help, 2 on a bad option) */
+static int parse_options(int argc, char **argv, bench_args *a)
 {
-    const char *out = "out/bench";
-    int grids[16] = {21, 41, 81, 161}, ng = 4;
-    double cap = 40.0, seconds = 2.0;
-    int use_pc[4] = {1, 1, 1, 1}, use_hz[2] = {1, 1}, hash = 0, reps = 1;
-    const char *pcn[4] = {"jacobi", "block", "ssor", "multigrid"};
+    *a = (bench_args){"out/bench", {21, 41, 81, 161}, 4, 40.0, 2.0, {1, 1, 1, 1}, {1, 1}, 0, 1};
     static const struct option options[] = {
         {"help", no_argument, NULL, 'h'},
         {"hash", no_argument, NULL, 'H'},
@@ -170,9 +177,9 @@ int main(int argc, char **argv)
                  "--reps N: each row N times (medians, and 'best': each step's fastest time).");
             return 0;
         } else if (opt == 'H') {
-            hash = 1;
+            a->hash = 1;
         } else if (opt == 'p') {
-            for (int p = 0; p < 4; p++) use_pc[p] = 0;
+            for (int p = 0; p < 4; p++) a->use_pc[p] = 0;
             for (const char *s = v; *s;) {
                 size_t len = strcspn(s, ",");
                 int p = 0;
@@ -181,16 +188,16 @@ int main(int argc, char **argv)
                     fprintf(stderr, "bench_step: unknown preconditioner in '%s'\n", v);
                     return 2;
                 }
-                use_pc[p] = 1;
+                a->use_pc[p] = 1;
                 s += len;
                 if (*s == ',') s++;
             }
         } else if (opt == 'z') {
-            use_hz[0] = use_hz[1] = 0;
+            a->use_hz[0] = a->use_hz[1] = 0;
             for (char *s = v; *s;) {
                 long hz = strtol(s, &s, 10);
-                if (hz == 60) use_hz[0] = 1;
-                else if (hz == 240) use_hz[1] = 1;
+                if (hz == 60) a->use_hz[0] = 1;
+                else if (hz == 240) a->use_hz[1] = 1;
                 else {
                     fprintf(stderr, "bench_step: --hz takes 60 and/or 240\n");
                     return 2;
@@ -199,22 +206,22 @@ int main(int argc, char **argv)
                 else break;
             }
         } else if (opt == 'o') {
-            out = v;
+            a->out = v;
         } else if (opt == 'c') {
-            cap = atof(v);
+            a->cap = atof(v);
         } else if (opt == 'r') {
-            reps = atoi(v);
+            a->reps = atoi(v);
         } else if (opt == 's') {
-            seconds = atof(v);
+            a->seconds = atof(v);
         } else if (opt == 'g') {
-            ng = 0;
-            for (char *s = v; *s && ng < 16;) {
-                grids[ng] = (int)strtol(s, &s, 10);
-                if (grids[ng] < 3) {
+            a->ng = 0;
+            for (char *s = v; *s && a->ng < 16;) {
+                a->grids[a->ng] = (int)strtol(s, &s, 10);
+                if (a->grids[a->ng] < 3) {
                     fprintf(stderr, "bench_step: grid sizes must be >= 3\n");
                     return 2;
                 }
-                ng++;
+                a->ng++;
                 if (*s == ',') s++;
                 else break;
             }
@@ -223,55 +230,26 @@ int main(int argc, char **argv)
             return 2;
         }
     }
-    if (!(cap > 0.0) || !(seconds > 0.0) || reps < 1) {
+    if (!(a->cap > 0.0) || !(a->seconds > 0.0) || a->reps < 1) {
         fprintf(stderr, "bench_step: --cap and --seconds must be > 0, --reps >= 1\n");
         return 2;
     }
-    char path[1024];
-    snprintf(path, sizeof path, "mkdir -p '%s'", out);
-    if (system(path) != 0) {
-        fprintf(stderr, "bench_step: cannot create %s\n", out);
-        return 1;
-    }
-    snprintf(path, sizeof path, "%s/bench_step.csv", out);
-    FILE *csv = fopen(path, "w");
-    if (!csv) {
-        fprintf(stderr, "bench_step: cannot write %s: %s\n", path, strerror(errno));
-        return 1;
-    }
-    fprintf(csv, "grid,nodes,hz,precond,steps,steps_done,steps_per_s,median_step_ms,cg_iterations,partial,cpu_steps_per_s,best_steps_per_s\n");
-    const double hzs[2] = {60.0, 240.0};
-    const cloth_precond pcs[4] = {CLOTH_PRECOND_JACOBI, CLOTH_PRECOND_BLOCK_JACOBI, CLOTH_PRECOND_SSOR,
-                                  CLOTH_PRECOND_MULTIGRID};
-    printf("%-8s %-6s %-10s %10s %10s %10s %12s %10s %s\n", "grid", "h", "precond", "steps/s", "cpu st/s", "best st/s",
-           "median ms", "CG it", "");
-    for (int g = 0; g < ng; g++)
-        for (int k = 0; k < 2; k++)
-            for (int p = 0; p < 4; p++) {
-                if (!use_hz[k] || !use_pc[p]) continue;
-                result r = run(grids[g], hzs[k], pcs[p], seconds, cap, reps);
-                int partial = r.done < r.steps;
-                printf("%3dx%-4d 1/%-4.0f %-10s %10.1f %10.1f %10.1f %12.3f %10.1f %s", grids[g], grids[g], hzs[k],
-                       pcn[p], r.steps_per_s, r.cpu_steps_per_s, r.best_steps_per_s, r.median_ms, r.iters,
-                       r.failed ? "FAILED" : partial ? "(partial: wall cap)" : "");
-                if (hash) printf(" hash %016llx", r.hash);
-                printf("\n");
-                fflush(stdout);
-                fprintf(csv, "%d,%d,%.0f,%s,%d,%d,%.3f,%.4f,%.2f,%d,%.3f,%.3f\n", grids[g], grids[g] * grids[g],
-                        hzs[k], pcn[p], r.steps, r.done, r.steps_per_s, r.median_ms, r.iters, partial || r.failed,
-                        r.cpu_steps_per_s, r.best_steps_per_s);
-            }
-    fclose(csv);
+    return -1;
+}
 
-    /* chart: steps/s and CG iterations against node count, log-log */
+/* The chart of DIR/bench_step.csv: steps/s and CG iterations against node count, log-log */
+static void write_chart(const char *out)
+{
+    char path[1024];
     snprintf(path, sizeof path, "%s/bench_step.gp", out);
     FILE *gp = fopen(path, "w");
-    if (!gp) return 0;
+    if (!gp) return;
     fprintf(gp,
             "set terminal pngcairo size 1200,480 font ',10'\n"
             "set output '%s/bench_step.png'\n"
             "set datafile separator ','\n"
-            "set multiplot layout 1,2 title 'odecloth: backward Euler + modified PCG, pinned cotton cloth, tol 1e-3, 1 thread'\n"
+            "set multiplot layout 1,2 title 'odecloth: backward Euler + modified PCG, "
+            "pinned cotton cloth, tol 1e-3, 1 thread'\n"
             "set logscale xy\nset grid\nset key left bottom\nset xlabel 'nodes'\n"
             "set ylabel 'steps per second'\n"
             "plot for [pc in 'jacobi block ssor multigrid'] for [hz in '60 240'] '%s/bench_step.csv' "
@@ -286,5 +264,51 @@ int main(int argc, char **argv)
     snprintf(path, sizeof path, "gnuplot '%s/bench_step.gp'", out);
     if (system(path) != 0) fprintf(stderr, "bench_step: gnuplot failed; the CSV is in %s\n", out);
     else printf("wrote %s/bench_step.csv and %s/bench_step.png\n", out, out);
+}
+
+int main(int argc, char **argv)
+{
+    bench_args a;
+    int status = parse_options(argc, argv, &a);
+    if (status >= 0) return status;
+    const char *out = a.out;
+    char path[1024];
+    snprintf(path, sizeof path, "mkdir -p '%s'", out);
+    if (system(path) != 0) {
+        fprintf(stderr, "bench_step: cannot create %s\n", out);
+        return 1;
+    }
+    snprintf(path, sizeof path, "%s/bench_step.csv", out);
+    FILE *csv = fopen(path, "w");
+    if (!csv) {
+        fprintf(stderr, "bench_step: cannot write %s: %s\n", path, strerror(errno));
+        return 1;
+    }
+    fprintf(csv, "grid,nodes,hz,precond,steps,steps_done,steps_per_s,median_step_ms,cg_iterations,partial,"
+                 "cpu_steps_per_s,best_steps_per_s\n");
+    const double hzs[2] = {60.0, 240.0};
+    const cloth_precond pcs[4] = {CLOTH_PRECOND_JACOBI, CLOTH_PRECOND_BLOCK_JACOBI, CLOTH_PRECOND_SSOR,
+                                  CLOTH_PRECOND_MULTIGRID};
+    printf("%-8s %-6s %-10s %10s %10s %10s %12s %10s %s\n", "grid", "h", "precond", "steps/s", "cpu st/s", "best st/s",
+           "median ms", "CG it", "");
+    for (int g = 0; g < a.ng; g++)
+        for (int k = 0; k < 2; k++)
+            for (int p = 0; p < 4; p++) {
+                if (!a.use_hz[k] || !a.use_pc[p]) continue;
+                result r = run(a.grids[g], hzs[k], pcs[p], a.seconds, a.cap, a.reps);
+                int partial = r.done < r.steps;
+                printf("%3dx%-4d 1/%-4.0f %-10s %10.1f %10.1f %10.1f %12.3f %10.1f %s", a.grids[g], a.grids[g], hzs[k],
+                       pcn[p], r.steps_per_s, r.cpu_steps_per_s, r.best_steps_per_s, r.median_ms, r.iters,
+                       r.failed ? "FAILED" : partial ? "(partial: wall cap)" : "");
+                if (a.hash) printf(" hash %016llx", r.hash);
+                printf("\n");
+                fflush(stdout);
+                fprintf(csv, "%d,%d,%.0f,%s,%d,%d,%.3f,%.4f,%.2f,%d,%.3f,%.3f\n", a.grids[g], a.grids[g] * a.grids[g],
+                        hzs[k], pcn[p], r.steps, r.done, r.steps_per_s, r.median_ms, r.iters, partial || r.failed,
+                        r.cpu_steps_per_s, r.best_steps_per_s);
+            }
+    fclose(csv);
+
+    write_chart(out);
     return 0;
 }
