@@ -1,5 +1,5 @@
-/* Plugin: what a contact's reach may meet in the user's scene (found in a
- * review of the contacts judged by the body's approach, plugin/src/broadphase.c).
+/* Plugin: what a contact's reach may meet in the user's scene (the contacts
+ * judged by the body's approach, plugin/src/broadphase.c).
  *
  * 1. ODE's quadtree space cannot hand out its geoms (dSpaceGetGeom aborts
  *    there, "not yet implemented"): a cloth colliding with a quadtree
