@@ -142,6 +142,30 @@ static blob snapshot(scene *r)
     return read_all("plugin_state_file.ref");
 }
 
+/* Calls refused whole: NULL paths, a negative count, a NULL cloth; writes naming no body or geom
+ * for what the scene holds, the file (ref's record) untouched */
+static void refused_calls(scene *r, const blob *ref)
+{
+    CHECK(dClothReadState(r->cloth, NULL, NULL, 0, NULL, 0) == CLOTH_EINVAL &&
+              dClothWriteState(r->cloth, NULL, NULL, 0, NULL, 0) == CLOTH_EINVAL &&
+              dClothReadState(r->cloth, "plugin_state_file.ref", &r->table, -1, NULL, 0) == CLOTH_EINVAL &&
+              dClothWriteState(NULL, "x", NULL, 0, NULL, 0) == CLOTH_EINVAL,
+          "NULL path, negative count, NULL cloth refused");
+
+    /* writing what the arrays do not name: refused, the file untouched */
+    CHECK(dClothWriteState(r->cloth, "plugin_state_file.ref", &r->table, 1, NULL, 0) == CLOTH_EINVAL &&
+              strstr(dClothGetLastError(r->cloth), "pin of vertex 0: body is") &&
+              strstr(dClothGetLastError(r->cloth), "not in bodies[]"),
+          "a pin to an unnamed body: %s", dClothGetLastError(r->cloth));
+    CHECK(dClothWriteState(r->cloth, "plugin_state_file.ref", NULL, 0, &r->body, 1) == CLOTH_EINVAL &&
+              strstr(dClothGetLastError(r->cloth), "geom is") &&
+              strstr(dClothGetLastError(r->cloth), "not in geoms[]"),
+          "a contact with an unnamed geom: %s", dClothGetLastError(r->cloth));
+    blob now = read_all("plugin_state_file.ref");
+    CHECK(now.n == ref->n && memcmp(now.p, ref->p, now.n) == 0, "a refused write changed the file");
+    free(now.p);
+}
+
 /* b written to a file and read into r: refused, with `want` in the message
  * and the cloth unchanged (ref) */
 static void refused(scene *r, const blob *ref, const unsigned char *p, size_t n, const char *want, const char *what)
@@ -283,27 +307,10 @@ static void bad_input(void)
     refused(&r, &ref, v1.p, v1.n, "4 bytes after the last pin record", "a version 1 file with a held run");
     memcpy(m.p, ref.p, ref.n);
 
-    CHECK(dClothReadState(r.cloth, NULL, NULL, 0, NULL, 0) == CLOTH_EINVAL &&
-              dClothWriteState(r.cloth, NULL, NULL, 0, NULL, 0) == CLOTH_EINVAL &&
-              dClothReadState(r.cloth, "plugin_state_file.ref", &r.table, -1, NULL, 0) == CLOTH_EINVAL &&
-              dClothWriteState(NULL, "x", NULL, 0, NULL, 0) == CLOTH_EINVAL,
-          "NULL path, negative count, NULL cloth refused");
-
-    /* writing what the arrays do not name: refused, the file untouched */
-    CHECK(dClothWriteState(r.cloth, "plugin_state_file.ref", &r.table, 1, NULL, 0) == CLOTH_EINVAL &&
-              strstr(dClothGetLastError(r.cloth), "pin of vertex 0: body is") &&
-              strstr(dClothGetLastError(r.cloth), "not in bodies[]"),
-          "a pin to an unnamed body: %s", dClothGetLastError(r.cloth));
-    CHECK(dClothWriteState(r.cloth, "plugin_state_file.ref", NULL, 0, &r.body, 1) == CLOTH_EINVAL &&
-              strstr(dClothGetLastError(r.cloth), "geom is") &&
-              strstr(dClothGetLastError(r.cloth), "not in geoms[]"),
-          "a contact with an unnamed geom: %s", dClothGetLastError(r.cloth));
-    now = read_all("plugin_state_file.ref");
-    CHECK(now.n == ref.n && memcmp(now.p, ref.p, now.n) == 0, "a refused write changed the file");
+    refused_calls(&r, &ref);
     printf("refused: a missing file, %d truncations, magic, version, vertex count, indices, NaN, held run, "
            "checksum, a trailing byte; writes naming no body or geom; a version 1 file read\n",
            truncs);
-    free(now.p);
     free(m.p);
     free(b.p);
     free(ref.p);
