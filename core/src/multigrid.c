@@ -110,7 +110,7 @@ int mg_create(multigrid *mg, int R, int C, const bsr *A0)
 {
     memset(mg, 0, sizeof *mg);
     /* the coarsest level is solved densely: a grid that does not coarsen
-     * (a side under 5 nodes: 3 x 100000 asked for 6.5 TB) is refused */
+     * (a side under 5 nodes) is refused, as its dense matrix can be huge */
     if (3 * coarsest_nodes(R, C) > MG_DENSE_MAX) return -2;
     int l = 0;
     mg->lev[0].R = R;

@@ -23,7 +23,7 @@ typedef struct self_contact_work {
 self_contact *self_contact_create(int n, int ntri, const int *tri, double thickness);
 void self_contact_destroy(self_contact *s); /* NULL is fine; unbinds its cloth */
 
-/* Let the Newton steps of c feel s (s leaves the cloth it was bound to before). */
+/* Let the Newton steps of c feel s (s leaves any cloth it was bound to). */
 void self_contact_bind(self_contact *s, cloth *c);
 /* cloth_destroy: c is going. */
 void self_contact_unbind_cloth(cloth *c);

@@ -73,7 +73,7 @@ int dcloth_contact_rule(dClothID c, int i, double h, double mass, const double g
     double fn = had ? dcloth_dot3(old->force, old->normal) : 0.0;
     /* unilateral: a contact that pulled its vertex onto the body lets go unless the vertex is inside by
      * more than rounding; a triangle's contact, and a vertex's own whose last force was a triangle's share,
-     * is judged by geometry alone (by_triangle_rule), since its vertex forces chatter in sign */
+     * is judged by geometry alone (by_triangle_rule): its vertices can pull while the triangle presses */
     if (!forced && had && nw->gap >= -DCLOTH_TOUCH * nw->thickness &&
         ((fn < 0.0 && !nw->from_triangle && !old->from_triangle) || old->let_go)) {
         st->released++;
