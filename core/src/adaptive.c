@@ -27,11 +27,11 @@ struct cloth_adaptive {
     double global;         /* m, RMS |x - x_shadow| after the last accepted frame */
     double h_int;          /* s^2, integral of the substep size over the shadow's run */
     double k_err;          /* m / s^2, the estimate per unit step and time (decaying maximum) */
-    double carried;        /* m, the estimate before the shadow was last restarted */
+    double carried;        /* m, the estimate at the shadow's last restart */
     cloth_method method;   /* of the last frame: backward or symplectic Euler */
     double k_be;           /* m / s^2, k_err of backward Euler when it last ran */
     double it_be;          /* CG iterations per backward Euler substep (running mean) */
-    double h_stab;         /* s, symplectic Euler's stable step (0: not yet measured) */
+    double h_stab;         /* s, symplectic Euler's stable step (0: not yet computed) */
     double h_scale;        /* 1, halved whenever a symplectic frame fails */
     double *uk, *uc, *px, *pf0, *pf1; /* 3n each: power iterations */
     double *cf0;           /* 3n: the constraint forces before the frame (a failed frame keeps them) */
@@ -174,12 +174,9 @@ typedef struct attempt {
     int steps, iterations;
 } attempt;
 
-/* n substeps of h from the current state, with the frame's estimates:
- * ex = sum over substeps of h^2/2 |a_k| (positions), ev = n h^2/2 |a'| with
- * a' = (a_n - a_0) / frame over the whole frame (velocities; a_0 is the last
- * substep's acceleration before the frame). Differencing over the frame
- * rather than substep by substep keeps the CG's noise in a_k from adding up
- * into a floor that no step size could get under. */
+/* n substeps of h from the current state, with the frame's error estimates (ex for positions,
+ * ev for velocities, the acceleration differenced over the whole frame so that the CG's noise
+ * in each substep's acceleration does not add up into a floor no step size gets under). */
 static attempt run_substeps(cloth_adaptive *a, cloth *c, int n, double h)
 {
     attempt t = {CLOTH_FAIL_NONE, 0, 0.0, 0.0, 0, 0};
@@ -212,10 +209,8 @@ static attempt run_substeps(cloth_adaptive *a, cloth *c, int n, double h)
     return t;
 }
 
-/* The shadow's inputs made the cloth's: material, gravity, external
- * forces, air and constraints (the cloth's as the frame starts; its solver is
- * set before each of its runs, and before_substep then sets its own
- * constraints for each of its substeps). */
+/* Copies the cloth's inputs to the shadow (material, gravity, external forces, air and
+ * constraints as the frame starts) so both integrate the same problem. */
 static void shadow_inputs(cloth_adaptive *a, const cloth *c)
 {
     cloth *s = a->shadow;
@@ -231,7 +226,7 @@ static void shadow_inputs(cloth_adaptive *a, const cloth *c)
     }
 }
 
-/* the shadow's n / 2 substeps of 2 h; 0 if all were taken */
+/* the shadow's n / 2 substeps of 2 h; 0 if all of them were taken */
 static int run_shadow(cloth_adaptive *a, int n, double h, int *steps, int *iterations)
 {
     cloth *s = a->shadow;
@@ -265,11 +260,8 @@ static void filter(const cloth *c, double *u)
     }
 }
 
-/* The largest eigenvalue of M^-1 K (which 0) or M^-1 C (which 1), K and C
- * the springs' stiffness and damping (C with the air drag's) at the
- * cloth's state (finite differences of the forces; the constraints filtered
- * out), by `iters` power iterations continuing from u (3n; kept for the
- * next call). */
+/* Largest eigenvalue of M^-1 K (which 0) or M^-1 C (which 1) at the cloth's state, by `iters`
+ * power iterations of finite-difference force products continuing from u (kept for the next call). */
 static double power_max(cloth_adaptive *a, const cloth *c, int which, double *u, int iters)
 {
     size_t n3 = 3 * (size_t)a->n;
@@ -304,10 +296,8 @@ static double power_max(cloth_adaptive *a, const cloth *c, int which, double *u,
     return isfinite(lam) && lam > 0.0 ? lam : 0.0;
 }
 
-/* Symplectic Euler's stable step at the cloth's state: a mode of stiffness
- * k' and damping c' (per unit mass) is stable while h^2 k' + 2 h c' < 4
- * (its characteristic polynomial; the damping is explicit too), taken with
- * the largest k' and c' (an upper bound: they need not share a mode). */
+/* Symplectic Euler's stable step: a mode is stable while h^2 k' + 2 h c' < 4 (damping explicit too),
+ * taken with the largest k' and c', an upper bound since they need not share a mode. */
 static double stable_step(cloth_adaptive *a, const cloth *c, int iters)
 {
     double lk = power_max(a, c, 0, a->uk, iters), lc = power_max(a, c, 1, a->uc, iters);
@@ -333,21 +323,17 @@ static void resync(cloth_adaptive *a)
     a->global = a->h_int = a->k_err = 0.0;
 }
 
-/* A change of method: the shadow restarted from the cloth (k is measured
- * afresh for the new method; the estimate so far is carried, no longer
- * propagated: tried the other way, keeping the shadow on, the error the
- * motion amplified after a switch counted as the new method's k and drove
- * symplectic Euler to 1024 substeps and back to backward Euler, 11.5 mm at
- * 2 s on the swing at 3e-3 instead of 6.8) */
+/* A change of method restarts the shadow from the cloth: k is estimated afresh for the new method and
+ * the estimate so far is carried, not propagated, so the error amplified before the switch is not
+ * charged to the new method (docs/solver.md, "Design notes from the code"). */
 static void new_method(cloth_adaptive *a, cloth_method m)
 {
     a->method = m;
     resync(a);
 }
 
-/* CPU cost of a backward Euler substep in symplectic Euler substeps (one
- * force evaluation and update each): measured on the 21x21 cloth with block
- * Jacobi, 0.33 ms + 0.02 ms per CG iteration against 0.133 ms. */
+/* CPU cost of a backward Euler substep in symplectic Euler substeps (one force evaluation and update
+ * each); the constants come from a benchmark (docs/solver.md, "Design notes from the code"). */
 static double be_cost(double iterations) { return ADAPTIVE_BE_COST_FIXED + ADAPTIVE_BE_COST_PER_CG * iterations; }
 
 cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, cloth_adaptive_stats *stats)
@@ -392,7 +378,7 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
         if (a->d.allow_explicit && a->have_prev && a->h_scale > 0.0) {
             double nb = a->method == CLOTH_BACKWARD_EULER ? n : frame_dt * a->k_be / (ADAPTIVE_AIM * a->d.tolerance);
             double cost_be = fmax(nb, 2.0) * be_cost(a->it_be);
-            /* measured (40 power iterations, then 6 from the last vector)
+            /* the stable step, estimated (40 power iterations, then 6 from the last vector)
              * while symplectic Euler runs or might be within 2x */
             if (a->method == CLOTH_SYMPLECTIC_EULER || a->h_stab == 0.0 ||
                 frame_dt / (ADAPTIVE_SYM_FRAC * a->h_scale * a->h_stab) < 2.0 * cost_be) {
@@ -456,14 +442,9 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
             shadow_failed = run_shadow(a, n, st.h, &st.steps, &st.cg_iterations);
             if (!shadow_failed) g_est = rms_diff(cloth_positions(c), cloth_positions(a->shadow), a->n);
         }
-        /* the first frame, once solved by backward Euler, is solved again by
-         * symplectic Euler (when its stable step fits max_substeps), and the
-         * cheaper at the tolerance kept. Backward Euler's error there is the
-         * larger of its shadow's difference and its distance to the
-         * symplectic solution: its coarse steps damp stiff modes the motion
-         * starts with, which its shadow, damping them too, does not see
-         * (measured on the swing at 3e-3: three such frames left 0.5 mm at
-         * 0.25 s, grown to 6.8 mm by 2 s, while the estimate said 0.16) */
+        /* the first frame, solved by backward Euler, is solved again by symplectic Euler (when its stable
+         * step fits max_substeps) and the cheaper at the tolerance kept: backward Euler's coarse steps damp
+         * stiff modes that its shadow, damping them too, does not see (docs/solver.md) */
         if (ok && global && !shadow_failed && fresh && !a->have_prev_start && method == CLOTH_BACKWARD_EULER &&
             a->d.allow_explicit && !tried_explicit) {
             tried_explicit = 1;
@@ -514,10 +495,8 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
                 }
             }
         }
-        /* with the global estimate a frame is solved again only when the
-         * shadow started with it (the first frame, a change of method):
-         * later, what the frame adds cannot be told apart from what the
-         * motion does to the difference so far */
+        /* with the global estimate a frame is solved again only when the shadow started with it (first
+         * frame, change of method): later, its share cannot be told from the motion's growth of the error */
         if (ok && global && !shadow_failed) {
             if (!fresh || st.attempts > 1 || g_est <= 2.0 * budget || a->carried + g_est <= a->d.tolerance * t_end ||
                 n >= n_top(a, 1))
@@ -544,10 +523,8 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
                               cloth_failure_string(t.failure), n);
         }
         if (method == CLOTH_SYMPLECTIC_EULER && (!ok || shadow_failed)) {
-            /* unstable after all (a link reaching the elongation limit's
-             * stiffness within the frame, or the power iteration short of
-             * the largest mode): a smaller explicit step from now on, and
-             * backward Euler once the step would cost more than it */
+            /* unstable after all (a link reaching the limit's stiffness, or the power iteration short of the
+             * largest mode): halve the explicit step, and take backward Euler once that costs less */
             a->h_scale *= 0.5;
             int ns = clamp_substeps(a, 2.0 * n, 1);
             double cost_be = fmax(frame_dt * a->k_be / (ADAPTIVE_AIM * a->d.tolerance), 2.0) * be_cost(a->it_be);
@@ -580,10 +557,8 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
         st.over_budget = !(g_est - a->global <= 2.0 * budget);
         a->global = g_est;
         st.global_estimate = a->carried + g_est;
-        /* the next frame: the estimate is E = k int h dt (first order, k
-         * the error per unit step and time, amplification included); a step
-         * h from now on adds k h per second: h = ADAPTIVE_AIM tolerance / k, a
-         * fraction of the request, at most halving n at once */
+        /* the next frame's step: E = k int h dt (k the error per unit step and time), so h =
+         * ADAPTIVE_AIM tolerance / k keeps the estimate a fraction of the request; n at most halves at once */
         a->h_int += st.h * frame_dt;
         a->k_err = fmax(g_est / a->h_int, a->k_err * exp(-frame_dt / ADAPTIVE_KMEM));
         if (method == CLOTH_BACKWARD_EULER) a->k_be = a->k_err;

@@ -1,10 +1,6 @@
-/* Rigid bodies solved together with the cloth: the implicit two-way coupling
- * of cloth_body (cloth.h). A body's six velocity unknowns join the modified
- * CG (mpcg.c); this file holds the API, the per-step set-up and the solver's
- * body operations. The held vertex i of body g moves, in its constrained
- * directions P_i = I - S_i, with the body's point velocity change
- *   J_i u = u_lin + u_ang x r_i,   r_i = x_i - com_g,
- * and the body's row is M_g u_g = rhs_g - sum_i J_i^T P_i (A dv - b)_i. */
+/* Rigid bodies solved with the cloth (cloth_body, cloth.h): each body's six velocity unknowns join
+ * the modified CG (mpcg.c), a held vertex moving with the body's point velocity J_i u = u_lin +
+ * u_ang x r_i in its constrained directions. API, per-step set-up and the solver's body operations. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -434,10 +430,8 @@ void bodies_apply_ginv(const mpcg_bodies *B, const double *r, double *out)
 
 /* ------------------------------------------------- the substep retry */
 
-/* A step retried in substeps (step.c) moves a held vertex with its body's
- * velocity from before the step (the target's interpolation) plus what the
- * substeps taken so far gave the body: U, the sum of their du, and D_i, the
- * displacement U made at vertex i. */
+/* Substep retry (step.c): a held vertex moves with its body's velocity at the step's start plus the
+ * substeps' sum of du so far (U), which moves vertex i by D_i. */
 static double *body_U(const cloth *c) { return bw(c, 0) + 51 * (size_t)c->nbody; }
 
 void bodies_retry_reset(cloth *c)
@@ -486,10 +480,8 @@ void bodies_retry_finish(cloth *c)
 
 /* ------------------------------------------------- Newton iterations */
 
-/* A Newton iteration (newton.c, linearized.c) solves the bodies' rows on
- * their residual: M ddu = rhs - M du1 - sum J^T P (A ddv - b), the body's
- * right-hand side short of M du1 while it runs; bodies_newton_take then
- * sets du = du1 + t ddu. */
+/* A Newton iteration solves the bodies' rows on their residual, M ddu = rhs - M du1 - sum J^T P
+ * (A ddv - b); bodies_newton_take then sets du = du1 + t ddu. */
 static double *body_u1(const cloth *c) { return bw(c, 0) + 57 * (size_t)c->nbody; }
 
 /* rhs_g += s M_g v_g for every body */
@@ -624,9 +616,8 @@ double bodies_step_energy(const cloth *c)
             for (int b = 0; b < 6; b++) s += du[6 * g + a] * M[36 * g + 6 * a + b] * du[6 * g + b];
     return s;
 }
-/* The step's du as it was when the Newton corrections converged last
- * (linearized.c keeps that step if the elongation limit's later corrections do
- * not converge in the budget) */
+/* The step's du at the last converged Newton corrections, kept by linearized.c if the elongation
+ * limit's later corrections do not converge within the budget. */
 static double *body_saved(const cloth *c) { return bw(c, 0) + 63 * (size_t)c->nbody; }
 
 void bodies_newton_save(cloth *c)

@@ -11,16 +11,14 @@ typedef struct bsr {
     int *col;       /* nnzb, sorted within each row */
     int *diag;      /* n: index of block (i, i) */
     double *val;    /* 9 * nnzb, each block row-major */
-    /* 2n row flags (bsr_check_sym), or NULL: sym[i] = 1 when row i's blocks
-     * in val are all exactly symmetric, as last checked (stale once val
-     * changes); sym[n + i] the same for a caller's copy of the values on
-     * this pattern (ssor.c's filtered matrix). */
+    /* 2n row flags (bsr_check_sym), or NULL: sym[i] = 1 when row i's blocks in val are exactly
+     * symmetric as last checked (stale once val changes); sym[n + i] the same for a caller's copy
+     * of the values on this pattern (ssor.c's filtered matrix). */
     unsigned char *sym;
 } bsr;
 
-/* Pattern: every diagonal block plus (i,j) and (j,i) for each edge
- * (ei[e] != ej[e]; duplicate edges share a block). blk[2e] receives the index
- * of block (ei[e], ej[e]) and blk[2e+1] that of (ej[e], ei[e]).
+/* Pattern: every diagonal block plus (i,j) and (j,i) per edge (duplicates share a block); blk[2e]
+ * and blk[2e+1] receive the indices of (ei[e], ej[e]) and (ej[e], ei[e]).
  * Returns 0, or -1 on allocation failure or bad indices (A is then empty). */
 int bsr_build(bsr *A, int n, int nedges, const int *ei, const int *ej, int *blk);
 /* Index of block (i, j), or -1 if the pattern has none. */
@@ -34,10 +32,8 @@ void bsr_zero_diag(bsr *A);
 int bsr_edges_own_offdiag(const bsr *A, int nedges, const int *blk);
 /* y = A x (x and y of length 3n, distinct). */
 void bsr_mul(const bsr *A, const double *x, double *y);
-/* y = A x for an x that is zero outside the block columns cols[0..m), for
- * a matrix whose blocks are symmetric and A_ij = A_ji (the cloth's: each
- * link's blocks are -(beta h D + gamma h^2 K), both symmetric); walks only
- * the rows of those columns. cols NULL: all (bsr_mul). */
+/* y = A x for x zero outside block columns cols[0..m) (cols NULL: all), walking only those
+ * columns' rows; needs symmetric blocks with A_ij = A_ji, as the cloth's matrix has. */
 void bsr_mul_cols(const bsr *A, const double *x, const int *cols, int m, double *y);
 /* Flags (n) of the rows of val (A's pattern) whose blocks are all exactly
  * (bitwise) symmetric; returns how many. */

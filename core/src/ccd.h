@@ -1,18 +1,6 @@
-/* Continuous collision tests of four points moving linearly over a step
- * (x(t) = x0 + t (x1 - x0), t in [0, 1]): a point against a triangle and an
- * edge against an edge (Bridson, Fedkiw, Anderson 2002, sec. 6.4).
- *
- * The four points are coplanar where a cubic in t vanishes; its roots in
- * [0, 1] are bracketed by its turning points and refined by safeguarded
- * Newton. At each root, in order, the pair's distance is measured; the hit
- * is the first root where it is within eta and the pair is approaching
- * (its relative velocity along the normal closes the gap). A root that
- * fails either test does not end the search: a graze that parts early does
- * not hide a crossing later in the step.
- *
- * Points: x0 and x1 hold 4 points each (12 doubles). Point-triangle: the
- * point, then the triangle's corners. Edge-edge: edge a's ends, then edge
- * b's. */
+/* Continuous collision of four linearly moving points (point-triangle, edge-edge; Bridson, Fedkiw,
+ * Anderson 2002): each root in [0, 1] of the coplanarity cubic is tested in order, and the hit is
+ * the first within eta and approaching, so an early graze does not hide a later crossing. */
 #ifndef ODECLOTH_CCD_H
 #define ODECLOTH_CCD_H
 

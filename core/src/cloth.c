@@ -55,10 +55,9 @@ static void unit_scaled(const double a[3], double out[3])
     for (int k = 0; k < 3; k++) out[k] = m > 0.0 ? a[k] / m : 0.0;
 }
 
-/* Scales the grid must keep so that positions, rest lengths, their squares
- * and masses are normal doubles resolved to better than 1e-7 relative: the
- * cloth within 1e100 m of the origin, node spacing >= 1e-100 m and >= 1e-9
- * of that extent. */
+/* Scales the grid must keep so that positions, rest lengths, their squares and masses stay normal
+ * doubles resolved to 1e-7 relative: within 1e100 m of the origin, spacing >= 1e-100 m and >= 1e-9
+ * of the extent. */
 #define CLOTH_MAX_EXTENT 1e100
 #define CLOTH_MIN_SPACING 1e-100
 #define CLOTH_MIN_SPACING_REL 1e-9

@@ -25,7 +25,7 @@ cloth_status cloth_set_constraint(cloth *c, const cloth_constraint *k)
         double big = fmax(fabs(k->axis[0]), fmax(fabs(k->axis[1]), fabs(k->axis[2])));
         if (!(big > 0.0)) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_constraint: axis must be non-zero");
         double n2 = k->axis[0] * k->axis[0] + k->axis[1] * k->axis[1] + k->axis[2] * k->axis[2];
-        if (n2 > 1e-280 && n2 < 1e280) { /* the common case, as it always was (bit for bit) */
+        if (n2 > 1e-280 && n2 < 1e280) { /* the common case, kept bit for bit */
             double n = sqrt(n2);
             for (int a = 0; a < 3; a++) kk.axis[a] = k->axis[a] / n;
         } else {
@@ -102,11 +102,9 @@ cloth_status cloth_constraint_force(const cloth *c, int vertex, double f[3])
 
 static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
 
-/* The filter S_i (projector onto the free directions) of each vertex, and
- * z_i = (I - S_i)(v_target - v0): the velocity change that lands the vertex's
- * constrained components on the target, given x_new = a + cfac v_new. A
- * substep aims at the fraction frac of the way from xs (the positions when
- * the whole step began) to the target; frac 1 (or xs NULL) is the target. */
+/* The filter S_i of each vertex and z_i = (I - S_i)(v_target - v0), the velocity change that lands
+ * its constrained components on the target given x_new = a + cfac v_new; a substep aims at frac of
+ * the way from xs (the whole step's start) to the target (frac 1 or xs NULL: the target). */
 void constraints_build(cloth *c, const double *a, const double *v0, double cfac, const double *xs,
                               double frac)
 {

@@ -215,9 +215,8 @@ int contacts_slide(cloth *c, const double *x)
     return changed;
 }
 
-/* cand_on of vertex i's released contact, by what it was (the codes in internal.h:
- * cand_on); a plane the step made, or a set sliding one on a vertex with a second
- * candidate, is a candidate again, held again at most once */
+/* cand_on of vertex i's released contact by its code (internal.h: cand_on); a plane the step made,
+ * or a set sliding one on a vertex with a second candidate, is a candidate again, held at most once */
 static unsigned char released_as(const cloth *c, int i)
 {
     unsigned char on = c->cand_on[i];
@@ -227,10 +226,9 @@ static unsigned char released_as(const cloth *c, int i)
 /* whether vertex i's contact is a plane the step made */
 static int made(const cloth *c, int i) { return c->cand_on[i] == 2 || c->cand_on[i] == 9 || c->cand_on[i] == 11; }
 
-/* Releases contact i (a plane: set so, made so or let slide; or sticking,
- * set so) if its force b pulls it onto its surface by more than pull_min
- * (an impulse, N s), and its second plane if that pulls by more than
- * pull2 (each plane's force apart where both hold). */
+/* Releases contact i (a plane set, made or let slide; or a set sticking one) if its force b pulls it
+ * onto its surface by more than the impulse pull_min (N s), and its second plane if that pulls by
+ * more than pull2 (each plane's force apart where both hold). */
 static int release_if_pulling(cloth *c, int i, const double *b, double pull_min, double pull2)
 {
     cloth_constraint *q = first(c, i);

@@ -79,13 +79,9 @@ static cloth_status spacing_check(double v, const char *name, cloth_error *err)
     return CLOTH_OK;
 }
 
-/* k_t and k_b for cells dx x dy (cells that are not square: the mean of the
- * two thread directions). Membrane: the interlaced links are a lattice like
- * the sequential one with links twice as long, so k_t + 4 k_b = S = tensile
- * / t. Bending: a free sheet relaxes in plane (the compressed interlaced
- * links push it apart), which leaves q k_b k_t / S kappa^4 per area; equal to
- * B kappa^2 / 2 at kappa_ref when 4 q k_b^2 - q S k_b + Q S = 0, Q = B / (2
- * kappa_ref^2), the root that tends to Q / q for a stiff membrane. */
+/* k_t and k_b for dx x dy cells: membrane k_t + 4 k_b = S = tensile / t (the interlaced lattice as
+ * the sequential one with double links); bending matches B kappa^2 / 2 at kappa_ref, the quadratic's
+ * root that tends to Q / q for a stiff membrane (derivation: docs/materials.md, "Design notes"). */
 static cloth_status link_stiffnesses(const cloth_fabric *f, double dx, double dy, double *k_t, double *k_b,
                                      cloth_error *err)
 {

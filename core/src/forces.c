@@ -113,13 +113,9 @@ double max_strain_of(const cloth *c, const double *x)
     return m;
 }
 
-/* The step's passes over the links after a step, each length computed once
- * (step.c): max_strain_of, with the sequential links' part of
- * elastic_energy in the same pass (*e_seq: its first terms, from 0, in its
- * order); then, on the committed state, cloth_update_plastic with the
- * interlaced links' energy added to *elastic in the same pass (the rest of
- * elastic_energy's sum, each link's term with its updated plastic state).
- * Bit for bit the three functions' results. */
+/* The passes over the links after a step, each length computed once (step.c): max_strain_of with the
+ * sequential links' energy, then on the committed state the plastic update with the interlaced
+ * links' energy; bit for bit the separate functions' results, in one pass each. */
 double max_strain_seq_energy(const cloth *c, const double *x, double *e_seq)
 {
     const cloth_material *m = &c->desc.material;

@@ -10,12 +10,9 @@
 
 /* ---------------------------------------------------------------- springs */
 
-/* A piecewise-quadratic spring between x_i and x_j (springs.c):
- *   E = 1/2 k_hi (d - rest)^2  if d >= rest,  1/2 k_lo (d - rest)^2  if d < rest,
- *   plus 1/2 k_lim (d - lim)^2 if d > lim (sequential links past the
- *   elongation limit; lim = HUGE_VAL elsewhere).
- * Every link type and region of the paper reduces to one of these (see
- * cloth_link_law). */
+/* A piecewise-quadratic spring (springs.c): E = 1/2 k_hi (d - rest)^2 above rest, 1/2 k_lo (d -
+ * rest)^2 below, plus 1/2 k_lim (d - lim)^2 past the elongation limit lim (HUGE_VAL where none).
+ * Every link type and region of the paper reduces to one of these (cloth_link_law). */
 typedef struct spring_law {
     double k_hi, k_lo, rest;
     double k_lim, lim; /* extra stiffness past length lim (lim > rest) */
@@ -24,10 +21,9 @@ typedef struct spring_law {
 /* Energy (J). */
 double spring_energy(const double xi[3], const double xj[3], spring_law s);
 
-/* Elastic force on node i (f_j = -f_i), and K = df_i/dx_j (3x3 row-major),
- * the block that also gives df_i/dx_i = df_j/dx_j = -K and df_j/dx_i = K.
- * definiteness != 0 applies the paper's rule: when d < rest the transverse
- * term k (1 - rest/d)(I - uu^T) is dropped. K may be NULL. */
+/* Elastic force on node i (f_j = -f_i) and K = df_i/dx_j (3x3, may be NULL); the other blocks follow
+ * from K. definiteness != 0 applies the paper's rule: the transverse term k (1 - rest/d)(I - uu^T)
+ * is dropped when d < rest, so K stays semidefinite. */
 void spring_eval(const double xi[3], const double xj[3], spring_law s,
                  int definiteness, double f_i[3], double K[9]);
 
@@ -42,10 +38,9 @@ void damper_eval(const double xi[3], const double xj[3], const double vi[3],
 void link_eval(const double xi[3], const double xj[3], const double vi[3], const double vj[3], spring_law s,
                double c, int definiteness, double f_i[3], double K[9], double D[9]);
 
-/* A link in the Newton step (springs.c): tension and the limit along its direction, compression along
- * u0 (unit, frozen over the step: potential.h), so E is convex, K = df_i/dx_j semidefinite and
- * E >= spring_energy, equal where u0 is the link's direction. Returns E; f_i, K, slack may be NULL.
- * A slack link (shorter than its rest length: *slack) gets w k_hi u u^T added to K. */
+/* A link in the Newton step: tension and limit along its direction, compression along the frozen u0,
+ * so E is convex, K semidefinite and E >= spring_energy. Returns E; f_i, K, slack may be NULL.
+ * A slack link (*slack) gets w k_hi u u^T added to K. */
 double spring_eval_predicted(const double xi[3], const double xj[3], const double u0[3], spring_law s, double w,
                              double f_i[3], double K[9], int *slack);
 
@@ -156,11 +151,9 @@ struct cloth {
     double *cand;              /* 6n: contact candidates (cloth_set_contact): normal, point */
     double *cand_pull;         /* n: N, a plane contact pulling beyond this lets
                                   go within the step (cloth_set_contact_pull) */
-    unsigned char *cand_on;    /* n: 1 a candidate, 2 made a plane, 3 let slide in a solve,
-                                  8 a plane released (a candidate again), 9 made again,
-                                  4 and 5 released for good, 6 a sliding candidate released,
-                                  7 a sticking one; with a second candidate, 10 a sliding
-                                  one released (a candidate again), 11 made again (contacts.c) */
+    unsigned char *cand_on;    /* n: 1 candidate, 2 made a plane, 3 let slide, 8 plane released
+                                * (candidate again), 9 made again, 4/5 released for good, 6/7 sliding/
+                                * sticking candidate released; second candidate: 10 released, 11 made again */
     double *cand2;             /* 6n: second candidates (cloth_set_contact_second): normal, point */
     unsigned char *cand2_on;   /* n: 1 a candidate, 2 held, 8 let go (a candidate again), 9 held
                                   again, 4 let go for good (contacts.c) */
@@ -251,10 +244,8 @@ int strain_limit(cloth *c, double *x, double *v, const double *S, double h, int 
 struct mpcg_bodies;
 const struct mpcg_bodies *bodies_prepare(cloth *c, double h, double cfac, struct mpcg_bodies *B);
 
-/* bodies.c, for the elongation limit: does a body hold vertex i's
- * constrained components; u^T W u's share of the body; F_g += s J^T P u;
- * D = Minv F (F zeroed); q_i += s P J D; the bodies' velocity changes +=
- * s D. */
+/* bodies.c, for the elongation limit: whether a body holds vertex i's constrained components; u^T W u's
+ * body share; F_g += s J^T P u; D = Minv F (F zeroed); q_i += s P J D; bodies' du += s D. */
 int body_holds(const cloth *c, int i);
 /* the bodies' inverse mass with their held vertices, at the levers of the
  * positions the projection works on (c->sl_x; the step's start if NULL) */
@@ -264,10 +255,8 @@ void body_push(cloth *c, const double *S, int i, const double u[3], double s);
 void body_solve(cloth *c);
 void body_move(const cloth *c, const double *S, int i, double s, double *q);
 void body_kept(cloth *c, double s);
-/* bodies.c, for the substep retry (step.c): reset the sums at a depth's
- * start; a held vertex's target shifted by what the substeps so far gave
- * its body; after each substep taken, add its du; at the end, the total du
- * as the step's (cloth_body_velocity_change). */
+/* bodies.c, for the substep retry (step.c): reset the sums at a depth's start; shift a held vertex's
+ * target by what earlier substeps gave its body; add each taken substep's du; set the total as the step's. */
 void bodies_retry_reset(cloth *c);
 void bodies_retry_target(const cloth *c, int i, double hs, double tg[3]);
 void bodies_retry_commit(cloth *c, double hs);
@@ -301,10 +290,9 @@ double bodies_residual_energy(const struct mpcg_problem *P, const double *b);
  * sum (V0 + u)^T r_g (r_g as above, unsquared; V0 cloth_body.velocity) */
 double bodies_residual_work(const cloth *c, const struct mpcg_problem *P, const double *b);
 
-/* limit_multipliers.c: both ends of a link held in full by the same thing
- * (the world, or one body): its length is their targets', no multiplier
- * can change it; and the multipliers' update at positions x, s = max(0,
- * s + d - lmax) for each link, returning the largest change / lmax. */
+/* limit_multipliers.c: whether both ends of a link are held in full by the same thing (the world or one
+ * body), so no multiplier can change its length; and the multipliers' update s = max(0, s + d - lmax)
+ * at x, returning the largest change / lmax. */
 int link_held_together(const cloth *c, const link_topo *L);
 /* contacts.c: make planes of the free candidates that x puts behind their
  * surface by more than tol (returns how many); then set z to land them in
@@ -315,10 +303,9 @@ void contacts_land(cloth *c, const double *dv);
  * that x puts past its limit (beyond limit_tolerance) slide on their
  * surface's plane; returns how many */
 int contacts_slide(cloth *c, const double *x);
-/* Contacts on a plane (set so, made so or let slide by the step) whose
- * force (b / cfac) pulls: at an end of a link x puts past the limit, and a
- * plane the step made, at all; elsewhere, by more than their cand_pull.
- * Released for the step; how many. */
+/* Contacts on a plane (set, made or let slide) whose force (b / cfac) pulls, at any strength at a link
+ * end x puts past the limit or on a plane the step made, elsewhere by more than their cand_pull:
+ * released for the step. Returns how many. */
 int contacts_release(cloth *c, const double *x, const double *b, double cfac);
 /* at a step's start: planes kept from the last step stay constraints; on
  * its failure: the planes it made are candidates again */
@@ -328,10 +315,8 @@ double limit_multipliers_update(cloth *c, const double *x, int grow);
 /* every link's penalty factor 1 again (a step's start) */
 void limit_multipliers_begin(cloth *c);
 
-/* constraints.c: the filter S_i of each vertex and z_i = (I - S_i)(v_target
- * - v0), given x_new = a + cfac v_new; a substep aims at frac of the way
- * from xs (the whole step's start) to the target (frac 1 or xs NULL: the
- * target). */
+/* constraints.c: the filter S_i of each vertex and z_i = (I - S_i)(v_target - v0), given x_new = a +
+ * cfac v_new; a substep aims at frac of the way from xs (the step's start) to the target. */
 void constraints_build(cloth *c, const double *a, const double *v0, double cfac, const double *xs, double frac);
 
 /* air.c: the grid triangles' air drag (cloth_set_air). air_on: any drag
@@ -353,19 +338,14 @@ int state_alloc(struct cloth_state *s, int n, int n_int, int n_seq);
 void state_free(struct cloth_state *s);
 void state_copy(struct cloth_state *dst, const struct cloth_state *src);
 
-/* forces.c: f = internal forces (+ gravity, external forces and air drag
- * if with_gravity); optionally
- * assemble per-link K and D into the matrix via the callback-free kernels in
- * step.c. */
+/* forces.c: f = internal forces, plus gravity, external forces and air drag if with_gravity. */
 void forces_eval(const cloth *c, const double *x, const double *v, int with_gravity, double *f);
 double elastic_energy(const cloth *c, const double *x);
 /* Largest (d - l0) / l0 over sequential links at positions x (NaN if any is). */
 double max_strain_of(const cloth *c, const double *x);
-/* The passes over the links after a step, each link's length computed once
- * (forces.c; bit for bit max_strain_of, cloth_update_plastic and
- * cloth_energies): the largest sequential strain at x and the sequential
- * links' energy; the plastic update over a step of h with the interlaced
- * links' energy added to *elastic; the energies given the elastic part. */
+/* The passes over the links after a step, each length computed once (forces.c; bit for bit
+ * max_strain_of, cloth_update_plastic and cloth_energies): max sequential strain and energy at x;
+ * the plastic update with the interlaced energy added to *elastic; the energies given the elastic part. */
 double max_strain_seq_energy(const cloth *c, const double *x, double *e_seq);
 int update_plastic_energy(cloth *c, double h, double *elastic);
 cloth_energy energies_with_elastic(const cloth *c, double elastic);

@@ -1,8 +1,6 @@
-/* The elongation limit as a constraint of the implicit step (augmented
- * Lagrangian on the k_delta law): past (1 + delta) l0 a sequential link's
- * force gains max(0, lambda + rho k_lim (d - lmax)), its multiplier lambda
- * kept as the shift s = lambda / k_lim (c->lim_shift), rho its penalty
- * factor in this step (c->lim_rho). */
+/* The elongation limit as a constraint of the implicit step: an augmented Lagrangian on the k_delta
+ * law, where past (1 + delta) l0 a sequential link's force gains max(0, lambda + rho k_lim (d - lmax)),
+ * lambda kept as the shift s = lambda / k_lim (c->lim_shift), rho the link's penalty (c->lim_rho). */
 #include <math.h>
 #include "internal.h"
 #include "tuning.h"
@@ -31,8 +29,8 @@ static int dictated(const cloth *c, int e) { return c->lim_viol[e] < 0.0; }
 static void grow_penalty(cloth *c, int e, double viol)
 {
     double tol = c->desc.solver.limit_tolerance, prev = c->lim_viol[e];
-    /* judged only against a round that left the link violated too: one
-     * within the limit then was moved past it by its neighbours since */
+    /* judged only against a round that left the link violated too: one within the limit then has
+     * been moved past it by its neighbours since */
     if (viol > tol && prev > tol && c->lim_rho[e] > 1.0 && viol > (1.0 - DICTATED_SHRINK) * prev) {
         c->lim_shift[e] = 0.0;
         c->lim_rho[e] = 1.0;

@@ -1,7 +1,6 @@
-/* The linearised implicit step (solver.nonlinear CLOTH_LINEARIZED): backward
- * Euler (paper eq. 15-21) or BDF2 linearised about the step's start and
- * solved once by the modified PCG; with rigid bodies, Newton corrections
- * where a link crossed its elongation limit. */
+/* The linearised implicit step (CLOTH_LINEARIZED): backward Euler (paper eq. 15-21) or BDF2
+ * linearised about the step's start and solved once by the modified PCG; with rigid bodies,
+ * Newton corrections where a link crossed its elongation limit. */
 #include <math.h>
 #include <string.h>
 #include "internal.h"
@@ -11,10 +10,8 @@
 #include "mpcg.h"
 #include "tuning.h"
 
-/* A = M - beta h df/dv - gamma h^2 df/dx (eq. 21 for beta = gamma = 1),
- * keeping each link's K = df_i/dx_j for the right-hand side, and in the same
- * pass f = the total force at (x, v) (springs, damping, gravity, external
- * forces, air drag). */
+/* A = M - beta h df/dv - gamma h^2 df/dx (eq. 21 for beta = gamma = 1), keeping each link's K for
+ * the right-hand side, and in the same pass f = the total force at (x, v). */
 static void assemble(cloth *c, const double *x, const double *v, double beta_h, double gamma_h2, double *fout)
 {
     const cloth_material *m = &c->desc.material;
@@ -77,11 +74,9 @@ static void add_Kw(const cloth *c, const double *w, double *out)
     }
 }
 
-/* Constraint forces (Baraff-Witkin sec. 5.3): the part of A dv - b the
- * filter removed is the impulse the constraints applied, (beta h) f_c:
- * con_new = that of (A dv - b) / cfac. After a Newton correction ddv of
- * dv1, with b then the residual at dv1, A ddv - b is the residual at
- * dv1 + ddv, and its filtered part the impulse, the same way. */
+/* Constraint forces (Baraff-Witkin sec. 5.3): the part of A dv - b the filter removed is the
+ * constraints' impulse (beta h) f_c, so con_new = that part / cfac; after a Newton correction,
+ * with b the residual at dv1, the same holds for the residual at dv1 + ddv. */
 static void constraint_forces(cloth *c, const double *dv, const double *b, double cfac)
 {
     size_t n3 = 3 * (size_t)c->n;
@@ -129,13 +124,9 @@ static double free_norm(const cloth *c, const double *b)
     return sqrt(s);
 }
 
-/* Backward Euler (bdf2 = 0) or BDF2 (Choi-Ko 2002) with the same linear
- * solve. With a = the part of x_new known before the solve and
- * x_new = a + cfac v_new:
- *   BE:   (M - h D - h^2 K) dv = h f0 + K (h^2 v0),                  a = x0
- *   BDF2: (M - 2/3 h D - 4/9 h^2 K) dv = 2/3 h f0 + 1/3 M (v0 - v_-1)
- *            + K (2/9 h (x0 - x_-1) + 4/9 h^2 v0),      a = x0 + (x0 - x_-1)/3
- * (linearising f about (x0, v0); K = df/dx, D = df/dv). */
+/* Backward Euler (bdf2 = 0) or BDF2 (Choi-Ko 2002), f linearised about (x0, v0), x_new = a + cfac v_new:
+ * BE (M - h D - h^2 K) dv = h f0 + K (h^2 v0), a = x0; BDF2 (M - 2/3 h D - 4/9 h^2 K) dv = 2/3 h f0
+ * + 1/3 M (v0 - v_-1) + K (2/9 h (x0 - x_-1) + 4/9 h^2 v0), a = x0 + (x0 - x_-1)/3. */
 cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, double frac,
                                    cloth_step_stats *st)
 {
@@ -177,45 +168,17 @@ cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, do
     }
     constraint_forces(c, c->dv, b, cfac);
 
-    /* Newton corrections, when rigid bodies are solved with the cloth: the
-     * step above is linearised about x0, where a sequential link still
-     * short of its limit has the tension stiffness alone; if the step
-     * carries it well past the limit, the k_delta stiffening was not seen,
-     * and a body's momentum stretches the cloth freely (a 3 kg box landing
-     * at 2.4 m/s in a hammock: strain 0.22-0.34 after the step, which the
-     * elongation limit's projection, stalling with ~1000 links at the limit
-     * and a body 7000 times heavier than a vertex, did not undo). Linearise
-     * again about the result and solve for the correction,
-     *   A(x1, v1) ddv = beta h f(x1, v1) + extra - M dv1,
-     * the constrained components held (ddv = 0 there, or moving with their
-     * body), the bodies' rows on their residual likewise (bodies.c). A
-     * cloth without bodies takes at most the cloth's own momentum past the
-     * limit, which the stiffening holds from the next step: measured, the
-     * corrections changed no test but moved a box resting on a plane under
-     * a dropped cloth by 0.9 mm (plugin_colliders' dynamic case).
-     * The converged step still leaves links about 1% past the limit (k_delta
-     * 100 allows that under the load that stops the body), and the
-     * projection after the step must then remove it against the body's
-     * inertia, where its linearisation is poor (a taut chain from a pin to
-     * the body is straightened rather than the body moved). So the limit is
-     * also held here as a constraint, by an augmented Lagrangian on the
-     * k_delta law (limit_multipliers.c): once the corrections converge, the links'
-     * multipliers are updated and the step corrected again, until they
-     * settle (the trampoline over 15 grids and rates: strain after the
-     * projection 0.038-0.046 before, 0.030-0.034 with newton_iterations 32,
-     * the rest on links between vertices held by the box). Each update
-     * takes 2-3 corrections; if the budget ends before they converge again,
-     * the step converged last is kept. */
+    /* Newton corrections with rigid bodies: a step linearised about x0 misses the k_delta stiffening of
+     * links it carries past the limit, so a body's momentum stretches the cloth; relinearise and correct,
+     * holding the limit by its multipliers (limit_multipliers.c) until they settle (docs/solver.md). */
     int newton = P.bodies && sv->newton_iterations > 0 && crossed_limit(c, x0, c->x_new);
     double ref = 0.0;
     int saved = 0, pending = 0; /* a converged step saved; corrected since its multipliers changed */
     for (int it = 0; newton; it++) {
         double *ddv = c->ddv;
-        /* converged: the residual of the free rows within the solver's
-         * tolerance of the one the uncorrected step left; then the limit's
-         * multipliers are updated, and the step corrected again if they
-         * changed (the converged step saved, to be kept if the budget
-         * ends before the corrections converge again) */
+        /* converged: the free rows' residual within the solver's tolerance of the uncorrected step's; then
+         * the limit's multipliers are updated and, if they changed, the step is corrected again (the
+         * converged step saved, kept if the budget ends first) */
         int done = 0;
         for (int pass = 0; pass < 2; pass++) {
             assemble(c, c->x_new, c->v_new, beta * h, beta * beta * h * h, c->f);

@@ -7,10 +7,9 @@
 
 static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
 
-/* Per-vertex inverse diagonal blocks of the filtered matrix, S A_ii S +
- * (I - S): the stopping norm's weight, the block-Jacobi preconditioner and
- * the multigrid smoother (a vertex sliding on a plane gets its own 2x2 free
- * block); also the scalar Jacobi inverse (Baraff-Witkin's choice). */
+/* Per-vertex inverse diagonal blocks of the filtered matrix S A_ii S + (I - S): the stopping norm's
+ * weight, the block-Jacobi preconditioner and the multigrid smoother (a vertex sliding on a plane
+ * gets its own 2x2 free block); also the scalar Jacobi inverse (Baraff-Witkin's choice). */
 static void build_preconditioner(cloth *c)
 {
     for (int i = 0; i < c->n; i++) {

@@ -82,11 +82,8 @@ static inline double mat3inv(const double *m, double *o)
 }
 
 /* ------------------------------------------------------ block-row sums
- * Products of a row of 3x3 blocks (row-major, val + 9 k for k in [a, z))
- * with the 3-vectors x_col[k]. Each block's product is summed as mat3vec
- * does, (B0 x0 + B1 x1) + B2 x2 per row, and added to (subtracted from) acc
- * block by block: the order of a plain loop, so every variant gives the same
- * bits. */
+ * Products of a row of 3x3 blocks with x_col[k], each block summed as mat3vec does and added to
+ * (subtracted from) acc block by block: a plain loop's order, so every variant gives the same bits. */
 
 /* A block equal to its transpose bit for bit. */
 static inline int mat3_is_sym(const double *B)
@@ -115,11 +112,8 @@ MAT3_ROW(row_add, +=)
 MAT3_ROW(row_sub, -=)
 #undef MAT3_ROW
 
-/* The same for rows whose blocks are all symmetric (mat3_is_sym). With
- * SSE2, rows 0 and 1 of a block product go as one pair: they need the
- * column-major pairs (B0, B3), (B1, B4), (B2, B5), which for a symmetric
- * block are (B0, B1), (B3, B4), (B6, B7), adjacent in memory. Each lane
- * does the scalar operations in the scalar order: bitwise the same. */
+/* The same for rows of symmetric blocks: with SSE2 rows 0 and 1 go as one pair, whose column pairs
+ * are adjacent in memory for a symmetric block; each lane keeps the scalar order, so the bits match. */
 #if defined(__SSE2__)
 #define MAT3_ROW_SYM(name, op, vop)                                                                         \
     MAT3_INLINE void name(const double *val, const int *col, int a, int z, const double *x, double acc[3]) \
@@ -159,24 +153,9 @@ MAT3_INLINE void mat3vec_sym(const double *M, const double *x, double *y)
 #define mat3vec_sym mat3vec
 #endif
 
-/* ------------------------------------------------------------------ AVX
- * The symmetric rows' sums with 256-bit vectors, chosen at run time (the
- * build targets plain x86-64; -march=native is not used): rows 0, 1 and 2
- * of a block product go as one triple. For a symmetric block the column
- * triples (B0, B3, B6), (B1, B4, B7), (B2, B5, B8) are (B0, B1, B2),
- * (B3, B4, B5), (B6, B7, B8), each contiguous; the fourth lane is unused
- * (it reads one double past the block: the block matrices, bsr.c's A,
- * cloth.c's Ah and multigrid.c's levels, are allocated with a padding
- * double after their last block, and the callers also never reach it). Each lane does the scalar operations in the
- * scalar order and no FMA is used (target "avx" only: multiply and add stay
- * separate roundings), so every path gives the same bits.
- *
- * How a kernel uses it: its body is an always-inline function taking a
- * constant flag avx and calling row_add_symv / row_sub_symv; two wrappers
- * call it with 0 and with 1, the latter marked MAT3_AVX_FN (target "avx"
- * and flatten, which inlines the AVX loops into it); mat3_avx() says which
- * to call. Built with -DODECLOTH_NO_AVX (or not on x86 with GCC or Clang)
- * only the plain path exists. */
+/* ----------------- AVX: symmetric rows' sums in 256-bit vectors, chosen at run time, no FMA (same
+ * bits); the fourth lane reads one double past a block (matrices are padded). Kernels take a constant
+ * flag avx, wrapped twice (MAT3_AVX_FN for 1); mat3_avx() picks (docs/newton.md, "Design notes"). */
 #if defined(__SSE2__) && defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__)) && \
     !defined(ODECLOTH_NO_AVX)
 #define MAT3_HAVE_AVX 1

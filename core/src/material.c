@@ -1,32 +1,6 @@
-/* Fabric presets (paper Table 1) and parameter validation.
- *
- * Table 1 gives delta, alpha and k_s. The rest are ours, in SI units, for a
- * cloth of about 1 m with 21 x 21 nodes (the paper's resolution):
- *  - k_t 2000 N/m (cotton): per-link stiffness of a square lattice with
- *    diagonals is also its 2-D membrane stiffness, independent of resolution;
- *    2000 N/m keeps stretch under gravity far below delta, so the elongation
- *    limit only acts in impacts and pulls. Wool, which the paper says
- *    stretches a lot (delta 0.1), gets 500 N/m.
- *  - k_c = k_t / 40: "much softer" compression lets the cloth buckle into
- *    wrinkles instead of shrinking in-plane, yet is stiff enough that the
- *    plastic interlaced links cannot shrink the cloth (paper Fig. 6).
- *  - k_b 20 N/m (cotton), 10 (wool): an interlaced link measures bending
- *    through the shortening of a 2-cell chord, a quadratic-in-angle effect, so
- *    it must be stronger than k_s (10) for a crease to cost less than a bend.
- *  - damping ~1% of critical for one sequential link at 21 x 21
- *    (2 sqrt(k_t m) ~ 1.9 N s/m): c_t 0.02, c_b 0.002 N s/m. Backward Euler
- *    adds its own numerical damping; the paper argues against heavy damping.
- *  - k_delta 100: past (1 + delta) l0 a sequential link stiffens 100-fold,
- *    so the implicit solve itself keeps links near the limit and the
- *    projection after the step (strain_limit.c) only removes a small excess.
- *    Measured (pinned at two corners, h = 1/60, 120 steps, 20 projection
- *    steps; worst strain, wall time): a very soft 41x41 cloth (k_t 100):
- *    k_delta 0 -> 0.067, 2.5 s; 10 -> 0.061, 2.2 s; 100 -> 0.053, 2.6 s;
- *    1000 -> 0.045, 3.1 s (delta 0.03 is not reached there by either part);
- *    cotton 81x81: 0.030 with 100 (6.6 s) and with 1000 (7.3 s). 100 is the
- *    cheaper; higher values stiffen the CG's matrix where the limit acts.
- *  - density 0.2 kg/m^2 (light cotton, and the 1 m, 0.2 kg benchmark cloth),
- *    wool 0.3 kg/m^2. */
+/* Fabric presets (paper Table 1: delta, alpha, k_s) and parameter validation; the other values are
+ * ours, in SI units, for a cloth of about 1 m at 21 x 21 nodes. Why each value: docs/materials.md,
+ * "Design notes from the code". */
 #include <math.h>
 #include "internal.h"
 

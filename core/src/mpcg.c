@@ -1,11 +1,6 @@
-/* Modified preconditioned conjugate gradient (Baraff and Witkin 1998, sec.
- * 5.3), with the changes Ascher and Boxerman (2003) showed are needed:
- *   - the start vector is z in the constrained directions plus a guess (the
- *     last step's dv: warm start) in the free ones;
- *   - convergence is measured on the reduced system S A S y = S (b - A z),
- *     so the tolerance is relative to what actually remains to be solved.
- * Every search direction is filtered, so the constrained components of x never
- * move from z: the constraints hold exactly, not approximately. */
+/* Modified preconditioned CG (Baraff-Witkin 1998 sec. 5.3, with Ascher-Boxerman 2003's fixes: warm
+ * start in the free directions, convergence judged on the reduced system S A S). Every direction is
+ * filtered, so the constrained components stay exactly at z. */
 #include <math.h>
 #include <string.h>
 #include "mat3.h"
@@ -59,11 +54,9 @@ static void filter_inplace(const mpcg_problem *P, double *y)
     }
 }
 
-/* The fused loops of mpcg_run (no bodies): the same operations on each
- * element as the separate passes, and the dot products summed in the same
- * (ascending) order, so bitwise the same results with fewer passes over the
- * vectors. `fil` walks the ascending list of constrained vertices (all when
- * P->con is NULL): is vertex i filtered? */
+/* The fused loops of mpcg_run (no bodies): the separate passes' operations and ascending dot product
+ * order, so bitwise the same with fewer passes. `fil` walks the ascending list of constrained vertices
+ * (all when P->con is NULL): is vertex i filtered? */
 typedef struct con_walk {
     const int *con;
     int ncon, k;
@@ -287,10 +280,8 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
 
     int it = 0;
     double before = INFINITY; /* the last update's squared mass norm */
-    /* |rr| within tol2 has converged: a residual at rounding level can
-     * weigh in negative (r^T Dinv r of -2e-55 against a tol2 of 4e-33, a
-     * cloth thrown onto a mesh: plugin_mesh_impact), and only a negative
-     * norm beyond that means the matrix is not definite */
+    /* |rr| within tol2 has converged: a rounding-level residual can weigh in slightly negative, and
+     * only a negative norm beyond tol2 means the matrix is not definite */
     while (rr > tol2 || rr < -tol2) {
         if (!(delta > 0.0) || rr < 0.0) { /* r^T M r <= 0, or a negative norm weight: not definite (mpcg.h) */
             res.failure = !isfinite(delta) ? CLOTH_FAIL_NAN

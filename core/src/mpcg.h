@@ -11,17 +11,9 @@ typedef struct mpcg_result {
     cloth_failure failure; /* NONE, CG_MAX_ITER, CG_INDEFINITE or NAN */
 } mpcg_result;
 
-/* Solve A x = b for the free components, with the constrained components of x
- * held at z (Baraff-Witkin 1998 sec. 5.3; Ascher-Boxerman 2003):
- *   S   9n: per-vertex filter blocks (symmetric projectors onto the free
- *       directions); z 3n: constrained values, (I - S_i) z_i = z_i;
- *   Pinv 9n: per-vertex preconditioner blocks (symmetric positive definite
- *       on the free directions);
- *   x   3n: in, a guess for the free components (warm start; zeros for a
- *       cold start); out, the solution, with (I - S) x = z exactly;
- *   w   6 * 3n doubles of workspace.
- * Stops when |S r|_P <= tol |S (b - A z)|_P with |y|_P^2 = y^T Pinv y
- * (the preconditioner is also the norm's weight here; see mpcg_solve_pc). */
+/* Solve A x = b for the free components, the constrained ones held at z (S, Pinv: 9n per-vertex filter
+ * and preconditioner blocks; x 3n in: warm start, out: solution with (I - S) x = z; w 6 * 3n scratch).
+ * Stops when |S r|_P <= tol |S (b - A z)|_P, |y|_P^2 = y^T Pinv y (see mpcg_solve_pc). */
 mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const double *z,
                        const double *Pinv, double tol, int max_iter, double *x, double *w);
 
@@ -29,13 +21,9 @@ mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const dou
  * directions; the solver filters s afterwards). */
 typedef void (*mpcg_precond_fn)(void *ctx, const double *r, double *s);
 
-/* Rigid bodies solved with the cloth (bodies.c; cloth_body in cloth.h).
- * Constrained vertex i held by body g has
- *   dv_i = S_i w_i + z_i + (I - S_i) J_i u_g,  J_i u = u_lin + u_ang x r_i,
- * r_i = x_i - com_g, and u_g (6) solves, with the cloth,
- *   M_g u_g = rhs_g - sum_i J_i^T (I - S_i) (A dv - b)_i.
- * The CG then runs on (w, u): the operator [S; J^T P] A [S, P J] +
- * diag(0, M) is symmetric and definite when A is. */
+/* Rigid bodies solved with the cloth (bodies.c): vertex i held by body g has dv_i = S_i w_i + z_i +
+ * (I - S_i) J_i u_g, and the CG runs on (w, u) with the operator [S; J^T P] A [S, P J] + diag(0, M),
+ * symmetric and definite when A is. */
 typedef struct mpcg_bodies {
     int nb;
     const int *vbody;  /* n: body of each vertex, -1 none (constrained only) */
@@ -90,10 +78,8 @@ int bodies_precond(const mpcg_problem *P);
 /* out = ginv r (6 nb) */
 void bodies_apply_ginv(const mpcg_bodies *B, const double *r, double *out);
 
-/* The start of a solve, shared by the solvers: r = S (b - A z), the
- * reduced right-hand side, and *ref its squared norm weighted by Dinv (u:
- * 3n scratch). Returns 1 when the solve ends here: NaN, a negative norm
- * weight (A not definite), or nothing to solve (then x = z); res says which. */
+/* The start of a solve: r = S (b - A z) and *ref its Dinv-weighted squared norm (u: 3n scratch).
+ * Returns 1 when the solve ends here (NaN, A not definite, or nothing to solve: x = z); res says which. */
 int mpcg_reference(const mpcg_problem *P, double *x, double *r, double *u, double *ref, mpcg_result *res);
 
 /* x: in, the warm-start guess; out, the solution. w: 6 * 3n doubles. */

@@ -1,26 +1,6 @@
-/* Geometric multigrid preconditioner for the modified PCG.
- *
- * Why: with a diagonal or block-diagonal preconditioner the CG iteration
- * count grows with the grid's width (the stiff springs spread information one
- * node per iteration); a multigrid V-cycle keeps it nearly flat.
- * How (as measured on a prototype):
- *  - coarsen by two in each grid direction (node 2I of a level is node I of
- *    the next), bilinear prolongation W, restriction W^T;
- *  - Galerkin coarse operators W^T A W (galerkin.c) rebuilt for every solve: a Newton
- *    iterate can put thousands of links on another branch of their law,
- *    and coarse levels kept from an earlier matrix then cost iterations;
- *  - constraints removed before coarsening: the fine operator coarsened is
- *    S A S (Tamstorf, Jones, McCormick 2015), and the fine smoother works on
- *    S A S + (I - S), so the coarse levels never fight a constraint;
- *  - block Gauss-Seidel, forward before and backward after the coarse
- *    correction, and an exact (Cholesky) solve on the coarsest level: the
- *    V-cycle is then a symmetric positive definite operator, as CG needs.
- * Coarse levels store a full 5x5 stencil per node: with interlaced links the
- * fine stencil reaches two nodes, and so does every Galerkin coarse one. They
- * are kept in block-CSR form (the stencil's neighbours on the grid, in
- * stencil order), so every level is smoothed by the same loops, which walk
- * only a row's stored blocks (no off-grid tests; the diagonal skipped by
- * splitting the row at it). */
+/* Geometric multigrid V-cycle preconditioner for the modified PCG: keeps the CG's iteration count
+ * nearly flat in the grid's width, where diagonal preconditioners let it grow. Design (coarsening,
+ * Galerkin operators, constraint filtering, smoothers, storage): docs/newton.md, "Design notes". */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -130,7 +110,7 @@ int mg_create(multigrid *mg, int R, int C, const bsr *A0)
 {
     memset(mg, 0, sizeof *mg);
     /* the coarsest level is solved densely: a grid that does not coarsen
-     * (a side under 5 nodes: 3 x 100000 asked for 6.5 TB) is refused */
+     * (a side under 5 nodes) is refused, as its dense matrix can be huge */
     if (3 * coarsest_nodes(R, C) > MG_DENSE_MAX) return -2;
     int l = 0;
     mg->lev[0].R = R;
@@ -205,10 +185,8 @@ static void filter_block(const double *Si, const double *B, const double *Sj, do
     mat3mul(t, Sj, out);
 }
 
-/* Inverse of a symmetric block, regularised by 1e-10 of its trace so that a
- * coarse node whose fine support is entirely constrained (a zero block) or
- * constrained along a common direction (a singular block) stays finite; the
- * residual in those directions is zero. */
+/* Inverse of a symmetric block regularised by 1e-10 of its trace, so a coarse node whose support is
+ * wholly or partly constrained stays finite; the residual in those directions is zero. */
 static void inv_reg(const double *B, double *o)
 {
     double m[9];
@@ -224,10 +202,8 @@ static void inv_reg(const double *B, double *o)
     }
 }
 
-/* Cholesky of the coarsest level's dense matrix, in place (lower). A pivot
- * that is not positive (an indefinite matrix, e.g. without the definiteness
- * rule) is replaced so the V-cycle stays defined; CG then sees the true
- * matrix and reports the non-positive curvature itself. */
+/* In-place (lower) Cholesky of the coarsest level's dense matrix; a non-positive pivot is replaced so
+ * the V-cycle stays defined, and CG, seeing the true matrix, reports the curvature itself. */
 static void cholesky(double *a, int n)
 {
     double dmax = 0.0;
@@ -333,10 +309,8 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
 
 /* ------------------------------------------------------------- smoothing */
 
-/* acc -= sum A_ij x_j over the blocks k in [a, z) of row i (mat3.h: each
- * block's product summed as mat3vec does, then subtracted, the order of the
- * original per-block loop; rows of symmetric blocks take the paired loop,
- * with the same bits). */
+/* acc -= sum A_ij x_j over row i's blocks k in [a, z), each block summed as mat3vec does (mat3.h),
+ * symmetric rows by the paired loop with the same bits. */
 MAT3_INLINE void level_row_sub(int avx, const bsr *A, const unsigned char *symrow, int i, int a, int z,
                                  const double *x, double acc[3])
 {
@@ -371,10 +345,9 @@ MAT3_INLINE void prefetch_row(const bsr *A, const double *Dinv, int i)
 #endif
 }
 
-/* Backward block Gauss-Seidel: D_i x_i = b_i - sum_{j != i} A_ij x_j, i
- * descending, filtered on level 0. (The sweeps never read a diagonal block
- * with the row loops, so never the matrix's last block, which the AVX loop
- * could not read: it reads a double past a block.) */
+/* Backward block Gauss-Seidel, D_i x_i = b_i - sum_{j != i} A_ij x_j, i descending, filtered on
+ * level 0. It never reads a diagonal block in the row loops, so never the last block the AVX loop
+ * could not read past. */
 MAT3_INLINE void backward_sweep_k(int avx, const multigrid *mg, int l, double *x, const double *b)
 {
     const bsr *A = level_matrix(mg, l);
@@ -392,17 +365,9 @@ MAT3_INLINE void backward_sweep_k(int avx, const multigrid *mg, int l, double *x
     }
 }
 
-/* Forward block Gauss-Seidel from x = 0, D_i x_i = b_i - sum_{j<i} A_ij x_j
- * (the rest of x is still zero), filtered on level 0; and the residual it
- * leaves, restricted to the next level: bc = W^T r. Each node's update
- * solved its own row exactly against the nodes before it, so what remains is
- * r_i = -sum_{j>i} A_ij x_j: only the strictly upper triangle, half a sweep.
- * (On level 0 D_i is S A_ii S + (I - S) and x_i lies in the free directions,
- * so the same holds for the filtered rows.) Row p's residual is taken as
- * soon as its last neighbour is updated, a band behind the sweep, so its
- * blocks are still in cache from the sweep: one pass over the matrix. The
- * residuals go to their parents in ascending order, as a separate pass
- * would add them. */
+/* Forward block Gauss-Seidel from x = 0, fused with restricting its residual (bc = W^T r): what
+ * remains is r_i = -sum_{j>i} A_ij x_j, taken a band behind the sweep while its blocks are in cache,
+ * so one pass over the matrix; residuals reach parents in ascending order, as a separate pass would. */
 MAT3_INLINE void forward_sweep_restrict_k(int avx, const multigrid *mg, int l, double *x, const double *b,
                                           double *bc)
 {

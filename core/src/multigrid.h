@@ -48,11 +48,9 @@ typedef struct multigrid {
 int mg_create(multigrid *mg, int R, int C, const bsr *A0);
 void mg_free(multigrid *mg);
 
-/* Per step: Galerkin coarse operators A_{l+1} = W^T A_l W from the filtered
- * fine matrix S A S (Tamstorf, Jones, McCormick 2015: constrained directions
- * removed before coarsening), the diagonal inverses, and the Cholesky factor
- * of the coarsest level. Dinv0: the fine level's inverse diagonal blocks of
- * S A S + (I - S). With more than one level, A->sym is checked here. */
+/* Per step: Galerkin coarse operators W^T A_l W from the filtered S A S (constraints removed before
+ * coarsening), their diagonal inverses and the coarsest level's Cholesky factor. Dinv0: the fine
+ * level's inverse diagonal blocks of S A S + (I - S). With several levels, A->sym is checked here. */
 void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char *constrained,
               double *Dinv0);
 

@@ -1,8 +1,6 @@
-/* Newton's method on the implicit step's incremental potential (potential.h):
- * each iteration solves the positive-definite Newton matrix by the modified
- * PCG, the constrained components held, and a backtracking line search on
- * the potential keeps every iteration a descent. The elongation limit is a
- * constraint of the same potential (augmented Lagrangian, below). */
+/* Newton's method on the implicit step's potential (potential.h): each iteration solves the
+ * positive-definite Newton matrix by the modified PCG, constraints held, and a backtracking line
+ * search keeps it a descent. The elongation limit is an augmented Lagrangian on the same potential. */
 #include <math.h>
 #include <string.h>
 #include "newton.h"
@@ -44,11 +42,9 @@ static double residual_norm(const cloth *c, const mpcg_problem *P, const double 
     return sqrt(s / mt);
 }
 
-/* Backtracking (Armijo) along ddv from dv, from t = tmax: the step t taken. phi0 is the
- * potential at dv (with the bodies'), slope its derivative along ddv; on
- * return *phi is the potential at the step taken. The full step's potential
- * comes with its residual (c->b); *ready says whether that step was taken,
- * so the next iteration needs no residual. */
+/* Backtracking (Armijo) along ddv from dv, from t = tmax; returns the t taken and sets *phi to its
+ * potential (phi0, slope: potential and derivative at dv, bodies included). The full step's residual
+ * lands in c->b; *ready says whether the full step was taken, so the next iteration reuses it. */
 static double line_search(cloth *c, const step_eq *q, const double *dv, const double *ddv, int bodies,
                           double tmax, double phi0, double slope, double *phi, int *ready)
 {
@@ -111,12 +107,9 @@ static double start_share(const cloth *c, const step_eq *q, size_t j, double sha
     return (x - q->a[j]) / q->cfac - c->st.v[j];
 }
 
-/* The start: of no change (the motion carried on), rest (v = 0: the cloth
- * where it is) and, with warm_start, the last step's dv, the one of lowest
- * potential (with self-contact: of those reached from x0 with no touch,
- * self_contact.h); and z what the first iteration must add to its
- * constrained components to land them on their targets. Returns 1 if that
- * is nothing. */
+/* The start: of no change, rest (v = 0) and, with warm_start, the last step's dv, whichever has the
+ * lowest potential (with self-contact, among those reachable from x0 without a touch); z what the
+ * first iteration adds to land the constraints. Returns 1 if that is nothing. */
 static int newton_start(cloth *c, const step_eq *q, double *dv)
 {
     size_t n3 = 3 * (size_t)c->n;
@@ -245,10 +238,9 @@ static double contact_free_share(cloth *c, const step_eq *q, const double *dv, c
     return self_contact_max_step(c->self_contact, c->xt, c->vt);
 }
 
-/* One Newton iteration from dv (b = -R there; with matrix, the Newton matrix too): solve, search
- * (not on the first, which lands the constraints), take (*taken: the share of the update). *size
- * gets the full step's size, *ready whether b is assembled at the new dv; returns the CG's failure
- * (NONE, or a cut-short solve's). */
+/* One Newton iteration from dv: solve, search (not on the first, which lands the constraints), take
+ * (*taken: the update's share). *size gets the full step's size, *ready whether b is assembled at the
+ * new dv; returns the CG's failure (NONE, or a cut-short solve's). */
 static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *P, double *dv, double *phi,
                                       int first, int matrix, double *size, int *ready, double *taken,
                                       cloth_step_stats *st)
@@ -333,8 +325,8 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     P.bodies = bodies_prepare(c, h, q.cfac, &bodies);
     double mt = 0.0;
     for (int i = 0; i < c->n; i++) mt += c->mass[i];
-    /* a landing's solve is measured against the residual before it where
-     * that is smaller (inexact Newton's forcing), down to newton_tolerance's */
+    /* a landing's solve is judged against the residual before it where that is smaller (inexact
+     * Newton's forcing), down to newton_tolerance's */
     P.ref_floor = mt * pow(sv->newton_tolerance / sv->newton_cg_tolerance, 2);
     P.mass = c->mass;
     int it = 0, limit_rounds = 0, assembled = 0, landing = 1; /* limit_rounds: the multipliers' updates so far */

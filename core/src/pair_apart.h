@@ -1,8 +1,6 @@
-/* Cheap proofs that a vertex-triangle or edge-edge pair is farther apart than
- * D: an axis along which their projections are more than D apart (with a
- * margin for rounding). 1: such an axis found; 0 proves nothing. The _gap
- * forms return the widest separation found, a lower bound on the pair's
- * distance (0: none found), stopping at the first at least `enough`. */
+/* Cheap proofs that a vertex-triangle or edge-edge pair is farther apart than D: an axis separating
+ * their projections by more than D (with a rounding margin); 1 found, 0 proves nothing. The _gap forms
+ * return the widest separation found (a distance lower bound), stopping at the first >= `enough`. */
 #ifndef ODECLOTH_PAIR_APART_H
 #define ODECLOTH_PAIR_APART_H
 

@@ -4,23 +4,9 @@
 #include "internal.h"
 #include "spring_predicted.h"
 
-/* Where the region is decided: by the current ratio d / l0 against alpha,
- * every time the rule runs (after each step), and, with memory, by the
- * link's own history.
- *
- * Paper rule (memory = 0, the default): a link with d <= alpha l0 is
- * plastic; entering, l1 = d; while plastic, l1 = min(l1, d) (a deeper bend
- * ratchets the crease, storing no bending energy). A link pulled back above
- * alpha l0 is elastic again (rest l0, k_b both ways) and its l1 is set anew
- * on its next entry.
- *
- * Memory rule (memory = 1, opt-in; material.plastic_memory): entry and
- * ratchet as above, but a plastic link stays plastic whatever d becomes:
- * opened above alpha l0 (even past l0) it keeps its l1 and its law (k_s
- * against unbending, d > l1; k_b below l1), so at d = l0 it pulls with
- * k_s (l0 - l1) toward l1 and a crease spread flat re-forms when the cloth
- * is let go. Bent again deeper than l1 it ratchets, l1 = min(l1, d), as in
- * the paper's rule; it is never reset (alpha <= 0 never enters). */
+/* Region rule, run after each step: by default (the paper's) a link with d <= alpha l0 is plastic, l1
+ * ratcheting to min(l1, d), and elastic again above alpha l0. With material.plastic_memory a plastic
+ * link stays plastic, keeping l1 so a flattened crease re-forms (docs/materials.md, "Design notes"). */
 void plastic_rule_memory(double alpha, int memory, double rest, double d, int *plastic, double *l1)
 {
     if (alpha <= 0.0) {

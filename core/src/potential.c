@@ -154,10 +154,9 @@ MAT3_INLINE double link_dissipation(const cloth *c, int i, int j, double E, cons
     return gap + damp_vu2;
 }
 
-/* One pass over the links at c->x_new, c->v_new (node-major): with b, their impulses added
- * into b, their share of Phi added to P (returned) and backward Euler's dissipation less the
- * links' energy at x0 into c->diss_links;
- * with mat, their Newton blocks assembled into c->A (stiffen: potential_matrix's). */
+/* One pass over the links at c->x_new, c->v_new (node-major): with b, their impulses into b, their
+ * share of Phi added to P (returned) and BE's dissipation less their x0 energy into c->diss_links;
+ * with mat, their Newton blocks into c->A (stiffen: potential_matrix's). */
 MAT3_INLINE double links_pass(cloth *c, const step_eq *q, double P, double *b, int mat, int stiffen)
 {
     const cloth_material *m = &c->desc.material;

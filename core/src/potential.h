@@ -1,15 +1,6 @@
-/* The implicit step's nonlinear equations as a potential (potential.c).
- * With x = a + cfac v and v = v0 + dv, backward Euler (beta 1) and BDF2
- * (beta 2/3, cfac = beta h) ask for the stationary point of
- *   Phi(dv) = 1/2 dv^T M dv - e^T dv + U(x) - cfac f_c^T v + cfac/2 v^T C v,
- * U the springs' energy, f_c gravity and external forces, e BDF2's
- * M (v0 - v_-1) / 3 (0 for backward Euler), C the links' damping along directions frozen over
- * the step and the air drag (about the wind) with its triangles' normals and areas at
- * x~ = x0 + h v0. Compressed links push along the same directions, which makes Phi convex.
- * Backward Euler's are at x0, where U equals the springs' energy and elsewhere exceeds it (no
- * exact step gains energy); BDF2's at x~, O(h^2) from x, keep it second order.
- * With a self-contact bound (self_contact.h), Phi also holds its barrier.
- * The residual R = grad Phi = M dv - e - cfac f(x, v) is an impulse. */
+/* The implicit step's equations as a convex potential (potential.c): BE and BDF2 ask for the
+ * stationary point of Phi(dv) = 1/2 dv^T M dv - e^T dv + U(x) - cfac f_c^T v + cfac/2 v^T C v, whose
+ * gradient, the residual R, is an impulse. Terms and why they are convex: docs/newton.md. */
 #ifndef ODECLOTH_POTENTIAL_H
 #define ODECLOTH_POTENTIAL_H
 

@@ -428,8 +428,8 @@ static int zones(self_ccd *s, sweep_ctx *c, self_ccd_stats *st)
     return s->npair;
 }
 
-/* Shorten the edges longer than their limits, each end moved by its
- * inverse mass's share. Returns 1 if any was. */
+/* Shorten the edges longer than their limits, each end moved by its inverse mass's share.
+ * Returns 1 if it shortened any. */
 static int unstretch(self_ccd *s, double *x1, const double *inv)
 {
     int any = 0;

@@ -1,30 +1,6 @@
-/* Continuous self-collision of a triangle mesh over one step: the vertices
- * move linearly from x0 to x1, and x1 is changed so that no vertex passes
- * through a triangle and no edge through an edge (Bridson, Fedkiw, Anderson
- * 2002; Provot 1997).
- *
- *   1. Impulses: each pair the sweep finds (ccd.h) gets an inelastic impulse
- *      along its normal, shared by inverse mass and the pair's weights, that
- *      brings it to end no closer than min(its start gap, eta / 2) (to first
- *      order). Momentum is kept. A few passes, each sweeping anew. An impulse
- *      that would move a corner more than twice the closing it undoes (held
- *      vertices leave the whole impulse to a light corner) is left to 2.
- *   2. Rigid impact zones: the vertices of the pairs still colliding are
- *      merged into zones, and each zone moves rigidly: its centre of mass
- *      moves as its momentum says and it turns by its angular velocity
- *      about it (the exact rotation over the step). Zones grow until no pair
- *      collides. Held vertices (inverse mass 0) keep their motion, and weigh
- *      SELF_CCD_HELD_MASS mean masses in a zone's fit; a zone they hold
- *      against each other may stay colliding.
- *   3. Edges the responses stretched are brought back to no longer than they
- *      were at x0 or at the x1 given, and the motion is swept again (1, 2);
- *      SELF_CCD_ROUNDS rounds at most, the last one without this.
- *
- * Pairs still colliding at the end are counted and returned, never dropped.
- * A pair counts as colliding when the sweep finds it: coplanar within eta at
- * some time in the step, and closing. The first sweep of a call tests every
- * pair whose swept boxes come within eta; later ones only the pairs with a
- * vertex that moved since the last sweep or was in one of its hits. */
+/* Continuous self-collision of a triangle mesh over one step (Bridson, Fedkiw, Anderson 2002; Provot
+ * 1997): x1 is changed so no vertex passes through a triangle nor edge through edge, by impulses, then
+ * rigid impact zones, then unstretching; pairs left colliding are returned (docs/self_collision.md). */
 #ifndef ODECLOTH_SELF_CCD_H
 #define ODECLOTH_SELF_CCD_H
 
@@ -49,9 +25,8 @@ typedef struct self_ccd_stats {
 self_ccd *self_ccd_create(int nvert, int ntri, const int *tri);
 void self_ccd_destroy(self_ccd *s); /* NULL is fine */
 
-/* Resolve x0 -> x1 (3 nvert each; x1 changes); inv_mass 0: held; eta > 0 m;
- * st may be NULL. Returns the pairs left colliding; -1: bad input (x1 left
- * as it was) or out of memory (x1 may be partly resolved). */
+/* Resolve x0 -> x1 (3 nvert each; x1 changes); inv_mass 0: held; eta > 0 m; st may be NULL. Returns
+ * the pairs left colliding; -1: bad input (x1 unchanged) or out of memory (x1 may be partly resolved). */
 int self_ccd_apply(self_ccd *s, const double *x0, double *x1, const double *inv_mass, double eta,
                    self_ccd_stats *st);
 

@@ -413,10 +413,9 @@ static int extend(self_contact *s, const double *x0, const double *y, double ski
     return ok ? 0 : -1;
 }
 
-/* Candidates that cover x0 and x1 (x1 NULL: x0 only): kept while both are in the regions, else listed
- * for the motion x0 -> x1 and from the step's start (a few vertices outside: their regions grown).
- * Returns 0; 1 when that motion is longer than
- * SELF_CONTACT_LONG (none listed: sweep it directly); -1 out of memory (none listed). */
+/* Candidates covering x0 and x1 (x1 NULL: x0 only): kept while both lie in the regions, else listed for
+ * the motion x0 -> x1 and from the step's start (a few vertices outside: their regions grown). Returns
+ * 0; 1 when the motion exceeds SELF_CONTACT_LONG (none listed: sweep it); -1 out of memory. */
 static int candidates(self_contact *s, const double *x0, const double *x1)
 {
     if (s->listed && in_regions(s, x0) && (!x1 || in_regions(s, x1))) return 0;

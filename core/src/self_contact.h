@@ -1,15 +1,6 @@
-/* Self-contact inside the Newton step (Li et al. 2020, Incremental Potential
- * Contact): each vertex-triangle pair and each edge-edge pair of the grid's
- * triangles closer than the thickness D adds kappa b(d) to the step's
- * potential,
- *   b(d) = -(d - D)^2 ln(d / D),  0 < d < D  (0 beyond D),
- * d the distance between the pair's closest points (pairs sharing a vertex
- * are not tested). Newton's matrix takes diagonal blocks that bound the
- * pairs' Gauss-Newton Hessian (the grid pattern has no others), and every
- * Newton update is cut short of the first vertex-triangle or edge-edge
- * touch on its straight path, so no iterate passes a vertex through a
- * triangle or an edge through an edge. Bound to a cloth by its
- * self-collision pass (selfcollision.c). */
+/* Self-contact inside the Newton step (Li et al. 2020, IPC): each vertex-triangle and edge-edge pair
+ * closer than the thickness D adds kappa b(d), b(d) = -(d - D)^2 ln(d / D), to the potential, and each
+ * update stops short of the first touch, so no iterate passes through (docs/self_collision.md). */
 #ifndef ODECLOTH_SELF_CONTACT_H
 #define ODECLOTH_SELF_CONTACT_H
 
@@ -32,7 +23,7 @@ typedef struct self_contact_work {
 self_contact *self_contact_create(int n, int ntri, const int *tri, double thickness);
 void self_contact_destroy(self_contact *s); /* NULL is fine; unbinds its cloth */
 
-/* Let the Newton steps of c feel s (s leaves the cloth it was bound to). */
+/* Let the Newton steps of c feel s (s leaves any cloth it was bound to). */
 void self_contact_bind(self_contact *s, cloth *c);
 /* cloth_destroy: c is going. */
 void self_contact_unbind_cloth(cloth *c);

@@ -25,7 +25,7 @@ struct cloth_self_collision {
     double *winv;      /* n: inverse mass, 0 for a constrained vertex */
     int have_prev;
     double *now, *prev;  /* TRI_GEOM per triangle: its geometry at x (when current) and at xprev */
-    long *now_at, *moved_at, tick; /* ntri, n: when a triangle's was found and a vertex last moved */
+    long *now_at, *moved_at, tick; /* ntri, n: when a triangle's pair was last found and a vertex last moved */
     self_contact *contact; /* the Newton step's self-contact, bound to the cloth applied to */
 };
 
@@ -204,7 +204,7 @@ static int separate(cloth_self_collision *s, int p, int t, cloth_self_collision_
     for (int k = 0; k < 3; k++) q[k] = x[3 * p + k] - s_now * nrm[k];
     barycentric(gn, x + 3 * tv[0], q, w);
     if (w[0] < -SC_EDGE_SLACK || w[1] < -SC_EDGE_SLACK || w[2] < -SC_EDGE_SLACK) return 0;
-    /* the side it was on: from the last apply's positions */
+    /* the side it is on at the last apply's positions */
     double side = s_now >= 0.0 ? 1.0 : -1.0;
     int over_before = 0;
     if (gp[3]) {
@@ -216,8 +216,8 @@ static int separate(cloth_self_collision *s, int p, int t, cloth_self_collision_
         over_before = wp[0] > -SC_OVER_MARGIN && wp[1] > -SC_OVER_MARGIN && wp[2] > -SC_OVER_MARGIN;
     }
     double gap = side * s_now; /* negative: crossed */
-    /* a crossing only if it was over the triangle (nearly) before too: a
-     * vertex that went round the triangle's edge did not pass through it */
+    /* a crossing only if it was over the triangle (nearly) at the last apply too: a vertex that went
+     * round the triangle's edge did not pass through it */
     if (gap < 0.0 && !over_before) return 0;
     if (gap < st->closest) st->closest = gap;
     double depth = s->thickness - gap;
@@ -277,10 +277,8 @@ cloth_status cloth_self_collision_apply(cloth_self_collision *s, cloth *c, cloth
         int held = cloth_get_constraint(c, i, &k) == CLOTH_OK && k.ndof > 0;
         s->winv[i] = held || !(m[i] > 0.0) ? 0.0 : 1.0 / m[i];
     }
-    /* the hash, once per apply (the passes move vertices by millimetres):
-     * each triangle in the cells its box overlaps, the box over its
-     * corners now and at the last apply (a vertex that crossed it is
-     * within the sweep), widened by the thickness, and clamped to one
+    /* the hash, once per apply (the passes move vertices by millimetres): each triangle in the cells of
+     * its box over its corners now and at the last apply, widened by the thickness and clamped to one
      * cell's size so that it meets at most 8 cells */
     for (int b = 0; b < s->nbucket; b++) s->head[b] = -1;
     int nent = 0;

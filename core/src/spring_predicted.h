@@ -1,7 +1,6 @@
-/* A link in the Newton step, inline for the assembly's loop (internal.h:
- * spring_eval_predicted): tension and the limit along the link, compression
- * along the frozen direction u0; the Newton matrix of a slack link gains
- * w k_hi u u^T (potential.c). */
+/* A link in the Newton step, inline for the assembly's loop (spring_eval_predicted in internal.h):
+ * tension and the limit along the link, compression along the frozen direction u0; a slack link's
+ * Newton matrix gains w k_hi u u^T (potential.c). */
 #ifndef ODECLOTH_SPRING_PREDICTED_H
 #define ODECLOTH_SPRING_PREDICTED_H
 

@@ -1,18 +1,6 @@
-/* One link as a spring and a damper: energy, force and Jacobian blocks
- * (paper eq. 6-7, 9-14 and section 4).
- *
- * Every link type and region is a piecewise-quadratic spring (spring_law): the
- * stiffness is k_hi above the rest length and k_lo below it. With
- * x_ij = x_j - x_i, d = |x_ij|, u = x_ij / d and k the active stiffness,
- *   E   = 1/2 k (d - l)^2
- *   f_i = -dE/dx_i = k (d - l) u            (f_j = -f_i)
- *   K   = df_i/dx_j = k uu^T + k (1 - l/d)(I - uu^T)          (eq. 14)
- * K's eigenvalues are k (along u) and k (1 - l/d) (twice, across u); the
- * latter is negative when d < l, and an indefinite matrix breaks CG. The
- * paper's rule (section 3.2; docs/model.md): when d < l keep only k uu^T.
- * A sequential link past its elongation limit lim adds 1/2 k_lim (d - lim)^2:
- * the force gains k_lim (d - lim) u, K's along-u stiffness k_lim and its
- * across-u term (force magnitude / d) stays positive. */
+/* One link as a spring and a damper: energy, force and Jacobian blocks (paper eq. 6-7, 9-14, sec. 4),
+ * every link a piecewise-quadratic spring_law. When d < l the transverse term of K is negative and
+ * breaks CG, so the paper's rule keeps only k uu^T there (derivation: docs/model.md, docs/newton.md). */
 #include <math.h>
 #include "spring_predicted.h"
 

@@ -1,25 +1,6 @@
-/* Symmetric block Gauss-Seidel (SSOR, omega = 1) preconditioned CG with
- * Eisenstat's trick (Eisenstat 1981), on the constraint-filtered system.
- *
- * Why: with block Jacobi the CG spends about 65% of a 21x21 step in the
- * matrix product, at 61 iterations; SSOR cuts the iterations 2.2x (measured:
- * 61 -> 28 at 21x21, 178 -> 78 at 81x81, h = 1/60) but a plain SSOR step
- * costs two triangular sweeps on top of the product. Eisenstat's trick folds
- * the product into the sweeps, so an iteration costs about one pass over the
- * matrix, as block Jacobi's does.
- *
- * How: the filtered matrix  Ah = S A S + (I - S)  (Baraff-Witkin's filter
- * made explicit, built once per step into its own copy of the pattern)
- * splits as Ah = L + D + L^T. With P = D + L and Q = D + L^T = P^T,
- *   Ah xh = rh0,  xh = Q^-1 y,  (P^-1 Ah Q^-1) y = P^-1 rh0,
- * and  P^-1 Ah Q^-1 v = t + P^-1 (v - D t),  t = Q^-1 v:  one backward and
- * one forward block sweep. CG runs on y with the preconditioner D. Here
- * rh0 = S (b - A z) and x = z + xh: the constrained components are held at z,
- * as in mpcg.c. The residual of the transformed system is P^-1 of the true
- * one, so the stopping test (the same block-diagonal-weighted norm of the
- * filtered residual as mpcg.c, relative to rh0) is checked on P r~ once the
- * cheap norm r~^T D r~, scaled by the ratio of the two at the last check,
- * says it may have been met. */
+/* Symmetric block Gauss-Seidel (SSOR) preconditioned CG with Eisenstat's trick on the filtered matrix
+ * Ah = S A S + (I - S): fewer iterations than block Jacobi at about the same cost per iteration, as
+ * the trick folds the product into the sweeps (method and figures: docs/newton.md, "Design notes"). */
 #include <math.h>
 #include <string.h>
 #include "internal.h"
@@ -89,13 +70,9 @@ MAT3_INLINE void backward(int avx, const bsr *A, const double *Ah, const double 
     }
 }
 
-/* One CG iteration's product, fused with the vector updates around it (the
- * same operations in the same order as done one after another, so bitwise
- * the same):
- *   p = s + beta p (skipped on the first iteration, first != 0),
- *   t = Q^-1 p (backward sweep), u = p - D t,
- * then (forward_pq) q = P^-1 u, and returns p^T (q + t); the operator's
- * product is q + t, left as two vectors. */
+/* One CG iteration's product fused with the vector updates around it (same operations and order, so
+ * bitwise the same): p = s + beta p (not on the first), t = Q^-1 p, u = p - D t; forward_pq then
+ * gives q = P^-1 u and returns p^T (q + t), the product q + t left as two vectors. */
 MAT3_INLINE void backward_p(int avx, const bsr *A, const double *Ah, const double *Dinv, const double *s, double beta,
                             int first, double *p, double *t, double *u)
 {

@@ -1,7 +1,6 @@
-/* One time step: backward Euler (paper eq. 15-21) or BDF2 by Newton's
- * method (newton.c), or explicit / symplectic Euler for comparison; then the
- * plastic update. A step that fails leaves the state untouched: everything
- * is computed into workspace and committed at the end. */
+/* One time step: backward Euler (paper eq. 15-21) or BDF2 by Newton (newton.c), or explicit /
+ * symplectic Euler for comparison; then the plastic update. A failed step leaves the state untouched:
+ * everything goes to workspace and is committed at the end. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -31,10 +30,8 @@ int workspace_alloc(cloth *c)
     return 0;
 }
 
-/* What a step measured of its new state on the way, so that its statistics
- * need not pass over the links again: the max strain and the sequential
- * links' energy (attempt), then the elastic energy and the plastic links
- * (commit). */
+/* What a step learns of its new state on the way, so its statistics need no second pass over the
+ * links: max strain and sequential energy (attempt), then elastic energy and plastic links (commit). */
 typedef struct measured {
     double max_strain, elastic;
     int plastic;
@@ -69,8 +66,7 @@ static cloth_failure explicit_step(cloth *c, double h, int symplectic, const dou
     return CLOTH_FAIL_NONE;
 }
 
-/* Stats of the current state: as measured by the step (ms), or measured
- * here (ms NULL). */
+/* Stats of the current state: as the step computed them (ms), or computed here (ms NULL). */
 static void fill_stats(cloth *c, cloth_step_stats *st, const measured *ms)
 {
     st->constrained = c->n_con;
@@ -102,12 +98,9 @@ static cloth_status finish(cloth *c, cloth_step_stats *st, cloth_step_stats *out
     return s;
 }
 
-/* One step of size h from the current state into x_new, v_new, dv and
- * con_new, the state untouched; constraints aimed at frac of the way from xs
- * (see constraints_build). Adds iterations and corrected links to st; ms gets
- * the new max strain and the sequential links' energy. last: no smaller
- * substep follows, so with keep_unconverged Newton's unconverged iterate is
- * kept (and counted). */
+/* One step of h into x_new, v_new, dv, con_new (state untouched; constraints aimed at frac of the way
+ * from xs). Adds iterations and corrected links to st; ms gets max strain and sequential energy. last:
+ * no smaller substep follows, so with keep_unconverged Newton's unconverged iterate is kept (counted). */
 static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, int last, cloth_step_stats *st,
                              measured *ms)
 {
@@ -155,11 +148,9 @@ static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, 
     return fail;
 }
 
-/* Make the attempt of size h the state (constraint forces apart); ms, from
- * the attempt, gets the elastic energy and the plastic links.
- * The projection's dx with dv = dx / h keeps x - x_prev - h v and v - v_prev
- * as they were when v_prev takes dv and x_prev stays: BDF2's a and e then
- * read no velocity or acceleration from the correction. */
+/* Make the attempt of size h the state; ms gets the elastic energy and plastic links. The projection's
+ * dx, with dv = dx / h, keeps x - x_prev - h v and v - v_prev unchanged as v_prev takes dv and x_prev
+ * stays, so BDF2 reads no velocity or acceleration from the correction. */
 static void commit(cloth *c, double h, measured *ms)
 {
     size_t n3 = 3 * (size_t)c->n;
@@ -178,16 +169,9 @@ static void commit(cloth *c, double h, measured *ms)
     ms->plastic = update_plastic_energy(c, h, &ms->elastic); /* cloth_update_plastic */
 }
 
-/* The retry after the whole step failed: the step again from its start as
- * 2^d equal substeps of h / 2^d, d = 1, 2, ... `halvings`, until one depth
- * takes every substep. A failure at depth d rolls back to the step's start
- * (the substeps taken are dropped: with explicit methods an unstable substep
- * passes its checks and the blow-up shows only a few substeps later, so
- * keeping them would carry the instability on). On success the state is the
- * end of the step and the constraint forces are their mean over the
- * substeps; past the bound the state is restored and the last failure
- * returned. Its workspace is the cloth's (retry_bk, retry_xs, retry_fsum),
- * sized at creation. */
+/* Retry after the whole step failed: 2^d substeps of h / 2^d, d = 1..halvings, until a depth takes
+ * them all; a failure rolls back to the step's start, since explicit blow-ups show substeps late.
+ * On success constraint forces are the substeps' mean; else the state is restored, last failure returned. */
 static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failure fail, cloth_step_stats *st,
                                    measured *ms)
 {

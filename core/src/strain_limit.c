@@ -1,65 +1,14 @@
-/* The elongation limit delta (paper Table 1): after a step no sequential
- * link may be longer than (1 + delta) l0.
- *
- * Method: fast projection (Goldenthal et al. 2007) instead of Provot's (1995)
- * link-by-link passes. Provot is Gauss-Seidel over the links: a correction
- * travels about one link per pass, so a 21-link hanging chain needs hundreds
- * of passes (measured on a soft cloth hanging from two corners: 10 passes
- * left strain 0.22, 200 passes 0.043, with delta 0.03). The projection treats
- * every over-stretched link e at once as an equality C_e = d_e - lmax_e = 0
- * and takes Newton steps on the mass-weighted least-change problem:
- *   (G W G^T) lambda = C,   dx = -W G^T lambda,
- * G the constraint gradients (-u_e at i, +u_e at j), W_i = S_i / m_i (a
- * pinned vertex does not move, one on a plane or line moves only along its
- * free directions). The link system is solved by Jacobi-preconditioned CG,
- * matrix-free over the active links. The active set grows: a link over the
- * limit joins it and stays, held at exactly lmax, while its multiplier is
- * positive (it pulls); one whose multiplier turns negative (it would push)
- * leaves it. Without the memory, links fixed in one Newton step are pulled
- * over again by the next and the iteration stalls (measured: 30 steps left
- * 100 links over on the soft cloth above).
- *
- * Each Newton step solves its linearised problem as an inequality problem:
- * a link outside the set that the step would stretch over the limit joins
- * the set, one whose multiplier turns negative leaves it, and the link system
- * is solved again (a primal active-set loop, at most SL_INNER rounds).
- * Without it the step fixes the set's links by pulling their neighbours over
- * (measured: 48 Newton steps on the soft cloth, against a handful).
- *
- * Safeguards: a grid with shear diagonals has about 4 links per vertex, and
- * a flat patch only 2 in-plane directions each, so the linearised system of
- * many held links can be singular and inconsistent; a plain Newton step then
- * throws vertices metres away (measured). The system is therefore damped,
- * (G W G^T + mu diag) lambda = C, and a step is kept only if it lowers the
- * summed squared violation, halving it up to SL_HALVINGS times (the
- * constraints are not linear: a link that turns lengthens); mu falls after a
- * kept step and rises after a refused one (Levenberg-Marquardt). Velocities take
- * dx / h with every method, the impulse that stops the link within the step
- * (BDF2's too: dx / (2h/3), even with x_prev moved by -dx/2 to match, sends a
- * link stopped at the step's start back at half its speed). */
+/* The elongation limit delta (paper Table 1): after a step no sequential link is longer than (1 +
+ * delta) l0. Fast projection (Goldenthal et al. 2007) with an active set and Levenberg-Marquardt
+ * damping, not Provot's passes, which converge too slowly (docs/solver.md, "Design notes"). */
 #include <math.h>
 #include <string.h>
 #include "internal.h"
 #include "tuning.h"
 
-/* Vertices held by a rigid body solved with the cloth (cloth_body) move, in
- * their constrained directions, with the body: W_i then also has the body's
- * part P J Minv J^T P, applied through the body's summed impulse (bodies.c),
- * and the body's velocity change takes the correction too. Two things make
- * that a consistent linear model:
- * - the levers J turns the body about are the held vertices' positions at
- *   the projection's start, not the step's start (a vertex that a contact
- *   took hold of in this step moved centimetres since: a turn of the body
- *   then changed the length of a link between two of its held vertices at
- *   first order, so steps the model predicted to shorten links lengthened
- *   them, and every step was refused: the trampoline's projection stalled
- *   at strain 0.033-0.046 with mu at its cap), and Minv is made again with
- *   them (with the old levers momentum was not conserved);
- * - a link between two vertices held in full by the same body (rigid_pair)
- *   is left out: no step changes its length, yet its row's diagonal (the
- *   body's share) is positive, so its damped equation mu diag lambda = C
- *   gave multipliers C / (mu diag), 1e8 times the others, which no CG
- *   iteration count resolved. */
+/* Vertices held by a body solved with the cloth move with it: W_i gains P J Minv J^T P, with levers
+ * and Minv taken at the projection's start, and links held in full by one body (rigid_pair) are left
+ * out, both needed for a consistent linear model (docs/solver.md, "Design notes"). */
 static int bodies_on(const cloth *c)
 {
     cloth_method m = c->desc.solver.method;

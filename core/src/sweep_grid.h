@@ -1,12 +1,6 @@
-/* Broadphase for the continuous collision tests: a uniform grid of cubic
- * cells over boxes (the box a vertex, edge or triangle sweeps over a step),
- * rebuilt per call and hashed, so a far-flung box costs no memory.
- *
- * The cell is the median of the boxes' largest sides. A box over
- * SWEEP_GRID_MAX_CELLS cells (or far out, or not finite) is kept in a list
- * that every query scans, and a query box that large scans every box: a
- * blown-up displacement costs one pass over the boxes, never a loop over
- * the cells it spans. */
+/* Broadphase for continuous collision: a hashed uniform grid of cubic cells (the median box's largest
+ * side) over swept boxes, rebuilt per call. Boxes over SWEEP_GRID_MAX_CELLS cells, far out or not
+ * finite go to a list every query scans, so a blown-up displacement costs one pass, not a cell loop. */
 #ifndef ODECLOTH_SWEEP_GRID_H
 #define ODECLOTH_SWEEP_GRID_H
 

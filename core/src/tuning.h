@@ -1,7 +1,6 @@
-/* The core's tuning constants, in one place: each with its unit, and why it has the value it
- * has. What a user tunes is in the descriptor (cloth_solver: tolerances, iteration caps,
- * preconditioner; cloth_material); these are the methods' own choices, not meant to be changed
- * per scene. Measurements behind the values: docs/newton.md, docs/self_collision.md. */
+/* The core's tuning constants, each with its unit and reason: the methods' own choices, not meant to
+ * be changed per scene (users tune cloth_solver and cloth_material). Measurements behind the values:
+ * docs/newton.md, docs/self_collision.md. */
 #ifndef ODECLOTH_TUNING_H
 #define ODECLOTH_TUNING_H
 
@@ -60,10 +59,9 @@
 
 /* ------------------------------------------- the elongation-limit projection (strain_limit.c) */
 
-/* A link counts as at its limit within SL_TOL of it (1); the link system's CG stops at SL_CG_TOL
- * relative residual or SL_CG_MAX iterations (a safety net, not the step's solve); its
- * Levenberg-Marquardt damping stays between SL_MU_MIN and SL_MU_MAX of its diagonal (1); at most
- * SL_INNER active-set rounds and SL_HALVINGS step halvings a projection. */
+/* A link is at its limit within SL_TOL (1); the link system's CG stops at SL_CG_TOL or SL_CG_MAX
+ * (a safety net); the Levenberg-Marquardt damping stays in [SL_MU_MIN, SL_MU_MAX] of the diagonal (1);
+ * at most SL_INNER active-set rounds and SL_HALVINGS halvings per projection. */
 #define SL_TOL 1e-9
 #define SL_CG_TOL 1e-3
 #define SL_CG_MAX 100
@@ -79,20 +77,17 @@
 #define SELF_CONTACT_TOUCH 1e-3
 #define SELF_CONTACT_STOP 0.5
 
-/* Candidate pairs: those whose vertices' regions (their paths and the step's start widened by
- * SELF_CONTACT_SKIN thicknesses) come within the thickness. A motion longer than
- * SELF_CONTACT_LONG thicknesses is swept without a list; when at most one vertex in
- * SELF_CONTACT_FEW (and one, up to SELF_CONTACT_FEW_MAX) leaves its region, only its region
- * grows: each growth tests the whole cloth, a relisting is linear. */
+/* Candidates: pairs whose regions (paths and step start widened by SELF_CONTACT_SKIN thicknesses) come
+ * within the thickness; motions over SELF_CONTACT_LONG are swept unlisted. When few vertices leave
+ * (SELF_CONTACT_FEW, up to _FEW_MAX) only their regions grow: a growth tests all, a relisting is linear. */
 #define SELF_CONTACT_SKIN 1.0
 #define SELF_CONTACT_LONG 16.0
 #define SELF_CONTACT_FEW 512
 #define SELF_CONTACT_FEW_MAX 16
 
-/* Close pairs: the candidates whose distance at reference positions may be under the thickness
- * plus twice SELF_CONTACT_SLACK thicknesses (while no vertex moves farther than that, no other
- * comes within it); SELF_CONTACT_SPARE earlier references' lists kept, as Newton's start tries
- * several positions. */
+/* Close pairs: candidates possibly within the thickness plus 2 SELF_CONTACT_SLACK thicknesses at the
+ * reference (none other comes within it while no vertex moves farther); SELF_CONTACT_SPARE earlier
+ * lists kept, as Newton's start tries several positions. */
 #define SELF_CONTACT_SLACK 0.25
 #define SELF_CONTACT_SPARE 3
 
@@ -108,10 +103,9 @@
 #define SC_EDGE_SLACK 0.02
 #define SC_OVER_MARGIN 0.25
 
-/* Continuous collision (self_ccd.h): impulse passes per round, rigid-zone sweeps at most, the
- * most an impulse may move a corner (times the closing it undoes), unstretch sweeps per round,
- * an edge's slack over its limit left alone (1), a held vertex's weight in a zone's fit (mean
- * masses), and rounds at most. */
+/* Continuous collision (self_ccd.h): impulse passes per round, rigid-zone sweeps, the most an impulse
+ * may move a corner (times the closing it undoes), unstretch sweeps, an edge's slack over its limit
+ * (1), a held vertex's zone-fit weight (mean masses), and rounds at most. */
 #define SELF_CCD_PASSES 4
 #define SELF_CCD_ZONE_ROUNDS 500
 #define SELF_CCD_THROW 2.0
@@ -150,22 +144,18 @@
 
 /* ------------------------------------------------ the accuracy-driven controller (adaptive.c) */
 
-/* The next frame's step aims the global estimate at ADAPTIVE_AIM of the request (1) and the local
- * one at ADAPTIVE_LOCAL_AIM of the frame's budget (1): room for the estimate's own error. A large
- * error rate is remembered ADAPTIVE_KMEM s (the difference's norm can pass near zero as it turns).
- * Symplectic Euler steps at ADAPTIVE_SYM_FRAC of its stable step (1), so the shadow's 2 h is stable
- * too. ADAPTIVE_CGF scales the a-priori CG tolerance (1: half the budget by its bound). */
+/* The next frame aims the global estimate at ADAPTIVE_AIM of the request, the local at ADAPTIVE_LOCAL_AIM of the
+ * budget (1): room for the estimate's error. A large rate is kept ADAPTIVE_KMEM s (the norm can pass near zero as it
+ * turns); symplectic Euler at ADAPTIVE_SYM_FRAC of stable (1) keeps the shadow's 2 h stable; ADAPTIVE_CGF: CG tol. */
 #define ADAPTIVE_AIM 0.5
 #define ADAPTIVE_LOCAL_AIM 0.7
 #define ADAPTIVE_KMEM 0.5
 #define ADAPTIVE_SYM_FRAC 0.4
 #define ADAPTIVE_CGF 1.0
 
-/* The first frame takes symplectic Euler when its substeps cost less than ADAPTIVE_SYM_PREFER
- * times backward Euler's (1; backward Euler's first-frame estimate understates its need); later
- * frames go back to backward Euler when it costs under ADAPTIVE_BACK_TO_IMPLICIT of symplectic
- * Euler (1). A backward Euler substep costs ADAPTIVE_BE_COST_FIXED + ADAPTIVE_BE_COST_PER_CG per
- * CG iteration symplectic substeps (1). */
+/* The first frame takes symplectic Euler under ADAPTIVE_SYM_PREFER times backward Euler's cost (1; BE's first-frame
+ * estimate understates its need); later frames return to BE under ADAPTIVE_BACK_TO_IMPLICIT of symplectic's (1).
+ * A BE substep costs ADAPTIVE_BE_COST_FIXED + ADAPTIVE_BE_COST_PER_CG per CG iteration symplectic substeps (1). */
 #define ADAPTIVE_SYM_PREFER 2.0
 #define ADAPTIVE_BACK_TO_IMPLICIT 0.35
 #define ADAPTIVE_BE_COST_FIXED 2.5

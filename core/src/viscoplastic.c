@@ -1,21 +1,6 @@
-/* Plasticity that depends on duration and repetition: a rate law for the
- * plastic rest length l1 of an interlaced link (material.tau_set,
- * tau_recover, set_hardening; cloth.h, docs/materials.md).
- *
- * Per link: l1, the permanent rest length lp = l0 (1 - perm), and whether it
- * was bent past the yield at the last update. Over a step of h seconds the
- * end-of-step length d is taken as held, and each law is solved exactly:
- *   bent (d <= alpha l0):  dl1/dt = -(l1 - d) / tau_set    where l1 > d
- *       l1(t + h) = d + (l1 - d) exp(-h / tau_set)
- *   released:              dl1/dt = (lp - l1) / tau_recover  where l1 < lp
- *       l1(t + h) = lp - (lp - l1) exp(-h / tau_recover)
- * so n steps of h and one of n h agree to rounding. A time constant of 0 is
- * the instant limit: the paper's l1 = min(l1, d) while bent, l1 = lp when
- * released (or, with plastic_memory, l1 kept). At the update that finds a
- * bent link released, lp -= set_hardening (lp - l1): a share of the set
- * held becomes permanent, once per fold. A link is elastic (rest l0, k_b
- * both ways) while it carries no set: until it first bends past the yield,
- * and again once l1 has recovered to l0. */
+/* Rate-dependent plasticity of an interlaced link's rest length l1 (material.tau_set, tau_recover,
+ * set_hardening): each law solved exactly over a step at the end length, so n steps of h equal one
+ * of n h; time constant 0 is the paper's instant rule (laws: docs/materials.md, "Design notes"). */
 #include <float.h>
 #include <math.h>
 #include "internal.h"

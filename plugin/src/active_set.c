@@ -1,7 +1,6 @@
-/* The active set (dcloth.h, step 3): which pins and contacts hold in each
- * solve of a step. Each pass sets the constraints, the core solves, and the
- * contacts the solve shows wrong change for the next pass, at most
- * DCLOTH_RESOLVE_PASSES solves. */
+/* The active set (dcloth.h, step 3): which pins and contacts hold in each solve of a step. Each pass
+ * sets the constraints, the core solves, and contacts the solve shows wrong change for the next pass,
+ * at most DCLOTH_RESOLVE_PASSES solves. */
 #include <math.h>
 #include <string.h>
 #include "dcloth_internal.h"
@@ -140,10 +139,9 @@ static void took_candidates(dClothID c, dClothStepStats *st)
     }
 }
 
-/* a vertex left free (released, or predicted to stay apart) that
- * ended the step inside its shell, and that the step did not decide
- * itself (a candidate): hold it and solve the step again from its
- * start (an active set, at most DCLOTH_RESOLVE_PASSES solves) */
+/* a vertex left free (released, or predicted apart) that ended the step inside its shell and that
+ * the step did not decide itself (a candidate): hold it and solve the step again from its start
+ * (at most DCLOTH_RESOLVE_PASSES solves) */
 static int hold_inside(dClothID c, double h, int newton)
 {
     cloth *core = c->core;
@@ -216,14 +214,9 @@ static int peel_sweep(dClothID c)
     return peel;
 }
 
-/* a sticking vertex on a sequential link that ended the solve past
- * the elongation limit (beyond SLIP_STRAIN): it slides in the next
- * solve. The stick test used the last step's forces; a link
- * stretched past delta pulls harder than that friction held, and
- * two vertices sticking to one body keep their distance: a 3 kg box
- * landing in a hammock held the links under its bottom edges at
- * strain 0.031-0.039 (trampoline, 9 of 15 grids and rates over
- * delta + 1e-4; with this rule none, 0.0300-0.0301) */
+/* a sticking vertex on a sequential link the solve left past the limit (beyond SLIP_STRAIN) slides in
+ * the next solve: the stick test used the last step's forces, and two vertices sticking to one body
+ * keep their distance, so the link stays stretched (docs/contacts.md, "Design notes from the code") */
 static int let_slide(dClothID c, const cloth_desc *cd)
 {
     cloth *core = c->core;
@@ -264,18 +257,9 @@ int dcloth_revise(dClothID c, double h, int passes, dClothStepStats *st)
     more += hold_inside(c, h, newton);
     int peel = let_go_pulling(c, newton, letgo_tension(&cd));
     more += peel;
-    /* From the step's third solve on (a peel under way), with it the
-     * triangle contacts on the same geom that pull at all, reached from
-     * it along sequential links through such contacts: the strip a lift
-     * peels off. One at a time, each vertex let go made the next pull
-     * in the next solve, and lifting a cloth off a box over its edges
-     * took up to 23 solves in a step (drape_table --box-table --grid
-     * 41, alpha 1: the budget of 8 ran out at strain 0.078; with this,
-     * 8 at most and 0.03015, the same with a budget of 12). Not from
-     * the first: a box resting
-     * on a pinned cloth, whose contacts now and then let go of one
-     * vertex, jittered at 3 mm/s with its neighbours let go too
-     * (plugin_coupling; bound 1 mm/s; measured 0.14 mm/s without) */
+    /* From the step's third solve on (a peel under way), the triangle contacts on the same geom that pull,
+     * reached along sequential links, let go together: the strip a lift peels off, which one vertex per
+     * solve peels too slowly. Not earlier, where it makes resting bodies jitter (docs/contacts.md). */
     while (peel && passes >= PEEL_AFTER) {
         peel = peel_sweep(c);
         more += peel;

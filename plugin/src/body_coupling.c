@@ -5,13 +5,9 @@
 #include "dcloth_internal.h"
 #include "body_coupling.h"
 
-/* The index of body b among this step's coupled bodies, adding it (with
- * its mass, inertia in world axes, centre and the forces ODE holds for it
- * now, gravity included) when new; -1 when it is not coupled or memory ran
- * out. Not coupled: no body (static geom), kinematic, disabled, implicit
- * coupling off, and bodies in joints (contact joints included): a joint
- * changes how the body answers a force in ways the cloth's solve does not
- * see (a box on a slider, coupled as if free, swung with its cloth). */
+/* The index of body b among this step's coupled bodies, adding it (mass, world inertia, centre and
+ * ODE's current forces) when new; -1 if not coupled or out of memory. Static, kinematic, disabled,
+ * coupling off or jointed bodies are not coupled: a joint changes the body's answer unseen by the solve. */
 static int coupled_body(dClothID c, dBodyID b)
 {
     if (!b || !c->implicit || dBodyIsKinematic(b) || !dBodyIsEnabled(b) || dBodyGetNumJoints(b) > 0) return -1;

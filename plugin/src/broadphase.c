@@ -1,9 +1,6 @@
-/* The broadphase (dcloth.h, step 1): one box geom around the cloth, swept
- * by the vertices' motion over the step and grown by the thickness, against
- * the user's space with ODE's own dSpaceCollide2 (which applies the category
- * / collide bits); nested spaces are entered the same way. The box is in no
- * space, so the user's dSpaceCollide never meets it. A geom whose AABB
- * misses the box costs nothing per vertex. */
+/* The broadphase (dcloth.h, step 1): a box geom around the cloth, swept by the step's motion and grown
+ * by the thickness, against the user's space via dSpaceCollide2 (category / collide bits, nested spaces
+ * entered). The box is in no space, so dSpaceCollide never meets it; a geom it misses costs nothing. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -39,10 +36,9 @@ static void near_cb(void *data, dGeomID o1, dGeomID o2)
     if (c->cand_cap > 0) c->cand[c->ncand++] = g;
 }
 
-/* the fastest geom of a space (nested spaces entered), by dcloth_geom_speed.
- * ODE's quadtree space cannot hand out its geoms (dSpaceGetGeom is not
- * implemented there: it aborts), so a quadtree counts nothing: bodies in it
- * are found as they arrive, not before */
+/* the fastest geom of a space (nested spaces entered), by dcloth_geom_speed. A quadtree space
+ * counts nothing, since it cannot hand out its geoms (dSpaceGetGeom aborts there): its bodies are
+ * found as they arrive */
 static double space_speed(dSpaceID s)
 {
     if (dSpaceGetClass(s) == dQuadTreeSpaceClass) return 0.0;

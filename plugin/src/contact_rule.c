@@ -7,14 +7,9 @@
 #include "body_motion.h"
 #include "contact_rule.h"
 
-/* Pinched: the opposite contact's surface (another geom, facing this
- * one) would be entered by this contact's target. The vertex then
- * aims midway between the two targets along the normal, held (never
- * released, let go or left apart) and sliding: each surface takes
- * half of what the two thicknesses lack. Before, a vertex kept only
- * the nearer surface's target, inside the other: between two closing
- * plates the cloth went through the lower one by 3.9 cm and the step
- * failed (box meshes; plugin_pinch). */
+/* Pinched: this contact's target would enter the opposite contact's surface. The vertex then aims
+ * midway between the two targets along the normal, held and sliding, each surface taking half of
+ * what the two thicknesses lack, so the cloth enters neither (docs/contacts.md, "Design notes"). */
 static void pinch(vcontact *nw, double h)
 {
     const double *n = nw->normal;
@@ -33,17 +28,9 @@ static void pinch(vcontact *nw, double h)
     nw->pinch_shift = dmid - d1;
 }
 
-/* A vertex sticking to a kinematic body is held at a point fixed in the
- * body's frame, the anchor set when it began to stick, as a pin is.
- * Advancing its own position by the body's point velocity every step,
- * it drifted off the body's rigid motion (outward on a turning body, r
- * (w h)^2 / 2 per step, accumulating while it sticks). Measured on
- * soak_turntable (100,000 steps): without the anchor, one snap at step
- * 46,680 put 0.0127 J of kinetic energy in the table's frame (bound
- * 0.01 J); with it, at most 0.0024 J. Dynamic bodies keep the velocity
- * form: anchored to a rolling ball, the curtain's cloth overstretched
- * (strain 0.03106, delta 0.03). Across the surface the target stays on
- * the shell. */
+/* A vertex sticking to a kinematic body is held at an anchor fixed in the body's frame, as a pin is,
+ * so it follows the rigid motion without drift; dynamic bodies keep the velocity form, and across the
+ * surface the target stays on the shell (why: docs/contacts.md, "Design notes from the code"). */
 static void anchor(vcontact *nw, const vcontact *old, int had, const double *x, double h, cloth_constraint *k)
 {
     const double *n = nw->normal;
@@ -84,23 +71,17 @@ int dcloth_contact_rule(dClothID c, int i, double h, double mass, const double g
     }
     int had = old->geom == nw->geom;
     double fn = had ? dcloth_dot3(old->force, old->normal) : 0.0;
-    /* unilateral: a contact that pulled the vertex onto the body last step
-     * lets go, unless the vertex is inside (by more than rounding: a vertex
-     * the last step put exactly on its shell reads a gap of -1e-17, and was
-     * held, pulling, for ever); a triangle's contact is judged
-     * by its geometry alone (its vertices' forces along the triangle's
-     * normal are often negative while the triangle as a whole presses:
-     * releasing them made contacts on curved and edged geoms chatter), as
-     * is a vertex's own contact whose last force was such a share: it lets
-     * go by the triangles' rule this step (by_triangle_rule) */
+    /* unilateral: a contact that pulled its vertex onto the body lets go unless the vertex is inside by
+     * more than rounding; a triangle's contact, and a vertex's own whose last force was a triangle's share,
+     * is judged by geometry alone (by_triangle_rule): its vertices can pull while the triangle presses */
     if (!forced && had && nw->gap >= -DCLOTH_TOUCH * nw->thickness &&
         ((fn < 0.0 && !nw->from_triangle && !old->from_triangle) || old->let_go)) {
         st->released++;
         return 0;
     }
     if (!had) {
-        /* no force measured yet: what stops the approach within the step,
-         * plus the weight pressing along the normal */
+        /* no force known yet: what stops the approach within the step, plus the weight pressing along the
+         * normal */
         double gn = dcloth_dot3(g, n);
         fn = mass * (vn < 0.0 ? -vn : 0.0) / h + (gn < 0.0 ? -mass * gn : 0.0);
     }
@@ -108,12 +89,9 @@ int dcloth_contact_rule(dClothID c, int i, double h, double mass, const double g
     double vt[3] = {rel[0] - vn * n[0], rel[1] - vn * n[1], rel[2] - vn * n[2]};
     double vts = sqrt(dcloth_dot3(vt, vt));
     memcpy(nw->slip, vt, sizeof vt);
-    /* The tangential force on the vertex other than this contact's, f_o:
-     * from the slip's change over the last step minus what the contact
-     * applied then (constraint force and friction), or for a new contact
-     * the weight's tangential part. Sticking holds when the force that stops
-     * the slip within the step against f_o, F = -m vt / h - f_o, is within
-     * mu fn (Coulomb's cone); otherwise the contact slides with mu fn. */
+    /* The tangential force on the vertex other than this contact's, f_o: from the slip's change over the
+     * last step less the contact's own forces then (new contact: the weight's tangential part). It sticks
+     * while F = -m vt / h - f_o is within mu fn (Coulomb's cone), else slides with mu fn. */
     double fo[3], F[3];
     double gn = dcloth_dot3(g, n);
     for (int r = 0; r < 3; r++) fo[r] = mass * (g[r] - gn * n[r]);
@@ -127,18 +105,9 @@ int dcloth_contact_rule(dClothID c, int i, double h, double mass, const double g
     for (int r = 0; r < 3; r++) F[r] = -mass * vt[r] / h - fo[r];
     double mu = nw->mu;
     double Fs = sqrt(dcloth_dot3(F, F)), limit = mu * fn;
-    /* A contact made ahead of a moving body (the vertex still apart, the
-     * body approaching along the normal) does not stick: its vertex slides
-     * onto the body, with kinetic friction. Held in all directions it was
-     * carried with the body's point before touching, and two such vertices
-     * of one box, one touching and one 2 cm under it, were pulled 12% apart
-     * (trampoline, measured). On a static geom a sticking vertex is only
-     * stopped, and keeps doing so (made to slide there too, a cloth landing
-     * on a sphere ended at strain 0.0307, drape_sphere alpha 1). Only a gap
-     * over the thickness counts: with any gap over the slop, cloth hanging
-     * beside soak_turntable's turning table slid where the side faces swept
-     * toward it, and crept (strain 0.36, 1235 of 100,000 steps over 0.035,
-     * a snap of 0.055 J). */
+    /* A contact made ahead of a moving body (vertex apart by over the thickness, body approaching) does
+     * not stick: its vertex slides on with kinetic friction, so it is not carried with the body's point
+     * before touching (docs/contacts.md). On a static geom a sticking vertex is only stopped. */
     int ahead = nw->gap > nw->thickness && h * dcloth_dot3(nw->vbody, n) > 0.1 * DCLOTH_CONTACT_SLOP * nw->thickness;
     int stick = mu > 0.0 && Fs <= limit && !ahead && (!had || nw->weight >= STICK_WEIGHT) && !nw->slides &&
                 !nw->pinched;

@@ -32,21 +32,17 @@ typedef struct vcontact {
     int forced;          /* 1: a re-solve found the vertex inside its shell  */
     int candidate;       /* 1: left free, a contact candidate the Newton
                             step decides (cloth_set_contact)                */
-    int let_go;          /* 1: a triangle's contact that pulled in a solve of
-                            this step; free in the step's next solve. Kept
-                            (Newton): its contact as a whole pulled, and the
-                            next step lets it go                            */
+    int let_go;          /* 1: a triangle's contact pulled in a solve of this
+                            step; free in the next solve. Kept (Newton): the
+                            whole contact pulled; the next step lets it go  */
     int slides;          /* 1: held on a link past the elongation limit in a
                             solve of this step; slides in the next          */
     double friction[3];  /* N, sliding friction force applied on the vertex */
     double slip[3];      /* m/s, tangential velocity relative to the body at
                             the step's start                               */
     double force[3];     /* N, total contact force on the vertex (after the step) */
-    /* the nearest contact found with another geom whose normal opposes
-     * this one's (dcloth_offer_opposite): the vertex lies between two
-     * bodies, and where the two targets cannot both be met (the gap
-     * between the surfaces under two thicknesses), contact_rule aims
-     * midway (pinched) */
+    /* the nearest contact with another geom whose normal opposes this one (dcloth_offer_opposite):
+     * where both targets cannot be met (the gap under two thicknesses), contact_rule aims midway */
     dGeomID opp_geom;    /* 0: none                                         */
     dBodyID opp_body;
     double opp_normal[3], opp_gap, opp_vbody[3];
@@ -71,7 +67,7 @@ typedef struct vpin {
     int active;
     dBodyID body;        /* 0: pinned to the world                          */
     double local[3];     /* body frame (or world point if no body)          */
-    double world[3];     /* m, where the pin point was at the step's start  */
+    double world[3];     /* m, the pin point's position at the step's start */
     double force[3];     /* N, on the vertex, last step                     */
 } vpin;
 
@@ -135,9 +131,8 @@ struct dxCloth {
     dGeomID box;         /* broadphase proxy: the cloth's swept AABB        */
     dGeomID *cand;       /* candidate geoms of the step                     */
     int ncand, cand_cap;
-    /* each candidate's mu and thickness this step (surf[a] for cand[a]),
-     * a scratch copy for a broadphase redone wider, and the largest
-     * thickness the surface callback has given since it was set */
+    /* each candidate's mu and thickness this step (surf[a] for cand[a]), a scratch copy for a wider
+     * broadphase, and the largest thickness the surface callback has given since it was set */
     struct dcloth_surf {
         dGeomID g;
         double mu, thickness;
@@ -150,10 +145,9 @@ struct dxCloth {
     /* the triangle tests' (triangles.c, triangle_query.c) */
     unsigned tri_query;  /* triangle queries so far (vcontact's query)       */
     int tri_hits;        /* vertex contacts set by triangle tests this step  */
-    /* mesh_contacts.c's scratch: a trimesh's triangles this step, 9 world
-     * coordinates and 3 edge flags (1: the surface turns convexly there, or
-     * ends) each, and the edges for matching neighbours; then the cloth's
-     * triangles in a hash grid, for the mesh's */
+    /* mesh_contacts.c's scratch: a trimesh's triangles this step (9 world coordinates and 3 edge flags
+     * each: 1 where the surface turns convexly or ends), edges for matching neighbours, and the cloth's
+     * triangles in a hash grid */
     struct mesh_scratch {
         double *v;
         unsigned char *convex;
@@ -190,7 +184,7 @@ struct dxCloth {
     dBodyID *holder;     /* n: the body that takes each vertex's force, or 0 */
     dBodyID *turn_bodies; /* n: the moving bodies the turn moves (workspace) */
     double *turn_dv;     /* 3n: the turn's velocity change (workspace)      */
-    /* journal.c's: the bodies this step touched, each as it was before */
+    /* journal.c's: the bodies this step touched, each saved from before the step */
     struct body_journal {
         struct body_rec {
             dBodyID b;

@@ -13,8 +13,8 @@ typedef struct dcloth_geom_shape {
     int npts;
 } dcloth_geom_shape;
 
-/* geom g's shape into s (g and cls always): 1 for a box, capsule, cylinder, or a convex whose points were
- * handed over (dClothSetConvexPoints); 0 for the others */
+/* geom g's shape into s (g and cls always): 1 for a box, capsule, cylinder, or a convex whose points
+ * the user handed over (dClothSetConvexPoints); 0 for the others */
 int dcloth_geom_shape_of(dClothID c, dGeomID g, dcloth_geom_shape *s);
 /* libccd's support and centre functions of a dcloth_geom_shape */
 void dcloth_geom_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out);

@@ -1,5 +1,5 @@
-/* The bodies a step touched, each as it was before (its force and torque
- * accumulators and velocities), so that dClothWorldStep can put them back. */
+/* The bodies a step touched, each saved from before it (force and torque accumulators, velocities),
+ * so that dClothWorldStep can put them back. */
 #include <stdlib.h>
 #include "dcloth_internal.h"
 #include "journal.h"

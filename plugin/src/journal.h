@@ -8,7 +8,7 @@
  * first changes them (0, or -1 on no memory: then the step must not change
  * b); the journal is emptied at each step's start. */
 int dcloth_touch(dClothID c, dBodyID b);
-/* put the journal's bodies back as they were, and empty it */
+/* restore the journal's bodies to their saved state, and empty it */
 void dcloth_journal_undo(dClothID c);
 
 #endif

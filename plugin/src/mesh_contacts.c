@@ -11,12 +11,9 @@
 #include "mesh_contacts.h"
 #include "triangle_query.h"
 
-/* A mesh triangle as a convex shape: the triangle and its copy moved
- * inward (against its outward normal) by a depth, a prism. Why a prism: a
- * flat triangle has no inside, and the least translation separating a cloth
- * triangle from it may point into the mesh; the prism's volume makes it
- * point out of the face, and at a convex edge of a closed mesh the two
- * faces' prisms meet as the solid would. */
+/* A mesh triangle as a convex prism: the triangle and its copy moved inward by a depth. A flat
+ * triangle has no inside, so the least separating translation may point into the mesh; the prism's
+ * makes it point out of the face, and at a closed mesh's convex edge two prisms meet as the solid would. */
 typedef struct prism_shape {
     double p[6][3]; /* world frame */
 } prism_shape;
@@ -56,11 +53,9 @@ static int edge_order(const void *pa, const void *pb)
     return 0;
 }
 
-/* Fetch the mesh's nt triangles (world frame) into c->mesh.v, and flag each
- * edge convex (the neighbour across it turns away below this face's plane)
- * or open (no neighbour); flat and concave edges are 0. Edges are matched by
- * their ends' coordinates (ODE hands shared corners over transformed alike).
- * Returns -1 when memory ran out. */
+/* Fetch the mesh's nt triangles (world frame) into c->mesh.v and flag each edge convex (the neighbour
+ * turns away below this face's plane) or open (none); flat and concave are 0. Edges are matched by
+ * their ends' coordinates (ODE transforms shared corners alike). Returns -1 when out of memory. */
 static int mesh_fetch(dClothID c, dGeomID g, int nt)
 {
     if (nt > c->mesh.cap) {
@@ -124,12 +119,9 @@ static int mesh_fetch(dClothID c, dGeomID g, int nt)
     return 0;
 }
 
-/* The cloth's triangles, each box grown as triangle_query grows it, hashed
- * by the cubic cells (side: the largest box's extent) their boxes overlap,
- * at most 8 each. The cells a mesh triangle's prism overlaps then name the
- * cloth triangles to test: a 1000-triangle mesh against all 800 of a 21x21
- * cloth's, brute force, took 31 ms a step. Returns -1 when memory ran out;
- * the cell side and origin in s and lo, the grid's size in cells in dim. */
+/* The cloth's triangles, each box grown as triangle_query grows it, hashed by the cubic cells (side:
+ * the largest box) they overlap, at most 8 each, so a mesh triangle's prism tests only nearby ones.
+ * Returns -1 when out of memory; the cell side and origin in s and lo, the size in cells in dim. */
 static long long cell_key(const long long i[3], const long long dim[3])
 {
     return i[0] + dim[0] * (i[1] + dim[1] * i[2]);

@@ -1,8 +1,6 @@
-/* The cloth's angular momentum that no force explains (frozen-direction
- * dampers and compression are not central at the end-of-step positions,
- * backward Euler measures the change at the start's, the solves stop at a
- * tolerance), and the rigid turn of least energy that takes it out of the
- * cloth and the moving bodies holding it, together (reactions.c). */
+/* The cloth's angular momentum that no force explains (non-central frozen-direction forces, backward
+ * Euler's start-of-step change, solver tolerances), and the least-energy rigid turn that takes it out
+ * of the cloth and the moving bodies holding it, together (reactions.c). */
 #include <math.h>
 #include <string.h>
 #include "dcloth_internal.h"

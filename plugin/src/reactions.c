@@ -9,9 +9,8 @@
 #include "reactions.h"
 #include "vertex_force.h"
 
-/* The target moved the vertex across its gap (or out of its shell), less
- * a pinched vertex's midway shift: a displacement, not a velocity; the
- * normal velocity keeps only the body's (an inelastic impact, no pop);
+/* The target moved the vertex across its gap (or out of its shell), less a pinched vertex's midway
+ * shift: a displacement, not a velocity; the normal velocity keeps only the body's (inelastic, no pop);
  * all set at once, as setting velocities resets the core's history */
 static void fix_velocities(dClothID c, double h)
 {

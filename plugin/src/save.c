@@ -1,11 +1,6 @@
-/* Saving and restoring a plugin cloth (dClothSave / dClothRestore): the
- * core's state and what the plugin carries from one step to the next: each
- * vertex's contact history (whether it was in contact, sticking, its last
- * force and slip: they decide release and the friction cone), the pins and
- * their forces, the sleep state, the steps held in a row, the forces
- * dClothAddVertexForce added for the next step and the last stats. A
- * restore then continues exactly as the uninterrupted run
- * (plugin_determinism, plugin_state_file). */
+/* Saving and restoring a plugin cloth (dClothSave / dClothRestore): the core's state plus what the
+ * plugin carries between steps (contact histories, pins, sleep, held steps, pending forces, last
+ * stats), so a restore continues exactly as the uninterrupted run. */
 #include <stdlib.h>
 #include <string.h>
 #include "dcloth_internal.h"

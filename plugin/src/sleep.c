@@ -1,7 +1,6 @@
-/* Sleeping (dClothSetAutoSleep): a cloth at rest with nothing moving near it
- * is not solved. What it remembers when it falls asleep (the geoms near it,
- * where they were, the world's gravity) is what it compares each step to
- * decide whether to wake. */
+/* Sleeping (dClothSetAutoSleep): a cloth at rest with nothing moving near it is not solved. It keeps,
+ * on falling asleep, the geoms near it, their positions and the world's gravity, and compares each
+ * step with them to decide whether to wake. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -85,11 +84,9 @@ int dcloth_sleep_before(dClothID c, double h, double t0)
         dClothWake(c);
         return 0;
     }
-    /* The bodies it holds stay held. One solved with the cloth (held by it
-     * alone: no joints) is held as by a rigid support: what ODE holds for
-     * it (gravity, the user's forces) is cancelled; its velocity wakes the
-     * cloth if anything else moves it. A body in joints keeps the cloth's
-     * last forces at their points. */
+    /* The bodies it holds stay held: one solved with the cloth alone (no joints) as by a rigid support,
+     * ODE's forces on it cancelled and its velocity waking the cloth if something else moves it; a body
+     * in joints keeps the cloth's last forces at their points. */
     for (int k = 0; k < c->nbodies; k++) {
         dBodyID b = c->bodies[k];
         if (!dBodyIsEnabled(b) || dBodyGetNumJoints(b) > 0) continue;
@@ -120,9 +117,8 @@ int dcloth_sleep_before(dClothID c, double h, double t0)
 void dcloth_sleep_after(dClothID c)
 {
     if (!c->sleep.on) return;
-    /* at rest: the RMS speed sqrt(2 KE / M) (a single flap or corner may
-     * still sway: measured, a cloth settled on a box keeps a few vertices at
-     * 2-10 cm/s for seconds while its RMS speed is 7 mm/s) */
+    /* at rest judged by the RMS speed sqrt(2 KE / M), not the fastest vertex: a single flap or corner
+     * may sway for seconds while the cloth as a whole is settled (docs/contacts.md) */
     const double *v = cloth_velocities(c->core), *m = cloth_masses(c->core);
     double e = 0.0, M = 0.0;
     for (int i = 0; i < c->n; i++) {

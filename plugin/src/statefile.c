@@ -255,10 +255,9 @@ static uint64_t fnv1a(const unsigned char *p, size_t n)
     return h;
 }
 
-/* Everything after the header's fixed part: the core record (length L
- * already known), sleep, contacts, pins, then from version 2 the held run
- * and the pending forces (version 1: left as dClothStateCreate made them,
- * zero). */
+/* Everything after the header's fixed part: the core record (length L known), sleep, contacts, pins,
+ * then from version 2 the held run and pending forces (version 1: left zero as dClothStateCreate
+ * made them). */
 static void xfer_body(io *s, dClothState *st, size_t core_len, uint32_t version)
 {
     unsigned char *core = io_room(s, core_len, "core state");

@@ -1,8 +1,6 @@
-/* The cloth's step (dClothStep, dcloth.h): the stages in order. Sleep may
- * take the whole step; else the broadphase, the vertex, triangle and link
- * contact tests, then solves until the active set settles (constraints by
- * the contact rule, bodies coupled, the core's step, the set revised), and
- * the reactions onto the bodies. */
+/* The cloth's step (dClothStep): sleep may take the whole step; else broadphase, vertex, triangle and
+ * link contacts, solves until the active set settles (contact rule, bodies coupled, core step, set
+ * revised), then the reactions onto the bodies. */
 #include <math.h>
 #include <string.h>
 #include <time.h>
@@ -44,14 +42,14 @@ static int find_contacts(dClothID c, double h)
     return c->ncand;
 }
 
-/* A step whose solve failed (s): the cloth put back as it was at the step's start and, held, stopped there */
+/* A failed step (s): the cloth put back to the step's start and, held, stopped there */
 static cloth_status failed_step(dClothID c, cloth_status s, dClothStepStats *st, double t0)
 {
     cloth_restore(c->core, c->save);
     st->contacts = st->sticking = 0;
     st->held = s == CLOTH_ESTEP && c->on_failure == DCLOTH_FAILURE_HOLD;
     if (st->held && c->held_run < DCLOTH_HOLD_MAX_HALVINGS) c->held_run++;
-    if (st->held) { /* stopped where it was: the failed step's motion dropped, no energy added */
+    if (st->held) { /* stopped where it is: the failed step's motion dropped, no energy added */
         memset(c->v0, 0, 3 * (size_t)c->n * sizeof *c->v0);
         cloth_set_velocities(c->core, c->v0);
     }
@@ -98,7 +96,7 @@ cloth_status dClothStep(dClothID c, dReal h)
         cloth_restore(core, c->save);
     }
     st.resolves = passes - 1;
-    cloth_set_external_forces(core, c->fuser); /* the user's again: friction was this step's */
+    cloth_set_external_forces(core, c->fuser); /* the user's again: friction is this step's alone */
     if (s != CLOTH_OK) return failed_step(c, s, &st, t0);
     dcloth_reactions(c, h, &st);
     if (cloth_get_desc(core).solver.nonlinear == CLOTH_NEWTON) dcloth_mark_pulled_shares(c);

@@ -1,7 +1,6 @@
-/* One cloth triangle against one convex shape of a geom (the geom itself, or
- * a mesh triangle's prism), with libccd's GJK + EPA or, on an exact box, by
- * separating axes (polytope.c): where they overlap, the triangle's vertices
- * are offered the contact, shared by barycentric weight. */
+/* One cloth triangle against one convex shape (the geom, or a mesh triangle's prism), by libccd's
+ * GJK + EPA or, on an exact box, separating axes (polytope.c): where they overlap, the triangle's
+ * vertices are offered the contact, shared by barycentric weight. */
 #include <ccd/ccd.h>
 #include <math.h>
 #include <stdlib.h>
@@ -231,9 +230,8 @@ static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, 
     /* on a face's own plane, a vertex's own contact with the geom is the
      * same plane: kept where they tie to rounding */
     if (exact && vc->geom == q->g && vc->gap <= gap + TRI_TIE * q->surf->thickness) return;
-    /* the point reported (and pushed at while asleep): under the vertex
-     * on the geom's face (support) where measured, else on the plane
-     * through EPA's point, which may be any point of the overlap */
+    /* the point reported (and pushed at while asleep): under the vertex on the geom's face (support)
+     * where known, else on the plane through EPA's point, which may be any point of the overlap */
     dcloth_set_contact(vc, q->surf, q->body, n, pt, gap);
     memcpy(vc->vbody, vb, sizeof vc->vbody); /* the body's point under the contact, not under the vertex */
     vc->from_triangle = 1;
@@ -259,12 +257,8 @@ static void refine_swept(const convex_query *q, const tri_shape *ts, double shel
         *clear = d2 < shell_r;
         *shell_hit = 1;
     } else if (!q->moving) {
-        /* still apart from a static geom: the geometry converged
-         * tightly. The loose EPA's direction leaned by up to 0.2
-         * degrees on a 2 m face, the support jumped to its far corner
-         * and the plane dropped 4 mm (plugin_mesh_impact); with it, a
-         * box's edges came within 0.18 mm of a falling cloth's
-         * triangles, with this 3.4 mm (plugin_colliders) */
+        /* still apart from a static geom: the geometry converged tightly, since the loose EPA's direction
+         * can lean enough to drop the support plane by millimetres (docs/contacts.md, "Design notes") */
         ccd_real_t d2;
         ccd_vec3_t dir2, pos2;
         if (penetration(q, ts, fine, &d2, &dir2, &pos2) == 0 && d2 > 0.0 && isfinite(d2)) {
@@ -304,10 +298,8 @@ int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, cc
     double t = q->surf->thickness;
     double shell_r = t * (1.0 + DCLOTH_CONTACT_MARGIN); /* the triangle grown by thickness and margin */
     const int *p = c->tri + 3 * k;
-    /* grown by the thickness, the margin and the step's approach: the
-     * contact starts before the geom is inside the triangle (at 81x81 a
-     * box corner otherwise entered a triangle ~1 cm in one step, and
-     * pushing it out in one step stretched links 70%) */
+    /* grown by the thickness, the margin and the step's approach, so the contact starts before the geom
+     * is inside the triangle; pushing a deep corner out in one step overstretches links (docs/contacts.md) */
     double sweep = 0.0; /* the fastest vertex relative to the body */
     for (int a = 0; a < 3; a++) {
         double s2 = dcloth_relative_speed(q->body, x + 3 * p[a], v + 3 * p[a]);
@@ -324,16 +316,9 @@ int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, cc
         double hi = fmax(ts.v[0][a], fmax(ts.v[1][a], ts.v[2][a])) + ts.radius;
         if (hi < q->aabb[2 * a] || lo > q->aabb[2 * a + 1]) return 0;
     }
-    /* At rest (a sweep under SWEEP_NEGLIGIBLE of the thickness) the
-     * swept shape is the shell (the triangle grown by the thickness and
-     * margin) and one query, converged tightly, gives the contact. A
-     * moving triangle is detected with its swept shape and a loose EPA;
-     * if it is already within its shell, the geometry is taken from the
-     * shell, converged tightly, and otherwise the swept query's
-     * (predictive) geometry is kept. Why: the loose EPA's direction and
-     * point wandered from step to step on a capsule's round side, and
-     * the swept shape, several times thicker than the cloth at speed,
-     * can have its least separating direction along the triangle. */
+    /* At rest (sweep under SWEEP_NEGLIGIBLE thicknesses) one tight query on the shell gives the contact;
+     * a moving triangle is found by its swept shape and loose EPA, its geometry re-taken tightly from the
+     * shell once inside, since the loose direction wanders and a swept shape's can lie along the triangle. */
     int swept = reach > SWEEP_NEGLIGIBLE * t;
     ccd_real_t depth;
     ccd_vec3_t dir, pos;
@@ -341,19 +326,9 @@ int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, cc
     if (!(depth > 0.0) || !isfinite(depth)) return 0;
     /* the triangle's distance beyond the thickness, as a vertex gap */
     double lift = depth - (ts.radius - t);
-    /* clear: the thin triangle itself is outside the geom (its depth
-     * into the grown shape is less than the growth), so the plane
-     * through the geom's support along the contact direction separates
-     * them, and every vertex is at least as far from the geom as its
-     * height above that plane. Also for a moving triangle when the geom
-     * moves: a vertex held by a triangle's contact moves with the body,
-     * and a far vertex given the triangle's small share of the gap was
-     * dragged along (a box falling at 2.4 m/s into a hammock pulled a
-     * vertex 2.7 cm below it down 3.7 cm in one step, 22% past its
-     * neighbour; trampoline). Not for a static geom: there a far vertex
-     * so let go (it stays apart) could fall through the plane with its
-     * triangle in the same step (plugin_colliders: a box's and a
-     * cylinder's edge through a triangle at impact, measured). */
+    /* clear: the thin triangle itself is outside the geom, so the support plane separates them and each
+     * vertex is at least its height above it away; also for a moving geom (far vertices not dragged
+     * along), not for a static one (a far vertex let go could fall through) (docs/contacts.md) */
     int clear = (!swept || q->moving) && depth < ts.radius, shell_hit = 0;
     if (swept) refine_swept(q, &ts, shell_r, t, fine, &depth, &dir, &pos, &lift, &clear, &shell_hit);
     double nl = sqrt(dir.v[0] * dir.v[0] + dir.v[1] * dir.v[1] + dir.v[2] * dir.v[2]);
@@ -368,20 +343,9 @@ int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, cc
     double w[3];
     barycentric(ts.v, pos.v, w);
     double w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-    /* ahead: a triangle approaching a static geom, still apart (the swept
-     * query's predictive geometry). When every vertex the contact point
-     * weighs reaches the separating plane within the step at its present
-     * velocity, each is given its own height above the plane as its gap:
-     * the contact point's height is their weighted sum, so it ends on the
-     * plane as the shares below would put it, and the triangle lands as
-     * it lies. Why: on faces that are parallel EPA's contact point is any
-     * point of the overlap, and the shares from an uneven one stopped some
-     * vertices a centimetre short; a cloth thrown flat at 4-6 m/s onto a
-     * box crumpled, its middle resting 1-6 cm up (plugin_mesh_impact,
-     * measured). When a vertex would not reach it (the triangle leaning
-     * away), the shares hold it: left free, it could fall through the
-     * plane with the triangle in the same step (the edges of a box and a
-     * cylinder through a triangle at impact, plugin_colliders, measured). */
+    /* ahead: a triangle approaching a static geom, still apart. If every weighted vertex reaches the
+     * separating plane within the step, each gets its own height as gap, so the triangle lands as it lies;
+     * else the shares hold it, lest it fall through (docs/contacts.md, "Design notes from the code"). */
     double face[3];
     int ahead = swept && !shell_hit && !q->moving && depth < ts.radius && facing(q, &ts, n, face);
     if (ahead) memcpy(n, face, sizeof face);
@@ -401,11 +365,8 @@ int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, cc
         } else {
             continue;
         }
-        /* A vertex never gets a smaller gap than its height above the
-         * separating plane allows. A triangle lying flat on a face
-         * touches it everywhere, the tight EPA returns any point of the
-         * face, and the lift shared from there held a vertex 1.5 mm
-         * above its place (plugin_api, measured) */
+        /* A vertex never gets a smaller gap than its height above the separating plane allows: on a face the
+         * tight EPA returns any point, and a lift shared from there would hold a vertex above its place */
         if (clear && above[a] > gap) gap = above[a];
         if (ahead) gap = above[a];
         /* of two supporting planes (both bound the distance from below),

@@ -1,27 +1,6 @@
-/* Cloth triangles against convex geoms, with libccd (dcloth.h, step 2).
- *
- * Why: vertex contacts alone let a box's edge or corner pass between the
- * vertices of a coarse cloth (the paper's own flaw at the table corners:
- * the corner pokes through a triangle whose three vertices all rest beside
- * it). So each cloth triangle near a box, capsule, cylinder or convex, grown by the
- * thickness (the Minkowski sum with a sphere), is tested against the geom
- * with libccd's GJK + EPA penetration query (MPR's direction, taken along
- * the line of centres, was wrong at box corners). The triangle is grown by the
- * thickness plus a margin, as vertices are (vertex_contacts.c), so a triangle held
- * exactly at the thickness is still seen and stays held instead of falling
- * free every other step. A triangle the geom enters gives its three vertices
- * a contact along the separating direction. The lift the contact point needs
- * is shared by barycentric weight w_k (Bridson, Fedkiw, Anderson 2002): vertex
- * k moves by lift w_k / sum w^2, which moves the contact point by exactly the
- * lift, and leaves a far vertex (w = 0) alone (applying the whole lift to all
- * three held up vertices far from the contact, measured: a cloth hovering
- * over a box top, never settling). Kept only where deeper than the vertex's
- * own contact; the step's contact rule then treats it like any vertex
- * contact.
- *
- * ODE's convex class: ODE 0.16 does not hand back its points (no getter),
- * so the user hands them over (dClothSetConvexPoints); a convex without them
- * keeps vertex contacts, as do trimesh and heightfield (not convex). */
+/* Cloth triangles against convex geoms (dcloth.h, step 2): each triangle near a box, capsule, cylinder
+ * or convex, grown by thickness and margin, is tested with libccd's GJK + EPA, so an edge or corner
+ * cannot pass between a coarse cloth's vertices (design: docs/contacts.md, "Design notes"). */
 #include <ccd/ccd.h>
 #include <string.h>
 #include "dcloth_internal.h"

@@ -4,10 +4,9 @@
 
 #include "dcloth_internal.h"
 
-/* cloth triangles against a box, capsule, cylinder, convex or trimesh (libccd)
- * over a step of h seconds, with the geom's surface s;
- * sets deeper contacts of the triangles' vertices in c->vc_new. Returns the
- * number of vertex contacts it set (0 for other classes). */
+/* cloth triangles against a box, capsule, cylinder, convex or trimesh (libccd) over a step of h
+ * seconds with the geom's surface s, setting deeper contacts of their vertices in c->vc_new.
+ * Returns the number of vertex contacts set (0 for other classes). */
 int dcloth_triangle_contacts(dClothID c, const struct dcloth_surf *s, double h);
 
 #endif

@@ -1,7 +1,6 @@
-/* The plugin's tuning constants, in one place: each with its unit, and why it has the value it
- * has. What a user sets per cloth or per geom is in dClothDesc and the surface callback
- * (thickness, friction); these are the contact pipeline's own choices. The measurements behind
- * them: docs/contacts.md, "Why the plugin's constants have their values". */
+/* The plugin's tuning constants, each with its unit and reason: the contact pipeline's own choices
+ * (users set dClothDesc and the surface callback). Measurements behind them: docs/contacts.md, "Why
+ * the plugin's constants have their values". */
 #ifndef DCLOTH_TUNING_H
 #define DCLOTH_TUNING_H
 
@@ -37,10 +36,9 @@
 #define RESOLVE_DEPTH 0.1
 #define PEEL_AFTER 3
 
-/* A triangle's contact not judged by its own force lets go of a vertex it pulls onto the body
- * harder than LETGO_PULL of a link's tension at the elongation limit (1), and the step is solved
- * again: held for ever, a cloth lifted off a box tears; let go at any pull, one bent over an edge
- * loses its rim. */
+/* A triangle's contact not judged by its own force lets go of a vertex it pulls harder than LETGO_PULL
+ * of a limit link's tension (1), and the step is solved again: held for ever, a lifted cloth tears;
+ * let go at any pull, one bent over an edge loses its rim. */
 #define LETGO_PULL 0.15
 
 /* A link is past the elongation limit, for sliding its sticking vertices, beyond
@@ -66,9 +64,8 @@
 #define TRI_TIE 1e-9
 #define MERGE_TIE 1e-6
 
-/* A mesh triangle's prism gives a contact along directions within acos(MESH_FACE_COS) (8 degrees)
- * of its face's normal, and beyond only across an edge where the surface turns convexly or ends;
- * a triangle ahead of a geom takes the plane of the face it faces where its normal is within
+/* A prism's contact directions lie within acos(MESH_FACE_COS) (8 degrees) of its face normal, beyond
+ * only across a convex or open edge; a triangle ahead of a geom takes its facing face's plane within
  * acos(AHEAD_PARALLEL) (8 degrees) of the contact direction. */
 #define MESH_FACE_COS 0.99
 #define AHEAD_PARALLEL 0.99

@@ -1,16 +1,6 @@
-/* Vertex contacts (dcloth.h, step 2).
- *
- * Narrowphase: for each candidate, the vertices inside its AABB (grown by
- * each vertex's reach, reach = thickness (1 + DCLOTH_CONTACT_MARGIN) + |v| h) get
- * their signed distance and normal to the geom. Sphere, box, capsule,
- * cylinder and plane in closed form (exact, and cheaper than a collider);
- * heightfields with a ray along the field's up axis through the vertex (the
- * hit triangle's plane gives distance and normal: ODE's sphere-heightfield
- * collider reports nothing for a small sphere over a peak or a grid edge,
- * measured: vertices fell 2 cm into a bump); convex and trimesh (and any user
- * class) with a sphere proxy of radius reach through dCollide, which every
- * geom class supports against a sphere. The deepest contact over
- * all candidates is kept. */
+/* Vertex contacts (dcloth.h, step 2): each candidate's vertices within their reach get signed distance
+ * and normal: closed form for sphere, box, capsule, cylinder and plane; a ray for heightfields; a sphere
+ * proxy through dCollide for convex, trimesh and others. The deepest is kept (docs/contacts.md). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -232,14 +222,9 @@ void dcloth_vertex_contacts(dClothID c, double h, double extra)
         dGeomGetAABB(g, aabb);
         dBodyID body = dGeomGetBody(g);
         double t = c->surf[a].thickness;
-        /* a vertex's reach: the thickness with its margin, and what the
-         * vertex and the geom can close in the step, at their relative
-         * speed (with the vertex's speed alone, a box falling at 2.4 m/s
-         * onto a resting cloth found vertices 1 cm inside it, nearer a side
-         * face than the bottom: pushed out sideways, the cloth stretched 29%
-         * in one step; trampoline. With |v| + the geom's fastest point, a
-         * cloth turning with a table counted as moving and lost its resting
-         * contacts' fine geometry; soak_turntable) */
+        /* a vertex's reach: the thickness with its margin plus what vertex and geom can close in the step at
+         * their relative speed, neither the vertex's speed alone nor it plus the geom's fastest point
+         * (docs/contacts.md, "Design notes from the code") */
         for (int i = 0; i < n; i++) {
             const double *xi = x + 3 * i, *vi = v + 3 * i;
             double reach = t * (1.0 + DCLOTH_CONTACT_MARGIN) + fmax(h * dcloth_relative_speed(body, xi, vi), extra);

@@ -7,8 +7,8 @@
 /* every vertex's nearest surface among the candidates (c->cand, c->surf) within its reach over the step
  * of h seconds (at least `extra` m), into c->vc_new */
 void dcloth_vertex_contacts(dClothID c, double h, double extra);
-/* vertices with no contact this step whose end positions x1 lie deeper in a candidate geom's shell than
- * `depth` of its thickness: given that contact (the shell's plane there, its gap measured from x0); how many */
+/* vertices with no contact this step whose end positions x1 lie deeper in a candidate's shell than `depth`
+ * of its thickness get that contact (the shell's plane there, gap from x0); returns how many */
 int dcloth_find_late_contacts(dClothID c, const double *x0, const double *x1, double depth);
 
 #endif

@@ -1,8 +1,6 @@
-/* Stepping several cloths and the world together (dClothWorldStep), all or
- * nothing: when a cloth fails, the cloths stepped before it are put back as
- * they were, and so are the bodies they pushed (their force and torque
- * accumulators and velocities, from a journal each step keeps), and the
- * world is not stepped. */
+/* Stepping several cloths and the world together (dClothWorldStep), all or nothing: when a cloth fails,
+ * the cloths stepped before it and the bodies they pushed (from each step's journal) are restored, and
+ * the world is not stepped. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
