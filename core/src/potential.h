@@ -42,7 +42,8 @@ double potential_value(const cloth *c, const step_eq *q, const double *dv, doubl
 
 /* What backward Euler's step to c->x_new, c->v_new dissipates besides 1/2 |dv|_M^2 (0 for
  * BDF2): the dampers' work and the links' Bregman gaps U(x0) - U(x) - grad U(x).(x0 - x),
- * without the elongation limit's piece (its multiplier shifts it off the springs' energy). */
+ * without the elongation limit's piece (its multiplier shifts it off the springs' energy); a pass of
+ * its own, the reference the step's fused sums (below) are tested against. */
 double potential_dissipation(const cloth *c, const step_eq *q);
 
 /* potential_dissipation at the last potential_residual's (or _assemble's) point, from that

@@ -32,10 +32,8 @@ MAT3_INLINE double spring_predicted_lim(const double xi[3], const double xj[3], 
         fe += s.k_lim * (d - s.lim);
         k += s.k_lim;
         E += 0.5 * s.k_lim * (d - s.lim) * (d - s.lim);
-        if (lim && d > SPRING_MIN_LENGTH) {
-            lim[0] = 0.5 * s.k_lim * (d - s.lim) * (d - s.lim);
-            lim[1] = s.k_lim * (d - s.lim) / d;
-        }
+        if (lim) lim[0] = 0.5 * s.k_lim * (d - s.lim) * (d - s.lim);
+        if (lim && d > SPRING_MIN_LENGTH) lim[1] = s.k_lim * (d - s.lim) / d;
     }
     /* compression: the length along u0, (x_j - x_i) . u0 = d (u . u0) */
     double sc = d * (u[0] * u0[0] + u[1] * u0[1] + u[2] * u0[2]) - s.rest, kc = 0.0;

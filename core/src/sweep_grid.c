@@ -122,6 +122,7 @@ static int reserve(sweep_grid *g, int n)
 {
     if (n <= g->cap) return 0;
     size_t c = (size_t)n + (size_t)n / 2;
+    if (c > INT_MAX) c = INT_MAX;
     int *big = realloc(g->big, c * sizeof *big), *stamp, *out;
     if (big) g->big = big;
     stamp = realloc(g->stamp, c * sizeof *stamp);
