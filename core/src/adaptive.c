@@ -336,6 +336,147 @@ static void new_method(cloth_adaptive *a, cloth_method m)
  * each); the constants come from a benchmark (docs/solver.md, "Design notes from the code"). */
 static double be_cost(double iterations) { return ADAPTIVE_BE_COST_FIXED + ADAPTIVE_BE_COST_PER_CG * iterations; }
 
+/* The frame's method with the shadow running: symplectic Euler where it is cheaper (its step is
+ * bounded by stability, at 2 h for the shadow), else backward Euler; *n its substeps, *synced set
+ * when a change of method restarted the shadow. */
+static cloth_method choose_method(cloth_adaptive *a, const cloth *c, double frame_dt, int *n, int *synced)
+{
+    cloth_method method = a->method;
+    if (a->d.allow_explicit && a->have_prev && a->h_scale > 0.0) {
+        double nb = a->method == CLOTH_BACKWARD_EULER ? *n : frame_dt * a->k_be / (ADAPTIVE_AIM * a->d.tolerance);
+        double cost_be = fmax(nb, 2.0) * be_cost(a->it_be);
+        /* the stable step, estimated (40 power iterations, then 6 from the last vector)
+         * while symplectic Euler runs or might be within 2x */
+        if (a->method == CLOTH_SYMPLECTIC_EULER || a->h_stab == 0.0 ||
+            frame_dt / (ADAPTIVE_SYM_FRAC * a->h_scale * a->h_stab) < 2.0 * cost_be) {
+            a->h_stab = stable_step(a, c, a->h_stab > 0.0 ? 6 : 40);
+            double hs = ADAPTIVE_SYM_FRAC * a->h_scale * a->h_stab;
+            int ns = hs > 0.0 ? clamp_substeps(a, frame_dt / hs, 1) : n_top(a, 1);
+            if (a->method == CLOTH_SYMPLECTIC_EULER && *n < ns) *n = ns;
+            if (a->method == CLOTH_BACKWARD_EULER && ns < n_top(a, 1) && ns < cost_be) {
+                method = CLOTH_SYMPLECTIC_EULER;
+                a->k_be = a->k_err;
+                *n = ns;
+            } else if (a->method == CLOTH_SYMPLECTIC_EULER && (cost_be < ADAPTIVE_BACK_TO_IMPLICIT * *n || ns >= n_top(a, 1))) {
+                method = CLOTH_BACKWARD_EULER;
+                *n = clamp_substeps(a, nb, 1);
+            }
+            if (method != a->method) {
+                new_method(a, method);
+                *synced = 1;
+            }
+        }
+    }
+    return method;
+}
+
+/* The first frame, solved by backward Euler (attempt *t, *n substeps, its shadow's difference
+ * *g_est), solved again by symplectic Euler when its stable step fits max_substeps; the cheaper at
+ * the tolerance kept (backward Euler's error the larger of its shadow's and its distance to it). */
+static void first_frame_explicit(cloth_adaptive *a, cloth *c, double frame_dt, cloth_solver *sv, attempt *t, int *n,
+                                 cloth_method *method, double *g_est, cloth_adaptive_stats *st)
+{
+    size_t n3 = 3 * (size_t)a->n;
+    a->h_stab = stable_step(a, c, 40);
+    double hs = ADAPTIVE_SYM_FRAC * a->h_scale * a->h_stab;
+    int ns = hs > 0.0 ? clamp_substeps(a, frame_dt / hs, 1) : n_top(a, 1);
+    if (ns < n_top(a, 1)) {
+        const attempt tb = *t;
+        const double gb = *g_est, hb = st->h, its = t->steps ? (double)t->iterations / t->steps : 0.0;
+        const int nbe = *n;
+        cloth_save(c, a->alt);
+        cloth_save(a->shadow, a->alt_shadow);
+        cloth_restore(c, a->snap);
+        cloth_restore(a->shadow, a->shadow_snap);
+        memcpy(a->acc_prev, a->acc_prev_start, n3 * sizeof *a->acc_prev);
+        a->have_prev = a->have_prev_start;
+        sv->method = CLOTH_SYMPLECTIC_EULER;
+        cloth_set_solver(c, sv);
+        cloth_set_solver(a->shadow, sv); /* builds its multigrid levels when first chosen */
+        attempt ts = run_substeps(a, c, ns, frame_dt / ns);
+        st->attempts++;
+        st->steps += ts.steps;
+        int sok = ts.failure == CLOTH_FAIL_NONE && !ts.callback_failed &&
+                  !run_shadow(a, ns, frame_dt / ns, &st->steps, &st->cg_iterations);
+        double d = sok ? rms_diff(cloth_positions(c), a->alt->x, a->n) : 0.0;
+        double k0 = fmax(gb, d) / (hb * frame_dt);
+        double cost_be = fmax(frame_dt * k0 / (ADAPTIVE_AIM * a->d.tolerance), 2.0) * be_cost(its);
+        a->k_be = k0;
+        a->it_be = its;
+        if (sok && ns < ADAPTIVE_SYM_PREFER * cost_be) {
+            *method = a->method = CLOTH_SYMPLECTIC_EULER;
+            *t = ts;
+            *n = ns;
+            st->substeps = *n;
+            st->h = frame_dt / *n;
+            st->method = *method;
+            st->error_estimate = t->ex + a->d.velocity_weight * t->ev;
+            *g_est = rms_diff(cloth_positions(c), cloth_positions(a->shadow), a->n);
+        } else { /* backward Euler's frame back, with what its shadow missed carried */
+            cloth_restore(c, a->alt);
+            cloth_restore(a->shadow, a->alt_shadow);
+            sv->method = CLOTH_BACKWARD_EULER;
+            cloth_set_solver(c, sv);
+            cloth_set_solver(a->shadow, sv); /* builds its multigrid levels when first chosen */
+            *t = tb;
+            *n = nbe;
+            a->carried += fmax(0.0, d - gb);
+        }
+    }
+}
+
+/* After an accepted frame of n substeps (attempt t, the shadow's difference g_est, or the local
+ * estimate where the shadow failed or did not run): the next frame's substeps and CG tolerance. */
+static void next_frame(cloth_adaptive *a, double frame_dt, int n, const attempt *t, int global, int shadow_failed,
+                       double g_est, cloth_method method, cloth_adaptive_stats *st)
+{
+    const double budget = a->d.tolerance * frame_dt;
+    if (global && !shadow_failed) {
+        st->over_budget = !(g_est - a->global <= 2.0 * budget);
+        a->global = g_est;
+        st->global_estimate = a->carried + g_est;
+        /* the next frame's step: E = k int h dt (k the error per unit step and time), so h =
+         * ADAPTIVE_AIM tolerance / k keeps the estimate a fraction of the request; n at most halves at once */
+        a->h_int += st->h * frame_dt;
+        a->k_err = fmax(g_est / a->h_int, a->k_err * exp(-frame_dt / ADAPTIVE_KMEM));
+        if (method == CLOTH_BACKWARD_EULER) a->k_be = a->k_err;
+        double want = frame_dt * a->k_err / (ADAPTIVE_AIM * a->d.tolerance);
+        a->n_next = clamp_substeps(a, fmax(want, 0.5 * n), 1);
+    } else {
+        if (global) { /* the shadow failed where the cloth did not: start it again */
+            a->shadow_synced = 0;
+        }
+        st->global_estimate = NAN;
+        st->over_budget = !(st->error_estimate <= 2.0 * budget);
+        /* the next frame: aim at ADAPTIVE_LOCAL_AIM of the budget, at most halving n at once */
+        a->n_next = clamp_substeps(a, fmax(n * st->error_estimate / (ADAPTIVE_LOCAL_AIM * budget), 0.5 * n), global);
+    }
+    st->requested = a->d.tolerance * a->elapsed; /* a->elapsed: the frame's end */
+    /* The next frame's CG tolerance: a bias of cg |a| in the acceleration held for the time so far,
+     * bounded by ADAPTIVE_CGF / 2 of the request tolerance * t (docs/solver.md). */
+    double a_mean = 2.0 * t->ex / (n * st->h * st->h);
+    double horizon = fmax(a->d.velocity_weight, a->elapsed);
+    a->cg_next = a_mean > 0.0 ? ADAPTIVE_CGF * a->d.tolerance / (horizon * a_mean) : a->d.cg_tolerance_max;
+    a->cg_next = clampd(a->cg_next, a->d.cg_tolerance_min, a->d.cg_tolerance_max);
+}
+
+/* A symplectic frame unstable after all (a link reaching the limit's stiffness, or the power
+ * iteration short of the largest mode): the explicit step halved, or backward Euler once that costs
+ * less; the method to solve the frame again with, *n its substeps. */
+static cloth_method explicit_failed(cloth_adaptive *a, double frame_dt, int *n)
+{
+    a->h_scale *= 0.5;
+    int ns = clamp_substeps(a, 2.0 * *n, 1);
+    double cost_be = fmax(frame_dt * a->k_be / (ADAPTIVE_AIM * a->d.tolerance), 2.0) * be_cost(a->it_be);
+    if (ns > *n && ns < cost_be) {
+        *n = ns;
+        return CLOTH_SYMPLECTIC_EULER;
+    }
+    new_method(a, CLOTH_BACKWARD_EULER);
+    *n = clamp_substeps(a, frame_dt * a->k_be / (ADAPTIVE_AIM * a->d.tolerance), 1);
+    return CLOTH_BACKWARD_EULER;
+}
+
 cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, cloth_adaptive_stats *stats)
 {
     cloth_adaptive_stats st;
@@ -372,34 +513,7 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
             synced_now = 1;
         }
         cloth_save(a->shadow, a->shadow_snap);
-        /* the method: symplectic Euler where it is cheaper (its step is
-         * bounded by stability, at 2 h for the shadow), else backward Euler */
-        method = a->method;
-        if (a->d.allow_explicit && a->have_prev && a->h_scale > 0.0) {
-            double nb = a->method == CLOTH_BACKWARD_EULER ? n : frame_dt * a->k_be / (ADAPTIVE_AIM * a->d.tolerance);
-            double cost_be = fmax(nb, 2.0) * be_cost(a->it_be);
-            /* the stable step, estimated (40 power iterations, then 6 from the last vector)
-             * while symplectic Euler runs or might be within 2x */
-            if (a->method == CLOTH_SYMPLECTIC_EULER || a->h_stab == 0.0 ||
-                frame_dt / (ADAPTIVE_SYM_FRAC * a->h_scale * a->h_stab) < 2.0 * cost_be) {
-                a->h_stab = stable_step(a, c, a->h_stab > 0.0 ? 6 : 40);
-                double hs = ADAPTIVE_SYM_FRAC * a->h_scale * a->h_stab;
-                int ns = hs > 0.0 ? clamp_substeps(a, frame_dt / hs, 1) : n_top(a, 1);
-                if (a->method == CLOTH_SYMPLECTIC_EULER && n < ns) n = ns;
-                if (a->method == CLOTH_BACKWARD_EULER && ns < n_top(a, 1) && ns < cost_be) {
-                    method = CLOTH_SYMPLECTIC_EULER;
-                    a->k_be = a->k_err;
-                    n = ns;
-                } else if (a->method == CLOTH_SYMPLECTIC_EULER && (cost_be < ADAPTIVE_BACK_TO_IMPLICIT * n || ns >= n_top(a, 1))) {
-                    method = CLOTH_BACKWARD_EULER;
-                    n = clamp_substeps(a, nb, 1);
-                }
-                if (method != a->method) {
-                    new_method(a, method);
-                    synced_now = 1;
-                }
-            }
-        }
+        method = choose_method(a, c, frame_dt, &n, &synced_now);
     } else {
         a->shadow_synced = 0;
     }
@@ -448,52 +562,7 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
         if (ok && global && !shadow_failed && fresh && !a->have_prev_start && method == CLOTH_BACKWARD_EULER &&
             a->d.allow_explicit && !tried_explicit) {
             tried_explicit = 1;
-            a->h_stab = stable_step(a, c, 40);
-            double hs = ADAPTIVE_SYM_FRAC * a->h_scale * a->h_stab;
-            int ns = hs > 0.0 ? clamp_substeps(a, frame_dt / hs, 1) : n_top(a, 1);
-            if (ns < n_top(a, 1)) {
-                const attempt tb = t;
-                const double gb = g_est, hb = st.h, its = t.steps ? (double)t.iterations / t.steps : 0.0;
-                const int nbe = n;
-                cloth_save(c, a->alt);
-                cloth_save(a->shadow, a->alt_shadow);
-                cloth_restore(c, a->snap);
-                cloth_restore(a->shadow, a->shadow_snap);
-                memcpy(a->acc_prev, a->acc_prev_start, n3 * sizeof *a->acc_prev);
-                a->have_prev = a->have_prev_start;
-                sv.method = CLOTH_SYMPLECTIC_EULER;
-                cloth_set_solver(c, &sv);
-                cloth_set_solver(a->shadow, &sv); /* builds its multigrid levels when first chosen */
-                attempt ts = run_substeps(a, c, ns, frame_dt / ns);
-                st.attempts++;
-                st.steps += ts.steps;
-                int sok = ts.failure == CLOTH_FAIL_NONE && !ts.callback_failed &&
-                          !run_shadow(a, ns, frame_dt / ns, &st.steps, &st.cg_iterations);
-                double d = sok ? rms_diff(cloth_positions(c), a->alt->x, a->n) : 0.0;
-                double k0 = fmax(gb, d) / (hb * frame_dt);
-                double cost_be = fmax(frame_dt * k0 / (ADAPTIVE_AIM * a->d.tolerance), 2.0) * be_cost(its);
-                a->k_be = k0;
-                a->it_be = its;
-                if (sok && ns < ADAPTIVE_SYM_PREFER * cost_be) {
-                    method = a->method = CLOTH_SYMPLECTIC_EULER;
-                    t = ts;
-                    n = ns;
-                    st.substeps = n;
-                    st.h = frame_dt / n;
-                    st.method = method;
-                    st.error_estimate = t.ex + a->d.velocity_weight * t.ev;
-                    g_est = rms_diff(cloth_positions(c), cloth_positions(a->shadow), a->n);
-                } else { /* backward Euler's frame back, with what its shadow missed carried */
-                    cloth_restore(c, a->alt);
-                    cloth_restore(a->shadow, a->alt_shadow);
-                    sv.method = CLOTH_BACKWARD_EULER;
-                    cloth_set_solver(c, &sv);
-                    cloth_set_solver(a->shadow, &sv); /* builds its multigrid levels when first chosen */
-                    t = tb;
-                    n = nbe;
-                    a->carried += fmax(0.0, d - gb);
-                }
-            }
+            first_frame_explicit(a, c, frame_dt, &sv, &t, &n, &method, &g_est, &st);
         }
         /* with the global estimate a frame is solved again only when the shadow started with it (first
          * frame, change of method): later, its share cannot be told from the motion's growth of the error */
@@ -523,18 +592,7 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
                               cloth_failure_string(t.failure), n);
         }
         if (method == CLOTH_SYMPLECTIC_EULER && (!ok || shadow_failed)) {
-            /* unstable after all (a link reaching the limit's stiffness, or the power iteration short of the
-             * largest mode): halve the explicit step, and take backward Euler once that costs less */
-            a->h_scale *= 0.5;
-            int ns = clamp_substeps(a, 2.0 * n, 1);
-            double cost_be = fmax(frame_dt * a->k_be / (ADAPTIVE_AIM * a->d.tolerance), 2.0) * be_cost(a->it_be);
-            if (ns > n && ns < cost_be) {
-                n = ns;
-            } else {
-                method = CLOTH_BACKWARD_EULER;
-                new_method(a, method);
-                n = clamp_substeps(a, frame_dt * a->k_be / (ADAPTIVE_AIM * a->d.tolerance), 1);
-            }
+            method = explicit_failed(a, frame_dt, &n);
             continue;
         }
         /* a failed step: twice the substeps and a tighter solve; too large an
@@ -553,34 +611,7 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
     if (method == CLOTH_BACKWARD_EULER && t.steps > 0)
         a->it_be = a->it_be > 0.0 ? 0.8 * a->it_be + 0.2 * (double)t.iterations / t.steps
                                   : (double)t.iterations / t.steps;
-    if (global && !shadow_failed) {
-        st.over_budget = !(g_est - a->global <= 2.0 * budget);
-        a->global = g_est;
-        st.global_estimate = a->carried + g_est;
-        /* the next frame's step: E = k int h dt (k the error per unit step and time), so h =
-         * ADAPTIVE_AIM tolerance / k keeps the estimate a fraction of the request; n at most halves at once */
-        a->h_int += st.h * frame_dt;
-        a->k_err = fmax(g_est / a->h_int, a->k_err * exp(-frame_dt / ADAPTIVE_KMEM));
-        if (method == CLOTH_BACKWARD_EULER) a->k_be = a->k_err;
-        double want = frame_dt * a->k_err / (ADAPTIVE_AIM * a->d.tolerance);
-        a->n_next = clamp_substeps(a, fmax(want, 0.5 * n), 1);
-    } else {
-        if (global) { /* the shadow failed where the cloth did not: start it again */
-            a->shadow_synced = 0;
-        }
-        st.global_estimate = NAN;
-        st.over_budget = !(st.error_estimate <= 2.0 * budget);
-        /* the next frame: aim at 0.7 of the budget, at most halving n at once */
-        a->n_next = clamp_substeps(a, fmax(n * st.error_estimate / (ADAPTIVE_LOCAL_AIM * budget), 0.5 * n), global);
-    }
-    st.requested = a->d.tolerance * t_end;
-    /* The CG tolerance for the next frame (see the top of the file): a bias
-     * of cg |a| in the acceleration held for the time so far, bounded by
-     * ADAPTIVE_CGF / 2 of the request tolerance * t. */
-    double a_mean = 2.0 * t.ex / (n * st.h * st.h);
-    double horizon = fmax(a->d.velocity_weight, a->elapsed);
-    a->cg_next = a_mean > 0.0 ? ADAPTIVE_CGF * a->d.tolerance / (horizon * a_mean) : a->d.cg_tolerance_max;
-    a->cg_next = clampd(a->cg_next, a->d.cg_tolerance_min, a->d.cg_tolerance_max);
+    next_frame(a, frame_dt, n, &t, global, shadow_failed, g_est, method, &st);
     if (stats) *stats = st;
     return CLOTH_OK;
 }
