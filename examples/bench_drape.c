@@ -51,7 +51,7 @@
 #define SPEED_WINDOW_STEPS (HZ / 24.0) /* the mean speed's 1/24 s, in steps */
 #define SPHERE_R 0.25
 #define DRAPE_Z 0.35
-#define PILE_TOP 0.35   /* m, the pile's highest face (the second box's top) */
+#define PILE_TOP 0.35 /* m, the pile's highest face (the second box's top) */
 #define PILE_DROP 0.5
 #define HAMMOCK_Z 1.0
 #define BALL_R 0.1
@@ -133,8 +133,8 @@ static double links_p99(links *L)
 
 typedef struct scene {
     int kind, quick;
-    cloth *core;          /* the cloth stepped (the plugin's own in ODE scenes) */
-    dClothID cl;          /* 0 in the core-only scene */
+    cloth *core; /* the cloth stepped (the plugin's own in ODE scenes) */
+    dClothID cl; /* 0 in the core-only scene */
     dWorldID world;
     dSpaceID space;
     dJointGroupID joints; /* the pile's contact joints between bodies */
@@ -233,7 +233,7 @@ typedef struct pile_body {
     int cls;
     double size[3]; /* box: sides; sphere: radius; capsule, cylinder: radius, length */
     double mass, pos[3];
-    int lying;      /* capsule, cylinder: axis along x (else z) */
+    int lying; /* capsule, cylinder: axis along x (else z) */
 } pile_body;
 
 /* Resting on the plane or on each other, apart, inside the cloth's square. */
@@ -404,15 +404,15 @@ typedef struct row {
     const char *variant, *status;
     double wall_s, cpu_s;
     int steps, failed, substepped;
-    int unconverged;                    /* steps that kept an unconverged Newton iterate */
-    double newton, cg;                  /* per step */
-    double p99, max_strain, max_seen;   /* sequential links */
+    int unconverged;                  /* steps that kept an unconverged Newton iterate */
+    double newton, cg;                /* per step */
+    double p99, max_strain, max_seen; /* sequential links */
     double depth_mm, mean_speed, max_ms, median_ms;
-    double energy_gain;                 /* J, hammock: the largest E(after) - E(before) of a
+    double energy_gain;      /* J, hammock: the largest E(after) - E(before) of a
                                            step, signed; NaN elsewhere */
-    int passed;                         /* hammock 0/1; -1 elsewhere */
-    double delta, thickness;            /* m, for --check */
-    double edge_r, edge_z;              /* m, the boundary vertices' mean distance from the z axis, mean z */
+    int passed;              /* hammock 0/1; -1 elsewhere */
+    double delta, thickness; /* m, for --check */
+    double edge_r, edge_z;   /* m, the boundary vertices' mean distance from the z axis, mean z */
 } row;
 
 /* What the loop keeps: each step's wall time and the last positions
@@ -568,8 +568,7 @@ static row run_one(int kind, int quick, int N, double seconds, double max_wall)
                            cloth_self_collision_apply(s.self, s.core, NULL) != CLOTH_OK))
             fprintf(stderr, "bench_drape: %s %dx%d: %s\n", scene_name[kind], N, N,
                     err.message[0] ? err.message : cloth_last_error(s.core));
-        else
-            run_loop(&s, seconds, max_wall, &r);
+        else run_loop(&s, seconds, max_wall, &r);
     }
     scene_free(&s);
     return r;
@@ -579,9 +578,9 @@ static row run_one(int kind, int quick, int N, double seconds, double max_wall)
 
 static void print_header(void)
 {
-    printf("%-8s %-7s %4s %8s %8s %5s %4s %4s %4s %6s %7s %7s %7s %7s %8s %8s %8s %8s %9s %4s %s\n", "scene",
-           "variant", "N", "wall s", "cpu s", "steps", "fail", "sub", "unc", "newton", "CG", "p99", "max", "seen",
-           "depth mm", "speed", "max ms", "med ms", "dE J", "thru", "status");
+    printf("%-8s %-7s %4s %8s %8s %5s %4s %4s %4s %6s %7s %7s %7s %7s %8s %8s %8s %8s %9s %4s %s\n", "scene", "variant",
+           "N", "wall s", "cpu s", "steps", "fail", "sub", "unc", "newton", "CG", "p99", "max", "seen", "depth mm",
+           "speed", "max ms", "med ms", "dE J", "thru", "status");
 }
 
 static void print_row(const row *r)
@@ -591,8 +590,8 @@ static void print_row(const row *r)
     printf("%-8s %-7s %4d %8.2f %8.2f %5d %4d %4d %4d %6.2f %7.1f %7.4f %7.4f %7.4f %8.3f %8.4f %8.1f %8.1f "
            "%9.2e %4s %s\n",
            scene_name[r->scene], r->variant, r->N, r->wall_s, r->cpu_s, r->steps, r->failed, r->substepped,
-           r->unconverged, r->newton, r->cg, r->p99, r->max_strain, r->max_seen, r->depth_mm, r->mean_speed,
-           r->max_ms, r->median_ms, r->energy_gain, thru, r->status);
+           r->unconverged, r->newton, r->cg, r->p99, r->max_strain, r->max_seen, r->depth_mm, r->mean_speed, r->max_ms,
+           r->median_ms, r->energy_gain, thru, r->status);
     fflush(stdout);
 }
 
@@ -605,11 +604,12 @@ static void csv_row(FILE *f, const row *r)
 {
     char thru[8];
     snprintf(thru, sizeof thru, r->passed < 0 ? "nan" : "%d", r->passed);
-    fprintf(f, "%s,%s,%d,%.4f,%.4f,%d,%d,%d,%.3f,%.2f,%.6f,%.6f,%.6f,%.4f,%.6f,%.3f,%.3f,%.6g,%s,%s,%d,%s,"
-               "%s,%.5f,%.5f\n",
-            scene_name[r->scene], r->variant, r->N, r->wall_s, r->cpu_s, r->steps, r->failed, r->substepped,
-            r->newton, r->cg, r->p99, r->max_strain, r->max_seen, r->depth_mm, r->mean_speed, r->max_ms,
-            r->median_ms, r->energy_gain, thru, r->status, r->unconverged, precond_name[g_precond],
+    fprintf(f,
+            "%s,%s,%d,%.4f,%.4f,%d,%d,%d,%.3f,%.2f,%.6f,%.6f,%.6f,%.4f,%.6f,%.3f,%.3f,%.6g,%s,%s,%d,%s,"
+            "%s,%.5f,%.5f\n",
+            scene_name[r->scene], r->variant, r->N, r->wall_s, r->cpu_s, r->steps, r->failed, r->substepped, r->newton,
+            r->cg, r->p99, r->max_strain, r->max_seen, r->depth_mm, r->mean_speed, r->max_ms, r->median_ms,
+            r->energy_gain, thru, r->status, r->unconverged, precond_name[g_precond],
             g_fabric < 0 ? "preset" : fabric_name[g_fabric], r->edge_r, r->edge_z);
     fflush(f);
 }
@@ -620,8 +620,10 @@ static void write_chart(const bench_opts *o, double seconds, double delta)
 {
     FILE *gp = bench_open_script(o, "bench_drape");
     if (!gp) return;
-    fprintf(gp, "set terminal pngcairo size 1300,560 font ',10'\nset output '%s/bench_drape.png'\n"
-                "set datafile separator ','\n$blender << EOD\n", o->out);
+    fprintf(gp,
+            "set terminal pngcairo size 1300,560 font ',10'\nset output '%s/bench_drape.png'\n"
+            "set datafile separator ','\n$blender << EOD\n",
+            o->out);
     for (int k = 0; k < 4; k++) fprintf(gp, "%d,%g\n", blender_n[k], blender_s[k]);
     fprintf(gp, "EOD\n$target << EOD\n");
     for (int k = 0; k < 3; k++) fprintf(gp, "%d,%g\n", target_n[k], target_s[k]);
@@ -728,9 +730,9 @@ typedef struct options {
     bench_opts b;
     int scenes[NSCENES]; /* 1: run it */
     int any_scene;
-    int solvers[2];      /* 1: run with that cloth_nonlinear */
-    double max_wall;     /* s; 0: the default */
-    int steps;           /* 1: --steps */
+    int solvers[2];  /* 1: run with that cloth_nonlinear */
+    double max_wall; /* s; 0: the default */
+    int steps;       /* 1: --steps */
 } options;
 
 /* --scene's value: names separated by commas; 0, or -1 (message printed). */
@@ -771,8 +773,7 @@ static int take_option(void *ctx, int opt, const char *v)
     options *o = ctx;
     char *end;
     switch (opt) {
-    case OPT_SCENE:
-        return parse_scenes(o, v) ? 2 : 0;
+    case OPT_SCENE: return parse_scenes(o, v) ? 2 : 0;
     case OPT_SOLVER: {
         int k = !strcmp(v, "linearized") ? 0 : !strcmp(v, "newton") ? 1 : !strcmp(v, "both") ? 2 : -1;
         if (k < 0) {
@@ -787,8 +788,7 @@ static int take_option(void *ctx, int opt, const char *v)
         int k = 0;
         while (k < 5 && strcmp(v, precond_name[k])) k++;
         if (k == 5) {
-            fprintf(stderr, "bench_drape: --precond '%s' must be auto, block-jacobi, jacobi, multigrid or ssor\n",
-                    v);
+            fprintf(stderr, "bench_drape: --precond '%s' must be auto, block-jacobi, jacobi, multigrid or ssor\n", v);
             return 2;
         }
         g_precond = (cloth_precond)k;
@@ -809,9 +809,7 @@ static int take_option(void *ctx, int opt, const char *v)
             return 2;
         }
         return 0;
-    case OPT_STEPS:
-        o->steps = 1;
-        return 0;
+    case OPT_STEPS: o->steps = 1; return 0;
     default: /* OPT_MAX_WALL */
         o->max_wall = strtod(v, &end);
         if (end == v || *end || !(o->max_wall > 0) || !(o->max_wall <= 1e6)) {
@@ -864,7 +862,8 @@ static void scaling_print(const scaling *s, const char *variant)
         sxy += (s->logn[k] - mx) * (s->logc[k] - my);
     }
     printf("drape %s: CPU per step ~ n^%.2f over %d grids from N = 41 (target <= 1.15); "
-           "Newton iterations a step %.2f-%.2f\n", variant, sxy / sxx, s->m, s->it_lo, s->it_hi);
+           "Newton iterations a step %.2f-%.2f\n",
+           variant, sxy / sxx, s->m, s->it_lo, s->it_hi);
 }
 
 /* ------------------------------------------------------------------- main */
@@ -908,7 +907,8 @@ int main(int argc, char **argv)
     if (o.steps && !(g_steps = bench_open_csv(&o.b, "bench_drape_steps"))) return 1;
     if (g_steps)
         fputs("scene,variant,N,step,wall_ms,newton,cg,limit_updates,line_search_cuts,contacts_decided,substeps,"
-              "failed,max_strain,energy,resolves,newton_all,cg_all,self_contact_ms\n", g_steps);
+              "failed,max_strain,energy,resolves,newton_all,cg_all,self_contact_ms\n",
+              g_steps);
     print_load();
     printf("%g s simulated at h = 1/%g, wall budget %g s per run\n", seconds, HZ, o.max_wall);
     print_header();

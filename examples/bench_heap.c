@@ -40,20 +40,20 @@
 
 #define HZ 60.0
 #define G 9.81
-#define HEAP_FOOT 0.05      /* m, the lower corner above the floor; the held one ends there */
-#define HEAP_LOWER_S 1.2    /* s, the held corner lowered to the floor, then let go */
-#define HEAP_TURNS 1.5      /* circles the held corner makes meanwhile (--turns) */
-#define HEAP_SWIRL 0.1      /* m, their radius (--swirl) */
-#define HEAP_LAYERS_MIN 3   /* --check: the fewest layers at the thickest point */
-#define LAYER_SAMPLES 100   /* per side, the floor points where layers are counted */
+#define HEAP_FOOT 0.05    /* m, the lower corner above the floor; the held one ends there */
+#define HEAP_LOWER_S 1.2  /* s, the held corner lowered to the floor, then let go */
+#define HEAP_TURNS 1.5    /* circles the held corner makes meanwhile (--turns) */
+#define HEAP_SWIRL 0.1    /* m, their radius (--swirl) */
+#define HEAP_LAYERS_MIN 3 /* --check: the fewest layers at the thickest point */
+#define LAYER_SAMPLES 100 /* per side, the floor points where layers are counted */
 #define IMAGE_W 960
 #define IMAGE_H 720
 
 typedef struct options {
     bench_opts b;
-    double thickness;  /* m, the pass's; 0: no pass */
-    double max_wall;   /* s per run */
-    double seconds;    /* simulated */
+    double thickness;    /* m, the pass's; 0: no pass */
+    double max_wall;     /* s per run */
+    double seconds;      /* simulated */
     double turns, swirl; /* the held corner's circles while lowered, their radius (m) */
     int images;
 } options;
@@ -145,8 +145,7 @@ static void save_picture(const options *o, dSpaceID space, dClothID cl, int N, c
     char label[96], path[1024];
     snprintf(label, sizeof label, "heap %dx%d %s", N, N, tag);
     demo_text(im, 12, 12, 3, (const unsigned char[3]){20, 20, 20}, label);
-    snprintf(path, sizeof path, "%s/bench_heap_%d%s.png", o->b.out, N,
-             !strcmp(tag, "end") ? "" : "_half");
+    snprintf(path, sizeof path, "%s/bench_heap_%d%s.png", o->b.out, N, !strcmp(tag, "end") ? "" : "_half");
     if (!demo_png_write(path, im)) printf("wrote %s\n", path);
     demo_image_destroy(im);
 }
@@ -178,10 +177,9 @@ static int heap_step(dClothID cl, cloth_self_collision *sc, const int *tri, int 
     r->steps_crossing += ix.pairs != 0;
     r->max_strain = fmax(r->max_strain, cloth_max_strain(core));
     if (g_steps)
-        fprintf(g_steps, "%d,%d,%.3f,%.3f,%.4f,%.3f,%ld,%d,%d,%d,%d,%d,%.5f\n", r->N, k, 1e3 * (w1 - w0),
-                1e3 * sc_s, w1 > w0 ? sc_s / (w1 - w0) : 0.0, 1e3 * (w2 - w1), ix.pairs, ps->newton_all, ps->cg_all,
-                st->substeps, !ok,
-                st->self_contact_dropped, st->max_strain);
+        fprintf(g_steps, "%d,%d,%.3f,%.3f,%.4f,%.3f,%ld,%d,%d,%d,%d,%d,%.5f\n", r->N, k, 1e3 * (w1 - w0), 1e3 * sc_s,
+                w1 > w0 ? sc_s / (w1 - w0) : 0.0, 1e3 * (w2 - w1), ix.pairs, ps->newton_all, ps->cg_all, st->substeps,
+                !ok, st->self_contact_dropped, st->max_strain);
     return ok;
 }
 
@@ -241,8 +239,9 @@ static void print_run(FILE *f, const run *r, int csv)
 {
     double step = r->wall_s, share = step > 0 ? r->contact_s / step : NAN;
     double all = (r->contact_s + r->pass_s) / (step + r->pass_s);
-    fprintf(f, csv ? "%d,%d,%.3f,%.3f,%.4f,%.3f,%.4f,%.2f,%.1f,%ld,%d,%d,%d,%d,%.4f,%s\n"
-                   : "%4d %5d %8.2f %8.2f %6.1f%% %8.2f %6.1f%% %7.2f %7.1f %7ld %6d %6d %5d %6d %7.4f %s\n",
+    fprintf(f,
+            csv ? "%d,%d,%.3f,%.3f,%.4f,%.3f,%.4f,%.2f,%.1f,%ld,%d,%d,%d,%d,%.4f,%s\n"
+                : "%4d %5d %8.2f %8.2f %6.1f%% %8.2f %6.1f%% %7.2f %7.1f %7ld %6d %6d %5d %6d %7.4f %s\n",
             r->N, r->steps, step, r->contact_s, csv ? share : 100 * share, r->pass_s, csv ? all : 100 * all,
             r->steps ? (double)r->newton / r->steps : NAN, r->steps ? (double)r->cg / r->steps : NAN, r->max_pairs,
             r->steps_crossing, r->failed, r->dropped, r->layers, r->max_strain, r->status);
@@ -295,24 +294,14 @@ static int take_option(void *ctx, int opt, const char *v)
     options *o = ctx;
     int bad = 0;
     switch (opt) {
-    case OPT_NO_IMAGES:
-        o->images = 0;
-        break;
+    case OPT_NO_IMAGES: o->images = 0; break;
     case OPT_SELF_COLLISION:
         bad = !strcmp(v, "0") ? (o->thickness = 0, 0) : parse_number("--self-collision", v, 0, 1, &o->thickness);
         break;
-    case OPT_MAX_WALL:
-        bad = parse_number("--max-wall", v, 0, 1e6, &o->max_wall);
-        break;
-    case OPT_TURNS:
-        bad = parse_number("--turns", v, 0, 10, &o->turns);
-        break;
-    case OPT_SWIRL:
-        bad = parse_number("--swirl", v, 0, 0.5, &o->swirl);
-        break;
-    default: /* OPT_SECONDS */
-        bad = parse_number("--seconds", v, 0, 60, &o->seconds);
-        break;
+    case OPT_MAX_WALL: bad = parse_number("--max-wall", v, 0, 1e6, &o->max_wall); break;
+    case OPT_TURNS: bad = parse_number("--turns", v, 0, 10, &o->turns); break;
+    case OPT_SWIRL: bad = parse_number("--swirl", v, 0, 0.5, &o->swirl); break;
+    default: /* OPT_SECONDS */ bad = parse_number("--seconds", v, 0, 60, &o->seconds); break;
     }
     return bad ? 2 : 0;
 }
@@ -332,9 +321,11 @@ int main(int argc, char **argv)
     FILE *csv = bench_open_csv(&o.b, "bench_heap");
     if (!csv || !(g_steps = bench_open_csv(&o.b, "bench_heap_steps"))) return 1;
     fputs("N,steps,wall_s,self_contact_s,self_contact_share,pass_s,share_with_pass,newton_per_step,cg_per_step,"
-          "max_intersecting_pairs,steps_intersecting,failed_steps,dropped,layers,max_strain,status\n", csv);
+          "max_intersecting_pairs,steps_intersecting,failed_steps,dropped,layers,max_strain,status\n",
+          csv);
     fputs("N,step,wall_ms,self_contact_ms,self_contact_share,pass_ms,intersecting_pairs,newton,cg,substeps,failed,"
-          "dropped,max_strain\n", g_steps);
+          "dropped,max_strain\n",
+          g_steps);
     printf("heap: %g s at h = 1/%g, self-collision thickness %g m, wall budget %g s per run\n", o.seconds, HZ,
            o.thickness, o.max_wall);
     printf("%4s %5s %8s %8s %7s %8s %7s %7s %7s %7s %6s %6s %5s %6s %7s %s\n", "N", "steps", "wall s", "self s",

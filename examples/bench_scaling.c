@@ -173,11 +173,11 @@ int main(int argc, char **argv)
     for (int g = 0; g < ng; g++) {
         result r = run(grids[g], steps);
         double n = (double)grids[g] * grids[g];
-        printf("%3dx%-5d %8.0f %14.3f %8.1f %16.0f%s\n", grids[g], grids[g], n, r.median_ms, r.iters,
-               r.bytes_per_node, r.failed ? "  FAILED" : "");
+        printf("%3dx%-5d %8.0f %14.3f %8.1f %16.0f%s\n", grids[g], grids[g], n, r.median_ms, r.iters, r.bytes_per_node,
+               r.failed ? "  FAILED" : "");
         fflush(stdout);
-        fprintf(csv, "%d,%.0f,%d,%.5g,%.2f,%.0f,%d\n", grids[g], n, r.steps, r.median_ms, r.iters,
-                r.bytes_per_node, r.failed);
+        fprintf(csv, "%d,%.0f,%d,%.5g,%.2f,%.0f,%d\n", grids[g], n, r.steps, r.median_ms, r.iters, r.bytes_per_node,
+                r.failed);
         if (!r.failed && r.median_ms > 0) {
             sx += log(n);
             sy += log(r.median_ms);

@@ -72,7 +72,7 @@
 #include "bench_util.h"
 
 enum { STABLE = 0, F_NAN, F_ENERGY, F_CGMAX, F_CGINDEF, F_STRAIN, NSTATUS };
-static const char *status_name[NSTATUS] = {"stable", "NaN", "energy growth", "CG max iterations",
+static const char *status_name[NSTATUS] = {"stable",        "NaN",   "energy growth", "CG max iterations",
                                            "CG indefinite", "strain"};
 
 typedef struct method_cfg {
@@ -154,10 +154,10 @@ static double total_energy(const cloth *c)
 
 typedef struct outcome {
     int status;
-    double time;    /* s, simulated time reached */
-    double budget;  /* J, the map scene's energy budget B */
-    double growth;  /* J, the largest rise over the second half (map scene) */
-    long limited;   /* links the elongation limit's projection corrected, summed over steps */
+    double time;   /* s, simulated time reached */
+    double budget; /* J, the map scene's energy budget B */
+    double growth; /* J, the largest rise over the second half (map scene) */
+    long limited;  /* links the elongation limit's projection corrected, summed over steps */
 } outcome;
 
 /* The energy judgement of one step, e the total energy after step s of
@@ -318,24 +318,23 @@ static double first_unstable(int grid, double k_t, const method_cfg *m, double h
     return HUGE_VAL;
 }
 
-static const char usage[] =
-    "usage: bench_stability [--out DIR] [--grid N] [--seconds T] [--fast] [--check]\n"
-    "Stable or failed (NaN, energy growth, CG max iterations, CG indefinite, strain)\n"
-    "for each method, step size 1/2000..1/10 s and tension stiffness k_t, on a\n"
-    "cotton cloth compressed between two pins. Writes DIR/bench_stability.csv and\n"
-    ".png (default DIR out/bench). --fast: 11x11, 0.25 s. --check: exit 1 unless\n"
-    "backward Euler is stable throughout at k_t 2000, fails without the\n"
-    "definiteness rule, and explicit / symplectic Euler fail where theory says.\n"
-    "Cells stable only with the elongation limit (a twin run without it fails)\n"
-    "are marked; theory lines are drawn on the scene's start state.";
+static const char usage[] = "usage: bench_stability [--out DIR] [--grid N] [--seconds T] [--fast] [--check]\n"
+                            "Stable or failed (NaN, energy growth, CG max iterations, CG indefinite, strain)\n"
+                            "for each method, step size 1/2000..1/10 s and tension stiffness k_t, on a\n"
+                            "cotton cloth compressed between two pins. Writes DIR/bench_stability.csv and\n"
+                            ".png (default DIR out/bench). --fast: 11x11, 0.25 s. --check: exit 1 unless\n"
+                            "backward Euler is stable throughout at k_t 2000, fails without the\n"
+                            "definiteness rule, and explicit / symplectic Euler fail where theory says.\n"
+                            "Cells stable only with the elongation limit (a twin run without it fails)\n"
+                            "are marked; theory lines are drawn on the scene's start state.";
 
 /* What the map found that --check asks about, at k_t = K_REF */
 #define K_REF 2000.0
 typedef struct map_flags {
     int be_fail_at_ref, norule_indef;
-    int implicit_energy;  /* cells of backward Euler / BDF2 with the rule failing by energy or NaN */
-    int explicit_alone;   /* explicit Euler cells stable without the limit */
-    int symplectic_past;  /* symplectic Euler cells stable past the top mode's bound */
+    int implicit_energy; /* cells of backward Euler / BDF2 with the rule failing by energy or NaN */
+    int explicit_alone;  /* explicit Euler cells stable without the limit */
+    int symplectic_past; /* symplectic Euler cells stable past the top mode's bound */
 } map_flags;
 
 /* The theory lines of one k_t, on the map's start state */
@@ -352,8 +351,8 @@ static lines theory_lines(int grid, double k_t)
 }
 
 /* One method's rows of the map: printed, and into the CSV */
-static void map_method(FILE *csv, const method_cfg *m, int grid, double T, const double *hs, int nh,
-                       const double *ks, const lines *ln, int nk, map_flags *fl)
+static void map_method(FILE *csv, const method_cfg *m, int grid, double T, const double *hs, int nh, const double *ks,
+                       const lines *ln, int nk, map_flags *fl)
 {
     static const char mark[NSTATUS] = {'.', 'N', 'E', 'C', 'I', 'S'};
     printf("== %s\n%10s", m->title, "k_t \\ 1/h");
@@ -395,7 +394,8 @@ static int theory_check(double c_t)
     top_mode t = scene_mode(tg, K_REF, THEORY_STRETCH);
     double w = t.w, hE = c_t / K_REF, hS = 2.0 / w;
     printf("theory (9x9, stretched 1%%, 4 corners pinned, no gravity, no elongation limit): h_E = c_t / k_t = "
-           "%.3g s; w_max = %.4g rad/s, h_S = 2 / w_max = %.3g s\n", hE, w, hS);
+           "%.3g s; w_max = %.4g rad/s, h_S = 2 / w_max = %.3g s\n",
+           hE, w, hS);
     /* a mode of tension links alone has zeta = c_t w / (2 k_t); the bending
      * links (1% of the stiffness, 10 times the damping per stiffness) and the
      * stretch's transverse stiffness move it by up to about 10% */
@@ -479,7 +479,8 @@ static void chart(const bench_opts *o, int grid, double T, int fast)
             "'' using (strcol(1) eq word(M,i) ? $13 : 1/0):2 with lines dt (12,6) lw 2 lc '#2166ac', "
             "'' using (strcol(1) eq word(M,i) ? $14 : 1/0):2 with lines dt 3 lw 3 lc 'black'\n"
             "}\n"
-            "set title 'legend'\nunset border\nunset tics\nunset xlabel\nunset ylabel\nset key center center Left reverse samplen 3\n"
+            "set title 'legend'\nunset border\nunset tics\nunset xlabel\nunset ylabel\nset key center center Left "
+            "reverse samplen 3\n"
             "unset logscale\nset xrange [0:1]\nset yrange [0:1]\n"
             "array L[7] = ['stable', 'NaN', 'energy growth', 'CG max iterations', 'CG indefinite', "
             "'strain', 'stable only with the elongation limit']\n"

@@ -34,7 +34,7 @@
 typedef struct result {
     int steps, done, failed;
     double steps_per_s, median_ms, iters;
-    double cpu_steps_per_s; /* over the process's CPU time: less noisy on a shared machine */
+    double cpu_steps_per_s;  /* over the process's CPU time: less noisy on a shared machine */
     double best_steps_per_s; /* over each step's fastest time in --reps runs */
     unsigned long long hash; /* FNV-1a of the final positions' bytes */
 } result;
@@ -150,16 +150,11 @@ static int parse_options(int argc, char **argv, bench_args *a)
 {
     *a = (bench_args){"out/bench", {21, 41, 81, 161}, 4, 40.0, 2.0, {1, 1, 1, 1}, {1, 1}, 0, 1};
     static const struct option options[] = {
-        {"help", no_argument, NULL, 'h'},
-        {"hash", no_argument, NULL, 'H'},
-        {"precond", required_argument, NULL, 'p'},
-        {"hz", required_argument, NULL, 'z'},
-        {"out", required_argument, NULL, 'o'},
-        {"cap", required_argument, NULL, 'c'},
-        {"reps", required_argument, NULL, 'r'},
-        {"seconds", required_argument, NULL, 's'},
-        {"grids", required_argument, NULL, 'g'},
-        {NULL, 0, NULL, 0},
+        {"help", no_argument, NULL, 'h'},          {"hash", no_argument, NULL, 'H'},
+        {"precond", required_argument, NULL, 'p'}, {"hz", required_argument, NULL, 'z'},
+        {"out", required_argument, NULL, 'o'},     {"cap", required_argument, NULL, 'c'},
+        {"reps", required_argument, NULL, 'r'},    {"seconds", required_argument, NULL, 's'},
+        {"grids", required_argument, NULL, 'g'},   {NULL, 0, NULL, 0},
     };
     cli_start();
     for (;;) {
@@ -299,7 +294,9 @@ int main(int argc, char **argv)
                 int partial = r.done < r.steps;
                 printf("%3dx%-4d 1/%-4.0f %-10s %10.1f %10.1f %10.1f %12.3f %10.1f %s", a.grids[g], a.grids[g], hzs[k],
                        pcn[p], r.steps_per_s, r.cpu_steps_per_s, r.best_steps_per_s, r.median_ms, r.iters,
-                       r.failed ? "FAILED" : partial ? "(partial: wall cap)" : "");
+                       r.failed  ? "FAILED"
+                       : partial ? "(partial: wall cap)"
+                                 : "");
                 if (a.hash) printf(" hash %016llx", r.hash);
                 printf("\n");
                 fflush(stdout);

@@ -86,20 +86,20 @@ static const double sphere_c[3] = {0.2, 0.1, 0.55}, sphere_r = 0.3;
  * checks a damping factor and the definiteness rule. */
 typedef struct config {
     int grid;
-    double T;           /* simulated seconds, a multiple of SAMPLE_DT */
-    int nsamp;          /* T / SAMPLE_DT */
-    double damping;     /* factor on the preset's c_t and c_b */
-    double k_t;         /* N/m, tension stiffness (the preset's: 2000) */
-    int rule;           /* solver.definiteness_rule */
-    double *swing_x0;   /* the swing scene's settled start (3n), made once */
+    double T;         /* simulated seconds, a multiple of SAMPLE_DT */
+    int nsamp;        /* T / SAMPLE_DT */
+    double damping;   /* factor on the preset's c_t and c_b */
+    double k_t;       /* N/m, tension stiffness (the preset's: 2000) */
+    int rule;         /* solver.definiteness_rule */
+    double *swing_x0; /* the swing scene's settled start (3n), made once */
 } config;
 
 /* How a series solves its steps. */
 typedef struct variant {
     cloth_method method;
-    double cg_tol;          /* CLOTH_LINEARIZED's CG tolerance */
-    cloth_precond precond;  /* CLOTH_PRECOND_AUTO: the solver's default */
-    int newton;             /* 0: linearised; n: CLOTH_NEWTON with at most n iterations (1: kept unconverged) */
+    double cg_tol;         /* CLOTH_LINEARIZED's CG tolerance */
+    cloth_precond precond; /* CLOTH_PRECOND_AUTO: the solver's default */
+    int newton;            /* 0: linearised; n: CLOTH_NEWTON with at most n iterations (1: kept unconverged) */
 } variant;
 
 /* CLOTH_NEWTON's tolerance, m/s: an RMS velocity correction, so over 2 s at
@@ -236,15 +236,15 @@ static int sphere_contacts(cloth *c, double h, void *user)
 }
 
 typedef struct run_result {
-    int failed;         /* 1: a step failed or the error passed 1 m */
-    double fail_time;   /* s, simulated time reached */
+    int failed;       /* 1: a step failed or the error passed 1 m */
+    double fail_time; /* s, simulated time reached */
     char why[64];
-    double cpu_per_s;   /* CPU s per simulated s (over the time reached) */
-    double cg_per_step; /* mean CG iterations per step */
+    double cpu_per_s;       /* CPU s per simulated s (over the time reached) */
+    double cg_per_step;     /* mean CG iterations per step */
     double newton_per_step; /* mean Newton iterations per step (CLOTH_NEWTON) */
-    long unconverged;   /* steps whose Newton iterate was kept unconverged */
-    double error;       /* m, RMS against the reference (NAN if no reference) */
-    double *samples;    /* nsamp x 3n positions */
+    long unconverged;       /* steps whose Newton iterate was kept unconverged */
+    double error;           /* m, RMS against the reference (NAN if no reference) */
+    double *samples;        /* nsamp x 3n positions */
     /* controller runs */
     double mean_substeps, mean_cg_tol;
     double explicit_frames; /* fraction of frames stepped by symplectic Euler */
@@ -380,8 +380,8 @@ static double rms_between(const double *a, const double *b, int n, int nsamp)
 static double order_of(double e1, double hz1, double e2, double hz2) { return log(e1 / e2) / log(hz2 / hz1); }
 
 typedef struct reference {
-    double *x;       /* nsamp x 3n */
-    double change;   /* m, RMS difference to the run at half its h */
+    double *x;     /* nsamp x 3n */
+    double change; /* m, RMS difference to the run at half its h */
     double cpu_per_s, cg_per_step;
 } reference;
 
@@ -409,8 +409,10 @@ static reference make_reference(const config *cf, int scene, cloth_method m, dou
     reference R = {b.samples, rms_between(a.samples, b.samples, cf->grid * cf->grid, cf->nsamp), b.cpu_per_s,
                    b.cg_per_step};
     printf("reference: %s h = 1/%.0f%s (%.2f CPU s per s); at h = 1/%.0f it differs by %.3g m RMS\n",
-           m == CLOTH_BDF2 ? "BDF2" : m == CLOTH_BACKWARD_EULER ? "backward Euler" : "symplectic Euler", 2 * hz,
-           m == CLOTH_SYMPLECTIC_EULER ? "" : ", CG tol 1e-10", b.cpu_per_s, hz, R.change);
+           m == CLOTH_BDF2             ? "BDF2"
+           : m == CLOTH_BACKWARD_EULER ? "backward Euler"
+                                       : "symplectic Euler",
+           2 * hz, m == CLOTH_SYMPLECTIC_EULER ? "" : ", CG tol 1e-10", b.cpu_per_s, hz, R.change);
     fflush(stdout);
     free(a.samples);
     return R;
@@ -493,10 +495,10 @@ static int order_checks(void)
 }
 
 typedef struct series {
-    const char *label;  /* the CSV's name */
-    const char *title;  /* the chart's */
+    const char *label; /* the CSV's name */
+    const char *title; /* the chart's */
     variant v;
-    const double *hz;   /* 0-terminated */
+    const double *hz; /* 0-terminated */
 } series;
 
 /* The fixed-step runs of a scene, for the frontier and the orders: error and
@@ -536,15 +538,15 @@ static double frontier_cost(frontier *F, const series *S, double e)
 
 /* A series' fitted order and the window it was fitted over. */
 typedef struct order_fit {
-    double order;       /* NAN: fewer than 2 points in the window */
+    double order; /* NAN: fewer than 2 points in the window */
     double hz_lo, hz_hi;
     int npts;
     double err_lo, err_hi; /* m, the errors at hz_lo and hz_hi */
 } order_fit;
 
-#define FIT_POINTS 4   /* the automatic window's size at most */
-#define RESOLVED 3.0   /* a point counts when its error is this many times the reference's change */
-#define AGREE 0.25     /* the automatic window's pairs' orders agree within this */
+#define FIT_POINTS 4 /* the automatic window's size at most */
+#define RESOLVED 3.0 /* a point counts when its error is this many times the reference's change */
+#define AGREE 0.25   /* the automatic window's pairs' orders agree within this */
 
 /* Whether point k of series s can be fitted: ran, resolved, and within the
  * given window (win[1] == 0: no window given). */
@@ -567,8 +569,8 @@ static order_fit fit_order(const frontier *F, int s, double floor, const double 
     if (hi < 0) return o;
     double p0 = hi > 0 ? order_of(e[hi - 1], hz[hi - 1], e[hi], hz[hi]) : NAN;
     for (lo = hi; lo > 0 && fittable(F, s, lo - 1, floor, win); lo--)
-        if (win[1] == 0 && (hi - lo + 1 == FIT_POINTS || !(fabs(order_of(e[lo - 1], hz[lo - 1], e[lo], hz[lo]) - p0)
-                                                             <= AGREE)))
+        if (win[1] == 0 &&
+            (hi - lo + 1 == FIT_POINTS || !(fabs(order_of(e[lo - 1], hz[lo - 1], e[lo], hz[lo]) - p0) <= AGREE)))
             break;
     double sx = 0, sy = 0, sxx = 0, sxy = 0;
     for (int k = lo; k <= hi; k++) {
@@ -637,12 +639,12 @@ static int family_series(series *S, int cotton, int fast)
 /* What main decided from the command line. */
 typedef struct options {
     bench_opts o;
-    int only;              /* -1: both scenes, else SWING or SPHERE */
+    int only; /* -1: both scenes, else SWING or SPHERE */
     int cotton;
     int grids[2], ngrids;
     double swing_T, sphere_T;
-    double window[2];      /* --order-window LO,HI (Hz); [1] = 0: automatic */
-    const char *name;      /* output base name */
+    double window[2]; /* --order-window LO,HI (Hz); [1] = 0: automatic */
+    const char *name; /* output base name */
 } options;
 
 static const char usage[] =
@@ -693,9 +695,7 @@ static int take_option(void *ctx, int opt, const char *v)
 {
     options *op = ctx;
     switch (opt) {
-    case OPT_COTTON:
-        op->cotton = 1;
-        return 0;
+    case OPT_COTTON: op->cotton = 1; return 0;
     case OPT_SCENE:
         op->only = !strcmp(v, "swing") ? SWING : !strcmp(v, "sphere") ? SPHERE : -2;
         if (op->only == -2) {
@@ -703,10 +703,8 @@ static int take_option(void *ctx, int opt, const char *v)
             return 2;
         }
         return 0;
-    case OPT_SPHERE_SECONDS:
-        return parse_seconds("--sphere-seconds", v, &op->sphere_T) ? 0 : 2;
-    case OPT_SWING_SECONDS:
-        return parse_seconds("--swing-seconds", v, &op->swing_T) ? 0 : 2;
+    case OPT_SPHERE_SECONDS: return parse_seconds("--sphere-seconds", v, &op->sphere_T) ? 0 : 2;
+    case OPT_SWING_SECONDS: return parse_seconds("--swing-seconds", v, &op->swing_T) ? 0 : 2;
     default: { /* OPT_ORDER_WINDOW */
         char *end;
         op->window[0] = strtod(v, &end);
@@ -761,14 +759,14 @@ static void run_series(const config *cf, panel *P, const series *S, int nseries,
             if (r.failed) snprintf(note, sizeof note, "BLOWN UP at t = %.3g s: %s", r.fail_time, r.why);
             else if (prev_e == prev_e)
                 snprintf(note, sizeof note, "order %.3f", order_of(prev_e, prev_hz, r.error, *hz));
-            if (r.unconverged) snprintf(note + strlen(note), sizeof note - strlen(note), " (%ld kept unconverged)",
-                                        r.unconverged);
+            if (r.unconverged)
+                snprintf(note + strlen(note), sizeof note - strlen(note), " (%ld kept unconverged)", r.unconverged);
             printf("%-18s 1/%-6.0f %12.4g %14.4g %8.1f %6.2f  %s\n", S[s].label, *hz, r.error, r.cpu_per_s,
                    r.cg_per_step, r.newton_per_step, note);
             fflush(stdout);
             fprintf(csv, "%s,%s,%.0f,%g,,%.6g,%.6g,%.3f,%d,%g,%s,,,,,,%d,%g,%.3f,%ld\n", scene_name[P->scene],
-                    S[s].label, *hz, S[s].v.cg_tol, r.error, r.cpu_per_s, r.cg_per_step, r.failed, r.fail_time,
-                    r.why, cf->grid, cf->k_t, r.newton_per_step, r.unconverged);
+                    S[s].label, *hz, S[s].v.cg_tol, r.error, r.cpu_per_s, r.cg_per_step, r.failed, r.fail_time, r.why,
+                    cf->grid, cf->k_t, r.newton_per_step, r.unconverged);
             if (F->npts[s] < MAXPTS) {
                 F->hz[s][F->npts[s]] = *hz;
                 F->err[s][F->npts[s]] = r.failed ? NAN : r.error;
@@ -797,9 +795,9 @@ static int run_controller(const config *cf, panel *P, const series *S, const dou
                "controller", *t, r.error, r.cpu_per_s, r.cg_per_step, req, r.error / req, r.mean_substeps,
                100 * r.explicit_frames, r.mean_cg_tol, r.estimate, r.estimate / r.error, fc, P->F.best,
                r.cpu_per_s / fc, r.failed ? " FAILED: " : "", r.why);
-        fprintf(csv, "%s,controller,60,%g,%.6g,%.6g,%.6g,%.3f,%d,%g,%s,%.3f,%.3g,%.3f,%.6g,%.6g,%d,%g,,\n", sc, *t,
-                req, r.error, r.cpu_per_s, r.cg_per_step, r.failed, r.fail_time, r.why, r.mean_substeps,
-                r.mean_cg_tol, r.explicit_frames, r.estimate, fc, cf->grid, cf->k_t);
+        fprintf(csv, "%s,controller,60,%g,%.6g,%.6g,%.6g,%.3f,%d,%g,%s,%.3f,%.3g,%.3f,%.6g,%.6g,%d,%g,,\n", sc, *t, req,
+                r.error, r.cpu_per_s, r.cg_per_step, r.failed, r.fail_time, r.why, r.mean_substeps, r.mean_cg_tol,
+                r.explicit_frames, r.estimate, fc, cf->grid, cf->k_t);
         if (check) {
             int ok = !r.failed && r.error <= 2.0 * req;
             printf("check: %s controller tol %g m/s: error %.3g <= 2 x requested %.3g: %s\n", sc, *t, r.error, req,
@@ -823,8 +821,8 @@ static void fit_orders(panel *P, const series *S, const double win[2])
         P->fit[s] = fit_order(&P->F, s, RESOLVED * P->ref_change, win);
         char t[64];
         order_text(&P->fit[s], t, sizeof t);
-        printf("order %-18s %s, %d points, errors %.3g .. %.3g m\n", S[s].label, t, P->fit[s].npts,
-               P->fit[s].err_lo, P->fit[s].err_hi);
+        printf("order %-18s %s, %d points, errors %.3g .. %.3g m\n", S[s].label, t, P->fit[s].npts, P->fit[s].err_lo,
+               P->fit[s].err_hi);
     }
 }
 
@@ -866,8 +864,7 @@ static int run_scene(config *cf, const options *op, panel *P, const series *S, i
     reference R = make_reference(cf, sc, m, hz_ref);
     P->ref_change = R.change;
     fprintf(csv, "%s,reference_change,%.0f,%s,,%.6g,%.6g,%.3f,0,%g,,,,,,,%d,%g,,\n", scene_name[sc], hz_ref,
-            m == CLOTH_SYMPLECTIC_EULER ? "" : "1e-10", R.change, R.cpu_per_s, R.cg_per_step, cf->T, cf->grid,
-            cf->k_t);
+            m == CLOTH_SYMPLECTIC_EULER ? "" : "1e-10", R.change, R.cpu_per_s, R.cg_per_step, cf->T, cf->grid, cf->k_t);
     run_series(cf, P, S, nseries, &R, csv);
     double min_err = HUGE_VAL;
     for (int s = 0; s < nseries; s++)
@@ -901,13 +898,18 @@ static void chart_panel(FILE *gp, const char *csv, const panel *P, const series 
                 "'%s' using (strcol(1) eq '%s' && strcol(2) eq '%s' && $17 == %d && $9 == 0 ? $7 : 1/0):6 "
                 "with linespoints pt %d lc rgb '%s' dt %d title '%s: p %s', \\\n  ",
                 csv, sc, S[s].label, P->grid, s % 13 + 1, colours[s], dashed ? 2 : 1, S[s].title, t);
-        fprintf(gp, "'%s' using (strcol(1) eq '%s' && strcol(2) eq '%s' && $17 == %d && $9 == 1 ? $7 : 1/0):(top) "
-                "with points pt 2 ps 2 lc rgb '%s' notitle, \\\n  ", csv, sc, S[s].label, P->grid, colours[s]);
+        fprintf(gp,
+                "'%s' using (strcol(1) eq '%s' && strcol(2) eq '%s' && $17 == %d && $9 == 1 ? $7 : 1/0):(top) "
+                "with points pt 2 ps 2 lc rgb '%s' notitle, \\\n  ",
+                csv, sc, S[s].label, P->grid, colours[s]);
     }
     if (controller)
-        fprintf(gp, "'%s' using (strcol(1) eq '%s' && strcol(2) eq 'controller' && $9 == 0 ? $7 : 1/0):6 "
-                "with linespoints pt 7 lc rgb '%s' title 'controller (60 fps)', \\\n  ", csv, sc, colours[15]);
-    fprintf(gp, "'%s' using (strcol(1) eq '%s' && strcol(2) eq 'reference_change' && $17 == %d ? 1e-3 : 1/0):6:"
+        fprintf(gp,
+                "'%s' using (strcol(1) eq '%s' && strcol(2) eq 'controller' && $9 == 0 ? $7 : 1/0):6 "
+                "with linespoints pt 7 lc rgb '%s' title 'controller (60 fps)', \\\n  ",
+                csv, sc, colours[15]);
+    fprintf(gp,
+            "'%s' using (strcol(1) eq '%s' && strcol(2) eq 'reference_change' && $17 == %d ? 1e-3 : 1/0):6:"
             "(1e3):(0) with vectors nohead dt 2 lc 'black' title 'reference change (h_{ref} halved)'\n",
             csv, sc, P->grid);
 }
@@ -921,8 +923,7 @@ static void write_chart(const options *op, const panel *P, int np, const series 
     char csv[1100], family[160];
     snprintf(csv, sizeof csv, "%s/%s.csv", op->o.out, op->name);
     if (op->cotton) snprintf(family, sizeof family, "elastic cotton preset, k_t 2000 N/m, c_t / k_t 1e-5 s,");
-    else snprintf(family, sizeof family, "%dx%d elastic cloth, k_t 200 N/m, damping 2.5x cotton",
-                       P[0].grid, P[0].grid);
+    else snprintf(family, sizeof family, "%dx%d elastic cloth, k_t 200 N/m, damping 2.5x cotton", P[0].grid, P[0].grid);
     fprintf(gp,
             "set terminal pngcairo size %d,%d font ',10'\nset output '%s/%s.png'\nset datafile separator ','\n"
             "set multiplot layout %d,%d title 'odecloth work-precision, %s (swing %g s, sphere %g s); crosses "
@@ -930,9 +931,11 @@ static void write_chart(const options *op, const panel *P, int np, const series 
             "set logscale xy\nset grid\nset key bottom left opaque font ',%d'\n"
             "set xlabel 'CPU seconds per simulated second'\nset ylabel 'RMS position error, m'\n"
             "set yrange [%s:3]\nset xrange [1e-3:%s]\nset format y '10^{%%L}'\nset format x '10^{%%L}'\ntop = 2\n",
-            op->o.fast ? 640 : op->cotton ? 1600 : 1200, op->cotton ? 760 * rows : 520, op->o.out, op->name, rows,
-            cols, family, op->swing_T, op->sphere_T, op->cotton ? 7 : 8, op->o.fast || op->cotton ? "1e-8" : "1e-5",
-            op->cotton ? "1e3" : "30");
+            op->o.fast   ? 640
+            : op->cotton ? 1600
+                         : 1200,
+            op->cotton ? 760 * rows : 520, op->o.out, op->name, rows, cols, family, op->swing_T, op->sphere_T,
+            op->cotton ? 7 : 8, op->o.fast || op->cotton ? "1e-8" : "1e-5", op->cotton ? "1e3" : "30");
     for (int p = 0; p < np; p++) chart_panel(gp, csv, &P[p], S, !op->cotton);
     fprintf(gp, "unset multiplot\n");
     fclose(gp);
@@ -970,9 +973,11 @@ static void write_orders(const options *op, const panel *P, int np, const series
                  "reference_change_m,window\n");
     fprintf(md, "<!-- written by bench_workprecision%s: do not edit -->\n", op->cotton ? " --cotton" : "");
     for (int p = 0; p < np; p++) {
-        fprintf(md, "\n%s, %dx%d (reference change %.2g m; order p over the window 1/hz_lo..1/hz_hi):\n\n"
-                    "| series | h = 1/60: error m, CPU s / s | p (window) | errors over the window, m |\n"
-                    "|---|---|---|---|\n", scene_name[P[p].scene], P[p].grid, P[p].grid, P[p].ref_change);
+        fprintf(md,
+                "\n%s, %dx%d (reference change %.2g m; order p over the window 1/hz_lo..1/hz_hi):\n\n"
+                "| series | h = 1/60: error m, CPU s / s | p (window) | errors over the window, m |\n"
+                "|---|---|---|---|\n",
+                scene_name[P[p].scene], P[p].grid, P[p].grid, P[p].ref_change);
         for (int s = 0; s < P[p].F.nseries; s++) {
             const order_fit *o = &P[p].fit[s];
             char t[64], at60[64];

@@ -30,13 +30,12 @@
 #define CREASE_HARDENING 0.3
 #define CREASE_ALPHA 0.8
 
-static const char usage[] =
-    "usage: crease_time [options]\n"
-    "A cloth left on a table 0.5 s, 10 s, and 0.5 s five times, then taken off\n"
-    "and laid on the floor, with the time-dependent plastic law (tau_set 2 s,\n"
-    "tau_recover 20 s, set_hardening 0.3; --alpha A sets the yield ratio, default\n"
-    "0.8). Writes <out>/<run>_draped.png, <run>_after.png and the sheet\n"
-    "crease_time.png; prints crease, height, plastic links, penetration, strain.\n";
+static const char usage[] = "usage: crease_time [options]\n"
+                            "A cloth left on a table 0.5 s, 10 s, and 0.5 s five times, then taken off\n"
+                            "and laid on the floor, with the time-dependent plastic law (tau_set 2 s,\n"
+                            "tau_recover 20 s, set_hardening 0.3; --alpha A sets the yield ratio, default\n"
+                            "0.8). Writes <out>/<run>_draped.png, <run>_after.png and the sheet\n"
+                            "crease_time.png; prints crease, height, plastic links, penetration, strain.\n";
 
 typedef struct run_spec {
     const char *label, *tag;
@@ -82,8 +81,8 @@ int main(int argc, char **argv)
                       "a crease that depends on how long and how often"))
         return 1;
     for (int i = 0; i < NRUNS; i++)
-        printf("%-20s residual crease %.3f deg (max %.2f), %d plastic links\n", runs[i].label,
-               r[i].after.crease_deg, r[i].after.crease_max_deg, r[i].after.plastic_links);
+        printf("%-20s residual crease %.3f deg (max %.2f), %d plastic links\n", runs[i].label, r[i].after.crease_deg,
+               r[i].after.crease_max_deg, r[i].after.plastic_links);
     if (!o.check) return 0;
     int failed = 0;
     for (int i = 0; i < NRUNS; i++) failed += drape_check_common(&o, &v[i], &r[i]);

@@ -24,13 +24,12 @@
  */
 #include "common/drape.h"
 
-static const char usage[] =
-    "usage: crumple [options]\n"
-    "A hanging cloth squeezed between a rising bottom bar and two closing side\n"
-    "plates (kinematic bodies), released, left hanging; once per --alpha\n"
-    "(default 0,0.5,0.8). Writes\n"
-    "<out>/alpha<A>_pressed.png, alpha<A>_released.png and the sheet crumple.png;\n"
-    "prints crease, height, plastic links, wrinkles, penetration, strain, wall time.\n";
+static const char usage[] = "usage: crumple [options]\n"
+                            "A hanging cloth squeezed between a rising bottom bar and two closing side\n"
+                            "plates (kinematic bodies), released, left hanging; once per --alpha\n"
+                            "(default 0,0.5,0.8). Writes\n"
+                            "<out>/alpha<A>_pressed.png, alpha<A>_released.png and the sheet crumple.png;\n"
+                            "prints crease, height, plastic links, wrinkles, penetration, strain, wall time.\n";
 
 int main(int argc, char **argv)
 {

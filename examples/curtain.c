@@ -26,11 +26,10 @@
 #define BALL_SPEED 2.0
 #define BALL_Y0 (-0.6)
 
-static const char usage[] =
-    "usage: curtain [options]\n"
-    "A hanging curtain struck by a rolling ball (2 kg, 2 m/s); pictures at the\n"
-    "largest swing and at the end, the ball's momentum lost to the curtain, the\n"
-    "metrics. 240 steps/s unless --steps-per-second says otherwise.\n";
+static const char usage[] = "usage: curtain [options]\n"
+                            "A hanging curtain struck by a rolling ball (2 kg, 2 m/s); pictures at the\n"
+                            "largest swing and at the end, the ball's momentum lost to the curtain, the\n"
+                            "metrics. 240 steps/s unless --steps-per-second says otherwise.\n";
 
 static const float ball_rgb[3] = {0.30f, 0.55f, 0.35f};
 
@@ -92,8 +91,8 @@ done:
     return rc;
 }
 
-static const demo_scene scene = {"curtain", {"struck", "after"}, {"struck", "after"}, DRAPE_TABLE, run, 0.0, 0, 0,
-                                 0, 0.0, 0};
+static const demo_scene scene =
+    {"curtain", {"struck", "after"}, {"struck", "after"}, DRAPE_TABLE, run, 0.0, 0, 0, 0, 0.0, 0};
 
 static int report(const demo_opts *o, const drape_variant *v, const drape_result *r)
 {

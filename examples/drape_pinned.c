@@ -37,14 +37,10 @@ int main(int argc, char **argv)
     cloth_desc d = cloth_default_desc();
     double hz = 60.0, seconds = 3.0;
     static const struct option options[] = {
-        {"help", no_argument, NULL, 'h'},
-        {"grid", required_argument, NULL, 'g'},
-        {"hz", required_argument, NULL, 'z'},
-        {"seconds", required_argument, NULL, 's'},
-        {"alpha", required_argument, NULL, 'a'},
-        {"precond", required_argument, NULL, 'p'},
-        {"method", required_argument, NULL, 'm'},
-        {NULL, 0, NULL, 0},
+        {"help", no_argument, NULL, 'h'},         {"grid", required_argument, NULL, 'g'},
+        {"hz", required_argument, NULL, 'z'},     {"seconds", required_argument, NULL, 's'},
+        {"alpha", required_argument, NULL, 'a'},  {"precond", required_argument, NULL, 'p'},
+        {"method", required_argument, NULL, 'm'}, {NULL, 0, NULL, 0},
     };
     cli_start();
     for (;;) {
@@ -105,11 +101,12 @@ int main(int argc, char **argv)
     long iters = 0;
     double t0 = now();
     printf("%d x %d cotton cloth, alpha %.2f, h = 1/%g s, %s\n", d.rows, d.cols, d.material.alpha, hz,
-           d.solver.method == CLOTH_BACKWARD_EULER ? "backward Euler + MPCG"
-           : d.solver.method == CLOTH_BDF2         ? "BDF2 + MPCG"
-           : d.solver.method == CLOTH_SYMPLECTIC_EULER ? "symplectic Euler" : "explicit Euler");
-    printf("%7s %10s %10s %10s %6s %10s %8s %8s\n", "t (s)", "kinetic J", "elastic J", "grav J", "CG it",
-           "residual", "strain", "plastic");
+           d.solver.method == CLOTH_BACKWARD_EULER     ? "backward Euler + MPCG"
+           : d.solver.method == CLOTH_BDF2             ? "BDF2 + MPCG"
+           : d.solver.method == CLOTH_SYMPLECTIC_EULER ? "symplectic Euler"
+                                                       : "explicit Euler");
+    printf("%7s %10s %10s %10s %6s %10s %8s %8s\n", "t (s)", "kinetic J", "elastic J", "grav J", "CG it", "residual",
+           "strain", "plastic");
     for (int s = 1; s <= steps; s++) {
         cloth_step_stats st;
         if (cloth_step(c, h, &st) != CLOTH_OK) {
@@ -119,9 +116,8 @@ int main(int argc, char **argv)
         }
         iters += st.iterations;
         if (s % (int)(hz / 4 > 1 ? hz / 4 : 1) == 0 || s == steps)
-            printf("%7.3f %10.3e %10.3e %10.4f %6d %10.2e %8.4f %8d\n", s * h, st.energy.kinetic,
-                   st.energy.elastic, st.energy.gravitational, st.iterations, st.residual, st.max_strain,
-                   st.plastic_links);
+            printf("%7.3f %10.3e %10.3e %10.4f %6d %10.2e %8.4f %8d\n", s * h, st.energy.kinetic, st.energy.elastic,
+                   st.energy.gravitational, st.iterations, st.residual, st.max_strain, st.plastic_links);
     }
     double wall = now() - t0;
     double f[3], fsum[3] = {0, 0, 0};

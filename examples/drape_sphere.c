@@ -16,13 +16,12 @@
  */
 #include "common/drape.h"
 
-static const char usage[] =
-    "usage: drape_sphere [options]\n"
-    "The paper's Fig. 8 and 9: a cloth dropped over a sphere, lifted off by its\n"
-    "corners, laid on the floor and released; once per --alpha (default 0,0.5,0.8,1).\n"
-    "Writes <out>/alpha<A>_draped.png, alpha<A>_after.png and the sheet\n"
-    "drape_sphere.png; prints crease, height, plastic links, wrinkles,\n"
-    "penetration, strain, wall time.\n";
+static const char usage[] = "usage: drape_sphere [options]\n"
+                            "The paper's Fig. 8 and 9: a cloth dropped over a sphere, lifted off by its\n"
+                            "corners, laid on the floor and released; once per --alpha (default 0,0.5,0.8,1).\n"
+                            "Writes <out>/alpha<A>_draped.png, alpha<A>_after.png and the sheet\n"
+                            "drape_sphere.png; prints crease, height, plastic links, wrinkles,\n"
+                            "penetration, strain, wall time.\n";
 
 int main(int argc, char **argv)
 {

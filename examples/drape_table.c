@@ -34,12 +34,11 @@
  */
 #include "common/drape.h"
 
-static const char usage[] =
-    "usage: drape_table [options]\n"
-    "The paper's Fig. 7: a cloth dropped over a table, lifted off by its corners,\n"
-    "laid on the floor and released; once per --alpha (default 0,0.5,0.8). Writes\n"
-    "<out>/alpha<A>_draped.png, alpha<A>_after.png and the sheet drape_table.png;\n"
-    "prints crease, height, plastic links, wrinkles, penetration, strain, wall time.\n";
+static const char usage[] = "usage: drape_table [options]\n"
+                            "The paper's Fig. 7: a cloth dropped over a table, lifted off by its corners,\n"
+                            "laid on the floor and released; once per --alpha (default 0,0.5,0.8). Writes\n"
+                            "<out>/alpha<A>_draped.png, alpha<A>_after.png and the sheet drape_table.png;\n"
+                            "prints crease, height, plastic links, wrinkles, penetration, strain, wall time.\n";
 
 int main(int argc, char **argv)
 {

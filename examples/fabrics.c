@@ -16,12 +16,11 @@
 #include <string.h>
 #include "common/drape.h"
 
-static const char usage[] =
-    "usage: fabrics [options]\n"
-    "Cotton against wool (Table 1 presets) on the table (drape, lift off, lay\n"
-    "flat) and in the press (squeeze, release, hang). Writes <out>/cotton_*.png,\n"
-    "wool_*.png and the sheets fabrics_table.png, fabrics_press.png; prints the\n"
-    "metrics of each run.\n";
+static const char usage[] = "usage: fabrics [options]\n"
+                            "Cotton against wool (Table 1 presets) on the table (drape, lift off, lay\n"
+                            "flat) and in the press (squeeze, release, hang). Writes <out>/cotton_*.png,\n"
+                            "wool_*.png and the sheets fabrics_table.png, fabrics_press.png; prints the\n"
+                            "metrics of each run.\n";
 
 enum { COTTON, WOOL };
 
@@ -79,8 +78,7 @@ int main(int argc, char **argv)
     snprintf(dir[0], sizeof dir[0], "%s/table", out);
     snprintf(dir[1], sizeof dir[1], "%s/press", out);
     o.out = dir[0];
-    if (drape_run_all(&o, &drape_table_scene, vt, 2, table, "fabrics_table", "cotton and wool over a table"))
-        return 1;
+    if (drape_run_all(&o, &drape_table_scene, vt, 2, table, "fabrics_table", "cotton and wool over a table")) return 1;
     o.out = dir[1];
     if (drape_run_all(&o, &press_scene, v, 2, press, "fabrics_press", "cotton and wool pressed")) return 1;
     if (!o.check) return 0;

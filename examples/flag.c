@@ -24,11 +24,10 @@
 #define FLAG_H 0.6
 #define WIND 6.0
 
-static const char usage[] =
-    "usage: flag [options]\n"
-    "A flag on a pole in a gusting wind (air drag on the cloth's triangles,\n"
-    "cloth_set_air); pictures at the widest sideways flap and at the end, the\n"
-    "metrics. 60 steps/s unless --steps-per-second says otherwise.\n";
+static const char usage[] = "usage: flag [options]\n"
+                            "A flag on a pole in a gusting wind (air drag on the cloth's triangles,\n"
+                            "cloth_set_air); pictures at the widest sideways flap and at the end, the\n"
+                            "metrics. 60 steps/s unless --steps-per-second says otherwise.\n";
 
 static const float pole_rgb[3] = {0.45f, 0.45f, 0.45f};
 
@@ -107,8 +106,8 @@ static const demo_scene scene = {"flag", {"flap", "end"}, {"flap", "end"}, DRAPE
 static int report(const demo_opts *o, const drape_variant *v, const drape_result *r)
 {
     (void)r;
-    printf("fly end: sideways %.3f to %.3f m; mean height over the second half %.3f m (lowest pin %.3f m)\n",
-           flap_neg, flap_pos, fly_z_mean, pin_z_low);
+    printf("fly end: sideways %.3f to %.3f m; mean height over the second half %.3f m (lowest pin %.3f m)\n", flap_neg,
+           flap_pos, fly_z_mean, pin_z_low);
     if (!o->check) return 0;
     return demo_claim(flap_pos > 0.05 && flap_neg < -0.05, "%s: the fly end flaps both ways by > 5 cm", v->tag) +
            demo_claim(fly_z_mean > pin_z_low, "%s: the wind holds the fly end out, above the lowest pin", v->tag);

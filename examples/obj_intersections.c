@@ -21,11 +21,10 @@
 #include "common/cli.h"
 #include "common/intersections.h"
 
-static const char usage[] =
-    "usage: obj_intersections FILE.obj...\n"
-    "Prints, per file, the pairs of triangles that pass through each other (sharing\n"
-    "no vertex, an edge of one crossing the other) and the vertices involved.\n"
-    "Exit status 1 if a file could not be read, 2 on a usage error.\n";
+static const char usage[] = "usage: obj_intersections FILE.obj...\n"
+                            "Prints, per file, the pairs of triangles that pass through each other (sharing\n"
+                            "no vertex, an edge of one crossing the other) and the vertices involved.\n"
+                            "Exit status 1 if a file could not be read, 2 on a usage error.\n";
 
 typedef struct mesh {
     double *x;
@@ -139,8 +138,8 @@ static int count_file(const char *path)
     if (rc == 0 && (rc = intersections_count(m.x, m.nv, m.tri, m.nt, &is, NULL)) != 0)
         fprintf(stderr, "%s: out of memory\n", path);
     if (rc == 0)
-        printf("%s: %ld intersecting pairs, %d of %d vertices involved (%d triangles)\n", path, is.pairs,
-               is.vertices, m.nv, m.nt);
+        printf("%s: %ld intersecting pairs, %d of %d vertices involved (%d triangles)\n", path, is.pairs, is.vertices,
+               m.nv, m.nt);
     free(m.x);
     free(m.tri);
     return rc;

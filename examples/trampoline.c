@@ -24,19 +24,18 @@
 #define PIN_Z 1.0
 #define BOX_SIDE 0.3
 #define BOX_MASS 3.0 /* kg; the cloth is 0.2 kg */
-#define DROP 0.05  /* m, from the cloth to the box's underside */
-#define SLACK 0.85 /* the pins' spacing, of the flat cloth's: a hammock */
+#define DROP 0.05    /* m, from the cloth to the box's underside */
+#define SLACK 0.85   /* the pins' spacing, of the flat cloth's: a hammock */
 #define G 9.81
 
-static const char usage[] =
-    "usage: trampoline [options]\n"
-    "A 3 kg box dropped on a cloth held at its four corners (a hammock); pictures at the\n"
-    "deepest sag and at rest, the pins' load against the weight, the metrics.\n";
+static const char usage[] = "usage: trampoline [options]\n"
+                            "A 3 kg box dropped on a cloth held at its four corners (a hammock); pictures at the\n"
+                            "deepest sag and at rest, the pins' load against the weight, the metrics.\n";
 
 static const float box_rgb[3] = {0.80f, 0.62f, 0.25f};
 
-static double pin_load;   /* N, vertical pin forces summed at the end */
-static double box_speed;  /* m/s, at the end */
+static double pin_load;  /* N, vertical pin forces summed at the end */
+static double box_speed; /* m/s, at the end */
 static double total_weight;
 
 static int run(const demo_opts *o, const demo_scene *sc, const drape_variant *v, drape_result *r)
@@ -115,8 +114,8 @@ done:
     return rc;
 }
 
-static const demo_scene scene = {"trampoline", {"impact", "at rest"}, {"impact", "rest"}, DRAPE_TABLE, run,
-                                 0.0, 0, 0, 0, 0.0, 0};
+static const demo_scene scene =
+    {"trampoline", {"impact", "at rest"}, {"impact", "rest"}, DRAPE_TABLE, run, 0.0, 0, 0, 0, 0.0, 0};
 
 static int report(const demo_opts *o, const drape_variant *v, const drape_result *r)
 {

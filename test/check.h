@@ -49,29 +49,25 @@ static int check_report_(int cond, const char *file, int line, const char *fmt, 
 
 #define CHECK(cond, ...) check_report_(!!(cond), __FILE__, __LINE__, __VA_ARGS__)
 
-static int check_near_(double a, double b, double tol, const char *ea, const char *eb,
-                       const char *file, int line)
+static int check_near_(double a, double b, double tol, const char *ea, const char *eb, const char *file, int line)
 {
     double e = fabs(a - b);
-    return check_report_(e <= tol, file, line,
-                         "%s = %.17g vs %s = %.17g: |diff| %.3g > tol %.3g",
-                         ea, a, eb, b, e, tol);
+    return check_report_(e <= tol, file, line, "%s = %.17g vs %s = %.17g: |diff| %.3g > tol %.3g", ea, a, eb, b, e,
+                         tol);
 }
 
-static int check_rel_(double a, double b, double rel, double floor_, const char *ea,
-                      const char *eb, const char *file, int line)
+static int check_rel_(double a, double b, double rel, double floor_, const char *ea, const char *eb, const char *file,
+                      int line)
 {
     double s = fabs(a) > fabs(b) ? fabs(a) : fabs(b);
     double e = fabs(a - b);
     if (s < floor_) s = floor_;
-    return check_report_(e <= rel * s, file, line,
-                         "%s = %.17g vs %s = %.17g: rel diff %.3g > %.3g (floor %.3g)",
-                         ea, a, eb, b, s > 0 ? e / s : e, rel, floor_);
+    return check_report_(e <= rel * s, file, line, "%s = %.17g vs %s = %.17g: rel diff %.3g > %.3g (floor %.3g)", ea, a,
+                         eb, b, s > 0 ? e / s : e, rel, floor_);
 }
 
 #define CHECK_NEAR(a, b, tol) check_near_((a), (b), (tol), #a, #b, __FILE__, __LINE__)
-#define CHECK_REL(a, b, rel, abs_floor) \
-    check_rel_((a), (b), (rel), (abs_floor), #a, #b, __FILE__, __LINE__)
+#define CHECK_REL(a, b, rel, abs_floor) check_rel_((a), (b), (rel), (abs_floor), #a, #b, __FILE__, __LINE__)
 
 static int check_summary(void)
 {
@@ -83,7 +79,9 @@ static long check_failures(void) { return check_failed_; }
 
 /* ------------------------------------------------------------------ RNG */
 
-typedef struct rng { uint64_t s; } rng;
+typedef struct rng {
+    uint64_t s;
+} rng;
 
 static rng rng_seed(uint64_t seed)
 {

@@ -102,8 +102,8 @@ static void cast_shadow(dWorldID world, dSpaceID space, const demo_image *bare)
                 same += fabs(a - b) <= 2.0;
             }
         }
-    printf("scene 1: %ld shadowed floor pixels, %ld at most half as bright; %ld clear, %ld unchanged\n", shadowed,
-           dark, clear, same);
+    printf("scene 1: %ld shadowed floor pixels, %ld at most half as bright; %ld clear, %ld unchanged\n", shadowed, dark,
+           clear, same);
     CHECK(shadowed > 300, "scene 1: the shadow shows beside the cloth (%ld pixels > 300)", shadowed);
     CHECK(dark == shadowed, "scene 1: every shadowed pixel at most half the bare floor (%ld of %ld)", dark, shadowed);
     CHECK(clear > 10000 && same == clear, "scene 1: the floor clear of it unchanged (%ld of %ld)", same, clear);

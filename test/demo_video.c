@@ -78,8 +78,8 @@ static void with_ffmpeg(void)
     CHECK(demo_run(DEMO_ENV DEMO_PATH " " ARGS " --video --out " OUT "/video", OUT "/video.txt") == 0,
           "--video run exits 0");
     CHECK(demo_run("ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames "
-              "-of csv=p=0 " OUT "/video/alpha0.8.mp4",
-              OUT "/frames.txt") == 0,
+                   "-of csv=p=0 " OUT "/video/alpha0.8.mp4",
+                   OUT "/frames.txt") == 0,
           "ffprobe reads the video");
     char *frames = demo_slurp(OUT "/frames.txt", NULL);
     int n = frames ? atoi(frames) : -1;
@@ -108,8 +108,7 @@ int main(void)
     mkdir(OUT "/bin", 0777);
     /* 1: PATH without ffmpeg (the shell finds env before PATH changes) */
     remove(OUT "/none/alpha0.8.mp4");
-    int st = demo_run(DEMO_ENV "PATH=/nonexistent " DEMO_PATH " " ARGS " --video --out " OUT "/none",
-                      OUT "/none.txt");
+    int st = demo_run(DEMO_ENV "PATH=/nonexistent " DEMO_PATH " " ARGS " --video --out " OUT "/none", OUT "/none.txt");
     CHECK(st == 1, "no ffmpeg: exit 1 (got %d)", st);
     CHECK(contains(OUT "/none.txt", "--video: ffmpeg not found on PATH"), "no ffmpeg: said so");
     CHECK(!exists(OUT "/none/alpha0.8.mp4"), "no ffmpeg: no video written");
@@ -122,7 +121,7 @@ int main(void)
         fclose(f);
         chmod(OUT "/bin/ffmpeg", 0755);
         st = demo_run(DEMO_ENV "PATH=" OUT "/bin:/usr/bin:/bin " DEMO_PATH " " ARGS " --video --out " OUT "/broken",
-                 OUT "/broken.txt");
+                      OUT "/broken.txt");
         CHECK(st == 1, "failing ffmpeg: exit 1, not a signal (got %d)", st);
         CHECK(contains(OUT "/broken.txt", "ffmpeg"), "failing ffmpeg: said so");
     }

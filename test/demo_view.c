@@ -94,8 +94,7 @@ int main(void)
         CHECK(strstr(text, "drape_table: --view: no display (DISPLAY and WAYLAND_DISPLAY unset); running headless\n") !=
                   NULL,
               "--view without a display says so in one line and runs headless");
-    else
-        CHECK(text && strstr(text, "--view: built without GLFW"), "a build without GLFW says so");
+    else CHECK(text && strstr(text, "--view: built without GLFW"), "a build without GLFW says so");
     if (text) same_run("no display", ref, text);
     free(text);
 
@@ -105,7 +104,7 @@ int main(void)
     } else {
         remove(OUT "/xvfb/view.png");
         rc = demo_run("xvfb-run -a -s '-screen 0 640x480x24' " DEMO " " ARGS " --view-frames 200 --out " OUT "/xvfb",
-                 xvfb_log);
+                      xvfb_log);
         text = demo_slurp(xvfb_log, NULL);
         CHECK(rc == 0, "--view-frames 200 under xvfb-run: exit 0 (got %d)", rc);
         if (text && built) {

@@ -107,8 +107,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (!(o.crease_law >= 0.0 && o.crease_law <= 100.0)) violation("crease law out of [0, 100]", argc, argv);
         if (!o.out || !o.out[0]) violation("empty output directory", argc, argv);
         if (o.csv && !o.csv[0]) violation("empty csv name", argc, argv);
-        int flags[] = {o.obj,    o.check,     o.short_run,    o.images,
-                       o.trace,  o.phases,    o.box_table,    o.material_set, o.video};
+        int flags[] = {o.obj, o.check, o.short_run, o.images, o.trace, o.phases, o.box_table, o.material_set, o.video};
         for (size_t k = 0; k < sizeof flags / sizeof flags[0]; k++)
             if (flags[k] != 0 && flags[k] != 1) violation("a flag neither 0 nor 1", argc, argv);
     }
@@ -145,14 +144,72 @@ static const seed seeds[] = {
 #define NSEEDS (sizeof seeds / sizeof seeds[0])
 
 static const char *const words[] = {
-    "--grid", "--alpha", "--material", "--steps-per-second", "--hz", "--out", "--obj", "--frames", "--smooth",
-    "--size", "--no-images", "--video", "--csv", "--phases", "--trace", "--box-table", "--short", "--check",
-    "--help", "-h", "--fabric", "--removal", "--crease-grip", "--crease-law", "--memory", "two", "four", "denim",
+    "--grid",
+    "--alpha",
+    "--material",
+    "--steps-per-second",
+    "--hz",
+    "--out",
+    "--obj",
+    "--frames",
+    "--smooth",
+    "--size",
+    "--no-images",
+    "--video",
+    "--csv",
+    "--phases",
+    "--trace",
+    "--box-table",
+    "--short",
+    "--check",
+    "--help",
+    "-h",
+    "--fabric",
+    "--removal",
+    "--crease-grip",
+    "--crease-law",
+    "--memory",
+    "two",
+    "four",
+    "denim",
     "polyester",
-    "100", "100.0001",
-    "", "-", "--", "nan", "inf", "-inf", "1e999", "-0", "0x10", "161", "162", "2", "10000", "10000.0001", "9.99",
-    "4096x4096", "31x32", "1x", "x1", "32x32x", "0,0,0,0,0,0,0,0", "0,0,0,0,0,0,0,0,0", ",", "1,", ",1", "0.5,,1",
-    "2147483648", "-2147483649", "99999999999999999999", " 21", "21 ", "cotton", "wool", "elastic", "silk",
+    "100",
+    "100.0001",
+    "",
+    "-",
+    "--",
+    "nan",
+    "inf",
+    "-inf",
+    "1e999",
+    "-0",
+    "0x10",
+    "161",
+    "162",
+    "2",
+    "10000",
+    "10000.0001",
+    "9.99",
+    "4096x4096",
+    "31x32",
+    "1x",
+    "x1",
+    "32x32x",
+    "0,0,0,0,0,0,0,0",
+    "0,0,0,0,0,0,0,0,0",
+    ",",
+    "1,",
+    ",1",
+    "0.5,,1",
+    "2147483648",
+    "-2147483649",
+    "99999999999999999999",
+    " 21",
+    "21 ",
+    "cotton",
+    "wool",
+    "elastic",
+    "silk",
 };
 #define NWORDS (sizeof words / sizeof words[0])
 
@@ -168,9 +225,15 @@ static blob mutate(rng *g)
     for (int e = 0; e < edits; e++) {
         size_t at = b.n ? (size_t)(rng_u64(g) % b.n) : 0;
         switch (rng_u64(g) % 6) {
-        case 0: if (b.n) b.p[at] = (char)rng_u64(g); break;
-        case 1: if (b.n) b.p[at] = '\0'; break;
-        case 2: if (b.n) b.p[at] = "0123456789.,-+xeE"[rng_u64(g) % 17]; break;
+        case 0:
+            if (b.n) b.p[at] = (char)rng_u64(g);
+            break;
+        case 1:
+            if (b.n) b.p[at] = '\0';
+            break;
+        case 2:
+            if (b.n) b.p[at] = "0123456789.,-+xeE"[rng_u64(g) % 17];
+            break;
         case 3: b.n = at; break;
         default: { /* insert a word (and its NUL), mostly at an argument boundary */
             const char *w = words[rng_u64(g) % NWORDS];

@@ -27,10 +27,7 @@
 
 #define FUZZ_MUTATIONS 20000
 
-static void die(const char *what, const uint8_t *data, size_t size)
-{
-    fuzz_die("fuzz_plugin_state", what, data, size);
-}
+static void die(const char *what, const uint8_t *data, size_t size) { fuzz_die("fuzz_plugin_state", what, data, size); }
 
 typedef struct scene {
     dWorldID world;
@@ -80,8 +77,8 @@ static int same(const dClothState *a, const dClothState *b)
     size_t n = (size_t)a->n;
     return cloth_state_diff(a->core, b->core) == 0.0 && memcmp(a->vc, b->vc, n * sizeof *a->vc) == 0 &&
            memcmp(a->pin, b->pin, n * sizeof *a->pin) == 0 && memcmp(a->fadd, b->fadd, 3 * n * sizeof *a->fadd) == 0 &&
-           a->held_run == b->held_run && a->sleep.on == b->sleep.on &&
-           a->sleep.asleep == b->sleep.asleep && a->sleep.n == b->sleep.n && a->sleep.still == b->sleep.still;
+           a->held_run == b->held_run && a->sleep.on == b->sleep.on && a->sleep.asleep == b->sleep.asleep &&
+           a->sleep.n == b->sleep.n && a->sleep.still == b->sleep.still;
 }
 
 static int finite_all(const double *a, size_t n)

@@ -34,10 +34,7 @@
 
 #define FUZZ_MUTATIONS 30000
 
-static void die(const char *what, const uint8_t *data, size_t size)
-{
-    fuzz_die("fuzz_state", what, data, size);
-}
+static void die(const char *what, const uint8_t *data, size_t size) { fuzz_die("fuzz_state", what, data, size); }
 
 static cloth *small_cloth(void)
 {
@@ -206,7 +203,8 @@ int main(int argc, char **argv)
     cloth *c = small_cloth();
     cloth_state *s = cloth_state_create(c);
     int valid = 0;
-    for (int k = 0; k < ns; k++) valid += seeds[k].n > 0 && cloth_state_read(s, seeds[k].p + 1, seeds[k].n - 1, NULL) == 0;
+    for (int k = 0; k < ns; k++)
+        valid += seeds[k].n > 0 && cloth_state_read(s, seeds[k].p + 1, seeds[k].n - 1, NULL) == 0;
     CHECK(valid >= 3, "only %d valid records among the seeds", valid);
     cloth_state_destroy(s);
     cloth_destroy(c);

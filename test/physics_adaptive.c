@@ -102,8 +102,8 @@ static void bad_descriptors(void)
         cloth_adaptive_stats st;
         cloth_status s = cloth_adaptive_frame(a, c, bad_dt[k], &st);
         cloth_save(c, after);
-        CHECK(s == CLOTH_EINVAL && st.failure == CLOTH_FAIL_BAD_STEP, "frame_dt %g: status %d failure %d",
-              bad_dt[k], (int)s, (int)st.failure);
+        CHECK(s == CLOTH_EINVAL && st.failure == CLOTH_FAIL_BAD_STEP, "frame_dt %g: status %d failure %d", bad_dt[k],
+              (int)s, (int)st.failure);
         CHECK(cloth_state_diff(before, after) == 0.0, "frame_dt %g changed the state", bad_dt[k]);
         CHECK(strstr(cloth_last_error(c), "frame_dt") != NULL, "message '%s'", cloth_last_error(c));
     }
@@ -248,8 +248,10 @@ static void free_fall(void)
                 if (st.method != CLOTH_BACKWARD_EULER) method_ok = 0;
             }
             CHECK(est_ok, "tol %g: estimate is not n h^2 g / 2", tols[t]);
-            CHECK(glob_ok, "global %d tol %g: global estimate differs from the lag by %g m (or odd substeps, or "
-                  "not NaN without a shadow)", global, tols[t], glob_worst);
+            CHECK(glob_ok,
+                  "global %d tol %g: global estimate differs from the lag by %g m (or odd substeps, or "
+                  "not NaN without a shadow)",
+                  global, tols[t], glob_worst);
             CHECK(method_ok, "tol %g: a frame not stepped by backward Euler with allow_explicit 0", tols[t]);
             double T = 1.0, exact = z0 - g * T * T / 2, err_max = 0.0, err_rms = 0.0;
             const double *x = cloth_positions(c);
@@ -311,7 +313,8 @@ static double *swing_fixed(cloth_method m, double hz)
     long k = 0;
     for (int s = 0; x && s < 4; s++) {
         for (; k < lround(hz * 0.25 * (s + 1)); k++)
-            if (!CHECK(cloth_step(c, 1.0 / hz, NULL) == CLOTH_OK, "reference step %ld: %s", k, cloth_last_error(c))) break;
+            if (!CHECK(cloth_step(c, 1.0 / hz, NULL) == CLOTH_OK, "reference step %ld: %s", k, cloth_last_error(c)))
+                break;
         memcpy(x + s * n3, cloth_positions(c), n3 * sizeof *x);
     }
     cloth_destroy(c);
@@ -342,8 +345,10 @@ static void global_estimate_against_reference(void)
     const int n = 81;
     const size_t n3 = 3 * (size_t)n;
     double ref_change = rms_between(ref, ref2, n, 4), req_rms = sqrt((0.0625 + 0.25 + 0.5625 + 1.0) / 4);
-    struct { double tol; int explicit_ok, nmin, nmax; } runs[] = {
-        {1e-2, 0, 1, 1024}, {1e-3, 1, 1, 1024}, {1e-2, 0, 8, 8}, {1e-2, 0, 32, 32}};
+    struct {
+        double tol;
+        int explicit_ok, nmin, nmax;
+    } runs[] = {{1e-2, 0, 1, 1024}, {1e-3, 1, 1, 1024}, {1e-2, 0, 8, 8}, {1e-2, 0, 32, 32}};
     double smallest = HUGE_VAL;
     double *x = malloc(4 * n3 * sizeof *x);
     for (size_t r = 0; x && r < sizeof runs / sizeof runs[0]; r++) {
@@ -383,12 +388,12 @@ static void global_estimate_against_reference(void)
                e / (runs[r].tol * req_rms), e_end / runs[r].tol, q[0], q[1], q[2], q[3], sub / frames, sym, frames);
         CHECK(qlo >= 0.5 && qhi <= 2.0, "tol %g run %zu: global estimate / error %g .. %g", runs[r].tol, r, qlo, qhi);
         if (runs[r].nmax > runs[r].nmin)
-            CHECK(e <= 2.0 * runs[r].tol * req_rms, "tol %g: error %g m RMS over twice the request %g m", runs[r].tol, e,
-                  runs[r].tol * req_rms);
+            CHECK(e <= 2.0 * runs[r].tol * req_rms, "tol %g: error %g m RMS over twice the request %g m", runs[r].tol,
+                  e, runs[r].tol * req_rms);
         if (runs[r].explicit_ok)
-            CHECK(sym >= frames / 2, "tol %g: symplectic Euler chosen in only %d of %d frames", runs[r].tol, sym, frames);
-        else
-            CHECK(sym == 0, "tol %g: symplectic Euler used with allow_explicit 0", runs[r].tol);
+            CHECK(sym >= frames / 2, "tol %g: symplectic Euler chosen in only %d of %d frames", runs[r].tol, sym,
+                  frames);
+        else CHECK(sym == 0, "tol %g: symplectic Euler used with allow_explicit 0", runs[r].tol);
         cloth_adaptive_destroy(a);
         cloth_destroy(c);
     }

@@ -76,8 +76,7 @@ static double drag_for(const cloth *c, double tau) { return total_mass(c) / (tau
 static int run(cloth *c, int s, double h, int steps)
 {
     for (int k = 0; k < steps; k++)
-        if (!CHECK(cloth_step(c, h, NULL) == CLOTH_OK, "%s: step %d: %s", names[s], k, cloth_last_error(c)))
-            return 0;
+        if (!CHECK(cloth_step(c, h, NULL) == CLOTH_OK, "%s: step %d: %s", names[s], k, cloth_last_error(c))) return 0;
     return 1;
 }
 
@@ -95,8 +94,8 @@ static void terminal(int s, int tilt)
     double vt = total_mass(c) * 9.81 / (air.drag_normal * SIDE * SIDE);
     if (run(c, s, h, (int)lround(t / h))) {
         double v = -momentum(c, 2) / total_mass(c);
-        printf("%-17s terminal (%s): v %.6f m/s, closed form %.6f m/s (rel %.2g) after %.2f s, h %.3g s\n",
-               names[s], tilt ? "normal drag" : "isotropic", v, vt, (v - vt) / vt, t, h);
+        printf("%-17s terminal (%s): v %.6f m/s, closed form %.6f m/s (rel %.2g) after %.2f s, h %.3g s\n", names[s],
+               tilt ? "normal drag" : "isotropic", v, vt, (v - vt) / vt, t, h);
         if (tilt) CHECK(v > vt && v < 1.02 * vt, "%s: tilted triangles' terminal speed %.6f m/s", names[s], v);
         else CHECK_REL(v, vt, 1e-4, 0.0);
     }
@@ -136,8 +135,8 @@ static void tangential(int s)
     double rate = methods[s] == CLOTH_SYMPLECTIC_EULER ? 1.0 - hk : 1.0 / (1.0 + hk);
     if (methods[s] != CLOTH_BDF2 && run(c, s, h, steps)) {
         double P = momentum(c, 0), want = P0 * pow(rate, steps), ode = P0 * exp(-steps * h / tau);
-        printf("%-17s tangential: P/P0 %.9f, discrete closed form %.9f (rel %.2g), exp(-k t) %.9f\n", names[s],
-               P / P0, want / P0, (P - want) / want, ode / P0);
+        printf("%-17s tangential: P/P0 %.9f, discrete closed form %.9f (rel %.2g), exp(-k t) %.9f\n", names[s], P / P0,
+               want / P0, (P - want) / want, ode / P0);
         CHECK_REL(P, want, 1e-5, 0.0);
     }
     free(v);

@@ -137,8 +137,8 @@ static void stopped_rows(cloth_method m)
                                      vel[3 * i + 2] * vel[3 * i + 2]));
     }
     const char *name = m == CLOTH_BDF2 ? "BDF2" : "backward Euler";
-    printf("rows stopped by the limit, %s, %d steps: |length - (1 + delta) l0| <= %.3g m, speed <= %.3g m/s\n",
-           name, steps, worst_len, worst_v);
+    printf("rows stopped by the limit, %s, %d steps: |length - (1 + delta) l0| <= %.3g m, speed <= %.3g m/s\n", name,
+           steps, worst_len, worst_v);
     CHECK(worst_len <= 1e-3 * mt->delta * l0, "%s: a link is %.3g m off (1 + delta) l0 = %.4g m", name, worst_len,
           lmax);
     CHECK(worst_v <= 1e-3 * speed, "%s: a vertex still moves at %.3g m/s (started at %g)", name, worst_v, speed);

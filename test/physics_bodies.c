@@ -47,7 +47,8 @@ static void solve3(const double M[9], const double b[3], double x[3])
         memcpy(A, M, sizeof A);
         for (int r = 0; r < 3; r++) A[3 * r + k] = b[r];
         x[k] = (A[0] * (A[4] * A[8] - A[5] * A[7]) - A[1] * (A[3] * A[8] - A[5] * A[6]) +
-                A[2] * (A[3] * A[7] - A[4] * A[6])) / det;
+                A[2] * (A[3] * A[7] - A[4] * A[6])) /
+               det;
     }
 }
 
@@ -83,8 +84,10 @@ static void closed_forms(void)
         for (int a = 0; a < 3; a++) com[a] += m[i] * x[3 * i + a];
     }
     for (int a = 0; a < 3; a++) com[a] /= mc;
-    cloth_body b = {.mass = 0.07, .inertia = {0.002, 0, 0, 0, 0.003, 0.0005, 0, 0.0005, 0.004},
-                    .force = {0.4, 1.1, -0.3}, .torque = {0.01, -0.02, 0.005}};
+    cloth_body b = {.mass = 0.07,
+                    .inertia = {0.002, 0, 0, 0, 0.003, 0.0005, 0, 0.0005, 0.004},
+                    .force = {0.4, 1.1, -0.3},
+                    .torque = {0.01, -0.02, 0.005}};
     memcpy(b.com, com, sizeof com);
     CHECK(cloth_set_bodies(c, &b, 1) == CLOTH_OK, "set_bodies: %s", cloth_last_error(c));
     for (int i = 0; i < n; i++) {
@@ -150,7 +153,8 @@ static void rotate(double R[9], const double a[3])
             Q[3 * p + q] = (p == q) + s * K[3 * p + q] + cth * kk;
         }
     for (int p = 0; p < 3; p++)
-        for (int q = 0; q < 3; q++) out[3 * p + q] = Q[3 * p] * R[q] + Q[3 * p + 1] * R[3 + q] + Q[3 * p + 2] * R[6 + q];
+        for (int q = 0; q < 3; q++)
+            out[3 * p + q] = Q[3 * p] * R[q] + Q[3 * p + 1] * R[3 + q] + Q[3 * p + 2] * R[6 + q];
     memcpy(R, out, sizeof out);
 }
 
@@ -176,7 +180,8 @@ static int light_body_thrown(int limit_iterations, double speed, int halvings, d
     const double *x = cloth_positions(c), *v = cloth_velocities(c), *m = cloth_masses(c);
     double Ib = 4e-3 * mb;
     /* the body's centre midway between the two corners, 5 cm above */
-    double com[3], vb[3] = {2.0 * speed, 0.5 * speed, 1.0 * speed}, wb[3] = {0.0, 3.0 * speed, 1.0 * speed}, R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, p[2][3];
+    double com[3], vb[3] = {2.0 * speed, 0.5 * speed, 1.0 * speed}, wb[3] = {0.0, 3.0 * speed, 1.0 * speed},
+                   R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, p[2][3];
     for (int a = 0; a < 3; a++) com[a] = 0.5 * (x[3 * held[0] + a] + x[3 * held[1] + a]);
     com[2] += 0.05;
     for (int k = 0; k < 2; k++)
@@ -241,11 +246,11 @@ static int light_body_thrown(int limit_iterations, double speed, int halvings, d
     double p0 = sqrt(P0[0] * P0[0] + P0[1] * P0[1] + P0[2] * P0[2]);
     CHECK(worst <= 1e-7 * p0, "momentum body + cloth: worst drift %.3g N s of %.3g", worst, p0);
     printf("light body (%.2f kg, cloth %.2f kg) thrown, elongation limit %s: %d steps, momentum drift %.2e of "
-           "|P0| %.3f N s, max strain %.4f\n", mb, mc, limit_iterations ? "on" : "off", failed < 0 ? steps : failed,
-           worst / p0, p0,
-           cloth_max_strain(c));
+           "|P0| %.3f N s, max strain %.4f\n",
+           mb, mc, limit_iterations ? "on" : "off", failed < 0 ? steps : failed, worst / p0, p0, cloth_max_strain(c));
     if (halvings > 0) printf("  (first step taken in %d substeps)\n", substeps0);
-    if (nonlinear == CLOTH_NEWTON) printf("  by Newton: %d iterations, %d shortened by the line search\n", newton, cuts);
+    if (nonlinear == CLOTH_NEWTON)
+        printf("  by Newton: %d iterations, %d shortened by the line search\n", newton, cuts);
     cloth_destroy(c);
     return failed;
 }
@@ -350,8 +355,10 @@ int main(void)
     CHECK(f4 < 0, "CG capped, with the retry: step %d failed", f4);
     int newton, cuts = newton_hanging_body(&newton);
     printf("a body hanging from a pinned cloth, by Newton: %d iterations, %d cut by the line search\n", newton, cuts);
-    CHECK(cuts == 0, "hanging body by Newton: %d of %d iterations cut (the potential's bodies' share disagrees "
-                     "with the Newton step's)", cuts, newton);
+    CHECK(cuts == 0,
+          "hanging body by Newton: %d of %d iterations cut (the potential's bodies' share disagrees "
+          "with the Newton step's)",
+          cuts, newton);
     bad_input();
     return check_summary();
 }

@@ -303,8 +303,7 @@ static void bad_input(void)
     } bad[] = {{0, NULL, p, "normal"}, {0, up, NULL, "point"}, {-1, up, p, "vertex"}, {N * N, up, p, "vertex"},
                {0, zero, p, "normal"}, {0, nan3, p, "normal"}, {0, up, nan3, "point"}};
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
-        CHECK(cloth_set_contact(c, bad[k].v, bad[k].n, bad[k].p) == CLOTH_EINVAL, "bad case %zu accepted",
-              k);
+        CHECK(cloth_set_contact(c, bad[k].v, bad[k].n, bad[k].p) == CLOTH_EINVAL, "bad case %zu accepted", k);
         CHECK(strstr(cloth_last_error(c), bad[k].word) != NULL, "case %zu: '%s' does not name %s", k,
               cloth_last_error(c), bad[k].word);
     }
@@ -318,8 +317,11 @@ static void bad_input(void)
         int v;
         double pull;
         const char *word;
-    } badp[] = {{0, NAN, "pull"},         {0, -1.0, "pull"},      {-1, 1.0, "vertex"},
-                {N * N, 1.0, "vertex"},   {5, 1.0, "no contact"}};
+    } badp[] = {{0, NAN, "pull"},
+                {0, -1.0, "pull"},
+                {-1, 1.0, "vertex"},
+                {N * N, 1.0, "vertex"},
+                {5, 1.0, "no contact"}};
     CHECK(cloth_set_contact(c, 0, up, p) == CLOTH_OK && cloth_set_contact_pull(c, 0, 2.0) == CLOTH_OK, "pull set");
     for (size_t k = 0; k < sizeof badp / sizeof badp[0]; k++) {
         CHECK(cloth_set_contact_pull(c, badp[k].v, badp[k].pull) == CLOTH_EINVAL, "bad pull %zu accepted", k);

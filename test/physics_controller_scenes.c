@@ -109,8 +109,7 @@ static cloth *make_cloth(int scene, cloth_method m, double cg_tol)
     if (scene == BOX) return c;
     double v[3 * NV] = {0};
     if (scene == STIFF)
-        for (int i = 0; i < NV; i++)
-            v[3 * i + 1] = (i / GRID) / (GRID - 1.0) * sin(PI * (i % GRID) / (GRID - 1.0));
+        for (int i = 0; i < NV; i++) v[3 * i + 1] = (i / GRID) / (GRID - 1.0) * sin(PI * (i % GRID) / (GRID - 1.0));
     if (!CHECK(cloth_set_positions(c, start_x[scene]) == CLOTH_OK && cloth_set_velocities(c, v) == CLOTH_OK,
                "start: %s", cloth_last_error(c)))
         exit(1);
@@ -162,12 +161,12 @@ static int box_contacts(cloth *c, double h, void *user)
 
 typedef struct result {
     int failed;
-    double cpu;              /* s, CPU time of the run */
+    double cpu;                 /* s, CPU time of the run */
     double x[MAXSAMP * 3 * NV]; /* positions at the samples */
-    double sym;              /* controller: share of frames stepped by symplectic Euler */
-    double substeps;         /* controller: mean substeps per frame */
-    long steps;              /* cloth_step calls (the controller's: every attempt and the shadow's) */
-    double estimate[MAXSAMP]; /* controller: its global estimate at the samples, m */
+    double sym;                 /* controller: share of frames stepped by symplectic Euler */
+    double substeps;            /* controller: mean substeps per frame */
+    long steps;                 /* cloth_step calls (the controller's: every attempt and the shadow's) */
+    double estimate[MAXSAMP];   /* controller: its global estimate at the samples, m */
 } result;
 
 /* A run of the scene into r: fixed steps of 1 / hz (hz a multiple of FPS)
@@ -230,7 +229,7 @@ static double run_error(int scene, const result *r, const double *ref)
  * a factor sqrt(2) apart, run as far as they were needed. */
 typedef struct series {
     cloth_method m;
-    int n;                 /* runs so far */
+    int n; /* runs so far */
     double hz[24], err[24], cpu[24];
     long steps[24];
 } series;
@@ -291,8 +290,8 @@ static void scene_checks(int sc, result *ref, result *r)
         double e = run_error(sc, r, ref->x), q = request_ratio(sc, r, ref->x, tols[t], &worst), g = 0.0;
         for (int k = 0; k < nsamp(sc); k++) g += r->estimate[k] * r->estimate[k] / nsamp(sc);
         printf("  tol %-6g error %.3g m, %.3g of requested (worst sample %.3g); %.1f substeps per frame, "
-               "%.0f%% symplectic, %ld steps, %.3f CPU s; global estimate %.2f of the error\n", tols[t], e, q, worst,
-               r->substeps, 100 * r->sym, r->steps, cpu, sqrt(g) / e);
+               "%.0f%% symplectic, %ld steps, %.3f CPU s; global estimate %.2f of the error\n",
+               tols[t], e, q, worst, r->substeps, 100 * r->sym, r->steps, cpu, sqrt(g) / e);
         CHECK(!r->failed && q <= 1.5, "%s tol %g: error %g m, %.2f of requested", scene_name[sc], tols[t], e, q);
         CHECK(!r->failed && worst <= 2.0, "%s tol %g: a sample at %.2f of requested", scene_name[sc], tols[t], worst);
         if (t == 0 || r->failed) continue;

@@ -23,16 +23,15 @@
 #include "odecloth/cloth.h"
 #include "check.h"
 
-static const cloth_method methods[4] = {CLOTH_BACKWARD_EULER, CLOTH_BDF2, CLOTH_SYMPLECTIC_EULER,
-                                        CLOTH_EXPLICIT_EULER};
+static const cloth_method methods[4] = {CLOTH_BACKWARD_EULER, CLOTH_BDF2, CLOTH_SYMPLECTIC_EULER, CLOTH_EXPLICIT_EULER};
 static const char *names[4] = {"backward Euler", "BDF2", "symplectic Euler", "explicit Euler"};
 
 static cloth *make(cloth_method m)
 {
     cloth_desc d = cloth_default_desc();
     d.rows = d.cols = 5;
-    d.width = d.height = 1.0;      /* 0.25 m spacing: dyadic */
-    d.material.density = 0.25;     /* dyadic masses */
+    d.width = d.height = 1.0;  /* 0.25 m spacing: dyadic */
+    d.material.density = 0.25; /* dyadic masses */
     d.gravity[0] = d.gravity[1] = d.gravity[2] = 0.0;
     d.solver.method = m;
     d.solver.cg_tolerance = d.solver.newton_cg_tolerance = 1e-12;

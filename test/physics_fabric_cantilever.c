@@ -140,9 +140,14 @@ int main(void)
     printf("quartic elastica: dip %.1f degrees at l = %.4f lq\n", ASTM_ANGLE, lstar);
     CHECK(isfinite(lstar), "quartic elastica: no overhang with a dip of %.1f degrees", ASTM_ANGLE);
 
-    const struct { const char *name; cloth_fabric_kind k; } fabrics[] = {
-        {"cotton", CLOTH_FABRIC_COTTON}, {"wool", CLOTH_FABRIC_WOOL}, {"silk", CLOTH_FABRIC_SILK},
-        {"denim", CLOTH_FABRIC_DENIM},   {"polyester", CLOTH_FABRIC_POLYESTER}};
+    const struct {
+        const char *name;
+        cloth_fabric_kind k;
+    } fabrics[] = {{"cotton", CLOTH_FABRIC_COTTON},
+                   {"wool", CLOTH_FABRIC_WOOL},
+                   {"silk", CLOTH_FABRIC_SILK},
+                   {"denim", CLOTH_FABRIC_DENIM},
+                   {"polyester", CLOTH_FABRIC_POLYESTER}};
     for (size_t i = 0; i < sizeof fabrics / sizeof fabrics[0]; i++) {
         cloth_fabric f = cloth_fabric_preset(fabrics[i].k);
         double c = cloth_fabric_bending_length(&f), measured[2];
@@ -163,8 +168,8 @@ int main(void)
             CHECK_REL(measured[r], c, 0.05, 0.0);
         }
         if (ns[1]) {
-            printf("  the two resolutions differ by %.2f%%; %d steps\n",
-                   100.0 * fabs(measured[1] / measured[0] - 1.0), steps);
+            printf("  the two resolutions differ by %.2f%%; %d steps\n", 100.0 * fabs(measured[1] / measured[0] - 1.0),
+                   steps);
             CHECK_REL(measured[1], measured[0], 0.05, 0.0);
         }
     }

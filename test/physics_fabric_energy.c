@@ -148,8 +148,9 @@ static int spacings(const cloth_fabric *f, double h[5])
     for (int k = 0; k < 5; k++) {
         cloth_material m;
         if (cloth_fabric_material(f, kh[k] / kref, kh[k] / kref, &m, NULL) == CLOTH_OK) h[n++] = kh[k] / kref;
-        else printf("  kappa_ref h = %.2f: spacing %.3g m refused (finer than the fabric allows)\n", kh[k],
-                    kh[k] / kref);
+        else
+            printf("  kappa_ref h = %.2f: spacing %.3g m refused (finer than the fabric allows)\n", kh[k],
+                   kh[k] / kref);
     }
     return n;
 }
@@ -207,8 +208,8 @@ static void check_tension(const char *name, const cloth_fabric *f)
         }
         double wu = energy_density(&s, 0, 0.0, eps, 0.0), wv = energy_density(&s, 1, 0.0, 0.0, eps);
         sheets_free(&s);
-        printf("%s tension, cells %.3g x %.3g m: W / (tensile eps^2 / 2) along u %.6f, along v %.6f\n", name, dx,
-               dy, wu / want, wv / want);
+        printf("%s tension, cells %.3g x %.3g m: W / (tensile eps^2 / 2) along u %.6f, along v %.6f\n", name, dx, dy,
+               wu / want, wv / want);
         if (k < nh) {
             CHECK_REL(wu, want, 1e-3, 0.0);
             CHECK_REL(wv, want, 1e-3, 0.0);
@@ -231,8 +232,10 @@ static void check_mass(const cloth_fabric *f)
 
 int main(void)
 {
-    const struct { const char *name; cloth_fabric_kind k; } fabrics[] = {
-        {"cotton", CLOTH_FABRIC_COTTON}, {"denim", CLOTH_FABRIC_DENIM}, {"silk", CLOTH_FABRIC_SILK}};
+    const struct {
+        const char *name;
+        cloth_fabric_kind k;
+    } fabrics[] = {{"cotton", CLOTH_FABRIC_COTTON}, {"denim", CLOTH_FABRIC_DENIM}, {"silk", CLOTH_FABRIC_SILK}};
     for (size_t i = 0; i < sizeof fabrics / sizeof fabrics[0]; i++) {
         cloth_fabric f = cloth_fabric_preset(fabrics[i].k);
         check_bending(fabrics[i].name, &f);

@@ -108,8 +108,7 @@ static void cg_cap(cloth_method m)
     cloth_step_stats st;
     cloth_status r = cloth_step(a, h, &st);
     cloth_save(a, sa);
-    CHECK(r == CLOTH_ESTEP, "%s, CG capped at 1 iteration: returned %d (%s)", mname[m], (int)r,
-          cloth_status_string(r));
+    CHECK(r == CLOTH_ESTEP, "%s, CG capped at 1 iteration: returned %d (%s)", mname[m], (int)r, cloth_status_string(r));
     CHECK(st.failure == CLOTH_FAIL_CG_MAX_ITER, "%s, CG capped: failure %d (%s), expected CG_MAX_ITER", mname[m],
           (int)st.failure, cloth_failure_string(st.failure));
     CHECK(cloth_state_diff(s0, sa) == 0.0, "%s, CG capped: state changed (diff %.3g)", mname[m],
@@ -122,8 +121,10 @@ static void cg_cap(cloth_method m)
     }
     cloth_save(a, sa);
     cloth_save(b, sb);
-    CHECK(cloth_state_diff(sa, sb) == 0.0, "%s: a failed step left a trace: 5 steps later the state differs by %.3g "
-          "from a run that never failed", mname[m], cloth_state_diff(sa, sb));
+    CHECK(cloth_state_diff(sa, sb) == 0.0,
+          "%s: a failed step left a trace: 5 steps later the state differs by %.3g "
+          "from a run that never failed",
+          mname[m], cloth_state_diff(sa, sb));
     cloth_state_destroy(sa);
     cloth_state_destroy(sb);
     cloth_state_destroy(s0);

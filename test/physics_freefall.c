@@ -109,8 +109,7 @@ static void run(cloth_method m)
             CHECK_NEAR(x[2] - base, e_expect, 1e-9 * fabs(e_expect));
         }
     }
-    printf("%-16s: %d steps, worst relative error positions %.2e, velocities %.2e\n", name, NSTEPS, worst_x,
-           worst_v);
+    printf("%-16s: %d steps, worst relative error positions %.2e, velocities %.2e\n", name, NSTEPS, worst_x, worst_v);
     free(x0);
     free(v);
     cloth_destroy(c);

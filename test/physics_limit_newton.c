@@ -204,9 +204,10 @@ int main(void)
     CHECK(off > 0.03 + 0.05, "without corrections the links are not past the limit: strain %.4f", off);
     /* the corrections stop when the free rows' residual (the limit's
      * forces included) is within cg_tolerance of the uncorrected step's */
-    printf("away from the limit the corrected step's residual is %.3g of the uncorrected one's\n",
-           on_away / off_total);
-    CHECK(on_away <= 1.01e-6 * off_total, "the method's equation away from the limit: residual %.3g of the "
-          "uncorrected step's", on_away / off_total);
+    printf("away from the limit the corrected step's residual is %.3g of the uncorrected one's\n", on_away / off_total);
+    CHECK(on_away <= 1.01e-6 * off_total,
+          "the method's equation away from the limit: residual %.3g of the "
+          "uncorrected step's",
+          on_away / off_total);
     return check_summary();
 }

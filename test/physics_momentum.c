@@ -175,8 +175,8 @@ static void run_case(const char *name, int R, int C, cloth_material mat, const d
                     if (fabs(rf - f2[3 * i + a]) > e) e = fabs(rf - f2[3 * i + a]);
                     if (fabs(rf) > s) s = fabs(rf);
                 }
-            CHECK(e <= 1e-9 * s, "%s trial %d: rotating the state does not rotate the forces (err %.3g of %.3g)",
-                  name, trial, e, s);
+            CHECK(e <= 1e-9 * s, "%s trial %d: rotating the state does not rotate the forces (err %.3g of %.3g)", name,
+                  trial, e, s);
             cloth_set_positions(c, x);
             cloth_set_velocities(c, v);
         }

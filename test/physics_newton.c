@@ -34,12 +34,12 @@
 #define BODY_MASS 3.0
 
 typedef struct outcome {
-    double residual;  /* the method's equation at the free vertices, relative to beta h |f| */
-    double absres;    /* the same, absolute (N s) */
-    double strain;    /* max sequential strain after the step */
-    double momentum;  /* |P1 - P0| / |P0| over the step checked */
-    double reaction;  /* |m_b du + h f_c| / |m_b du| */
-    int newton;       /* corrections taken in the step checked */
+    double residual; /* the method's equation at the free vertices, relative to beta h |f| */
+    double absres;   /* the same, absolute (N s) */
+    double strain;   /* max sequential strain after the step */
+    double momentum; /* |P1 - P0| / |P0| over the step checked */
+    double reaction; /* |m_b du + h f_c| / |m_b du| */
+    int newton;      /* corrections taken in the step checked */
 } outcome;
 
 /* the body's pin on the centre vertex for a step from its current place */
@@ -140,8 +140,8 @@ static int run(int bdf2, int newton_iterations, outcome *o)
         o->reaction = dun > 0.0 ? sqrt(react / dun) / BODY_MASS : INFINITY;
         printf("%s, newton_iterations %d: %d corrections, %d CG iterations, residual %.3g of beta h|f|, max strain "
                "%.4f, momentum %.2g, body reaction %.2g (|du| %.3g m/s)\n",
-               bdf2 ? "BDF2 (second step)" : "backward Euler", newton_iterations, st.newton, st.iterations,
-               o->residual, o->strain, o->momentum, o->reaction, sqrt(dun));
+               bdf2 ? "BDF2 (second step)" : "backward Euler", newton_iterations, st.newton, st.iterations, o->residual,
+               o->strain, o->momentum, o->reaction, sqrt(dun));
     }
     cloth_destroy(c);
     return ok;
@@ -184,8 +184,8 @@ int main(void)
          * BDF2's cloth rows carry the history term M (v1 - v0) / 3, its body
          * rows none (bodies.c), so its step exchanges momentum with the past */
         if (!bdf2)
-            CHECK(off.momentum < 1e-5 && on.momentum < 1e-5, "%s: momentum: %.3g without, %.3g with", m,
-                  off.momentum, on.momentum);
+            CHECK(off.momentum < 1e-5 && on.momentum < 1e-5, "%s: momentum: %.3g without, %.3g with", m, off.momentum,
+                  on.momentum);
         /* to the solver's tolerance: the body's row is solved with the cloth's */
         CHECK(off.reaction < 1e-4 && on.reaction < 1e-4, "%s: m_b du = -h f_c: %.3g without, %.3g with", m,
               off.reaction, on.reaction);

@@ -50,8 +50,8 @@ int main(void)
         ok = CHECK(cloth_step(c, 1.0 / 60, &st) == CLOTH_OK, "step %d: %s", s, cloth_last_error(c));
         if (st.limit_updates > worst_rounds) worst_rounds = st.limit_updates;
     }
-    printf("max strain %.4f (limit %.2f), most multiplier rounds in a step %d\n", cloth_max_strain(c),
-           d.material.delta, worst_rounds);
+    printf("max strain %.4f (limit %.2f), most multiplier rounds in a step %d\n", cloth_max_strain(c), d.material.delta,
+           worst_rounds);
     CHECK(worst_rounds <= 3, "%d rounds of the multipliers in a step", worst_rounds);
     cloth_internal_forces(c, f);
     double fc = 0.0, fi = 0.0;

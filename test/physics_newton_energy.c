@@ -53,7 +53,7 @@ static cloth *make(void)
     d.rows = d.cols = N;
     d.gravity[0] = d.gravity[1] = d.gravity[2] = 0.0;
     d.material = cloth_material_preset(CLOTH_ELASTIC);
-    d.material.k_delta = 0.0; /* no elongation limit: its multipliers change the potential */
+    d.material.k_delta = 0.0;              /* no elongation limit: its multipliers change the potential */
     d.material.c_t = d.material.c_b = 0.0; /* no dampers: the step's own dissipation only */
     d.solver.method = CLOTH_BACKWARD_EULER;
     d.solver.newton_tolerance = 0.05;
@@ -99,8 +99,8 @@ int main(void)
         worst = fmax(worst, after - before);
         before = after;
     }
-    printf("energy %.6g J -> %.6g J, largest gain in a step %.3g J, %.2f Newton iterations a step\n", e0, before,
-           worst, (double)newton / STEPS);
+    printf("energy %.6g J -> %.6g J, largest gain in a step %.3g J, %.2f Newton iterations a step\n", e0, before, worst,
+           (double)newton / STEPS);
     CHECK(worst <= 1e-9 * e0, "a step gained %.3g J (energy %.3g J)", worst, e0);
     CHECK(before < e0, "the dampers dissipate: %.6g J after, %.6g J before", before, e0);
     cloth_destroy(c);

@@ -114,8 +114,8 @@ static void strip(const char *name, cloth_fabric_kind kind)
     printf("%s strip: largest speed %.3g m/s after %d steps; the most a step gained %.3g J, peak kinetic energy "
            "%.3g J\n",
            name, vmax, steps, worst, peak);
-    CHECK(worst <= SLACK * peak, "%s strip: step %d gained %.3g J (%.3g of the peak kinetic energy)", name,
-          worst_step, worst, worst / peak);
+    CHECK(worst <= SLACK * peak, "%s strip: step %d gained %.3g J (%.3g of the peak kinetic energy)", name, worst_step,
+          worst, worst / peak);
     CHECK(vmax < 1e-6, "%s strip: still moving at %.3g m/s after %d steps", name, vmax, steps);
     cloth_destroy(c);
 }

@@ -94,8 +94,8 @@ static void link_forces(cloth *aux, const double *x0, const double *xs, double *
 }
 
 /* F(v1) = M (v1 - v0) - h (f(x0 + h v1) + M g), pinned rows v1 - 0 */
-static void be_residual(cloth *aux, const double *x0, const double *v0, const double *v1, const int *pinned,
-                        double *F, double *xs)
+static void be_residual(cloth *aux, const double *x0, const double *v0, const double *v1, const int *pinned, double *F,
+                        double *xs)
 {
     int n = cloth_vertex_count(aux);
     const double *m = cloth_masses(aux);
@@ -194,8 +194,8 @@ static void against_dense(int rule)
         scale = fmax(scale, fabs(ref[k]));
     }
     CHECK(err <= 1e-6 * scale, "rule %d: v1 off the dense solve by %.3g (scale %.3g)", rule, err, scale);
-    printf("rule %d: %d Newton iterations, %d CG; v1 vs dense Newton: %.3g of %.3g\n", rule, st.newton,
-           st.iterations, err, scale);
+    printf("rule %d: %d Newton iterations, %d CG; v1 vs dense Newton: %.3g of %.3g\n", rule, st.newton, st.iterations,
+           err, scale);
     free(x0), free(v0), free(ref), free(pinned);
     cloth_destroy(c);
     cloth_destroy(aux);
@@ -248,8 +248,8 @@ static void orders(void)
          * so the coarser two; second order: the coarsest step is not yet
          * asymptotic, so the finer two */
         double p1 = log2(e[k] / e[k + 1]), p2 = log2(e[k + 1] / e[k + 2]);
-        printf("%s: RMS error %.3g %.3g %.3g %.3g m at h = 1/400..1/3200; orders %.3f %.3f %.3f\n", name[k], e[0],
-               e[1], e[2], e[3], p1, p2, log2(e[2] / e[3]));
+        printf("%s: RMS error %.3g %.3g %.3g %.3g m at h = 1/400..1/3200; orders %.3f %.3f %.3f\n", name[k], e[0], e[1],
+               e[2], e[3], p1, p2, log2(e[2] / e[3]));
         CHECK(fabs(p1 - want[k]) <= 0.05 * want[k] && fabs(p2 - want[k]) <= 0.05 * want[k],
               "%s: orders %.3f, %.3f, expected %g within 5%%", name[k], p1, p2, want[k]);
     }
@@ -268,8 +268,7 @@ static void goes_on(int halvings)
     d.solver.max_substep_halvings = halvings;
     d.solver.strain_limit_iterations = 20;
     cloth *c = NULL, *ref = NULL;
-    if (!CHECK(cloth_create(&d, &c, NULL) == CLOTH_OK && cloth_create(&d, &ref, NULL) == CLOTH_OK, "create"))
-        return;
+    if (!CHECK(cloth_create(&d, &c, NULL) == CLOTH_OK && cloth_create(&d, &ref, NULL) == CLOTH_OK, "create")) return;
     d.solver.newton_iterations = 1;
     d.solver.newton_tolerance = 1e-12;
     d.solver.keep_unconverged = 1;
@@ -301,7 +300,8 @@ static void goes_on(int halvings)
     cloth_state_destroy(after);
     double z = x[3 * (n - 1) + 2], zr = xr[3 * (n - 1) + 2];
     printf("one Newton iteration a step, %d halvings: %d of 30 steps taken, %d counted unconverged; free corner "
-           "fell %.4f m (converged: %.4f m)\n", halvings, ok, counted, z0 - z, z0 - zr);
+           "fell %.4f m (converged: %.4f m)\n",
+           halvings, ok, counted, z0 - z, z0 - zr);
     CHECK(ok == 30 && counted == 30, "the scene stopped: %d steps OK, %d counted", ok, counted);
     int finite = 1;
     for (int k = 0; k < 3 * n; k++) finite = finite && isfinite(x[k]) && isfinite(cloth_velocities(c)[k]);
@@ -369,12 +369,10 @@ static void within_tolerance(double tol)
     printf("41x41 swing, newton_tolerance %.3g, %d steps compared: the step's velocities within %.3g m/s (RMS by "
            "mass) of the tight solve's, %.3g without newton_cg_share; CG iterations %ld, %ld without, %ld tight\n",
            tol, compared, worst, worst_u, cg_default, cg_unshared, cg_tight);
-    CHECK(cg_default < cg_unshared, "newton_cg_share saved no CG iteration (%ld against %ld)", cg_default,
-          cg_unshared);
+    CHECK(cg_default < cg_unshared, "newton_cg_share saved no CG iteration (%ld against %ld)", cg_default, cg_unshared);
     /* the size test bounds the last correction: the error is within it for
      * an iteration contracting by half or better, within twice it by 2/3 */
-    CHECK(compared == 30 && worst <= 2.0 * tol, "the step is %.3g m/s off the tight one (tolerance %.3g)", worst,
-          tol);
+    CHECK(compared == 30 && worst <= 2.0 * tol, "the step is %.3g m/s off the tight one (tolerance %.3g)", worst, tol);
     free(va);
     free(vu);
     cloth_state_destroy(s0);
@@ -413,8 +411,7 @@ static void bad_parameters(void)
         }
         cloth_error err;
         CHECK(cloth_solver_validate(&s, &err) == CLOTH_EINVAL, "case %d accepted", k);
-        CHECK(strstr(err.message, field[k]) != NULL, "case %d: message does not name %s: %s", k, field[k],
-              err.message);
+        CHECK(strstr(err.message, field[k]) != NULL, "case %d: message does not name %s: %s", k, field[k], err.message);
         CHECK(cloth_set_solver(c, &s) == CLOTH_EINVAL, "case %d: cloth_set_solver accepted it", k);
         cloth_solver now = cloth_get_desc(c).solver;
         CHECK(memcmp(&now, &d.solver, sizeof now) == 0, "case %d: the solver changed", k);

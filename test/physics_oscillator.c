@@ -121,8 +121,7 @@ static void exact_map(cloth_method m, double h, double w, double *x, double *v)
         *v = v0 - h * w2 * x0;
         *x = x0 + h * *v;
         break;
-    default:
-        break;
+    default: break;
     }
 }
 
@@ -134,8 +133,7 @@ static void check_stiffness(void)
     cloth_internal_forces(c, f);
     fp = f[3 * CENTRE];
     CHECK(fabs(f[3 * CENTRE + 1]) <= 1e-9 * fabs(fp) && fabs(f[3 * CENTRE + 2]) <= 1e-9 * fabs(fp),
-          "force on the displaced centre not along u: (%g %g %g)", f[3 * CENTRE], f[3 * CENTRE + 1],
-          f[3 * CENTRE + 2]);
+          "force on the displaced centre not along u: (%g %g %g)", f[3 * CENTRE], f[3 * CENTRE + 1], f[3 * CENTRE + 2]);
     set_centre(c, -e, 0);
     cloth_internal_forces(c, f);
     fm = f[3 * CENTRE];
@@ -159,8 +157,7 @@ static void check_factor(cloth_method m, double q)
     for (int s = 0; s < 3; s++) {
         double a0 = hypot(w * cx(c), cv(c));
         cloth_step_stats st;
-        if (!CHECK(cloth_step(c, h, &st) == CLOTH_OK, "%s q = %g step %d: %s", name, q, s, cloth_last_error(c)))
-            break;
+        if (!CHECK(cloth_step(c, h, &st) == CLOTH_OK, "%s q = %g step %d: %s", name, q, s, cloth_last_error(c))) break;
         double a1 = hypot(w * cx(c), cv(c));
         CHECK(fabs(a1 / a0 - expect) <= 1e-6 * expect, "%s q = %g step %d: amplitude factor %.12g, closed form %.12g",
               name, q, s, a1 / a0, expect);
@@ -192,7 +189,8 @@ static void check_symplectic(void)
         }
         double hi = 1.0 / sqrt(1 - q / 2), lo = 1.0 / sqrt(1 + q / 2);
         printf("symplectic q = 1.9, 1000 steps: amplitude in [%.6f, %.6f] of the start (bounds [%.6f, %.6f]), "
-               "modified energy drift %.2e\n", amin, amax, lo, hi, Hdev);
+               "modified energy drift %.2e\n",
+               amin, amax, lo, hi, Hdev);
         CHECK(amax <= hi * (1 + 1e-6), "symplectic q = 1.9: amplitude reached %.9g x start > bound %.9g", amax, hi);
         CHECK(amin >= lo * (1 - 1e-6), "symplectic q = 1.9: amplitude fell to %.9g x start < bound %.9g", amin, lo);
         CHECK(Hdev <= 1e-6, "symplectic q = 1.9: modified energy X^2 + v^2 - q X v drifted by %.3g", Hdev);
@@ -275,8 +273,8 @@ static void check_order(cloth_method m, double expect_order)
         double p = log2(e[k] / e[k + 1]);
         printf("%s: error at T %.3e (q = %g) -> %.3e (q = %g): observed order %.4f\n", name, e[k], 0.05 / (1 << k),
                e[k + 1], 0.05 / (2 << k), p);
-        CHECK(fabs(p - expect_order) <= 0.1 * expect_order, "%s: observed order %.4f, expected %g within 10%%", name,
-              p, expect_order);
+        CHECK(fabs(p - expect_order) <= 0.1 * expect_order, "%s: observed order %.4f, expected %g within 10%%", name, p,
+              expect_order);
     }
 }
 

@@ -87,12 +87,13 @@ static void jerk(void)
     cloth_status r = cloth_step(off, H, &st);
     cloth_save(off, s1);
     CHECK(r == CLOTH_ESTEP, "jerk without retries: returned %s, expected a failure", cloth_status_string(r));
-    CHECK(st.failure == too_much(), "jerk without retries: failure %s, expected %s",
-          cloth_failure_string(st.failure), cloth_failure_string(too_much()));
+    CHECK(st.failure == too_much(), "jerk without retries: failure %s, expected %s", cloth_failure_string(st.failure),
+          cloth_failure_string(too_much()));
     CHECK(st.halvings == 0 && st.substeps == 1, "jerk without retries: halvings %d substeps %d", st.halvings,
           st.substeps);
     CHECK(cloth_state_diff(s0, s1) == 0.0, "jerk without retries: state changed (%g)", cloth_state_diff(s0, s1));
-    printf("jerk 0.25 m in h = 1/60 s, whole step: %s (%s)\n", cloth_status_string(r), cloth_failure_string(st.failure));
+    printf("jerk 0.25 m in h = 1/60 s, whole step: %s (%s)\n", cloth_status_string(r),
+           cloth_failure_string(st.failure));
 
     /* 2. succeeds in substeps */
     cloth_pin(on, C - 1, target);
@@ -101,8 +102,7 @@ static void jerk(void)
     CHECK(st.failure == CLOTH_FAIL_NONE, "failure %s", cloth_failure_string(st.failure));
     CHECK(st.first_failure == too_much(), "first_failure %s, expected %s", cloth_failure_string(st.first_failure),
           cloth_failure_string(too_much()));
-    CHECK(st.substeps > 1 && st.halvings >= 1 && st.halvings <= 4, "substeps %d halvings %d", st.substeps,
-          st.halvings);
+    CHECK(st.substeps > 1 && st.halvings >= 1 && st.halvings <= 4, "substeps %d halvings %d", st.substeps, st.halvings);
     CHECK(st.substeps_failed >= 1 + (st.halvings - 1), "substeps_failed %d < %d", st.substeps_failed, st.halvings);
     CHECK(cloth_last_stats(on)->substeps == st.substeps, "cloth_last_stats disagrees");
     printf("with max_substep_halvings 4: ok in %d substeps (%d halvings, %d failed attempts, %d CG iterations), "
@@ -221,8 +221,7 @@ static void bad_field(void)
         e.solver.max_substep_halvings = bad[k];
         cloth *o = NULL;
         CHECK(cloth_create(&e, &o, &err) == CLOTH_EINVAL && o == NULL, "create with halvings %d accepted", bad[k]);
-        CHECK(strstr(err.message, "max_substep_halvings") != NULL, "message does not name the field: %s",
-              err.message);
+        CHECK(strstr(err.message, "max_substep_halvings") != NULL, "message does not name the field: %s", err.message);
         if (c) {
             CHECK(cloth_set_solver(c, &e.solver) == CLOTH_EINVAL, "set_solver with halvings %d accepted", bad[k]);
             CHECK(cloth_get_desc(c).solver.max_substep_halvings == d.solver.max_substep_halvings,

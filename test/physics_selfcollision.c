@@ -159,7 +159,8 @@ static void bad_input(void)
     CHECK(cloth_self_collision_create(c, NAN, &sc, &err) == CLOTH_EINVAL && sc == NULL, "thickness NaN accepted");
     /* the 11 x 11 grid's 0.1 m cells: diagonals 0.0707 m apart */
     CHECK(cloth_self_collision_create(c, 0.071, &sc, &err) == CLOTH_EINVAL && sc == NULL &&
-              strstr(err.message, "thickness"), "thickness 0.071 m over 0.1 m cells accepted");
+              strstr(err.message, "thickness"),
+          "thickness 0.071 m over 0.1 m cells accepted");
     CHECK(cloth_self_collision_create(c, 0.07, &sc, &err) == CLOTH_OK && sc, "thickness 0.07 m: %s", err.message);
     cloth_self_collision_destroy(sc);
     CHECK(cloth_self_collision_create(NULL, THICK, &sc, &err) == CLOTH_EINVAL && sc == NULL, "NULL cloth accepted");

@@ -86,15 +86,14 @@ int main(void)
             ke_window = fmax(ke_window, ke);
             fdev_window = fmax(fdev_window, sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]) / Wn);
             if (s == nsteps)
-                printf("at %.0f s: pin forces sum (%.5f, %.5f, %.5f) N, weight M g = (%.5f, %.5f, %.5f) N\n",
-                       s * h, f0[0] + f1[0], f0[1] + f1[1], f0[2] + f1[2], W[0], W[1], W[2]);
+                printf("at %.0f s: pin forces sum (%.5f, %.5f, %.5f) N, weight M g = (%.5f, %.5f, %.5f) N\n", s * h,
+                       f0[0] + f1[0], f0[1] + f1[1], f0[2] + f1[2], W[0], W[1], W[2]);
         }
     }
     printf("%.0f s at h = 1/60: peak kinetic energy %.4f J; over the last %.0f s: max kinetic energy %.3e of the "
            "peak, max pin-force imbalance %.3f%% of the weight\n",
            SECONDS, peak, WINDOW, ke_window / peak, 100 * fdev_window);
-    printf("every step: pins off target by <= %.3g m; max strain <= %.6f (delta %g)\n", pin_worst, strain_worst,
-           delta);
+    printf("every step: pins off target by <= %.3g m; max strain <= %.6f (delta %g)\n", pin_worst, strain_worst, delta);
     CHECK(peak > 0.1, "peak kinetic energy %.3g J: the cloth did not fall", peak);
     CHECK(ke_window <= 1e-4 * peak, "not at rest: kinetic energy reached %.3g of its peak in the last %g s",
           ke_window / peak, WINDOW);

@@ -24,7 +24,7 @@ static double run(int passes, double k_delta, int check_each_step)
 {
     cloth_desc d = cloth_default_desc();
     d.solver.nonlinear = CLOTH_LINEARIZED; /* the linearised step's projection is tested */
-    d.material.k_t = 20.0; /* soft: the weight alone stretches it well past delta */
+    d.material.k_t = 20.0;                 /* soft: the weight alone stretches it well past delta */
     d.material.k_c = 1.0;
     d.material.k_delta = k_delta;
     d.solver.strain_limit_iterations = passes;
@@ -52,8 +52,8 @@ static double run(int passes, double k_delta, int check_each_step)
             if (e > worst_consistency) worst_consistency = e;
         }
         if (check_each_step) {
-            CHECK(memcmp(x, p0, sizeof p0) == 0 && memcmp(x + 3 * (N - 1), p1, sizeof p1) == 0,
-                  "step %d: a pin moved", s);
+            CHECK(memcmp(x, p0, sizeof p0) == 0 && memcmp(x + 3 * (N - 1), p1, sizeof p1) == 0, "step %d: a pin moved",
+                  s);
         }
     }
     if (check_each_step)
@@ -74,8 +74,7 @@ int main(void)
     /* the stiffening alone: strain well down, but not necessarily <= delta */
     double stiff = run(0, k_delta, 1);
     printf("stiffening only (k_delta %g, projection off): max strain %.6f\n", k_delta, stiff);
-    CHECK(stiff < free_strain / 3.0, "stiffening only: strain %.6f, want < unlimited %.4f / 3", stiff,
-          free_strain);
+    CHECK(stiff < free_strain / 3.0, "stiffening only: strain %.6f, want < unlimited %.4f / 3", stiff, free_strain);
     /* the projection alone must hold delta */
     double proj = run(200, 0.0, 1);
     printf("projection only (k_delta 0, 200 steps allowed): max strain %.9f\n", proj);

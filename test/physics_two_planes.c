@@ -218,8 +218,7 @@ static void second_alone_and_parallel(void)
     }
     cloth_step_stats st;
     CHECK(cloth_step(c, H, &st) == CLOTH_OK, "parallel: %s", cloth_last_error(c));
-    CHECK(st.contacts_decided == 0, "a second plane 0.3 deg from the vertex's own was taken (%d)",
-          st.contacts_decided);
+    CHECK(st.contacts_decided == 0, "a second plane 0.3 deg from the vertex's own was taken (%d)", st.contacts_decided);
     free(p);
     cloth_destroy(c);
 }
@@ -248,8 +247,7 @@ static void linearized_line(void)
             double m = cloth_masses(c)[i], f[3], lf, lw;
             wedge_forces(m, g, &lf, &lw);
             cloth_constraint_force(c, i, f);
-            for (int r = 0; r < 3; r++)
-                worst_f = fmax(worst_f, fabs(f[r] - lf * FLOOR[r] - lw * wall[r]) / (m * 9.81));
+            for (int r = 0; r < 3; r++) worst_f = fmax(worst_f, fabs(f[r] - lf * FLOOR[r] - lw * wall[r]) / (m * 9.81));
         }
         CHECK(worst_x <= 1e-9, "linearised step %d: a vertex %.3g m off the line's closed form", k, worst_x);
         CHECK(worst_v <= 1e-8, "linearised step %d: a velocity %.3g m/s off (0, k h g_y, 0)", k, worst_v);

@@ -180,8 +180,9 @@ static worst run(dWorldID w, dClothID c, dBodyID b, const double p[3], const dou
 /* scene 0 free, 1 ball joint, 2 hinge, 3 free and at rest in a wind */
 static void held(int scene)
 {
-    static const char *const name[6] = {"free sphere", "sphere in a ball joint", "sphere on a hinge",
-                                        "free sphere in a wind", "free box", "free box, gyroscopic term off"};
+    static const char *const name[6] = {"free sphere",       "sphere in a ball joint",
+                                        "sphere on a hinge", "free sphere in a wind",
+                                        "free box",          "free box, gyroscopic term off"};
     int joint = scene >= 3 ? 0 : scene, box = scene >= 4;
     dWorldID w = dWorldCreate();
     dWorldSetGravity(w, 0, 0, 0);

@@ -109,9 +109,9 @@ enum outcome { STOPPED, FALLS };
 
 typedef struct drop_case {
     const char *name;
-    int nested;                 /* the box inside a simple space inside the cloth's space */
+    int nested; /* the box inside a simple space inside the cloth's space */
     unsigned long cloth_cat, cloth_col, box_cat, box_col;
-    int no_space;               /* dClothSetSpace(c, 0) after creation */
+    int no_space; /* dClothSetSpace(c, 0) after creation */
     enum outcome expect;
 } drop_case;
 
@@ -140,14 +140,13 @@ static void drop_on_box(const drop_case *k)
         return;
     }
     CHECK(dClothGetCategoryBits(c) == k->cloth_cat && dClothGetCollideBits(c) == k->cloth_col,
-          "%s: bits read back %lx / %lx, set %lx / %lx", k->name, dClothGetCategoryBits(c),
-          dClothGetCollideBits(c), k->cloth_cat, k->cloth_col);
+          "%s: bits read back %lx / %lx, set %lx / %lx", k->name, dClothGetCategoryBits(c), dClothGetCollideBits(c),
+          k->cloth_cat, k->cloth_col);
     if (k->no_space) dClothSetSpace(c, 0);
 
     int steps = (int)(1.0 / H + 0.5), failed = 0, max_cand = 0, max_contacts = 0;
     for (int s = 1; s <= steps && !failed; s++) {
-        if (!CHECK(dClothWorldStep(w, &c, 1, H, 0) == CLOTH_OK, "%s: step %d: %s", k->name, s,
-                   dClothGetLastError(c)))
+        if (!CHECK(dClothWorldStep(w, &c, 1, H, 0) == CLOTH_OK, "%s: step %d: %s", k->name, s, dClothGetLastError(c)))
             failed = 1;
         const dClothStepStats *st = dClothGetStats(c);
         if (st->candidates > max_cand) max_cand = st->candidates;
@@ -157,8 +156,8 @@ static void drop_on_box(const drop_case *k)
     double zc = dClothGetPositions(c)[3 * ic + 2], top_z = 0.8, bottom_z = 0.6;
     dReal f[3];
     dClothGetContactForce(c, ic, f);
-    printf("%-44s centre z %+8.4f, max candidates %d, max contacts %3d, centre contact force z %.4f N\n",
-           k->name, zc, max_cand, max_contacts, f[2]);
+    printf("%-44s centre z %+8.4f, max candidates %d, max contacts %3d, centre contact force z %.4f N\n", k->name, zc,
+           max_cand, max_contacts, f[2]);
     if (k->expect == STOPPED) {
         CHECK(zc >= top_z + 0.5 * d.thickness && zc < top_z + 0.05,
               "%s: the box did not stop the cloth: centre at z = %.4f (box top %.2f, thickness %.3f)", k->name, zc,
@@ -169,8 +168,8 @@ static void drop_on_box(const drop_case *k)
               k->name, max_cand, f[2]);
     } else {
         CHECK(zc < bottom_z, "%s: the cloth should have fallen through the box: centre at z = %.4f", k->name, zc);
-        CHECK(max_cand == 0 && max_contacts == 0, "%s: the box was a candidate (%d) or touched (%d contacts)",
-              k->name, max_cand, max_contacts);
+        CHECK(max_cand == 0 && max_contacts == 0, "%s: the box was a candidate (%d) or touched (%d contacts)", k->name,
+              max_cand, max_contacts);
     }
     dClothDestroy(c);
     dSpaceDestroy(top); /* destroys the nested space and the box (cleanup mode) */
@@ -214,7 +213,7 @@ typedef struct user_scene {
     dJointGroupID contacts;
     dGeomID mine[8];
     int nmine;
-    int make_joints;            /* 0: only look (the call before dClothStep) */
+    int make_joints; /* 0: only look (the call before dClothStep) */
     long pairs, foreign;
 } user_scene;
 
@@ -236,8 +235,8 @@ static void user_near(void *data, dGeomID o1, dGeomID o2)
     u->pairs++;
     if (!is_mine(u, o1) || !is_mine(u, o2)) {
         if (u->foreign++ < 3)
-            CHECK(0, "the user's callback met a geom that is not the user's: %p (class %d) / %p (class %d)",
-                  (void *)o1, dGeomGetClass(o1), (void *)o2, dGeomGetClass(o2));
+            CHECK(0, "the user's callback met a geom that is not the user's: %p (class %d) / %p (class %d)", (void *)o1,
+                  dGeomGetClass(o1), (void *)o2, dGeomGetClass(o2));
         return;
     }
     dContact ct[4];
@@ -312,8 +311,10 @@ static void test_user_callback(void)
     CHECK(u.pairs >= steps, "the user's callback saw only %ld pairs in %d calls (the crate rests on the ground)",
           u.pairs, 2 * steps);
     /* the cloth did meet the user's geoms, and the crate stayed on the ground */
-    CHECK(max_cand >= 3 && max_contacts > 0, "the cloth met %d candidates, %d contacts: expected the table, the "
-          "crate and the ball", max_cand, max_contacts);
+    CHECK(max_cand >= 3 && max_contacts > 0,
+          "the cloth met %d candidates, %d contacts: expected the table, the "
+          "crate and the ball",
+          max_cand, max_contacts);
     CHECK(fabs(dBodyGetPosition(crate_body)[2] - 0.3) < 0.01, "the crate is at z = %.4f, not resting on the ground",
           dBodyGetPosition(crate_body)[2]);
     dClothDestroy(c);
@@ -340,16 +341,11 @@ static void test_create_bad_input(void)
         double thickness, mu;
         int bad_rows;
     } bad[] = {
-        {"world 0", 1, 0, 0.005, 0.3, 0},
-        {"desc NULL", 0, 1, 0.005, 0.3, 0},
-        {"thickness 0", 0, 0, 0.0, 0.3, 0},
-        {"thickness -1 mm", 0, 0, -0.001, 0.3, 0},
-        {"thickness NaN", 0, 0, NAN, 0.3, 0},
-        {"thickness inf", 0, 0, INFINITY, 0.3, 0},
-        {"mu -0.1", 0, 0, 0.005, -0.1, 0},
-        {"mu NaN", 0, 0, 0.005, NAN, 0},
-        {"mu inf", 0, 0, 0.005, INFINITY, 0},
-        {"rows 2 (core descriptor)", 0, 0, 0.005, 0.3, 1},
+        {"world 0", 1, 0, 0.005, 0.3, 0},     {"desc NULL", 0, 1, 0.005, 0.3, 0},
+        {"thickness 0", 0, 0, 0.0, 0.3, 0},   {"thickness -1 mm", 0, 0, -0.001, 0.3, 0},
+        {"thickness NaN", 0, 0, NAN, 0.3, 0}, {"thickness inf", 0, 0, INFINITY, 0.3, 0},
+        {"mu -0.1", 0, 0, 0.005, -0.1, 0},    {"mu NaN", 0, 0, 0.005, NAN, 0},
+        {"mu inf", 0, 0, 0.005, INFINITY, 0}, {"rows 2 (core descriptor)", 0, 0, 0.005, 0.3, 1},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         dClothDesc d = good;
@@ -361,8 +357,8 @@ static void test_create_bad_input(void)
         err.code = CLOTH_OK;
         cloth_status s = dClothCreate(bad[i].null_world ? 0 : w, 0, bad[i].null_desc ? NULL : &d, &c, &err);
         CHECK(s == CLOTH_EINVAL && err.code == CLOTH_EINVAL && c == NULL && err.message[0] != '\0',
-              "dClothCreate with %s: status %d, err.code %d, out %p, message '%s'", bad[i].name, s, err.code,
-              (void *)c, err.message);
+              "dClothCreate with %s: status %d, err.code %d, out %p, message '%s'", bad[i].name, s, err.code, (void *)c,
+              err.message);
         /* err may be NULL */
         c = sentinel;
         s = dClothCreate(bad[i].null_world ? 0 : w, 0, bad[i].null_desc ? NULL : &d, &c, NULL);
@@ -606,8 +602,7 @@ static void test_step_and_pin_bad_input(void)
         const double *x = dClothGetPositions(c);
         const dReal *pb = dBodyGetPosition(b);
         dReal f[3];
-        CHECK(dClothGetStats(c)->pins == 2, "%d pins after the failed pin calls, expected 2",
-              dClothGetStats(c)->pins);
+        CHECK(dClothGetStats(c)->pins == 2, "%d pins after the failed pin calls, expected 2", dClothGetStats(c)->pins);
         CHECK(x[3 * (C - 1)] == wp[0] && x[3 * (C - 1) + 1] == wp[1] && x[3 * (C - 1) + 2] == wp[2],
               "the world pin moved to (%.17g, %.17g, %.17g)", x[3 * (C - 1)], x[3 * (C - 1) + 1], x[3 * (C - 1) + 2]);
         /* the pinned vertex ends where the body's point would be after h at
@@ -722,15 +717,17 @@ static void test_destroyed_geom(int dynamic)
     if (body) dBodyDestroy(body); /* its joint goes with it */
     int max_cand = 0;
     for (int s = 0; s < 60 && ok; s++) {
-        ok = CHECK(dClothWorldStep(w, &c, 1, H, 0) == CLOTH_OK, "%s: step %d after the geom was destroyed: %s", what,
-                   s, dClothGetLastError(c));
+        ok = CHECK(dClothWorldStep(w, &c, 1, H, 0) == CLOTH_OK, "%s: step %d after the geom was destroyed: %s", what, s,
+                   dClothGetLastError(c));
         if (dClothGetStats(c)->candidates > max_cand) max_cand = dClothGetStats(c)->candidates;
     }
     double z_end = dClothGetPositions(c)[3 * ic + 2];
     printf("destroyed %s: centre at z %.4f with %d contacts before, z %.4f 1 s after; %d candidates after\n", what,
            z_rest, contacts, z_end, max_cand);
-    CHECK(z_end < 0.6 && max_cand == 0, "%s destroyed: the cloth did not fall through (centre at z = %.4f, %d "
-          "candidates)", what, z_end, max_cand);
+    CHECK(z_end < 0.6 && max_cand == 0,
+          "%s destroyed: the cloth did not fall through (centre at z = %.4f, %d "
+          "candidates)",
+          what, z_end, max_cand);
     dClothDestroy(c);
     dSpaceDestroy(sp);
     dWorldDestroy(w);
@@ -794,7 +791,8 @@ static void check_mesh(const char *name, const dClothDesc *d, const double expec
             continue;
         }
         if (rmax - rmin != 1 || cmax - cmin != 1) {
-            if (bad_cell++ < 3) CHECK(0, "%s: triangle %d (%d %d %d) is not inside one cell", name, q, p[0], p[1], p[2]);
+            if (bad_cell++ < 3)
+                CHECK(0, "%s: triangle %d (%d %d %d) is not inside one cell", name, q, p[0], p[1], p[2]);
             continue;
         }
         const double *a = x + 3 * p[0], *b = x + 3 * p[1], *e = x + 3 * p[2];
@@ -915,7 +913,8 @@ static int drop_across_edge(int mesh, int tests, int *tri_contacts)
     int ok = CHECK(dClothCreate(w, sp, &d, &c, &err) == CLOTH_OK, "triangle tests: dClothCreate: %s", err.message);
     if (ok) {
         CHECK(dClothGetTriangleTests(c, box) == 1, "triangle tests: on by default");
-        if (!tests) CHECK(dClothSetTriangleTests(c, box, 0) == CLOTH_OK, "triangle tests off: %s", dClothGetLastError(c));
+        if (!tests)
+            CHECK(dClothSetTriangleTests(c, box, 0) == CLOTH_OK, "triangle tests off: %s", dClothGetLastError(c));
         CHECK(dClothGetTriangleTests(c, box) == tests, "triangle tests: read back %d, set %d",
               dClothGetTriangleTests(c, box), tests);
         *tri_contacts = 0;
@@ -937,8 +936,8 @@ static void test_triangle_tests(void)
     for (int mesh = 0; mesh < 2; mesh++) {
         int on = 0, off = 0;
         if (drop_across_edge(mesh, 1, &on) && drop_across_edge(mesh, 0, &off)) {
-            printf("triangle tests, %s: %d triangle contacts over 30 steps on, %d off\n", mesh ? "box mesh" : "box",
-                   on, off);
+            printf("triangle tests, %s: %d triangle contacts over 30 steps on, %d off\n", mesh ? "box mesh" : "box", on,
+                   off);
             CHECK(on > 0 && off == 0, "triangle tests, %s: %d triangle contacts on, %d off", mesh ? "box mesh" : "box",
                   on, off);
         }
@@ -975,7 +974,8 @@ static void test_convex_points(void)
     dSpaceID sp = dHashSpaceCreate(0);
     static const dReal planes[24] = {1, 0, 0, 1, -1, 0, 0, 1, 0, 1, 0, 1, 0, -1, 0, 1, 0, 0, 1, 1, 0, 0, -1, 1};
     static const dReal pts[24] = {-1, -1, -1, 1, -1, -1, -1, 1, -1, 1, 1, -1, -1, -1, 1, 1, -1, 1, -1, 1, 1, 1, 1, 1};
-    static const unsigned polys[30] = {4, 1, 3, 7, 5, 4, 0, 4, 6, 2, 4, 2, 6, 7, 3, 4, 0, 1, 5, 4, 4, 4, 5, 7, 6, 4, 0, 2, 3, 1};
+    static const unsigned polys[30] = {4, 1, 3, 7, 5, 4, 0, 4, 6, 2, 4, 2, 6, 7, 3,
+                                       4, 0, 1, 5, 4, 4, 4, 5, 7, 6, 4, 0, 2, 3, 1};
     dGeomID cvx = dCreateConvex(sp, planes, 6, pts, 8, polys), sph = dCreateSphere(sp, 0.1);
     dClothDesc d = dClothDefaultDesc();
     dClothID c = NULL;
@@ -1058,7 +1058,8 @@ static void test_vertex_contact(void)
         wrong += bad;
     }
     printf("vertex contacts after 1 s: %d on the box, %d on the plane, %d wrong; a point %.3g m from under its "
-           "vertex\n", on_box, on_plane, wrong, off_max);
+           "vertex\n",
+           on_box, on_plane, wrong, off_max);
     CHECK(off_max < 1e-3, "a contact point %g m from under its vertex", off_max);
     CHECK(on_box > 50 && on_plane > 20 && wrong == 0, "contacts: %d box, %d plane, %d wrong", on_box, on_plane, wrong);
     CHECK(dClothGetVertexContact(c, n, &g, NULL, NULL) == CLOTH_EINVAL && dClothGetLastError(c)[0],
@@ -1170,7 +1171,8 @@ static void test_world_step_undo(void)
     CHECK(s == CLOTH_OK && dClothGetStats(b)->held == 0, "B from rest: status %d, held %d (%s)", s,
           dClothGetStats(b)->held, dClothGetLastError(b));
     free(xb);
-    CHECK(dClothSetFailureMode(b, (dClothFailureMode)2) == CLOTH_EINVAL && dClothSetFailureMode(NULL, 0) == CLOTH_EINVAL,
+    CHECK(dClothSetFailureMode(b, (dClothFailureMode)2) == CLOTH_EINVAL &&
+              dClothSetFailureMode(NULL, 0) == CLOTH_EINVAL,
           "bad failure modes accepted");
     cloth_state_destroy(sa);
     cloth_state_destroy(sa2);

@@ -21,7 +21,7 @@ static inline double norm3(const double *a) { return sqrt(a[0] * a[0] + a[1] * a
  * v, friction mu and the given thickness; a failed step is an error
  * (DCLOTH_FAILURE_STOP). NULL (and a failed check) on error. */
 static inline dClothID flat_cloth(dWorldID w, dSpaceID s, int n, double L, const double centre[3], const double u[3],
-                           const double v[3], double mu, double thickness)
+                                  const double v[3], double mu, double thickness)
 {
     dClothDesc d = dClothDefaultDesc();
     d.cloth.rows = d.cloth.cols = n;

@@ -122,8 +122,8 @@
 #define RIDE_WINDOW 0.5
 
 enum { K_BOX, K_SPHERE, K_CAPSULE, K_CYLINDER, K_CONVEX, K_TRIMESH, K_PLANE, K_HEIGHTFIELD, NKINDS, K_BODY = NKINDS };
-static const char *kind_name[NKINDS] = {"box", "sphere", "capsule", "cylinder",
-                                        "convex", "trimesh", "plane", "heightfield"};
+static const char *kind_name[NKINDS] = {"box",    "sphere",  "capsule", "cylinder",
+                                        "convex", "trimesh", "plane",   "heightfield"};
 
 /* --------------------------------------------------------------- geometry */
 
@@ -277,10 +277,8 @@ static double sdist(const shape *s, const double x[3])
     switch (s->kind) {
     case K_BOX:
     case K_CONVEX:
-    case K_TRIMESH:
-        return sd_box_yaw(x, box_c, YAW, cube);
-    case K_SPHERE:
-        return norm3(x) - SPHERE_R;
+    case K_TRIMESH: return sd_box_yaw(x, box_c, YAW, cube);
+    case K_SPHERE: return norm3(x) - SPHERE_R;
     case K_CAPSULE: { /* axis along x through the origin */
         double d[3] = {x[0] - clampd(x[0], -0.5 * CAPSULE_L, 0.5 * CAPSULE_L), x[1], x[2]};
         return norm3(d) - CAPSULE_R;
@@ -289,12 +287,9 @@ static double sdist(const shape *s, const double x[3])
         double a = hypot(x[0], x[1]) - CYL_R, b = fabs(x[2]) - 0.5 * CYL_L;
         return hypot(fmax(a, 0), fmax(b, 0)) + fmin(fmax(a, b), 0.0);
     }
-    case K_PLANE:
-        return x[2];
-    case K_HEIGHTFIELD:
-        return sd_heightfield(x);
-    case K_BODY:
-        return sd_box_body(x, s->body, body_half);
+    case K_PLANE: return x[2];
+    case K_HEIGHTFIELD: return sd_heightfield(x);
+    case K_BODY: return sd_box_body(x, s->body, body_half);
     }
     return NAN;
 }
@@ -305,20 +300,13 @@ static double shape_top(const shape *s)
     switch (s->kind) {
     case K_BOX:
     case K_CONVEX:
-    case K_TRIMESH:
-        return box_c[2] + BOX_HALF;
-    case K_SPHERE:
-        return SPHERE_R;
-    case K_CAPSULE:
-        return CAPSULE_R;
-    case K_CYLINDER:
-        return 0.5 * CYL_L;
-    case K_PLANE:
-        return 0;
-    case K_HEIGHTFIELD:
-        return HF_A;
-    case K_BODY:
-        return dBodyGetPosition(s->body)[2] + body_half[2];
+    case K_TRIMESH: return box_c[2] + BOX_HALF;
+    case K_SPHERE: return SPHERE_R;
+    case K_CAPSULE: return CAPSULE_R;
+    case K_CYLINDER: return 0.5 * CYL_L;
+    case K_PLANE: return 0;
+    case K_HEIGHTFIELD: return HF_A;
+    case K_BODY: return dBodyGetPosition(s->body)[2] + body_half[2];
     }
     return NAN;
 }
@@ -328,14 +316,10 @@ static double centre_sag(const shape *s, double thickness)
 {
     const double r = 0.5 * hypot(0.05, 0.05);
     switch (s->kind) {
-    case K_SPHERE:
-        return r * r / (2 * (SPHERE_R + thickness));
-    case K_CAPSULE:
-        return r * r / (2 * (CAPSULE_R + thickness));
-    case K_HEIGHTFIELD:
-        return r * r / (2 * (HF_S * HF_S / (2 * HF_A) + thickness));
-    default:
-        return 0;
+    case K_SPHERE: return r * r / (2 * (SPHERE_R + thickness));
+    case K_CAPSULE: return r * r / (2 * (CAPSULE_R + thickness));
+    case K_HEIGHTFIELD: return r * r / (2 * (HF_S * HF_S / (2 * HF_A) + thickness));
+    default: return 0;
     }
 }
 
@@ -547,22 +531,22 @@ static double edge_clearance(const shape *s, dClothID c)
 /* What a run measured. */
 typedef struct figures {
     int steps_ok;
-    double worst_run;   /* m, min signed distance over every vertex, every step */
+    double worst_run; /* m, min signed distance over every vertex, every step */
     int worst_step;
-    double worst_rest;  /* m, the same at the end */
-    double ke;          /* J, at the end */
-    double centre_dz;   /* m, centre z - (top + thickness), end */
-    double sag;         /* m, SAG of the surface */
-    double centre_r;    /* m, centre's distance from the z axis */
-    int touching;       /* vertices within TOUCH_FRAC thickness, end */
-    double support;     /* window mean of the vertical contact forces / (M g) */
+    double worst_rest; /* m, the same at the end */
+    double ke;         /* J, at the end */
+    double centre_dz;  /* m, centre z - (top + thickness), end */
+    double sag;        /* m, SAG of the surface */
+    double centre_r;   /* m, centre's distance from the z axis */
+    int touching;      /* vertices within TOUCH_FRAC thickness, end */
+    double support;    /* window mean of the vertical contact forces / (M g) */
     int contacts, candidates;
-    double max_pen;     /* m, last step's stats */
-    double edge;        /* m, the geom's edges and corners to the nearest
+    double max_pen; /* m, last step's stats */
+    double edge;    /* m, the geom's edges and corners to the nearest
                            cloth triangle, least over the run (INFINITY:
                            a shape without edges) */
     int edge_step;
-    double edge_rest;   /* m, the same at the end */
+    double edge_rest; /* m, the same at the end */
     int kind;
 } figures;
 
@@ -612,9 +596,8 @@ static void print_figures(const char *name, const figures *f)
     printf("%-11s worst signed distance: run %+7.3f mm (step %3d), rest %+7.3f mm; KE %.2e J; centre %+7.3f mm "
            "above top + th; %3d vertices within 1.5 th; support %.4f M g; stats %d contacts, max_penetration "
            "%.3f mm; edges to triangles %.3f mm (step %d), at rest %.3f mm\n",
-           name, 1e3 * f->worst_run, f->worst_step, 1e3 * f->worst_rest, f->ke, 1e3 * f->centre_dz,
-           f->touching, f->support, f->contacts, 1e3 * f->max_pen, 1e3 * f->edge, f->edge_step,
-           1e3 * f->edge_rest);
+           name, 1e3 * f->worst_run, f->worst_step, 1e3 * f->worst_rest, f->ke, 1e3 * f->centre_dz, f->touching,
+           f->support, f->contacts, 1e3 * f->max_pen, 1e3 * f->edge, f->edge_step, 1e3 * f->edge_rest);
 }
 
 /* Step n times, tracking the worst distance; the support is averaged over
@@ -626,8 +609,8 @@ typedef struct hooks {
     void *data;
 } hooks;
 
-static void run_steps(dWorldID w, dClothID c, const shape *s, const char *name, int n, figures *f,
-                      const hooks *hk, double weight)
+static void run_steps(dWorldID w, dClothID c, const shape *s, const char *name, int n, figures *f, const hooks *hk,
+                      double weight)
 {
     int window = (int)(WINDOW / H + 0.5);
     double support = 0;
@@ -719,31 +702,21 @@ static void run_class(int k)
     dGeomID g = 0;
     dMatrix3 R;
     switch (k) {
-    case K_BOX:
-        g = dCreateBox(sp, 2 * BOX_HALF, 2 * BOX_HALF, 2 * BOX_HALF);
-        break;
-    case K_SPHERE:
-        g = dCreateSphere(sp, SPHERE_R);
-        break;
+    case K_BOX: g = dCreateBox(sp, 2 * BOX_HALF, 2 * BOX_HALF, 2 * BOX_HALF); break;
+    case K_SPHERE: g = dCreateSphere(sp, SPHERE_R); break;
     case K_CAPSULE:
         g = dCreateCapsule(sp, CAPSULE_R, CAPSULE_L);
         dRFromAxisAndAngle(R, 0, 1, 0, M_PI / 2); /* its axis (local z) along world x */
         dGeomSetRotation(g, R);
         break;
-    case K_CYLINDER:
-        g = dCreateCylinder(sp, CYL_R, CYL_L);
-        break;
-    case K_CONVEX:
-        g = dCreateConvex(sp, cvx_planes, 6, cvx_points, 8, cvx_polys);
-        break;
+    case K_CYLINDER: g = dCreateCylinder(sp, CYL_R, CYL_L); break;
+    case K_CONVEX: g = dCreateConvex(sp, cvx_planes, 6, cvx_points, 8, cvx_polys); break;
     case K_TRIMESH:
         tmd = dGeomTriMeshDataCreate();
         dGeomTriMeshDataBuildDouble(tmd, cvx_points, 3 * sizeof(dReal), 8, tri_idx, 36, 3 * sizeof(dTriIndex));
         g = dCreateTriMesh(sp, tmd, NULL, NULL, NULL);
         break;
-    case K_PLANE:
-        g = dCreatePlane(sp, 0, 0, 1, 0);
-        break;
+    case K_PLANE: g = dCreatePlane(sp, 0, 0, 1, 0); break;
     case K_HEIGHTFIELD:
         for (int j = 0; j < HF_N; j++)
             for (int i = 0; i < HF_N; i++) heights[i + j * HF_N] = hf_sample(i, j);

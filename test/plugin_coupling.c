@@ -125,8 +125,8 @@ static void box_on_cloth(cloth_nonlinear how)
         worst_f = fmax(worst_f, e);
         worst_v = fmax(worst_v, vz);
         if (!(e <= 0.02) && bad_f++ < 3)
-            CHECK(0, "t = %.3f s: pin forces (%.4f, %.4f, %.4f) N do not balance (m + M) g = %.4f N (%.2f%% off)", s * H,
-                  F[0], F[1], F[2], W, 100 * e);
+            CHECK(0, "t = %.3f s: pin forces (%.4f, %.4f, %.4f) N do not balance (m + M) g = %.4f N (%.2f%% off)",
+                  s * H, F[0], F[1], F[2], W, 100 * e);
         if (!(vz < 1e-3) && bad_v++ < 3)
             CHECK(0, "t = %.3f s: the box's vertical velocity is %.3g m/s (jitter)", s * H, dBodyGetLinearVel(b)[2]);
     }
@@ -177,7 +177,8 @@ static void thrown(double mb)
         double rel = norm3(e) / P0n;
         if (rel > worst) worst = rel, worst_t = s * H;
         if (!(rel <= 0.01) && bad++ < 3)
-            CHECK(0, "thrown, body %g kg, t = %.3f s: momentum off by (%.4g, %.4g, %.4g) N s, %.2f%% of |P0| = %.4g N s",
+            CHECK(0,
+                  "thrown, body %g kg, t = %.3f s: momentum off by (%.4g, %.4g, %.4g) N s, %.2f%% of |P0| = %.4g N s",
                   mb, s * H, e[0], e[1], e[2], 100 * rel, P0n);
     }
     CHECK(done == steps, "thrown, body %g kg: only %d of %d steps done", mb, done, steps);
@@ -227,8 +228,7 @@ static void slider(void)
     int bad_f = 0, bad_v = 0;
     for (int s = 1; s <= steps; s++) {
         dBodyAddForce(b, 0, 0, (mb + M) * G);
-        if (!CHECK(dClothWorldStep(w, &c, 1, H, 0) == CLOTH_OK, "slider, step %d: %s", s, dClothGetLastError(c)))
-            break;
+        if (!CHECK(dClothWorldStep(w, &c, 1, H, 0) == CLOTH_OK, "slider, step %d: %s", s, dClothGetLastError(c))) break;
         done = s;
         double P[3];
         cloth_momentum(c, P);
@@ -245,8 +245,8 @@ static void slider(void)
         worst_f = fmax(worst_f, e);
         worst_v = fmax(worst_v, vz);
         if (!(e <= 0.02) && bad_f++ < 3)
-            CHECK(0, "slider, t = %.3f s: pin forces z %.5f N do not carry the cloth's weight %.5f N (%.2f%% off)", s * H,
-                  fz, M * G, 100 * e);
+            CHECK(0, "slider, t = %.3f s: pin forces z %.5f N do not carry the cloth's weight %.5f N (%.2f%% off)",
+                  s * H, fz, M * G, 100 * e);
         if (!(vz < 1e-3) && bad_v++ < 3)
             CHECK(0, "slider, t = %.3f s: the box still moves at v_z = %.3g m/s", s * H, dBodyGetLinearVel(b)[2]);
     }
@@ -257,8 +257,10 @@ static void slider(void)
     for (int s = 1; s <= done; s++) {
         if (fabs(Pz[s - 1]) > worst_p) worst_p = fabs(Pz[s - 1]), worst_pt = s * H;
         if (!(fabs(Pz[s - 1]) <= 0.01 * pc_peak) && bad_p++ < 3)
-            CHECK(0, "slider, t = %.3f s: vertical momentum of box + cloth %.4g N s, not 0 (1%% of the cloth's peak %.4g "
-                  "N s is %.3g)", s * H, Pz[s - 1], pc_peak, 0.01 * pc_peak);
+            CHECK(0,
+                  "slider, t = %.3f s: vertical momentum of box + cloth %.4g N s, not 0 (1%% of the cloth's peak %.4g "
+                  "N s is %.3g)",
+                  s * H, Pz[s - 1], pc_peak, 0.01 * pc_peak);
     }
     if (bad_p > 3) printf("slider: ... %d steps over the momentum bound in all\n", bad_p);
     printf("slider: cloth's peak |P_z| %.4f N s; worst |P_z| of box + cloth %.4g N s (%.2f%% of it, t = %.2f s); box "

@@ -42,10 +42,10 @@
 
 typedef struct result {
     int failed_step;
-    int crossings;     /* link-steps through the bar */
-    int first_step;    /* the first step with one, -1 if none */
-    double top;        /* the highest vertex at the end */
-    long newton;       /* Newton iterations over the run */
+    int crossings;  /* link-steps through the bar */
+    int first_step; /* the first step with one, -1 if none */
+    double top;     /* the highest vertex at the end */
+    long newton;    /* Newton iterations over the run */
 } result;
 
 /* Whether segment [a, b] passes through the box of half sides e centred at
@@ -188,8 +188,8 @@ int main(void)
     for (int kind = 0; kind < 2; kind++) {
         const char *name = kind ? "pinned, box mesh" : "pinned, box geom";
         result r = run(kind, 1, 1);
-        printf("%-22s: %d link-steps through the bar (first at step %d); highest vertex at the end %+.1f mm%s\n",
-               name, r.crossings, r.first_step, 1e3 * r.top, r.failed_step >= 0 ? "; a step failed" : "");
+        printf("%-22s: %d link-steps through the bar (first at step %d); highest vertex at the end %+.1f mm%s\n", name,
+               r.crossings, r.first_step, 1e3 * r.top, r.failed_step >= 0 ? "; a step failed" : "");
         CHECK(r.failed_step < 0, "%s: step %d failed", name, r.failed_step);
         CHECK(r.crossings == 0, "%s: %d link-steps through the bar, the first at step %d", name, r.crossings,
               r.first_step);

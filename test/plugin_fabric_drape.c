@@ -87,15 +87,17 @@ int main(void)
     /* a flat 1 m square's boundary lies 0.574 m from its centre on average */
     for (int k = 0; k < 2; k++) {
         const shape *s = k ? &b : &a;
-        CHECK(s->z < 0.0 && s->r < 0.45, "%s grid does not drape: boundary r %.3f m, z %.3f m", k ? "41" : "21",
-              s->r, s->z);
+        CHECK(s->z < 0.0 && s->r < 0.45, "%s grid does not drape: boundary r %.3f m, z %.3f m", k ? "41" : "21", s->r,
+              s->z);
     }
-    CHECK(fabs(b.r / a.r - 1.0) <= 0.05, "boundary distance 21x21 %.4f vs 41x41 %.4f m: differ by %.1f%% > 5%%",
-          a.r, b.r, 100 * fabs(b.r / a.r - 1.0));
+    CHECK(fabs(b.r / a.r - 1.0) <= 0.05, "boundary distance 21x21 %.4f vs 41x41 %.4f m: differ by %.1f%% > 5%%", a.r,
+          b.r, 100 * fabs(b.r / a.r - 1.0));
     CHECK(fabs(b.z - a.z) <= 0.05 * DROP_Z, "boundary height 21x21 %.4f vs 41x41 %.4f m: differ by more than %.4f m",
           a.z, b.z, 0.05 * DROP_Z);
-    CHECK(fabs(pb.r / pa.r - 1.0) > 0.05, "control: the per-link preset's boundary 21x21 %.4f vs 41x41 %.4f m "
-          "within 5%%: the comparison cannot tell grids apart", pa.r, pb.r);
+    CHECK(fabs(pb.r / pa.r - 1.0) > 0.05,
+          "control: the per-link preset's boundary 21x21 %.4f vs 41x41 %.4f m "
+          "within 5%%: the comparison cannot tell grids apart",
+          pa.r, pb.r);
     dCloseODE();
     return check_summary();
 }

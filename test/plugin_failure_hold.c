@@ -33,7 +33,8 @@ static double mean_speed(const cloth *core)
     const double *v = cloth_velocities(core);
     int n = cloth_vertex_count(core);
     double s = 0.0;
-    for (int i = 0; i < n; i++) s += sqrt(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
+    for (int i = 0; i < n; i++)
+        s += sqrt(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
     return s / n;
 }
 
@@ -84,8 +85,8 @@ static void scene(int n_side, int iterations)
     CHECK(longest <= 4, "%dx%d: %d steps held in a row", n_side, n_side, longest);
     CHECK(speed < 0.01, "%dx%d: still moving at %.3g m/s", n_side, n_side, speed);
     CHECK(low >= 0.5 * d.thickness, "%dx%d: a vertex %.2f mm over the top", n_side, n_side, 1e3 * low);
-    CHECK(cloth_get_desc(core).solver.max_substep_halvings == 0, "%dx%d: the user's substep setting changed",
-          n_side, n_side);
+    CHECK(cloth_get_desc(core).solver.max_substep_halvings == 0, "%dx%d: the user's substep setting changed", n_side,
+          n_side);
     free(v);
     dClothDestroy(c);
     dSpaceDestroy(sp);

@@ -105,14 +105,13 @@ static void added_force(void)
     /* the CG's residual (1e-12 of a right side that holds the links' forces
      * the kick set off) leaves about 1e-9 of h F */
     double tol = 1e-8 * H * sqrt(F[0] * F[0] + F[1] * F[1] + F[2] * F[2]);
-    CHECK(dist3(P, want) <= tol, "after the step: momentum (%.6g %.6g %.6g), want (%.6g %.6g %.6g)", P[0],
-          P[1], P[2], want[0], want[1], want[2]);
+    CHECK(dist3(P, want) <= tol, "after the step: momentum (%.6g %.6g %.6g), want (%.6g %.6g %.6g)", P[0], P[1], P[2],
+          want[0], want[1], want[2]);
     for (int s = 0; s < 2; s++) dClothStep(c, H);
     momentum(c, P, &m);
     printf("dClothAddVertexForce: momentum after 3 steps (%.6g %.6g %.6g), h F (%.6g %.6g %.6g), off by %.2e\n", P[0],
            P[1], P[2], want[0], want[1], want[2], dist3(P, want));
-    CHECK(dist3(P, want) <= tol, "the added force was applied again: momentum (%.6g %.6g %.6g)", P[0],
-          P[1], P[2]);
+    CHECK(dist3(P, want) <= tol, "the added force was applied again: momentum (%.6g %.6g %.6g)", P[0], P[1], P[2]);
     dClothDestroy(c);
     dWorldDestroy(w);
 }
@@ -174,8 +173,8 @@ static void bad_input(void)
     double P[3], m;
     momentum(c, P, &m);
     /* a refused 1 N would leave h N s; a solve of the cloth at rest, round-off */
-    CHECK(fabs(P[0]) + fabs(P[1]) + fabs(P[2]) <= 1e-12 * H, "refused forces were applied: momentum (%g %g %g)",
-          P[0], P[1], P[2]);
+    CHECK(fabs(P[0]) + fabs(P[1]) + fabs(P[2]) <= 1e-12 * H, "refused forces were applied: momentum (%g %g %g)", P[0],
+          P[1], P[2]);
     dClothDestroy(c);
     dWorldDestroy(w);
 }

@@ -122,9 +122,9 @@ static int step(dWorldID w, dClothID c, const char *what)
 #define SLIDE 0.05 /* m: "slides" above this    */
 
 typedef struct slope_result {
-    double moved;  /* m, centre of mass down the slope after SLOPE_T */
-    double accel;  /* m/s^2, down the slope, from the velocity at 0.5 s and SLOPE_T */
-    int ok;        /* every step succeeded */
+    double moved; /* m, centre of mass down the slope after SLOPE_T */
+    double accel; /* m/s^2, down the slope, from the velocity at 0.5 s and SLOPE_T */
+    int ok;       /* every step succeeded */
 } slope_result;
 
 /* per-geom friction: the plane's mu from the test (dClothSetFrictionCallback) */
@@ -211,8 +211,8 @@ static void slope_tests(double mu)
     slope_result below = slope_run(mu, 0.95 * t0), above = slope_run(mu, 1.05 * t0);
     printf("  at 0.95 atan(mu) = %.3f deg: moved %.3g m in %.0f s\n", 0.95 * t0 * 180 / PI, below.moved, SLOPE_T);
     printf("  at 1.05 atan(mu) = %.3f deg: moved %.3g m in %.0f s\n", 1.05 * t0 * 180 / PI, above.moved, SLOPE_T);
-    CHECK(below.ok && fabs(below.moved) < STAY, "mu %.2f, theta = 0.95 atan(mu): the cloth moved %.3g m (>= %.3g)",
-          mu, below.moved, STAY);
+    CHECK(below.ok && fabs(below.moved) < STAY, "mu %.2f, theta = 0.95 atan(mu): the cloth moved %.3g m (>= %.3g)", mu,
+          below.moved, STAY);
     CHECK(above.ok && above.moved > SLIDE, "mu %.2f, theta = 1.05 atan(mu): the cloth moved %.3g m (<= %.3g)", mu,
           above.moved, SLIDE);
 
@@ -239,8 +239,10 @@ static void slope_tests(double mu)
                first < 0 ? "the cloth stays put up to 1.3 atan(mu)" : "the cloth moves already at 0.7 atan(mu)"))
         return;
     for (int i = first + 1; i < NS; i++)
-        CHECK(moved[i] > SLIDE, "mu %.2f: the cloth does not slide at %.2f atan(mu) (moved %.3g m), although it "
-              "left at %.2f atan(mu)", mu, f[i], moved[i], f[first]);
+        CHECK(moved[i] > SLIDE,
+              "mu %.2f: the cloth does not slide at %.2f atan(mu) (moved %.3g m), although it "
+              "left at %.2f atan(mu)",
+              mu, f[i], moved[i], f[first]);
     double lo = f[first - 1] * t0, hi = f[first] * t0;
     for (int it = 0; it < 12; it++) {
         double mid = 0.5 * (lo + hi);
@@ -349,8 +351,7 @@ static void drag_test(double mu)
     int contacts0 = dClothGetStats(c)->contacts;
     printf("drag, mu = %.1f: draped for 2 s: %d contacts, centre of mass (%.4f, %.4f, %.4f), |v| %.2e m/s\n", mu,
            contacts0, x0[0], x0[1], x0[2], sqrt(dot3(v, v)));
-    CHECK(contacts0 > 0 && x0[2] > 0, "the cloth is not draped on the sphere (%d contacts, z %.3f)", contacts0,
-          x0[2]);
+    CHECK(contacts0 > 0 && x0[2] > 0, "the cloth is not draped on the sphere (%d contacts, z %.3f)", contacts0, x0[2]);
 
     CHECK(dClothSetFriction(c, mu) == CLOTH_OK, "dClothSetFriction: %s", dClothGetLastError(c));
     dBodySetLinearVel(b, SPHERE_V, 0, 0);

@@ -72,7 +72,10 @@ static int index_of(rng *g, int n) { return rng_u64(g) % 2 ? (int)(rng_u64(g) % 
  * GJK, before the plugin bounded the thickness: found here). */
 static double thick(rng *g) { return xd(g); }
 
-static int status_ok(cloth_status s) { return s == CLOTH_OK || s == CLOTH_EINVAL || s == CLOTH_ENOMEM || s == CLOTH_ESTEP; }
+static int status_ok(cloth_status s)
+{
+    return s == CLOTH_OK || s == CLOTH_EINVAL || s == CLOTH_ENOMEM || s == CLOTH_ESTEP;
+}
 
 static int finite_all(const double *a, size_t n)
 {
@@ -197,8 +200,16 @@ static void descriptors(scene *s)
             case 1: d.mu = xd(&g); break;
             case 2: d.category_bits = (unsigned long)rng_u64(&g); break;
             case 3: d.collide_bits = rng_u64(&g) % 2 ? 0 : ~0ul; break;
-            case 4: { int v = xi(&g); d.cloth.rows = v > 16 && v < INT_MAX ? 16 : v; break; }
-            case 5: { int v = xi(&g); d.cloth.cols = v > 16 && v < INT_MAX ? 16 : v; break; }
+            case 4: {
+                int v = xi(&g);
+                d.cloth.rows = v > 16 && v < INT_MAX ? 16 : v;
+                break;
+            }
+            case 5: {
+                int v = xi(&g);
+                d.cloth.cols = v > 16 && v < INT_MAX ? 16 : v;
+                break;
+            }
             case 6: d.cloth.width = xd(&g); break;
             case 7: d.cloth.origin[rng_u64(&g) % 3] = xd(&g); break;
             case 8: d.cloth.material.k_t = xd(&g); break;
@@ -283,7 +294,10 @@ static void walk(scene *s)
         switch (op) {
         case 0: st = dClothPinToWorld(c, vi, rng_u64(&g) % 10 ? p : NULL); break;
         case 1: {
-            dBodyID b = rng_u64(&g) % 5 == 0 ? NULL : rng_u64(&g) % 5 == 0 ? s->stranger : rng_u64(&g) % 2 ? s->ball : s->kin;
+            dBodyID b = rng_u64(&g) % 5 == 0   ? NULL
+                        : rng_u64(&g) % 5 == 0 ? s->stranger
+                        : rng_u64(&g) % 2      ? s->ball
+                                               : s->kin;
             dReal loc[3] = {dval(&g, -0.1, 0.1), dval(&g, -0.1, 0.1), dval(&g, -0.1, 0.1)};
             st = dClothPinToBody(c, vi, b, rng_u64(&g) % 10 ? loc : NULL);
             break;
@@ -321,7 +335,8 @@ static void walk(scene *s)
             if (nn > 3) nn = 3;
             double h = rng_u64(&g) % 5 ? rng_range(&g, 1e-3, 0.03) : xd(&g);
             if (h > 0.1 && isfinite(h)) h = 0.1;
-            st = dClothWorldStep(rng_u64(&g) % 10 ? s->world : NULL, rng_u64(&g) % 10 ? arr : NULL, nn, h, (int)(rng_u64(&g) % 2));
+            st = dClothWorldStep(rng_u64(&g) % 10 ? s->world : NULL, rng_u64(&g) % 10 ? arr : NULL, nn, h,
+                                 (int)(rng_u64(&g) % 2));
             is_step = 2;
             break;
         }
@@ -493,8 +508,10 @@ static void walk(scene *s)
                 cloth *oc = dClothGetCore(cl[1 - ci]);
                 cloth_state *oa = cloth_state_create(oc);
                 cloth_save(oc, oa);
-                CHECK(cloth_state_diff(other_before, oa) == 0.0, "call %d: a failed dClothWorldStep moved the other "
-                      "cloth", it);
+                CHECK(cloth_state_diff(other_before, oa) == 0.0,
+                      "call %d: a failed dClothWorldStep moved the other "
+                      "cloth",
+                      it);
                 cloth_state_destroy(oa);
             }
             CHECK(memcmp(b0, b1, sizeof b0) == 0, "call %d (op %d, %s): a body changed", it, op,

@@ -37,9 +37,9 @@
 #include "check.h"
 
 #define TOP 0.6
-#define HALF 1.0  /* the box's half side in x and y */
+#define HALF 1.0   /* the box's half side in x and y */
 #define HALF_Z 0.3 /* and in z */
-#define FLAT 1.0  /* the flat square's half side */
+#define FLAT 1.0   /* the flat square's half side */
 #define TOL_FRAC 0.2
 
 enum { FLAT_MESH, BOX_MESH, BOX_GEOM, NKINDS };
@@ -95,8 +95,8 @@ static void check_winding(const dReal *v, const dTriIndex *idx, int nt, const do
 typedef struct result {
     double min_height; /* lowest vertex over the top face, above it, m */
     int min_step;
-    int failed_step;   /* -1 if every step succeeded */
-    double centre;     /* the centre vertex's height above the top at the end */
+    int failed_step; /* -1 if every step succeeded */
+    double centre;   /* the centre vertex's height above the top at the end */
 } result;
 
 static result run(int kind, double speed)

@@ -230,7 +230,7 @@ static double landing(double cx, double cy, int newton, int tri)
     }
     dClothSetTriangleTests(c, g, tri);
     dClothSetEdgeTests(c, g, tri); /* vertex contacts only, or triangle tests */
-    if (newton == 2) { /* the box's contacts decided by its geometry, CG by block Jacobi */
+    if (newton == 2) {             /* the box's contacts decided by its geometry, CG by block Jacobi */
         CHECK(dClothSetExactTriangleTests(c, g, 1) == CLOTH_OK, "exact triangle tests: %s", dClothGetLastError(c));
         cloth_solver sv = cloth_get_desc(dClothGetCore(c)).solver;
         sv.precond = CLOTH_PRECOND_BLOCK_JACOBI;
@@ -268,13 +268,16 @@ static double landing(double cx, double cy, int newton, int tri)
     }
     printf("landing on a box at (%g, %g)%s%s: %d steps in contact; worst imbalance of force %.2e, of torque "
            "%.2e; box torque about z at most %.3g N m (cloth weight x box size %.3g N m)\n",
-           cx, cy, newton == 2 ? ", by Newton with block-Jacobi CG" : newton ? ", by Newton" : "",
-           tri ? "" : ", vertex contacts only", touched, wf, wt, worst_tz,
-           weight * side);
+           cx, cy,
+           newton == 2 ? ", by Newton with block-Jacobi CG"
+           : newton    ? ", by Newton"
+                       : "",
+           tri ? "" : ", vertex contacts only", touched, wf, wt, worst_tz, weight * side);
     CHECK(touched > 10, "landing: the cloth touched the box in %d steps only", touched);
     if (newton == 2) {
         printf("  torque about z at most %.3g of its rounding bound (s + 1) kappa eps sum |x_i| |f_i|, kappa eps "
-               "%.3g\n", worst_rel, keps);
+               "%.3g\n",
+               worst_rel, keps);
         CHECK(worst_rel <= 1.0, "symmetric landing: the box's torque about z reached %.3g of its rounding bound",
               worst_rel);
     }

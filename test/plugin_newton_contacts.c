@@ -44,8 +44,8 @@ static void run(cloth_nonlinear how)
     cloth_set_velocities(core, v);
     double deepest = 0.0;
     for (; steps < 60; steps++) {
-        if (!CHECK(dClothStep(c, H) == CLOTH_OK, "%s step %d: %s", how == CLOTH_NEWTON ? "Newton" : "linearised",
-                   steps, dClothGetLastError(c)))
+        if (!CHECK(dClothStep(c, H) == CLOTH_OK, "%s step %d: %s", how == CLOTH_NEWTON ? "Newton" : "linearised", steps,
+                   dClothGetLastError(c)))
             break;
         const dClothStepStats *ps = dClothGetStats(c);
         resolves += ps->resolves;
@@ -61,14 +61,16 @@ static void run(cloth_nonlinear how)
         }
     }
     printf("%s: %d steps, %d solved again (%d late contacts), %d contacts decided by the solve, deepest %.2f mm "
-           "inside the shell\n", how == CLOTH_NEWTON ? "Newton" : "linearised", steps, resolves, late, decided,
-           1e3 * deepest);
+           "inside the shell\n",
+           how == CLOTH_NEWTON ? "Newton" : "linearised", steps, resolves, late, decided, 1e3 * deepest);
     CHECK(deepest <= d.thickness, "a vertex %.2f mm inside the shell", 1e3 * deepest);
     if (how == CLOTH_NEWTON) {
         CHECK(decided > 0, "Newton: no contact decided by the solve");
     } else {
-        CHECK(resolves > late, "linearised: solved again %d times for %d late contacts only (the scene does not "
-              "exercise the candidates)", resolves, late);
+        CHECK(resolves > late,
+              "linearised: solved again %d times for %d late contacts only (the scene does not "
+              "exercise the candidates)",
+              resolves, late);
         CHECK(decided == 0, "linearised: %d contacts decided (candidates are Newton's)", decided);
     }
     dClothDestroy(c);

@@ -114,7 +114,8 @@ static void throw_ball(double start_gap)
         e0 = e1;
         CHECK(!below(core, ball), "step %d: the ball below the cloth", k);
         if ((k + 1) * H >= 0.2)
-            CHECK(fabs(dBodyGetLinearVel(ball)[2]) < 0.5, "step %d: the ball at %.3f m/s", k, dBodyGetLinearVel(ball)[2]);
+            CHECK(fabs(dBodyGetLinearVel(ball)[2]) < 0.5, "step %d: the ball at %.3f m/s", k,
+                  dBodyGetLinearVel(ball)[2]);
         worst_link = fmax(worst_link, worst_excess(core, delta));
     }
     printf("ball from %.0f mm above the shell: first contact at step %d; largest gain of a step %.3g J; ball vz "

@@ -80,8 +80,8 @@ int main(void)
     hang(1, share, &a);
     hang(1, 0.0, &z);
     int same = memcmp(a.x, z.x, sizeof a.x) == 0 && memcmp(a.body, z.body, sizeof a.body) == 0;
-    printf("on a hinged body (moved %.3f m): CG iterations %ld with the share %.2f, %ld without; states %s\n",
-           a.moved, a.cg, share, z.cg, same ? "bitwise alike" : "DIFFERENT");
+    printf("on a hinged body (moved %.3f m): CG iterations %ld with the share %.2f, %ld without; states %s\n", a.moved,
+           a.cg, share, z.cg, same ? "bitwise alike" : "DIFFERENT");
     CHECK(same && a.cg == z.cg, "a dynamic body holds the cloth, yet the share changed the run");
     CHECK(a.moved > 1e-3, "the body moved only %.3g m: the cloth does not pull it", a.moved);
     hang(0, share, &a);

@@ -48,11 +48,11 @@
 
 typedef struct result {
     int failed_step;
-    double low, high;  /* least z over all vertices; greatest z of those under the plate */
+    double low, high; /* least z over all vertices; greatest z of those under the plate */
     int low_step, high_step;
-    double mid_err;    /* at the end, largest |z - GAP/2| under the plate */
-    double speed;      /* at the end, largest vertex speed under the plate */
-    int under;         /* vertices under the plate at the end */
+    double mid_err; /* at the end, largest |z - GAP/2| under the plate */
+    double speed;   /* at the end, largest vertex speed under the plate */
+    int under;      /* vertices under the plate at the end */
 } result;
 
 static result run(int mesh)
@@ -124,7 +124,8 @@ static result run(int mesh)
             if (fabs(p[0]) > PLATE_HALF - cell || fabs(p[1]) > PLATE_HALF - cell) continue;
             r.under++;
             r.mid_err = fmax(r.mid_err, fabs(p[2] - 0.5 * GAP));
-            r.speed = fmax(r.speed, sqrt(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]));
+            r.speed = fmax(r.speed,
+                           sqrt(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]));
         }
     }
     dClothDestroy(c);
@@ -147,11 +148,12 @@ int main(void)
                name, 1e3 * r.low, r.low_step, 1e3 * r.high, r.high_step, r.under, 1e3 * r.mid_err, r.speed,
                r.failed_step >= 0 ? "; a step failed" : "");
         CHECK(r.failed_step < 0, "%s: step %d failed", name, r.failed_step);
-        CHECK(r.low >= -1e-9, "%s: a vertex went %.2f mm below the lower top (step %d)", name, -1e3 * r.low, r.low_step);
+        CHECK(r.low >= -1e-9, "%s: a vertex went %.2f mm below the lower top (step %d)", name, -1e3 * r.low,
+              r.low_step);
         CHECK(r.high <= 1e-9, "%s: a vertex went %.2f mm above the plate's underside (step %d)", name, 1e3 * r.high,
               r.high_step);
-        CHECK(r.under > 0 && r.mid_err <= tol, "%s: %d vertices under the plate, up to %.2f mm from midway (%.1f)", name,
-              r.under, 1e3 * r.mid_err, 1e3 * tol);
+        CHECK(r.under > 0 && r.mid_err <= tol, "%s: %d vertices under the plate, up to %.2f mm from midway (%.1f)",
+              name, r.under, 1e3 * r.mid_err, 1e3 * tol);
         CHECK(r.speed <= VREST, "%s: a vertex under the plate moves at %.3g m/s at rest (%g)", name, r.speed, VREST);
     }
     dCloseODE();

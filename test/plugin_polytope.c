@@ -55,9 +55,9 @@ static void rotation(unsigned long long *seed, double R[12])
     }
     for (int k = 0; k < 4; k++) q[k] /= sqrt(m);
     double w = q[0], x = q[1], y = q[2], z = q[3];
-    const double T[12] = {1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y), 0,
-                          2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x), 0,
-                          2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y), 0};
+    const double T[12] = {1 - 2 * (y * y + z * z), 2 * (x * y - w * z),     2 * (x * z + w * y),     0,
+                          2 * (x * y + w * z),     1 - 2 * (x * x + z * z), 2 * (y * z - w * x),     0,
+                          2 * (x * z - w * y),     2 * (y * z + w * x),     1 - 2 * (x * x + y * y), 0};
     for (int k = 0; k < 12; k++) R[k] = T[k];
 }
 

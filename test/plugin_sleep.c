@@ -59,8 +59,7 @@ static int run(scene *s, int n)
 {
     int slept = 0;
     for (int k = 0; k < n; k++) {
-        if (!CHECK(dClothWorldStep(s->w, &s->c, 1, H, 0) == CLOTH_OK, "step: %s", dClothGetLastError(s->c)))
-            return -1;
+        if (!CHECK(dClothWorldStep(s->w, &s->c, 1, H, 0) == CLOTH_OK, "step: %s", dClothGetLastError(s->c))) return -1;
         slept += dClothGetStats(s->c)->sleeping;
     }
     return slept;
@@ -192,8 +191,8 @@ int main(void)
         CHECK(slept == 60 && worst < 1e-3, "the ball rests on the sleeping hammock: slept %d of 60, |v| <= %.3g m/s",
               slept, worst);
         CHECK(fabs(dBodyGetPosition(b)[2] - z0) < 1e-3, "the ball stays: moved %.3g m", dBodyGetPosition(b)[2] - z0);
-        printf("hammock: asleep after %.2f s with the ball in it; the ball's |v| <= %.2g m/s over 1 s asleep\n",
-               k * H, worst);
+        printf("hammock: asleep after %.2f s with the ball in it; the ball's |v| <= %.2g m/s over 1 s asleep\n", k * H,
+               worst);
         destroy(&hm);
     }
     dCloseODE();

@@ -99,10 +99,8 @@ static void nan_body(int field)
         }
         CHECK(s == CLOTH_OK, "%s: step: %s", name, dClothGetLastError(c));
         CHECK(finite, "%s: a velocity is not finite after the step", name);
-        if (field == 3)
-            CHECK(st->contacts > 0, "%s: the ball resting on the cloth makes no contact", name);
-        else
-            CHECK(st->contacts < 100, "%s: %d contacts (the ball's reach was infinite)", name, st->contacts);
+        if (field == 3) CHECK(st->contacts > 0, "%s: the ball resting on the cloth makes no contact", name);
+        else CHECK(st->contacts < 100, "%s: %d contacts (the ball's reach was infinite)", name, st->contacts);
         CHECK(vmax < 1.0, "%s: a vertex at %.3g m/s after one step (kicked)", name, vmax);
         printf("%s: %d contacts, fastest vertex %.3g m/s\n", name, st->contacts, vmax);
     }

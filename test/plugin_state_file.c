@@ -158,8 +158,7 @@ static void refused_calls(scene *r, const blob *ref)
               strstr(dClothGetLastError(r->cloth), "not in bodies[]"),
           "a pin to an unnamed body: %s", dClothGetLastError(r->cloth));
     CHECK(dClothWriteState(r->cloth, "plugin_state_file.ref", NULL, 0, &r->body, 1) == CLOTH_EINVAL &&
-              strstr(dClothGetLastError(r->cloth), "geom is") &&
-              strstr(dClothGetLastError(r->cloth), "not in geoms[]"),
+              strstr(dClothGetLastError(r->cloth), "geom is") && strstr(dClothGetLastError(r->cloth), "not in geoms[]"),
           "a contact with an unnamed geom: %s", dClothGetLastError(r->cloth));
     blob now = read_all("plugin_state_file.ref");
     CHECK(now.n == ref->n && memcmp(now.p, ref->p, now.n) == 0, "a refused write changed the file");
@@ -427,12 +426,14 @@ static void held_round_trip(int m)
     int same = memcmp(dClothGetPositions(a.cloth), dClothGetPositions(b.cloth), n3 * sizeof(double)) == 0 &&
                memcmp(cloth_velocities(dClothGetCore(a.cloth)), cloth_velocities(dClothGetCore(b.cloth)),
                       n3 * sizeof(double)) == 0;
-    CHECK(same && held_a == held_b, "held: read after two held steps and run %d steps: differs from the "
-          "uninterrupted run (%d and %d steps held)", m, held_a, held_b);
+    CHECK(same && held_a == held_b,
+          "held: read after two held steps and run %d steps: differs from the "
+          "uninterrupted run (%d and %d steps held)",
+          m, held_a, held_b);
     CHECK(held_a > 0, "held: no step held after the file was written: the run's count is not tested");
     printf("held: written after step %d, the second held in a row, read into a new scene, %d steps on (%d held): "
-           "%s\n", s, m, held_a,
-           same ? "bitwise the uninterrupted run" : "DIFFERS");
+           "%s\n",
+           s, m, held_a, same ? "bitwise the uninterrupted run" : "DIFFERS");
     held_destroy(&a);
     held_destroy(&b);
 }
@@ -454,10 +455,9 @@ int main(void)
         dClothSetAutoSleep(a.cloth, 1, 0.05, 10);
         for (int s = 0; s < 300 && !dClothIsSleeping(a.cloth); s++) run(&a, 1);
         CHECK(dClothIsSleeping(a.cloth), "the small cloth never fell asleep");
-        CHECK(write_state(&a, "plugin_state_file.state") == CLOTH_OK, "write asleep: %s",
-              dClothGetLastError(a.cloth));
-        CHECK(read_state(&b, "plugin_state_file.state") == CLOTH_OK && dClothIsSleeping(b.cloth),
-              "read asleep: %s", dClothGetLastError(b.cloth));
+        CHECK(write_state(&a, "plugin_state_file.state") == CLOTH_OK, "write asleep: %s", dClothGetLastError(a.cloth));
+        CHECK(read_state(&b, "plugin_state_file.state") == CLOTH_OK && dClothIsSleeping(b.cloth), "read asleep: %s",
+              dClothGetLastError(b.cloth));
         run(&a, 3);
         run(&b, 3);
         CHECK(dClothIsSleeping(b.cloth), "the read cloth woke with nothing moving");

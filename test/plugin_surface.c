@@ -250,8 +250,7 @@ static void friction_per_geom(void)
            "mu 1 %.3g m; it cleared by the surface callback (cloth mu 0.3) %.4f m\n",
            THETA * 180 / 3.14159265358979323846, m_grip, m_ice, free_fall, m_fric, m_clear);
     CHECK(fabs(m_grip) < 1e-3, "plane mu 1: moved %.3g m", m_grip);
-    CHECK(fabs(m_ice - free_fall) <= 0.01 * free_fall, "plane mu 0: moved %.4f m, want %.4f", m_ice,
-          free_fall);
+    CHECK(fabs(m_ice - free_fall) <= 0.01 * free_fall, "plane mu 0: moved %.4f m, want %.4f", m_ice, free_fall);
     CHECK(fabs(m_fric) < 1e-3, "friction callback mu 1: moved %.3g m", m_fric);
     CHECK(m_clear > 0.05, "the surface callback did not clear the friction callback: moved %.3g m", m_clear);
 }

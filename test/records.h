@@ -90,7 +90,7 @@ static inline void mutate(rng *g, const blob *seeds, int ns, blob *out)
         size_t at = (size_t)(rng_u64(g) % out->n);
         switch (rng_u64(g) % 9) {
         case 0: out->p[at] ^= (uint8_t)(1u << (rng_u64(g) % 8)); break; /* bit flip */
-        case 1: out->p[at] = (uint8_t)rng_u64(g); break;                  /* random byte */
+        case 1: out->p[at] = (uint8_t)rng_u64(g); break;                /* random byte */
         case 2: { /* an interesting double at an 8-aligned offset of the record */
             double d = rng_u64(g) % 2 ? special[rng_u64(g) % (sizeof special / sizeof special[0])]
                                       : (rng_u64(g) % 2 ? NAN : (rng_u64(g) % 2 ? INFINITY : -INFINITY));

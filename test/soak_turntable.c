@@ -131,7 +131,8 @@ int main(void)
                 e[q] = p[q] - (w0[k][q] + H * v0[k][q]);
                 g[q] = p[q] - w[q];
             }
-            double et = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]), gk = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+            double et = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]),
+                   gk = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
             target_max = fmax(target_max, et);
             gap_excess = fmax(gap_excess, gk - (1.01 * sag + 1e-12));
             gap = fmax(gap, gk);
@@ -171,32 +172,34 @@ int main(void)
     CHECK(gap_excess <= 0.0, "a pinned vertex was %.3g m further from its pin point than the sagitta", gap_excess);
     CHECK(gap_late <= gap_early + 1e-12, "pin gap grew: %.3g m over steps 1000-11000, %.3g m over the last 10000",
           gap_early, gap_late);
-    CHECK(ke_max < 0.01, "kinetic energy in the table's frame: %.3g J over steps 1000-11000, %.3g J over the last "
-          "10000, max %.3g J", ke_early, ke_late, ke_max);
+    CHECK(ke_max < 0.01,
+          "kinetic energy in the table's frame: %.3g J over steps 1000-11000, %.3g J over the last "
+          "10000, max %.3g J",
+          ke_early, ke_late, ke_max);
     CHECK(com_max < 0.05, "the cloth's centre of mass went %.3g m from the axis", com_max);
     /* no creep past the elongation limit while the cloth sticks to the
      * turning table: measured none of 100,000 steps over 0.035, max 0.0300
      * (before a triangle's contact slid on a vertex it barely holds,
      * STICK_WEIGHT: 63 steps, 0.044; before contacts were judged
      * by the speed relative to the table: 8396 steps, 0.186) */
-    CHECK(strain_over == 0 && strain_max <= 0.035,
-          "strain: %ld of %ld steps over 0.035 (none allowed), max %.4f", strain_over, steps,
-          strain_max);
+    CHECK(strain_over == 0 && strain_max <= 0.035, "strain: %ld of %ld steps over 0.035 (none allowed), max %.4f",
+          strain_over, steps, strain_max);
 #if defined(__SANITIZE_ADDRESS__)
     /* AddressSanitizer keeps freed blocks in quarantine (256 MB by default),
      * so every malloc/free per step (libccd's EPA, ODE's step) shows as
      * growth there: the leak check at exit is what counts then */
     printf("AddressSanitizer build: resident set not checked\n");
 #else
-    CHECK(rss_start > 0 && rss_end - rss_start <= 64, "resident set grew from %ld KiB at step %ld to %ld KiB", rss_start,
-          steps / 5, rss_end);
+    CHECK(rss_start > 0 && rss_end - rss_start <= 64, "resident set grew from %ld KiB at step %ld to %ld KiB",
+          rss_start, steps / 5, rss_end);
 #endif
     printf("%ld steps (%.1f turns) in %.1f s wall (%.3f ms/step); pins off target by %.3g m at most; pin gap max "
            "%.4g m (steps 1000-11000: %.4g, last 10000: %.4g); KE in the table frame %.3g J (steps 1000-11000), %.3g "
-           "J (last 10000); centre of mass within %.3g m of the axis; RSS %ld KiB at step 1000, %ld at step %ld, %ld at "
+           "J (last 10000); centre of mass within %.3g m of the axis; RSS %ld KiB at step 1000, %ld at step %ld, %ld "
+           "at "
            "the end\n",
-           steps, steps * H * OMEGA / (2 * 3.14159265358979), wall, 1e3 * wall / steps, target_max, gap_max,
-           gap_early, gap_late, ke_early, ke_late, com_max, rss_first, rss_start, steps / 5, rss_end);
+           steps, steps * H * OMEGA / (2 * 3.14159265358979), wall, 1e3 * wall / steps, target_max, gap_max, gap_early,
+           gap_late, ke_early, ke_late, com_max, rss_first, rss_start, steps / 5, rss_end);
     printf("max strain %.4f (delta 0.03); %ld steps over 0.035\n", strain_max, strain_over);
     dClothDestroy(cl);
     dGeomDestroy(box);

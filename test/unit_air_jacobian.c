@@ -89,7 +89,13 @@ static void kernel(cloth *c, rng *g)
     e = maxdiff(Aw, fd, n3, &sc);
     printf("air blocks vs -dF/dv: %.3g of %.3g\n", e, sc);
     CHECK(e <= 1e-7 * sc, "air blocks are not -dF/dv");
-    free(F); free(Fp); free(Fm); free(v); free(w); free(fd); free(Aw);
+    free(F);
+    free(Fp);
+    free(Fm);
+    free(v);
+    free(w);
+    free(fd);
+    free(Aw);
 }
 
 /* b and the matrix at dv against Phi's central differences */
@@ -130,7 +136,15 @@ static void newton(cloth *c, rng *g)
     e = maxdiff(Aw, fd, n3, &sc);
     printf("Newton: matrix vs Phi's Hessian: %.3g of %.3g\n", e, sc);
     CHECK(e <= 1e-6 * sc, "the Newton matrix is not Phi's Hessian with air");
-    free(dv); free(w); free(b); free(bp); free(bm); free(x); free(v); free(fd); free(Aw);
+    free(dv);
+    free(w);
+    free(b);
+    free(bp);
+    free(bm);
+    free(x);
+    free(v);
+    free(fd);
+    free(Aw);
 }
 
 static void off(cloth *c)
@@ -142,7 +156,8 @@ static void off(cloth *c)
     air_eval(c, c->st.x, NULL, 0.0, c->st.v, 1.0, f, NULL, 0.0);
     double *z = vec(n3);
     CHECK(!air_on(c) && maxdiff(f, z, n3, &sc) == 0.0, "no drag: no force");
-    free(f); free(z);
+    free(f);
+    free(z);
 }
 
 int main(void)

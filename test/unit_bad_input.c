@@ -97,7 +97,10 @@ static const dfield desc_doubles[] = {
 #define MATERIAL_FIRST 14
 
 /* material fields by offset within cloth_material */
-static double *mat_field(cloth_material *m, int k) { return (double *)((char *)m + (desc_doubles[MATERIAL_FIRST + k].off - offsetof(cloth_desc, material))); }
+static double *mat_field(cloth_material *m, int k)
+{
+    return (double *)((char *)m + (desc_doubles[MATERIAL_FIRST + k].off - offsetof(cloth_desc, material)));
+}
 
 static void check_create(void)
 {
@@ -157,10 +160,10 @@ static void check_create(void)
     }
 
     /* out-of-range values */
-#define BAD(stmt, label)                 \
-    do {                                 \
-        d = d0;                          \
-        stmt;                            \
+#define BAD(stmt, label)                    \
+    do {                                    \
+        d = d0;                             \
+        stmt;                               \
         expect_desc_rejected(&d, label, 0); \
     } while (0)
     BAD(d.width = 0, "width 0");
@@ -263,7 +266,8 @@ static void check_create(void)
                 s = cloth_material_validate(&m, &err);
                 CHECK(s == CLOTH_EINVAL && strstr(err.message, "k_delta") != NULL,
                       "cloth_material_validate(k_delta = %g): status %d, message \"%s\" (want EINVAL naming "
-                      "k_delta)", kd[v], (int)s, err.message);
+                      "k_delta)",
+                      kd[v], (int)s, err.message);
             }
             for (int p = 0; p < 3; p++) {
                 m = cloth_material_preset((cloth_preset)p);
@@ -360,8 +364,7 @@ static void compare(const snapshot *a, const snapshot *b, const char *what)
     double diff = a->st && b->st ? cloth_state_diff(a->st, b->st) : -1;
     int con_changed = a->ncon != b->ncon;
     CHECK(diff == 0.0, "%s changed the state (cloth_state_diff %g)", what, diff);
-    CHECK(memcmp(&a->desc.material, &b->desc.material, sizeof a->desc.material) == 0, "%s changed the material",
-          what);
+    CHECK(memcmp(&a->desc.material, &b->desc.material, sizeof a->desc.material) == 0, "%s changed the material", what);
     CHECK(memcmp(&a->desc.solver, &b->desc.solver, sizeof a->desc.solver) == 0, "%s changed the solver", what);
     CHECK(memcmp(a->desc.gravity, b->desc.gravity, sizeof a->desc.gravity) == 0, "%s changed gravity", what);
     for (int i = 0; i < NV; i++)
@@ -390,7 +393,10 @@ static int bad_call(cloth *c, int k, char *what, size_t wn, cloth_status *want)
         int f = k / 4, v = k % 4;
         *mat_field(&m, f) = v < 3 ? nf[v] : -1.0;
         snprintf(what, wn, "cloth_set_material(%s = %s)", desc_doubles[MATERIAL_FIRST + f].name,
-                 v < 3 ? (v == 0 ? "NaN" : v == 1 ? "inf" : "-inf") : "-1");
+                 v < 3 ? (v == 0   ? "NaN"
+                          : v == 1 ? "inf"
+                                   : "-inf")
+                       : "-1");
         cloth_status st = cloth_set_material(c, &m);
         /* the message names the field ("material.k_delta is not finite") */
         CHECK(st == CLOTH_OK || strstr(cloth_last_error(c), desc_doubles[MATERIAL_FIRST + f].name) != NULL,
@@ -411,13 +417,17 @@ static int bad_call(cloth *c, int k, char *what, size_t wn, cloth_status *want)
         snprintf(what, wn, "cloth_set_material(delta 0)");
         return cloth_set_material(c, &m);
     }
-    case 2:
-        snprintf(what, wn, "cloth_set_material(NULL)");
-        return cloth_set_material(c, NULL);
-    case 3: case 4: case 5: case 6: case 7: case 8: case 9: {
+    case 2: snprintf(what, wn, "cloth_set_material(NULL)"); return cloth_set_material(c, NULL);
+    case 3:
+    case 4:
+    case 5:
+    case 6:
+    case 7:
+    case 8:
+    case 9: {
         cloth_solver s = d0.solver;
         const char *nm[] = {"cg_tolerance 0", "cg_tolerance 1", "cg_tolerance NaN", "cg_max_iterations 0",
-                            "method 99", "precond 99", "strain_fail NaN"};
+                            "method 99",      "precond 99",     "strain_fail NaN"};
         if (k == 3) s.cg_tolerance = 0;
         if (k == 4) s.cg_tolerance = 1;
         if (k == 5) s.cg_tolerance = NAN;
@@ -428,45 +438,52 @@ static int bad_call(cloth *c, int k, char *what, size_t wn, cloth_status *want)
         snprintf(what, wn, "cloth_set_solver(%s)", nm[k - 3]);
         return cloth_set_solver(c, &s);
     }
-    case 10:
-        snprintf(what, wn, "cloth_set_solver(NULL)");
-        return cloth_set_solver(c, NULL);
-    case 11: case 12: case 13: case 14:
+    case 10: snprintf(what, wn, "cloth_set_solver(NULL)"); return cloth_set_solver(c, NULL);
+    case 11:
+    case 12:
+    case 13:
+    case 14:
         if (k < 14) g[k - 11] = nf[k - 11];
         snprintf(what, wn, "cloth_set_gravity(%s)", k < 14 ? "non-finite component" : "NULL");
         return cloth_set_gravity(c, k < 14 ? g : NULL);
-    case 15: case 16: case 17: case 18: {
+    case 15:
+    case 16:
+    case 17:
+    case 18: {
         int at[] = {0, 3 * NV / 2 + 1, 3 * NV - 1, 40};
         x[at[k - 15]] = k == 18 ? INFINITY : NAN;
         snprintf(what, wn, "cloth_set_positions(%s at %d)", k == 18 ? "inf" : "NaN", at[k - 15]);
         return cloth_set_positions(c, x);
     }
-    case 19:
-        snprintf(what, wn, "cloth_set_positions(NULL)");
-        return cloth_set_positions(c, NULL);
-    case 20: case 21: {
+    case 19: snprintf(what, wn, "cloth_set_positions(NULL)"); return cloth_set_positions(c, NULL);
+    case 20:
+    case 21: {
         double v[3 * NV];
         memcpy(v, cloth_velocities(c), sizeof v);
         v[k == 20 ? 3 * NV - 1 : 17] = k == 20 ? NAN : -INFINITY;
         snprintf(what, wn, "cloth_set_velocities(%s)", k == 20 ? "NaN last" : "-inf");
         return cloth_set_velocities(c, v);
     }
-    case 22:
-        snprintf(what, wn, "cloth_set_velocities(NULL)");
-        return cloth_set_velocities(c, NULL);
-    case 23: case 24: case 25: {
+    case 22: snprintf(what, wn, "cloth_set_velocities(NULL)"); return cloth_set_velocities(c, NULL);
+    case 23:
+    case 24:
+    case 25: {
         int vert = k == 23 ? -1 : k == 24 ? NV : INT_MAX;
         double xv[3] = {0.1, 0.2, 0.3}, vv[3] = {0, 0, 0};
         snprintf(what, wn, "cloth_set_vertex(%d)", vert);
         return cloth_set_vertex(c, vert, xv, vv);
     }
-    case 26: case 27: {
+    case 26:
+    case 27: {
         double xv[3] = {0.1, NAN, 0.3}, vv[3] = {0, 0, INFINITY};
         double xo[3] = {0.1, 0.2, 0.3}, vo[3] = {0, 0, 0};
         snprintf(what, wn, "cloth_set_vertex(5, %s)", k == 26 ? "x NaN" : "v inf");
         return k == 26 ? cloth_set_vertex(c, 5, xv, vo) : cloth_set_vertex(c, 5, xo, vv);
     }
-    case 28: case 29: case 30: case 31: {
+    case 28:
+    case 29:
+    case 30:
+    case 31: {
         cloth_link L;
         cloth_link_type t = k == 30 ? CLOTH_INTERLACED : CLOTH_SEQUENTIAL;
         int idx = k == 28 ? -1 : k == 31 ? 0 : cloth_link_count(c, t);
@@ -474,21 +491,24 @@ static int bad_call(cloth *c, int k, char *what, size_t wn, cloth_status *want)
         snprintf(what, wn, "cloth_get_link(type %d, index %d)", (int)t, idx);
         return cloth_get_link(c, t, idx, &L);
     }
-    case 32: case 33:
-        snprintf(what, wn, "cloth_pin(%d)", k == 32 ? -1 : NV);
-        return cloth_pin(c, k == 32 ? -1 : NV, p);
+    case 32:
+    case 33: snprintf(what, wn, "cloth_pin(%d)", k == 32 ? -1 : NV); return cloth_pin(c, k == 32 ? -1 : NV, p);
     case 34: {
         double t[3] = {0, NAN, 0};
         snprintf(what, wn, "cloth_pin(3, NaN target)");
         return cloth_pin(c, 3, t);
     }
-    case 35:
-        snprintf(what, wn, "cloth_pin(3, NULL)");
-        return cloth_pin(c, 3, NULL);
-    case 36: case 37: case 38: case 39: case 40: case 41: case 42: {
+    case 35: snprintf(what, wn, "cloth_pin(3, NULL)"); return cloth_pin(c, 3, NULL);
+    case 36:
+    case 37:
+    case 38:
+    case 39:
+    case 40:
+    case 41:
+    case 42: {
         cloth_constraint q;
-        const char *nm[] = {"ndof 4", "ndof -1", "ndof 1 zero axis", "ndof 2 zero axis", "ndof 1 NaN axis",
-                            "ndof 3 NaN target", "vertex out of range"};
+        const char *nm[] = {"ndof 4",          "ndof -1",           "ndof 1 zero axis",   "ndof 2 zero axis",
+                            "ndof 1 NaN axis", "ndof 3 NaN target", "vertex out of range"};
         memset(&q, 0, sizeof q);
         q.vertex = 3;
         q.ndof = 1;
@@ -504,12 +524,9 @@ static int bad_call(cloth *c, int k, char *what, size_t wn, cloth_status *want)
         snprintf(what, wn, "cloth_set_constraint(%s)", nm[k - 36]);
         return cloth_set_constraint(c, &q);
     }
-    case 43:
-        snprintf(what, wn, "cloth_set_constraint(NULL)");
-        return cloth_set_constraint(c, NULL);
-    case 44: case 45:
-        snprintf(what, wn, "cloth_release(%d)", k == 44 ? -1 : NV);
-        return cloth_release(c, k == 44 ? -1 : NV);
+    case 43: snprintf(what, wn, "cloth_set_constraint(NULL)"); return cloth_set_constraint(c, NULL);
+    case 44:
+    case 45: snprintf(what, wn, "cloth_release(%d)", k == 44 ? -1 : NV); return cloth_release(c, k == 44 ? -1 : NV);
     case 46: {
         cloth_constraint q;
         snprintf(what, wn, "cloth_get_constraint(%d)", NV);
@@ -520,15 +537,9 @@ static int bad_call(cloth *c, int k, char *what, size_t wn, cloth_status *want)
         snprintf(what, wn, "cloth_constraint_force(-1)");
         return cloth_constraint_force(c, -1, f);
     }
-    case 48:
-        snprintf(what, wn, "cloth_internal_forces(NULL)");
-        return cloth_internal_forces(c, NULL);
-    case 49:
-        snprintf(what, wn, "cloth_save(NULL)");
-        return cloth_save(c, NULL);
-    case 50:
-        snprintf(what, wn, "cloth_restore(NULL)");
-        return cloth_restore(c, NULL);
+    case 48: snprintf(what, wn, "cloth_internal_forces(NULL)"); return cloth_internal_forces(c, NULL);
+    case 49: snprintf(what, wn, "cloth_save(NULL)"); return cloth_save(c, NULL);
+    case 50: snprintf(what, wn, "cloth_restore(NULL)"); return cloth_restore(c, NULL);
     case 51: {
         /* a state of a cloth of another size */
         cloth_desc d = cloth_default_desc();
@@ -554,7 +565,10 @@ static int bad_call(cloth *c, int k, char *what, size_t wn, cloth_status *want)
         cloth_destroy(o);
         return st;
     }
-    case 52: case 53: case 54: case 55: {
+    case 52:
+    case 53:
+    case 54:
+    case 55: {
         const double hs[] = {0.0, -0.01, NAN, INFINITY};
         cloth_step_stats stats;
         cloth_status st;
@@ -562,23 +576,16 @@ static int bad_call(cloth *c, int k, char *what, size_t wn, cloth_status *want)
         snprintf(what, wn, "cloth_step(h = %g)", hs[k - 52]);
         *want = CLOTH_EINVAL; /* a bad argument, not a failed step */
         st = cloth_step(c, hs[k - 52], &stats);
-        CHECK(st == CLOTH_OK || stats.failure == CLOTH_FAIL_BAD_STEP, "%s: stats.failure %d (%s), want BAD_STEP",
-              what, (int)stats.failure, cloth_failure_string(stats.failure));
+        CHECK(st == CLOTH_OK || stats.failure == CLOTH_FAIL_BAD_STEP, "%s: stats.failure %d (%s), want BAD_STEP", what,
+              (int)stats.failure, cloth_failure_string(stats.failure));
         return st;
     }
-    case 56:
-        snprintf(what, wn, "cloth_get_link(out NULL)");
-        return cloth_get_link(c, CLOTH_SEQUENTIAL, 0, NULL);
-    case 57:
-        snprintf(what, wn, "cloth_get_constraint(out NULL)");
-        return cloth_get_constraint(c, 0, NULL);
-    case 58:
-        snprintf(what, wn, "cloth_constraint_force(f NULL)");
-        return cloth_constraint_force(c, 0, NULL);
-    case 59:
-        snprintf(what, wn, "cloth_set_vertex(x and v NULL)");
-        return cloth_set_vertex(c, 5, NULL, NULL);
-    case 60: case 61: {
+    case 56: snprintf(what, wn, "cloth_get_link(out NULL)"); return cloth_get_link(c, CLOTH_SEQUENTIAL, 0, NULL);
+    case 57: snprintf(what, wn, "cloth_get_constraint(out NULL)"); return cloth_get_constraint(c, 0, NULL);
+    case 58: snprintf(what, wn, "cloth_constraint_force(f NULL)"); return cloth_constraint_force(c, 0, NULL);
+    case 59: snprintf(what, wn, "cloth_set_vertex(x and v NULL)"); return cloth_set_vertex(c, 5, NULL, NULL);
+    case 60:
+    case 61: {
         cloth_material m = cloth_get_desc(c).material;
         if (k == 60) m.tension_yield = m.delta * 1.5;
         else m.tension_set = 1.5;
@@ -588,8 +595,7 @@ static int bad_call(cloth *c, int k, char *what, size_t wn, cloth_status *want)
               "%s: message \"%s\" does not name the field", what, cloth_last_error(c));
         return st;
     }
-    default:
-        return -1;
+    default: return -1;
     }
 }
 
@@ -603,8 +609,8 @@ static void check_existing(void)
         cloth_status want;
         int s;
         if (!c) return;
-        CHECK(cloth_last_error(c) && cloth_last_error(c)[0] == '\0',
-              "a fresh cloth's last error is \"%s\", want \"\"", cloth_last_error(c) ? cloth_last_error(c) : "(NULL)");
+        CHECK(cloth_last_error(c) && cloth_last_error(c)[0] == '\0', "a fresh cloth's last error is \"%s\", want \"\"",
+              cloth_last_error(c) ? cloth_last_error(c) : "(NULL)");
         take(c, &before);
         what[0] = '\0';
         s = bad_call(c, k, what, sizeof what, &want);
@@ -615,8 +621,8 @@ static void check_existing(void)
         }
         ncases++;
         take(c, &after);
-        CHECK(s == (int)want, "%s returned %d (%s), want %d (%s)", what, s, s == CLOTH_OK ? "OK" : cloth_status_string((cloth_status)s),
-              (int)want, cloth_status_string(want));
+        CHECK(s == (int)want, "%s returned %d (%s), want %d (%s)", what, s,
+              s == CLOTH_OK ? "OK" : cloth_status_string((cloth_status)s), (int)want, cloth_status_string(want));
         CHECK(s == CLOTH_OK || (cloth_last_error(c) && cloth_last_error(c)[0] != '\0'),
               "%s failed but cloth_last_error is empty", what);
         compare(&before, &after, what);

@@ -53,8 +53,8 @@ static void check_rule(void)
             if (s_new == s && plastic) bitwise &= l1 == before;
             s = s_new;
             worst = fmax(worst, fabs((plastic ? l1 : l0) - want) / l0);
-            CHECK(plastic == (s > 1e-12) || fabs(s) < 1e-7, "alpha %g: plastic %d with set %g rad", alphas[a],
-                  plastic, s);
+            CHECK(plastic == (s > 1e-12) || fabs(s) < 1e-7, "alpha %g: plastic %d with set %g rad", alphas[a], plastic,
+                  s);
             sets += plastic;
         }
         if (alphas[a] == 0.0) CHECK(!plastic && l1 == l0, "alpha 0 set a link (l1 %g)", l1);
@@ -152,8 +152,10 @@ static void check_single_hinge(void)
     double s_len = h * sin(0.5 * phi), want = K * (sp - s_len), dir[3] = {sin(0.5 * phi), 0.0, -cos(0.5 * phi)};
     double ferr = 0.0; /* along the sagitta x_m - (x_i + x_j) / 2, deepening the fold */
     for (int r = 0; r < 3; r++) ferr = fmax(ferr, fabs(f[3 * node + r] - want * dir[r]));
-    CHECK(want > 0.0 && ferr <= 1e-9 * want, "force on the crease node off by %.3g N, want k (s_p - |s|) = %.12g N "
-          "along the sagitta", ferr, want);
+    CHECK(want > 0.0 && ferr <= 1e-9 * want,
+          "force on the crease node off by %.3g N, want k (s_p - |s|) = %.12g N "
+          "along the sagitta",
+          ferr, want);
     double E[2];
     for (int k = 0; k < 2; k++) {
         fold(n, phi + (k ? dphi : -dphi), x);
@@ -163,8 +165,7 @@ static void check_single_hinge(void)
     double moment = -(E[1] - E[0]) / (2.0 * dphi) / n, closed = K * (sp - s_len) * h * cos(0.5 * phi) / 2.0;
     CHECK(fabs(moment - closed) <= 1e-6 * closed, "moment per hinge %.10g N m, closed form %.10g", moment, closed);
     /* flat: the moment per length 2 S sin(s / 2), the force along the sagitta as the step began */
-    CHECK(fabs(K * sp * h / 2.0 / h - 2.0 * S * sin(0.5 * setang)) <= 1e-14,
-          "flat moment per length: the derivation");
+    CHECK(fabs(K * sp * h / 2.0 / h - 2.0 * S * sin(0.5 * setang)) <= 1e-14, "flat moment per length: the derivation");
     double *x0 = malloc(3 * (size_t)c->n * sizeof *x0), fm[3];
     fold(n, 1e-3, x0);
     fold(n, 0.0, x);
@@ -207,11 +208,10 @@ static void check_grids(void)
     double m9 = moment_per_length(9, 0.8, S, 170.0 * DEG, 10.0 * DEG);
     double m17 = moment_per_length(17, 0.8, S, 170.0 * DEG, 10.0 * DEG);
     printf("moment per length at 10 deg (set by 170 deg, alpha 0.8): 9 x 9 %.9g N, 17 x 17 %.9g N\n", m9, m17);
-    CHECK(m9 > 0.0 && fabs(m9 - m17) <= 1e-6 * m9, "moment per length %.9g N on 9 x 9, %.9g N on 17 x 17", m9,
-          m17);
+    CHECK(m9 > 0.0 && fabs(m9 - m17) <= 1e-6 * m9, "moment per length %.9g N on 9 x 9, %.9g N on 17 x 17", m9, m17);
     /* the diagonals set too: more than the crossing links alone */
-    double y = 2.0 * acos(0.8), sp = sin(0.5 * (170.0 * DEG - y)), only = 4.0 * S * (sp - sin(5.0 * DEG)) *
-                                                                          cos(5.0 * DEG) / 2.0;
+    double y = 2.0 * acos(0.8), sp = sin(0.5 * (170.0 * DEG - y)),
+           only = 4.0 * S * (sp - sin(5.0 * DEG)) * cos(5.0 * DEG) / 2.0;
     CHECK(m9 > 1.01 * only, "moment %.6g N: the diagonals add to the crossing links' %.6g N", m9, only);
 }
 
@@ -249,8 +249,8 @@ static void check_derivatives(void)
         gerr = fmax(gerr, fabs(-(Ep - Em) / (2.0 * eps) - f[k]));
         gmax = fmax(gmax, fabs(f[k]));
     }
-    CHECK(sets > 0 && gmax > 0.0 && gerr <= 1e-7 * gmax, "forces against the energy: %.3g of %.3g (%d set)", gerr,
-          gmax, sets);
+    CHECK(sets > 0 && gmax > 0.0 && gerr <= 1e-7 * gmax, "forces against the energy: %.3g of %.3g (%d set)", gerr, gmax,
+          sets);
     /* K w: the forces' derivative along w, the hinge's direction that of x itself */
     for (size_t k = 0; k < n3; k++) aw[k] = x[k] + eps * w[k];
     crease_forces(c, aw, x, 1.0, fp);
@@ -314,8 +314,10 @@ static void check_reforms(void)
         for (int k = 0; k < 120; k++) failed += cloth_step(c, 1.0 / 60.0, NULL) != CLOTH_OK;
         double phi = turning(c, n, (n - 1) / 2);
         printf("run %d (%s): turning after 2 s %.2f deg, set %.2f deg\n", run,
-               run == 2 ? "paper's rule" : run == 1 ? "crease law, linearised" : "crease law, Newton", phi / DEG,
-               set / DEG);
+               run == 2   ? "paper's rule"
+               : run == 1 ? "crease law, linearised"
+                          : "crease law, Newton",
+               phi / DEG, set / DEG);
         CHECK(failed == 0, "run %d: %d steps failed", run, failed);
         if (run < 2)
             CHECK(phi > 0.5 * set, "run %d: refolded to %.2f deg of a set %.2f deg", run, phi / DEG, set / DEG);

@@ -226,8 +226,10 @@ int main(void)
                 CHECK(diff == 0.0, "%s rule off: state changed by the step (diff %.3g)", name, diff);
                 if (s == CLOTH_OK) {
                     double res = step_residual(c);
-                    CHECK(res <= 1e-2, "%s rule off: the step reported success after %d CG iterations (residual %.3g) "
-                          "but |b - A dv| / |b| = %.3g: a wrong answer", name, st.iterations, st.residual, res);
+                    CHECK(res <= 1e-2,
+                          "%s rule off: the step reported success after %d CG iterations (residual %.3g) "
+                          "but |b - A dv| / |b| = %.3g: a wrong answer",
+                          name, st.iterations, st.residual, res);
                 }
                 if (m == CLOTH_BACKWARD_EULER && p == CLOTH_PRECOND_BLOCK_JACOBI) {
                     spectrum sp = analyse(c, NULL);

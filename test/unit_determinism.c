@@ -113,7 +113,8 @@ static int same(const cloth *a, const cloth *b)
 static double maxdiff(const cloth *a, const cloth *b)
 {
     double m = 0.0;
-    for (int k = 0; k < 3 * cloth_vertex_count(a); k++) m = fmax(m, fabs(cloth_positions(a)[k] - cloth_positions(b)[k]));
+    for (int k = 0; k < 3 * cloth_vertex_count(a); k++)
+        m = fmax(m, fabs(cloth_positions(a)[k] - cloth_positions(b)[k]));
     return m;
 }
 
@@ -195,8 +196,10 @@ int main(void)
         scribble(c, name);
         CHECK(cloth_restore(c, s) == CLOTH_OK, "%s: restore", name);
         run(c, sc, SAVE_AT, STEPS);
-        CHECK(same(a, c), "%s: save, other work, restore, continue differs from the uninterrupted run (positions by "
-              "%.3g)", name, maxdiff(a, c));
+        CHECK(same(a, c),
+              "%s: save, other work, restore, continue differs from the uninterrupted run (positions by "
+              "%.3g)",
+              name, maxdiff(a, c));
         /* 3. through a record into a new cloth */
         cloth *e = make(sc);
         cloth_state *se = cloth_state_create(e);

@@ -64,7 +64,7 @@ static cloth *make(double scale, rng *s)
     return c;
 }
 
-static int phi_differs; /* trials whose assembly and potential_value disagree */
+static int phi_differs;   /* trials whose assembly and potential_value disagree */
 static double diss_apart; /* the largest relative gap between the assembly's D and potential_dissipation's */
 
 /* dE - (v . R - 1/2 |dv|_M^2 - D) for a random dv of size `dvs`, and D. */
@@ -124,6 +124,7 @@ int main(void)
         cloth_destroy(c);
     }
     CHECK(phi_differs == 0, "%d trials' assembly Phi differs from potential_value's", phi_differs);
-    CHECK(diss_apart <= 1e-12, "the assembly's D differs from potential_dissipation's by %.3e of the energy", diss_apart);
+    CHECK(diss_apart <= 1e-12, "the assembly's D differs from potential_dissipation's by %.3e of the energy",
+          diss_apart);
     return check_summary();
 }

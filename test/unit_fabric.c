@@ -44,10 +44,10 @@ static void refused(const cloth_fabric *f, double dx, double dy, const char *nam
 
 static void check_fields(void)
 {
-    static const char *names[] = {"tensile",     "bending",        "density", "compression", "alpha",
-                                  "spreading",   "delta",          "k_delta", "tau_tension", "tau_bending",
-                                  "bend_curvature", "tau_set",     "tau_recover", "set_hardening",
-                                  "tension_yield",  "tension_set", "crease_stiffness"};
+    static const char *names[] = {"tensile",        "bending",         "density",     "compression",   "alpha",
+                                  "spreading",      "delta",           "k_delta",     "tau_tension",   "tau_bending",
+                                  "bend_curvature", "tau_set",         "tau_recover", "set_hardening", "tension_yield",
+                                  "tension_set",    "crease_stiffness"};
     static const int positive[] = {1, 1, 1, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
     const cloth_fabric base = cloth_fabric_preset(CLOTH_FABRIC_COTTON);
     for (int k = 0; k < 17; k++) {
@@ -66,8 +66,7 @@ static void check_fields(void)
         }
     }
     /* the field order the loop above assumes */
-    CHECK(offsetof(cloth_fabric, bend_curvature) == 10 * sizeof(double) &&
-              sizeof(cloth_fabric) == 17 * sizeof(double),
+    CHECK(offsetof(cloth_fabric, bend_curvature) == 10 * sizeof(double) && sizeof(cloth_fabric) == 17 * sizeof(double),
           "cloth_fabric layout");
     cloth_fabric f = base;
     f.alpha = 1.0 + 1e-12;
@@ -109,8 +108,8 @@ static void check_fields(void)
     f = base;
     f.tau_set = 2.0, f.tau_recover = 20.0, f.set_hardening = 1.0;
     cloth_material mt;
-    CHECK(cloth_fabric_material(&f, 0.01, 0.01, &mt, NULL) == CLOTH_OK && mt.tau_set == 2.0 &&
-              mt.tau_recover == 20.0 && mt.set_hardening == 1.0,
+    CHECK(cloth_fabric_material(&f, 0.01, 0.01, &mt, NULL) == CLOTH_OK && mt.tau_set == 2.0 && mt.tau_recover == 20.0 &&
+              mt.set_hardening == 1.0,
           "tau_set, tau_recover, set_hardening pass through");
     /* zero where zero has a meaning */
     f = base;
@@ -167,8 +166,8 @@ static void check_finest(cloth_fabric_kind kind, double aspect)
 
 static void check_closed_forms(void)
 {
-    const cloth_fabric_kind kinds[] = {CLOTH_FABRIC_COTTON, CLOTH_FABRIC_WOOL, CLOTH_FABRIC_SILK,
-                                       CLOTH_FABRIC_DENIM, CLOTH_FABRIC_POLYESTER};
+    const cloth_fabric_kind kinds[] = {CLOTH_FABRIC_COTTON, CLOTH_FABRIC_WOOL, CLOTH_FABRIC_SILK, CLOTH_FABRIC_DENIM,
+                                       CLOTH_FABRIC_POLYESTER};
     for (int i = 0; i < 5; i++) {
         cloth_fabric f = cloth_fabric_preset(kinds[i]);
         CHECK(cloth_fabric_validate(&f, NULL) == CLOTH_OK, "preset %d", i);
@@ -221,8 +220,7 @@ static void check_apply(void)
     before = d;
     d.width = -1.0;
     before.width = -1.0;
-    CHECK(cloth_fabric_apply(&f, &d, &err) == CLOTH_EINVAL && strstr(err.message, "width"), "width: %s",
-          err.message);
+    CHECK(cloth_fabric_apply(&f, &d, &err) == CLOTH_EINVAL && strstr(err.message, "width"), "width: %s", err.message);
     d.width = 0.5;
     before.width = 0.5;
     d.rows = 1;

@@ -40,8 +40,8 @@
 #include "odecloth/cloth.h"
 #include "check.h"
 
-static const double XD[] = {NAN, -NAN, INFINITY, -INFINITY, 0.0, -0.0, 1.0, -1.0, 1e-310, 1e-300, -1e-300,
-                            1e300, -1e300, DBL_MAX, -DBL_MAX, 1e-12, 1e12, 0.5, 2.0, 1e6};
+static const double XD[] = {NAN,     -NAN,  INFINITY, -INFINITY, 0.0,      -0.0,  1.0,  -1.0, 1e-310, 1e-300,
+                            -1e-300, 1e300, -1e300,   DBL_MAX,   -DBL_MAX, 1e-12, 1e12, 0.5,  2.0,    1e6};
 static const int XI[] = {INT_MIN, -1000, -2, -1, 0, 1, 2, 3, 4, 5, 7, 16, 17, 64, 1000, 100000, INT_MAX};
 #define NXD (sizeof XD / sizeof XD[0])
 #define NXI (sizeof XI / sizeof XI[0])
@@ -58,20 +58,50 @@ static int finite_all(const double *a, size_t n)
     return 1;
 }
 
-static int status_ok(cloth_status s) { return s == CLOTH_OK || s == CLOTH_EINVAL || s == CLOTH_ENOMEM || s == CLOTH_ESTEP; }
+static int status_ok(cloth_status s)
+{
+    return s == CLOTH_OK || s == CLOTH_EINVAL || s == CLOTH_ENOMEM || s == CLOTH_ESTEP;
+}
 
 /* Set field f (0..NFIELDS-1) of d to an extreme value. Small grids only where the
  * value is accepted, so nothing allocates gigabytes. */
 static void perturb(rng *g, cloth_desc *d, int f)
 {
-    double *dbl[] = {&d->width, &d->height, &d->origin[0], &d->origin[1], &d->origin[2], &d->axis_u[0],
-                     &d->axis_u[1], &d->axis_u[2], &d->axis_v[0], &d->axis_v[1], &d->axis_v[2], &d->gravity[0],
-                     &d->gravity[1], &d->gravity[2], &d->material.k_t, &d->material.k_c, &d->material.k_b,
-                     &d->material.k_s, &d->material.alpha, &d->material.delta, &d->material.k_delta,
-                     &d->material.c_t, &d->material.c_b, &d->material.density, &d->solver.cg_tolerance,
-                     &d->solver.strain_fail, &d->solver.newton_tolerance, &d->solver.newton_rtol, &d->solver.limit_tolerance,
-                     &d->solver.newton_cg_tolerance, &d->solver.newton_cg_share, &d->material.tau_set,
-                     &d->material.tau_recover, &d->material.set_hardening, &d->material.tension_yield,
+    double *dbl[] = {&d->width,
+                     &d->height,
+                     &d->origin[0],
+                     &d->origin[1],
+                     &d->origin[2],
+                     &d->axis_u[0],
+                     &d->axis_u[1],
+                     &d->axis_u[2],
+                     &d->axis_v[0],
+                     &d->axis_v[1],
+                     &d->axis_v[2],
+                     &d->gravity[0],
+                     &d->gravity[1],
+                     &d->gravity[2],
+                     &d->material.k_t,
+                     &d->material.k_c,
+                     &d->material.k_b,
+                     &d->material.k_s,
+                     &d->material.alpha,
+                     &d->material.delta,
+                     &d->material.k_delta,
+                     &d->material.c_t,
+                     &d->material.c_b,
+                     &d->material.density,
+                     &d->solver.cg_tolerance,
+                     &d->solver.strain_fail,
+                     &d->solver.newton_tolerance,
+                     &d->solver.newton_rtol,
+                     &d->solver.limit_tolerance,
+                     &d->solver.newton_cg_tolerance,
+                     &d->solver.newton_cg_share,
+                     &d->material.tau_set,
+                     &d->material.tau_recover,
+                     &d->material.set_hardening,
+                     &d->material.tension_yield,
                      &d->material.tension_set};
     int nd = (int)(sizeof dbl / sizeof dbl[0]);
     if (f < nd) {
@@ -125,11 +155,14 @@ static void step_checked(cloth *c, cloth_state *before, cloth_state *after, doub
     cloth_status s = cloth_step(c, h, &st);
     size_t n3 = 3 * (size_t)cloth_vertex_count(c);
     CHECK(status_ok(s), "%s: step returned %d", what, (int)s);
-    CHECK(finite_all(cloth_positions(c), n3) && finite_all(cloth_velocities(c), n3), "%s: step (%s) left NaN/inf",
-          what, cloth_status_string(s));
+    CHECK(finite_all(cloth_positions(c), n3) && finite_all(cloth_velocities(c), n3), "%s: step (%s) left NaN/inf", what,
+          cloth_status_string(s));
     if (s != CLOTH_OK) {
         cloth_save(c, after);
-        CHECK(cloth_state_diff(before, after) == 0.0, "%s: failed step (%s, halvings %d, first %s) changed the state by %g", what, cloth_failure_string(st.failure), st.halvings, cloth_failure_string(st.first_failure), cloth_state_diff(before, after));
+        CHECK(cloth_state_diff(before, after) == 0.0,
+              "%s: failed step (%s, halvings %d, first %s) changed the state by %g", what,
+              cloth_failure_string(st.failure), st.halvings, cloth_failure_string(st.first_failure),
+              cloth_state_diff(before, after));
         CHECK(st.failure != CLOTH_FAIL_NONE, "%s: failed step with failure NONE", what);
     }
 }
@@ -181,8 +214,8 @@ static void descriptors(void)
         cloth_desc after = cloth_get_desc(c);
         CHECK(r1 == cloth_material_validate(&e.material, NULL), "%s: set_material disagrees with validate", what);
         if (r1 != CLOTH_OK)
-            CHECK(memcmp(&before.material, &after.material, sizeof before.material) == 0,
-                  "%s: refused material kept", what);
+            CHECK(memcmp(&before.material, &after.material, sizeof before.material) == 0, "%s: refused material kept",
+                  what);
         if (r2 != CLOTH_OK)
             CHECK(memcmp(&before.solver, &after.solver, sizeof before.solver) == 0, "%s: refused solver kept", what);
         if (r1 == CLOTH_OK || r2 == CLOTH_OK) step_checked(c, b, a, 1.0 / 60, what);
@@ -198,9 +231,9 @@ static void descriptors(void)
 
 typedef struct world {
     cloth *c[3];
-    cloth_state *s[3];      /* a state of each cloth, for restore / diff */
+    cloth_state *s[3]; /* a state of each cloth, for restore / diff */
     cloth_state *before, *after;
-    double *buf;            /* 3 * largest n doubles */
+    double *buf; /* 3 * largest n doubles */
 } world;
 
 /* base + noise of size amp (base NULL: 0), sometimes with extremes, or NULL */
@@ -275,7 +308,10 @@ static void walk(void)
         cloth_status s = CLOTH_OK;
         double v3[3], *p;
         switch (op) {
-        case 0: p = vec(&g, &w, n, cloth_positions(c), 0.005, &isnull); s = cloth_set_positions(c, p); break;
+        case 0:
+            p = vec(&g, &w, n, cloth_positions(c), 0.005, &isnull);
+            s = cloth_set_positions(c, p);
+            break;
         case 1:
             p = vec(&g, &w, n, NULL, 2.0, &isnull);
             s = rng_u64(&g) % 2 ? cloth_set_velocities(c, p) : cloth_add_velocities(c, p);
@@ -397,7 +433,10 @@ static void walk(void)
             mutates = 0;
             break;
         }
-        case 16: s = cloth_internal_forces(c, rng_u64(&g) % 8 ? w.buf : NULL); mutates = 0; break;
+        case 16:
+            s = cloth_internal_forces(c, rng_u64(&g) % 8 ? w.buf : NULL);
+            mutates = 0;
+            break;
         case 17: { /* save / restore, maybe across sizes */
             int cj = rng_u64(&g) % 4 ? ci : (int)(rng_u64(&g) % 3);
             s = cloth_save(c, rng_u64(&g) % 10 ? w.s[cj] : NULL);
@@ -434,7 +473,9 @@ static void walk(void)
             mutates = 0; /* the state and the constraints stay */
             break;
         }
-        case 25: s = cloth_hold_by_body(c, index_of(&g, n), rng_u64(&g) % 2 ? (int)(rng_u64(&g) % 4) - 1 : xi(&g)); break;
+        case 25:
+            s = cloth_hold_by_body(c, index_of(&g, n), rng_u64(&g) % 2 ? (int)(rng_u64(&g) % 4) - 1 : xi(&g));
+            break;
         case 26: {
             double dv6[6];
             s = cloth_body_velocity_change(c, rng_u64(&g) % 3 ? (int)(rng_u64(&g) % 3) : xi(&g),
@@ -454,7 +495,8 @@ static void walk(void)
             }
             cloth_adaptive *A = NULL;
             cloth *other = w.c[(ci + 1) % 3];
-            cloth_status r0 = cloth_adaptive_create(rng_u64(&g) % 10 ? c : NULL, rng_u64(&g) % 10 ? &ad : NULL, &A, NULL);
+            cloth_status r0 = cloth_adaptive_create(rng_u64(&g) % 10 ? c : NULL, rng_u64(&g) % 10 ? &ad : NULL, &A,
+                                                    NULL);
             CHECK(status_ok(r0) && (r0 == CLOTH_OK) == (A != NULL), "adaptive_create: %d", (int)r0);
             double dt = rng_u64(&g) % 5 ? rng_range(&g, 1e-3, 0.03) : xd(&g);
             if (dt > 0.1 && isfinite(dt)) dt = 0.1;
@@ -491,13 +533,15 @@ static void walk(void)
         }
         }
         calls[op]++;
-        if (getenv("FUZZ_DEBUG")) printf("call %d cloth %d op %d: %s %s\n", it, ci, op, cloth_status_string(s), s ? cloth_last_error(c) : "");
+        if (getenv("FUZZ_DEBUG"))
+            printf("call %d cloth %d op %d: %s %s\n", it, ci, op, cloth_status_string(s), s ? cloth_last_error(c) : "");
         CHECK(status_ok(s), "call %d (op %d): status %d", it, op, (int)s);
         CHECK(finite_all(cloth_positions(c), n3) && finite_all(cloth_velocities(c), n3),
               "call %d (op %d, %s): NaN/inf in the state", it, op, cloth_status_string(s));
         cloth_save(c, w.after);
         for (int i = 0; i < n; i++) cloth_constraint_force(c, i, f1 + 3 * i);
-        if (!CHECK(finite_all(f1, n3), "call %d (op %d): constraint forces not finite", it, op) && getenv("FUZZ_DEBUG")) {
+        if (!CHECK(finite_all(f1, n3), "call %d (op %d): constraint forces not finite", it, op) &&
+            getenv("FUZZ_DEBUG")) {
             cloth_desc dd = cloth_get_desc(c);
             printf("  bodies %d, constraints %d, gravity %g %g %g, k_t %g density %g, stats failure %d it %d\n",
                    cloth_body_count(c), cloth_constraint_count(c), dd.gravity[0], dd.gravity[1], dd.gravity[2],
@@ -506,9 +550,10 @@ static void walk(void)
                 cloth_constraint kk;
                 cloth_get_constraint(c, i, &kk);
                 if (!finite_all(f1 + 3 * i, 3) || kk.ndof)
-                    printf("  vertex %d ndof %d f %g %g %g target %g %g %g axis %g %g %g x %g %g %g\n", i, kk.ndof, f1[3 * i],
-                           f1[3 * i + 1], f1[3 * i + 2], kk.target[0], kk.target[1], kk.target[2], kk.axis[0], kk.axis[1],
-                           kk.axis[2], cloth_positions(c)[3 * i], cloth_positions(c)[3 * i + 1], cloth_positions(c)[3 * i + 2]);
+                    printf("  vertex %d ndof %d f %g %g %g target %g %g %g axis %g %g %g x %g %g %g\n", i, kk.ndof,
+                           f1[3 * i], f1[3 * i + 1], f1[3 * i + 2], kk.target[0], kk.target[1], kk.target[2],
+                           kk.axis[0], kk.axis[1], kk.axis[2], cloth_positions(c)[3 * i], cloth_positions(c)[3 * i + 1],
+                           cloth_positions(c)[3 * i + 2]);
             }
         }
         if (s != CLOTH_OK || !mutates) {
@@ -523,8 +568,8 @@ static void walk(void)
             CHECK(memcmp(&air0, &air1, sizeof air0) == 0, "call %d (op %d): air settings changed", it, op);
         }
         if (s != CLOTH_OK)
-            CHECK(cloth_last_error(c)[0] != '\0' || rerr.message[0] != '\0', "call %d (op %d): failure without a message",
-                  it, op);
+            CHECK(cloth_last_error(c)[0] != '\0' || rerr.message[0] != '\0',
+                  "call %d (op %d): failure without a message", it, op);
         cloth_state_destroy(w.before);
         cloth_state_destroy(w.after);
     }
@@ -542,7 +587,8 @@ static void walk(void)
            "frames: %ld of %ld)\n",
            tot, tf, sf, sc, fails[24], calls[24], fails[27], calls[27]);
     printf("step outcomes:");
-    for (int k = 0; k <= CLOTH_FAIL_NEWTON; k++) printf(" %s %ld;", cloth_failure_string((cloth_failure)k), fail_why[k]);
+    for (int k = 0; k <= CLOTH_FAIL_NEWTON; k++)
+        printf(" %s %ld;", cloth_failure_string((cloth_failure)k), fail_why[k]);
     printf("\n");
     CHECK(fail_why[CLOTH_FAIL_NONE] > 100, "only %ld steps succeeded: the walk tests failures only",
           fail_why[CLOTH_FAIL_NONE]);

@@ -130,8 +130,7 @@ static void run(int R, int C, int sym, rng *g)
         int kind = !sym && rng_unit(g) < 0.3 ? (rng_unit(g) < 0.5 ? 1 : 2) : 0;
         con[i] = kind != 0;
         for (int r = 0; r < 3; r++)
-            for (int s = 0; s < 3; s++)
-                S[9 * i + 3 * r + s] = kind == 2 ? 0.0 : (r == s) - (kind ? u[r] * u[s] : 0.0);
+            for (int s = 0; s < 3; s++) S[9 * i + 3 * r + s] = kind == 2 ? 0.0 : (r == s) - (kind ? u[r] * u[s] : 0.0);
         Dinv[9 * i] = Dinv[9 * i + 4] = Dinv[9 * i + 8] = 1.0;
     }
     CHECK(mg_create(&mg, R, C, &A) == 0, "%dx%d: mg_create", R, C);

@@ -93,8 +93,8 @@ static void check_rectangle(int n, int k, double f, double z1, rng *g)
         intersections is;
         CHECK(intersections_count(xs, nv + 4, tris, nt + 2, &is, mark) == 0, "count failed");
         CHECK(is.pairs == 2 * n - 1 && is.vertices == 2 * n + 4,
-              "n %d k %d f %g moved %d: %ld pairs, %d vertices; expected %d, %d", n, k, f, moved, is.pairs,
-              is.vertices, 2 * n - 1, 2 * n + 4);
+              "n %d k %d f %g moved %d: %ld pairs, %d vertices; expected %d, %d", n, k, f, moved, is.pairs, is.vertices,
+              2 * n - 1, 2 * n + 4);
         int wrong = 0;
         for (int v = 0; v < nv + 4; v++) wrong += mark[v] != (v >= nv || v % n == k || v % n == k + 1);
         CHECK(wrong == 0, "n %d k %d: %d vertices marked wrongly", n, k, wrong);

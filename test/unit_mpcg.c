@@ -268,10 +268,22 @@ static void make_system(sys *s, int R, int C, rng *g)
     for (int r = 0; r < R; r++)
         for (int c = 0; c < C; c++) {
             int i = r * C + c;
-            if (c + 1 < C) { ei[ne] = i; ej[ne++] = i + 1; }
-            if (r + 1 < R) { ei[ne] = i; ej[ne++] = i + C; }
-            if (r + 1 < R && c + 1 < C) { ei[ne] = i; ej[ne++] = i + C + 1; }
-            if (r + 1 < R && c > 0) { ei[ne] = i; ej[ne++] = i + C - 1; }
+            if (c + 1 < C) {
+                ei[ne] = i;
+                ej[ne++] = i + 1;
+            }
+            if (r + 1 < R) {
+                ei[ne] = i;
+                ej[ne++] = i + C;
+            }
+            if (r + 1 < R && c + 1 < C) {
+                ei[ne] = i;
+                ej[ne++] = i + C + 1;
+            }
+            if (r + 1 < R && c > 0) {
+                ei[ne] = i;
+                ej[ne++] = i + C - 1;
+            }
         }
     int *blk = malloc(sizeof(int) * 2 * ne);
     CHECK(bsr_build(&s->A, n, ne, ei, ej, blk) == 0, "bsr_build failed");
@@ -386,19 +398,27 @@ static void run_case(const sys *s, int mix, rng *g, int *iters_out)
      * 4: mpcg_run with the list and scalar Jacobi as a function
      *    (3 and 4 are how the step calls it) */
     for (int var = 0; var < 5; var++) {
-        make_precond(&s->A, S, var != 1, P);    /* the norm's blocks (and mpcg_solve's preconditioner) */
+        make_precond(&s->A, S, var != 1, P); /* the norm's blocks (and mpcg_solve's preconditioner) */
         make_precond(&s->A, S, 0, Pjac);
         jac_ctx jc = {n, Pjac};
         const char *pcnames[] = {"block", "jacobi", "pc-jacobi", "run-block", "run-jacobi"}, *pc = pcnames[var];
-        mpcg_problem prob = {.A = &s->A, .b = b, .S = S, .z = z, .Dinv = P, .con = con, .ncon = ncon,
-                             .pc = var == 4 ? jac_apply : NULL, .ctx = &jc, .tol = 1e-10, .max_iter = 10 * N};
+        mpcg_problem prob = {.A = &s->A,
+                             .b = b,
+                             .S = S,
+                             .z = z,
+                             .Dinv = P,
+                             .con = con,
+                             .ncon = ncon,
+                             .pc = var == 4 ? jac_apply : NULL,
+                             .ctx = &jc,
+                             .tol = 1e-10,
+                             .max_iter = 10 * N};
         int cold_it = -1;
         for (int warm = 0; warm <= 1; warm++) {
             const double tol = 1e-10;
             /* warm: the reference plus a 1e-7 perturbation in every direction,
              * and garbage in the constrained directions (to be ignored) */
-            for (int k = 0; k < N; k++)
-                x[k] = warm ? xref[k] + 1e-7 * xscale * rng_range(g, -1, 1) : 0.0;
+            for (int k = 0; k < N; k++) x[k] = warm ? xref[k] + 1e-7 * xscale * rng_range(g, -1, 1) : 0.0;
             if (warm)
                 for (int i = 0; i < n; i++) {
                     double t[3];
@@ -418,8 +438,8 @@ static void run_case(const sys *s, int mix, rng *g, int *iters_out)
             }
             if (getenv("MPCG_VERBOSE"))
                 printf("  %s/%s/%s: rel err %.2e, %d it\n", name, pc, warm ? "warm" : "cold", e / xr, res.iterations);
-            CHECK(e <= 1e-8 * xr, "%s/%s/%s: |x - x_dense|_max = %.3g, relative %.3g > 1e-8 (m = %d, %d it)", name,
-                  pc, warm ? "warm" : "cold", e, e / xr, m, res.iterations);
+            CHECK(e <= 1e-8 * xr, "%s/%s/%s: |x - x_dense|_max = %.3g, relative %.3g > 1e-8 (m = %d, %d it)", name, pc,
+                  warm ? "warm" : "cold", e, e / xr, m, res.iterations);
             /* the true residual in the solver's norm, recomputed */
             bsr_mul(&s->A, x, r);
             for (int k = 0; k < N; k++) r[k] = b[k] - r[k];
@@ -432,8 +452,8 @@ static void run_case(const sys *s, int mix, rng *g, int *iters_out)
                   warm ? "warm" : "cold", true_res);
             CHECK(res.residual <= tol, "%s/%s/%s: reported residual %.3g > tol", name, pc, warm ? "warm" : "cold",
                   res.residual);
-            CHECK(res.iterations <= m, "%s/%s/%s: %d iterations > %d free unknowns", name, pc,
-                  warm ? "warm" : "cold", res.iterations, m);
+            CHECK(res.iterations <= m, "%s/%s/%s: %d iterations > %d free unknowns", name, pc, warm ? "warm" : "cold",
+                  res.iterations, m);
             /* constraints hold */
             double worst = 0;
             int pin_exact = 1;
@@ -460,8 +480,8 @@ static void run_case(const sys *s, int mix, rng *g, int *iters_out)
                 cold_it = res.iterations;
                 iters_out[var] = res.iterations;
             } else {
-                CHECK(res.iterations < cold_it, "%s/%s: warm start %d iterations >= cold %d", name, pc,
-                      res.iterations, cold_it);
+                CHECK(res.iterations < cold_it, "%s/%s: warm start %d iterations >= cold %d", name, pc, res.iterations,
+                      cold_it);
             }
         }
     }
@@ -616,7 +636,8 @@ static void landing_reference(const sys *s, rng *g)
         iters[v] = res.iterations;
     }
     printf("landing: residual left %.3g (no cap, %d iterations), %.3g (capped, %d), %.3g (floor above, %d); "
-           "before the landing %.3g\n", left[0], iters[0], left[1], iters[1], left[2], iters[2], sqrt(before));
+           "before the landing %.3g\n",
+           left[0], iters[0], left[1], iters[1], left[2], iters[2], sqrt(before));
     CHECK(left[1] <= 2 * tol * sqrt(before), "capped: %.3g left, over 2 tol of %.3g", left[1], sqrt(before));
     CHECK(left[0] > 2 * tol * sqrt(before), "uncapped: %.3g left, within 2 tol of %.3g (the cap untested)", left[0],
           sqrt(before));
@@ -675,7 +696,8 @@ static void cloth_case(cloth_method method, cloth_precond precond, int R, rng *g
     if (!CHECK(cloth_create(&d, &c, &err) == CLOTH_OK, "cloth_create: %s", err.message)) return;
     int n = cloth_vertex_count(c), N = 3 * n;
     const double *x = cloth_positions(c);
-    const char *mnames[] = {"BE", "explicit", "symplectic", "BDF2"}, *pnames[] = {"block", "jacobi", "multigrid", "ssor"};
+    const char *mnames[] = {"BE", "explicit", "symplectic", "BDF2"},
+               *pnames[] = {"block", "jacobi", "multigrid", "ssor"};
     char mname[64];
     snprintf(mname, sizeof mname, "%s/%s/%dx%d", mnames[method], pnames[precond], R, R);
 
@@ -710,7 +732,10 @@ static void cloth_case(cloth_method method, cloth_precond precond, int R, rng *g
             e = sqrt(dot3(o, o));
         }
         CHECK(e <= 1e-12, "%s: %s constraint on vertex %d: constrained components off target by %.3g m", mname,
-              ndof[q] == 3 ? "pin" : ndof[q] == 1 ? "plane" : "line", verts[q], e);
+              ndof[q] == 3   ? "pin"
+              : ndof[q] == 1 ? "plane"
+                             : "line",
+              verts[q], e);
     }
 
     if (method == CLOTH_BACKWARD_EULER || method == CLOTH_BDF2) {
@@ -724,16 +749,15 @@ static void cloth_case(cloth_method method, cloth_precond precond, int R, rng *g
         }
         bsr_to_dense(&c->A, dense);
         int m;
-        CHECK(dense_reference(n, dense, c->b, c->z, kinds, axes, xr, &m) == 0, "%s: cloth's reduced A not SPD",
-              mname);
+        CHECK(dense_reference(n, dense, c->b, c->z, kinds, axes, xr, &m) == 0, "%s: cloth's reduced A not SPD", mname);
         double e = 0, sc = 0;
         for (int i = 0; i < N; i++) {
             e = fmax(e, fabs(c->dv[i] - xr[i]));
             sc = fmax(sc, fabs(xr[i]));
         }
         if (getenv("MPCG_VERBOSE")) printf("  cloth %s: dv rel err %.2e, %d it\n", mname, e / sc, st.iterations);
-        CHECK(e <= 1e-10 * sc, "%s: step dv vs dense reduced solve: max diff %.3g (scale %.3g, %d CG it)",
-              mname, e, sc, st.iterations);
+        CHECK(e <= 1e-10 * sc, "%s: step dv vs dense reduced solve: max diff %.3g (scale %.3g, %d CG it)", mname, e, sc,
+              st.iterations);
         free(kinds);
         free(axes);
         free(dense);

@@ -91,8 +91,8 @@ static void run(int R, int C, double cond, rng *g)
     printf("%dx%d, diagonal blocks' condition about %g: constrained part of the V-cycle's output %.2e of it\n", R, C,
            cond, worst);
     /* S_i = I - n n^T in floating point is a projector to a few ulp (|S^2 - S| about 4 eps): 16 eps */
-    CHECK(worst <= 16 * DBL_EPSILON, "%dx%d cond %g: the V-cycle's output leaks %.3g into constrained directions", R,
-          C, cond, worst);
+    CHECK(worst <= 16 * DBL_EPSILON, "%dx%d cond %g: the V-cycle's output leaks %.3g into constrained directions", R, C,
+          cond, worst);
     mg_free(&mg);
     bsr_free(&A);
     free(S), free(Dinv), free(r), free(s), free(con);

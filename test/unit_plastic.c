@@ -34,10 +34,8 @@ static void ref_rule(double alpha, double l0, double d, int *plastic, double *l1
         if (!*plastic) {
             *plastic = 1;
             *l1 = d;
-        } else if (d < *l1)
-            *l1 = d;
-    } else
-        *plastic = 0;
+        } else if (d < *l1) *l1 = d;
+    } else *plastic = 0;
 }
 
 static cloth_material test_material(double alpha)
@@ -57,7 +55,12 @@ static void check_scripted(void)
 {
     const cloth_material m = test_material(0.8);
     const double l0 = 2.0; /* alpha l0 = 1.6 */
-    struct { double d; int plastic; double l1; const char *what; } s[] = {
+    struct {
+        double d;
+        int plastic;
+        double l1;
+        const char *what;
+    } s[] = {
         {1.90, 0, 0, "slightly compressed, above alpha l0: elastic"},
         {1.62, 0, 0, "just above alpha l0: elastic"},
         {1.50, 1, 1.50, "below alpha l0: enters with l1 = d"},
@@ -165,8 +168,10 @@ static void check_random_walks(void)
             if (was && !pr) exits++;
             if (p != pr || (pr && l1 != l1r)) {
                 if (mismatches < 5)
-                    CHECK(0, "random walk %d step %d (alpha %g, d/l0 %g): plastic %d l1/l0 %g, want plastic %d "
-                             "l1/l0 %g", w, t, alpha, ratio, p, l1 / l0, pr, l1r / l0);
+                    CHECK(0,
+                          "random walk %d step %d (alpha %g, d/l0 %g): plastic %d l1/l0 %g, want plastic %d "
+                          "l1/l0 %g",
+                          w, t, alpha, ratio, p, l1 / l0, pr, l1r / l0);
                 mismatches++;
                 p = pr, l1 = l1r; /* resynchronise */
             }
@@ -200,8 +205,9 @@ static void fold_positions(const folded *F, double phi, double s, double *x)
         for (int c = 0; c < C; c++) {
             int i = r * C + c, base = RF * C + c;
             for (int a = 0; a < 3; a++) {
-                double p = r <= RF ? F->rest[3 * i + a]
-                                   : F->rest[3 * base + a] + (r - RF) * F->sv * (cos(phi) * F->v[a] + sin(phi) * F->nrm[a]);
+                double p = r <= RF
+                               ? F->rest[3 * i + a]
+                               : F->rest[3 * base + a] + (r - RF) * F->sv * (cos(phi) * F->v[a] + sin(phi) * F->nrm[a]);
                 x[3 * i + a] = F->rest[a] + s * (p - F->rest[a]);
             }
         }
@@ -262,8 +268,7 @@ static void fold_stage(folded *F, double phi, double s, const char *what, int wa
         if (ri == RF - 1 && rj == RF + 1) {
             double along = (cj - ci) * F->su, across = 2 * F->sv * cos(phi / 2);
             dlen = s * sqrt(along * along + across * across);
-        } else
-            dlen = s * L.rest;
+        } else dlen = s * L.rest;
         for (int a = 0; a < 3; a++) dx[a] = x[3 * L.j + a] - x[3 * L.i + a];
         if (fabs(sqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]) - dlen) > 1e-12) bad_len++;
         ref_rule(F->m.alpha, L.rest, dlen, &F->ref_plastic[e], &F->ref_l1[e]);
@@ -320,8 +325,7 @@ static void check_cloth_folds(void)
     if (fold_setup(&F, 0.8)) {
         fold_stage(&F, 0, 1, "flat", 0);
         fold_stage(&F, phi_for(0.70), 1, "fold: straight links enter (0.70), diagonals 0.86 elastic", C);
-        fold_stage(&F, phi_for(0.45), 1, "deeper: straight ratchet to 0.45, diagonals 0.78 enter",
-                   C + 2 * (C - 2));
+        fold_stage(&F, phi_for(0.45), 1, "deeper: straight ratchet to 0.45, diagonals 0.78 enter", C + 2 * (C - 2));
         fold_stage(&F, phi_for(0.65), 1, "unfold to 0.65: straight keep l1 0.45 (k_s), diag. 0.84 out", C);
         fold_stage(&F, phi_for(0.75), 1, "unfold to 0.75: straight still keep l1 0.45", C);
         fold_stage(&F, 0, 1, "flatten: all elastic", 0);
@@ -338,8 +342,7 @@ static void check_cloth_folds(void)
     printf("cloth fold, alpha 1:\n");
     if (fold_setup(&F, 1.0)) {
         /* everything stretched by 1%, so links away from the crease have d > l0 */
-        fold_stage(&F, phi_for(0.95), 1.01, "slight fold, 1% stretch: only the crease plastic",
-                   C + 2 * (C - 2));
+        fold_stage(&F, phi_for(0.95), 1.01, "slight fold, 1% stretch: only the crease plastic", C + 2 * (C - 2));
         fold_stage(&F, phi_for(0.999), 1.02, "almost flat, 2% stretch: d > l0 everywhere, elastic", 0);
         fold_stage(&F, 0, 0.99, "flat, squeezed 1%: every interlaced link plastic", F.n_int);
         fold_teardown(&F);

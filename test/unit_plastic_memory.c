@@ -156,7 +156,8 @@ static void fold(const double *rest, double phi, double *x)
         for (int c = 0; c < C; c++) {
             int i = r * C + c, b = RF * C + c;
             for (int a = 0; a < 3; a++)
-                x[3 * i + a] = r <= RF ? rest[3 * i + a] : rest[3 * b + a] + (r - RF) * sv * (cos(phi) * v[a] + sin(phi) * n[a]);
+                x[3 * i + a] = r <= RF ? rest[3 * i + a]
+                                       : rest[3 * b + a] + (r - RF) * sv * (cos(phi) * v[a] + sin(phi) * n[a]);
         }
 }
 
@@ -194,8 +195,8 @@ static void check_cloth(void)
         cloth *c = cm[mem];
         cloth_set_positions(c, x);
         int n_fold = cloth_update_plastic(c);
-        CHECK(n_fold == C + 2, "memory %d: folded to q 0.5: %d plastic, want %d (3 straight, 2 diagonal)", mem,
-              n_fold, C + 2);
+        CHECK(n_fold == C + 2, "memory %d: folded to q 0.5: %d plastic, want %d (3 straight, 2 diagonal)", mem, n_fold,
+              C + 2);
         cloth_set_positions(c, rest); /* spread flat */
         int n_flat = cloth_update_plastic(c);
         double e = cloth_energies(c).elastic, e_want = 0;
@@ -208,8 +209,7 @@ static void check_cloth(void)
             if (mem && across) {
                 if (!L.plastic || fabs(L.l1 - want_l1) > 1e-12) bad++;
                 e_want += 0.5 * mat[mem].k_s * (L.rest - want_l1) * (L.rest - want_l1);
-            } else if (L.plastic)
-                bad++;
+            } else if (L.plastic) bad++;
         }
         CHECK(bad == 0, "memory %d, spread flat: %d links in the wrong state", mem, bad);
         CHECK(n_flat == (mem ? C + 2 : 0), "memory %d, spread flat: %d plastic, want %d", mem, n_flat, mem ? C + 2 : 0);
@@ -266,8 +266,7 @@ static void check_cloth(void)
         }
         printf("released at a 20 deg fold, 2 s: straight links d/l0 %.4f -> default %.4f, memory %.4f\n", q0[0], q1[0],
                q1[1]);
-        CHECK(q1[1] < q0[1] - 0.1, "memory: the crease re-forms: d/l0 %.4f -> %.4f (want < start - 0.1)", q0[1],
-              q1[1]);
+        CHECK(q1[1] < q0[1] - 0.1, "memory: the crease re-forms: d/l0 %.4f -> %.4f (want < start - 0.1)", q0[1], q1[1]);
         CHECK(q1[0] >= q0[0] - 1e-3, "default: the crease does not re-form: d/l0 %.4f -> %.4f", q0[0], q1[0]);
     }
     cloth_destroy(cm[0]);

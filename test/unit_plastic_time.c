@@ -280,8 +280,8 @@ static void check_cloth(void)
         cloth_destroy(c);
     }
     CHECK_NEAR(l1[0], l1[1], 1e-12 * l0);
-    printf("cloth: held %.1f s at d/l0 %.1f, released %.1f s: l1/l0 %.15f (h) %.15f (h/4)\n", T, q, Rt,
-           l1[0] / l0, l1[1] / l0);
+    printf("cloth: held %.1f s at d/l0 %.1f, released %.1f s: l1/l0 %.15f (h) %.15f (h/4)\n", T, q, Rt, l1[0] / l0,
+           l1[1] / l0);
 }
 
 /* Set fully (set_hardening 1) at a length of almost 0, a link's permanent set

@@ -32,8 +32,7 @@ static cloth *make(int rows, int cols, cloth_nonlinear how, cloth_precond pc)
     d.solver.precond = pc;
     cloth *c = NULL;
     cloth_error err;
-    if (!CHECK(cloth_create(&d, &c, &err) == CLOTH_OK, "create %dx%d precond %d: %s", rows, cols, (int)pc,
-               err.message))
+    if (!CHECK(cloth_create(&d, &c, &err) == CLOTH_OK, "create %dx%d precond %d: %s", rows, cols, (int)pc, err.message))
         return NULL;
     cloth_pin(c, 0, cloth_positions(c));
     cloth_pin(c, cols - 1, cloth_positions(c) + 3 * (cols - 1));

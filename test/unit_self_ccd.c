@@ -68,7 +68,10 @@ static int seg_through(const double *p, const double *q, const double *a, const 
     return s1 != 0 && s1 == s2 && s2 == s3;
 }
 
-typedef struct tri_box { double lo[3], hi[3]; int t; } tri_box;
+typedef struct tri_box {
+    double lo[3], hi[3];
+    int t;
+} tri_box;
 
 static int cmp_box(const void *a, const void *b)
 {
@@ -116,7 +119,8 @@ static int crossings(const double *x, int ntri, const int *tri)
     int count = 0;
     for (int i = 0; i < ntri; i++)
         for (int j = i + 1; j < ntri && b[j].lo[0] <= b[i].hi[0]; j++) {
-            if (b[j].lo[1] > b[i].hi[1] || b[i].lo[1] > b[j].hi[1] || b[j].lo[2] > b[i].hi[2] || b[i].lo[2] > b[j].hi[2])
+            if (b[j].lo[1] > b[i].hi[1] || b[i].lo[1] > b[j].hi[1] || b[j].lo[2] > b[i].hi[2] ||
+                b[i].lo[2] > b[j].hi[2])
                 continue;
             const int *A = tri + 3 * b[i].t, *B = tri + 3 * b[j].t;
             int shared = 0;
@@ -425,7 +429,8 @@ static void crumple_field(int n, double amp, double *d)
         double u = (double)(i % n) / (n - 1), v = (double)(i / n) / (n - 1), l2 = 0.0;
         for (int k = 0; k < 3; k++) {
             d[3 * i + k] = 0.0;
-            for (int m = 0; m < 4; m++) d[3 * i + k] += a[m][k] * sin(6.283185307179586 * (f[m][0] * u + f[m][1] * v) + ph[m]);
+            for (int m = 0; m < 4; m++)
+                d[3 * i + k] += a[m][k] * sin(6.283185307179586 * (f[m][0] * u + f[m][1] * v) + ph[m]);
             l2 += d[3 * i + k] * d[3 * i + k];
         }
         big = fmax(big, sqrt(l2));
@@ -571,7 +576,11 @@ static int bench(int n)
     /* phases: a flat sheet moved half a spacing a step (3 calls, timed);
      * crumpled by 6 steps of 2-8 spacings (not timed); 3 more such steps;
      * then 3 steps of half a spacing on the crumpled sheet */
-    static const struct { const char *name; int steps, timed; double lo, hi; } phase[] = {
+    static const struct {
+        const char *name;
+        int steps, timed;
+        double lo, hi;
+    } phase[] = {
         {"flat, 0.5 spacing a step", 3, 1, 0.5, 0.5},
         {"crumpling", 6, 0, 2.0, 8.0},
         {"crumpled, 2-8 spacings a step", 3, 1, 2.0, 8.0},
@@ -594,7 +603,8 @@ static int bench(int n)
                        st.rounds, left, st.stretch);
             if (ph > 0) memcpy(x0, x1, 3 * (size_t)nv * sizeof *x0); /* the flat phase restarts flat */
         }
-        if (phase[ph].timed) printf("%dx%d %s: mean %.1f ms CPU a call\n", n, n, phase[ph].name, total / phase[ph].steps);
+        if (phase[ph].timed)
+            printf("%dx%d %s: mean %.1f ms CPU a call\n", n, n, phase[ph].name, total / phase[ph].steps);
     }
     self_ccd_destroy(s);
     free(tri);

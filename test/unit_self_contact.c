@@ -11,10 +11,10 @@
 #include "ccd.h"
 #include "self_contact.h"
 
-#define N 9         /* vertices per side */
-#define H 0.05      /* grid step, m */
-#define D 0.02      /* thickness, m */
-#define CFAC 0.01   /* dx/dv */
+#define N 9       /* vertices per side */
+#define H 0.05    /* grid step, m */
+#define D 0.02    /* thickness, m */
+#define CFAC 0.01 /* dx/dv */
 #define NV (N * N)
 #define NT (2 * (N - 1) * (N - 1))
 
@@ -196,8 +196,10 @@ static void case_fold(cloth *c)
         self_contact_work w = self_contact_get_work(s);
         CHECK(w.rebuilds == w0.rebuilds && w.extended == w0.extended + 1, "one out: %ld rebuilds, %ld grown",
               w.rebuilds - w0.rebuilds, w.extended - w0.extended);
-        CHECK(w.active == active && w.candidates > w0.candidates, "one out: %d pairs within D (brute force %d), "
-              "%d candidates from %d", w.active, active, w.candidates, w0.candidates);
+        CHECK(w.active == active && w.candidates > w0.candidates,
+              "one out: %d pairs within D (brute force %d), "
+              "%d candidates from %d",
+              w.active, active, w.candidates, w0.candidates);
         CHECK_REL(E, Eb, 1e-12, 0.0);
         memcpy(x, y, sizeof x);
     }
@@ -257,10 +259,8 @@ static void case_flat_gap(cloth *c)
         self_contact_begin(s, c, CFAC);
         double E = self_contact_eval(s, x, CFAC, NULL, NULL);
         self_contact_work w = self_contact_get_work(s);
-        if (over)
-            CHECK(E > 0.0 && w.active > 0, "thickness 1.01 H / sqrt 2: energy %g, %d pairs at rest", E, w.active);
-        else
-            CHECK(E == 0.0 && w.active == 0, "thickness 0.99 H / sqrt 2: energy %g, %d pairs at rest", E, w.active);
+        if (over) CHECK(E > 0.0 && w.active > 0, "thickness 1.01 H / sqrt 2: energy %g, %d pairs at rest", E, w.active);
+        else CHECK(E == 0.0 && w.active == 0, "thickness 0.99 H / sqrt 2: energy %g, %d pairs at rest", E, w.active);
         self_contact_destroy(s);
     }
 }

@@ -39,9 +39,9 @@
 #include "check.h"
 
 enum { SEQ_TENSION, SEQ_PAST_LIMIT, SEQ_COMPRESSION, INT_ELASTIC, INT_SPREAD, INT_PLASTIC_COMPRESSION, NREGION };
-static const char *region_name[NREGION] = {
-    "sequential tension", "sequential past the limit", "sequential compression", "interlaced elastic",
-    "interlaced plastic spreading", "interlaced plastic compression"};
+static const char *region_name[NREGION] = {"sequential tension",           "sequential past the limit",
+                                           "sequential compression",       "interlaced elastic",
+                                           "interlaced plastic spreading", "interlaced plastic compression"};
 
 static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 static double norm3(const double a[3]) { return sqrt(dot3(a, a)); }
@@ -149,13 +149,11 @@ static void check_laws(const cloth_material *m)
     s = int_law(m, 0.5, 0, 0.3);
     CHECK(s.k_hi == m->k_b && s.k_lo == m->k_b && s.rest == 0.5,
           "int_law elastic = (%g, %g, %g), want (k_b %g, k_b, l0 0.5)", s.k_hi, s.k_lo, s.rest, m->k_b);
-    CHECK(s.k_lim == 0.0 && s.lim == HUGE_VAL, "int_law elastic: k_lim %g lim %g, want 0 and HUGE_VAL", s.k_lim,
-          s.lim);
+    CHECK(s.k_lim == 0.0 && s.lim == HUGE_VAL, "int_law elastic: k_lim %g lim %g, want 0 and HUGE_VAL", s.k_lim, s.lim);
     s = int_law(m, 0.5, 1, 0.3);
     CHECK(s.k_hi == m->k_s && s.k_lo == m->k_b && s.rest == 0.3,
           "int_law plastic = (%g, %g, %g), want (k_s %g, k_b %g, l1 0.3)", s.k_hi, s.k_lo, s.rest, m->k_s, m->k_b);
-    CHECK(s.k_lim == 0.0 && s.lim == HUGE_VAL, "int_law plastic: k_lim %g lim %g, want 0 and HUGE_VAL", s.k_lim,
-          s.lim);
+    CHECK(s.k_lim == 0.0 && s.lim == HUGE_VAL, "int_law plastic: k_lim %g lim %g, want 0 and HUGE_VAL", s.k_lim, s.lim);
 }
 
 /* The limit term switches on continuously at lim: energy and force just
@@ -205,8 +203,7 @@ static void check_limit_continuity(const cloth_material *m)
         if (df / tol_f > worst_f) worst_f = df / tol_f;
         CHECK(de <= tol_e, "limit term: energy jumps at lim: E(lim(1-1e-9)) %.17g, E(lim(1+1e-9)) %.17g (tol %.3g)",
               elo, ehi, tol_e);
-        CHECK(df <= tol_f, "limit term: force jumps at lim: |f(lim(1+1e-9)) - f(lim(1-1e-9))| %.3g > %.3g", df,
-              tol_f);
+        CHECK(df <= tol_f, "limit term: force jumps at lim: |f(lim(1+1e-9)) - f(lim(1-1e-9))| %.3g > %.3g", df, tol_f);
     }
     printf("%-32s 50 samples: energy change / allowed %.2f, force change / allowed %.2f\n", "continuity at lim",
            worst_e, worst_f);
@@ -229,9 +226,8 @@ static void check_link_forces(const cloth_material *m)
              * term is active exactly in the region past the limit */
             {
                 double k_used = lc.d >= lc.law.rest ? lc.law.k_hi : lc.law.k_lo;
-                CHECK(k_used == lc.k && lc.law.rest == lc.rest,
-                      "%s: law gives k %g rest %g, want k %g rest %g", region_name[region],
-                      k_used, lc.law.rest, lc.k, lc.rest);
+                CHECK(k_used == lc.k && lc.law.rest == lc.rest, "%s: law gives k %g rest %g, want k %g rest %g",
+                      region_name[region], k_used, lc.law.rest, lc.k, lc.rest);
                 CHECK((lc.d > lc.law.lim) == lc.past, "%s: d %g, law's lim %g: the limit term should %sbe active",
                       region_name[region], lc.d, lc.law.lim, lc.past ? "" : "not ");
             }
@@ -243,8 +239,8 @@ static void check_link_forces(const cloth_material *m)
                 if (lc.past) eexp += 0.5 * lc.klim * (lc.d - lc.lim) * (lc.d - lc.lim);
                 if (!CHECK(fabs(e - eexp) <= 1e-10 * eexp,
                            "%s: energy %.17g, want 1/2 k (d-rest)^2%s = %.17g (d %g rest %g k %g lim %g k_lim %g)",
-                           region_name[region], e, lc.past ? " + 1/2 k_lim (d-lim)^2" : "", eexp, lc.d, lc.rest,
-                           lc.k, lc.lim, lc.klim))
+                           region_name[region], e, lc.past ? " + 1/2 k_lim (d-lim)^2" : "", eexp, lc.d, lc.rest, lc.k,
+                           lc.lim, lc.klim))
                     continue;
             }
 
@@ -263,8 +259,8 @@ static void check_link_forces(const cloth_material *m)
                       region_name[region], f[0], f[1], f[2], lc.past ? " + k_lim(d-lim)" : "", fexp[0], fexp[1],
                       fexp[2], rel);
                 CHECK(f_on[0] == f[0] && f_on[1] == f[1] && f_on[2] == f[2],
-                      "%s: force depends on the definiteness flag: (%g %g %g) vs (%g %g %g)",
-                      region_name[region], f_on[0], f_on[1], f_on[2], f[0], f[1], f[2]);
+                      "%s: force depends on the definiteness flag: (%g %g %g) vs (%g %g %g)", region_name[region],
+                      f_on[0], f_on[1], f_on[2], f[0], f[1], f[2]);
             }
 
             /* minus the central-difference gradient of the energy, both ends */
@@ -292,13 +288,12 @@ static void check_link_forces(const cloth_material *m)
                 CHECK(e_fd < 1e-6,
                       "%s: f_i = (%.10g %.10g %.10g) but -dE/dx_i = (%.10g %.10g %.10g), "
                       "-dE/dx_j = (%.10g %.10g %.10g): rel err %.3g (d %g rest %g)",
-                      region_name[region], f[0], f[1], f[2], -g_i[0], -g_i[1], -g_i[2], -g_j[0],
-                      -g_j[1], -g_j[2], e_fd, lc.d, lc.rest);
+                      region_name[region], f[0], f[1], f[2], -g_i[0], -g_i[1], -g_i[2], -g_j[0], -g_j[1], -g_j[2], e_fd,
+                      lc.d, lc.rest);
             }
         }
-        printf("%-32s %d samples: worst rel err vs FD gradient %.2e, vs closed form %.2e%s\n",
-               region_name[region], samples, worst_fd, worst_closed,
-               check_failures() > failed_before ? "  (FAILURES)" : "");
+        printf("%-32s %d samples: worst rel err vs FD gradient %.2e, vs closed form %.2e%s\n", region_name[region],
+               samples, worst_fd, worst_closed, check_failures() > failed_before ? "  (FAILURES)" : "");
     }
 }
 
@@ -330,8 +325,8 @@ static void check_damper(void)
             double e[3] = {f[0] - fexp[0], f[1] - fexp[1], f[2] - fexp[2]};
             double rel = norm3(e) / (fabs(c) * norm3((double[3]){vj[0] - vi[0], vj[1] - vi[1], vj[2] - vi[2]}));
             if (rel > worst_f) worst_f = rel;
-            CHECK(rel <= 1e-12, "damper: f_i = (%g %g %g), want c((vj-vi).u)u = (%g %g %g)", f[0], f[1],
-                  f[2], fexp[0], fexp[1], fexp[2]);
+            CHECK(rel <= 1e-12, "damper: f_i = (%g %g %g), want c((vj-vi).u)u = (%g %g %g)", f[0], f[1], f[2], fexp[0],
+                  fexp[1], fexp[2]);
         }
         /* D against central differences of the damping force wrt v_j and v_i */
         for (int b = 0; b < 3; b++) {
@@ -419,7 +414,8 @@ static void check_cloth_damping(void)
         CHECK(fmax > 0, "cloth damping forces are all zero");
         CHECK(emax <= 1e-9 * fmax,
               "cloth damping: internal_forces(v) - internal_forces(0) differs from the sum of link "
-              "dampers (c_t sequential, c_b interlaced) by %.3g (max %.3g)", emax, fmax);
+              "dampers (c_t sequential, c_b interlaced) by %.3g (max %.3g)",
+              emax, fmax);
         printf("%-32s max |f(v)-f(0) - sum dampers| = %.2e of %.2e\n", "cloth damping", emax, fmax);
         free(x);
         free(v);

@@ -38,11 +38,23 @@
 #include "internal.h"
 #include "check.h"
 
-enum { SEQ_TENSION, SEQ_PAST_LIMIT, SEQ_COMPRESSION, INT_ELASTIC_STRETCH, INT_ELASTIC_COMPRESSION, INT_SPREAD,
-       INT_PLASTIC_COMPRESSION, NREGION };
-static const char *region_name[NREGION] = {
-    "sequential tension", "sequential past the limit", "sequential compression", "interlaced elastic stretched",
-    "interlaced elastic compressed", "interlaced plastic spreading", "interlaced plastic compression"};
+enum {
+    SEQ_TENSION,
+    SEQ_PAST_LIMIT,
+    SEQ_COMPRESSION,
+    INT_ELASTIC_STRETCH,
+    INT_ELASTIC_COMPRESSION,
+    INT_SPREAD,
+    INT_PLASTIC_COMPRESSION,
+    NREGION
+};
+static const char *region_name[NREGION] = {"sequential tension",
+                                           "sequential past the limit",
+                                           "sequential compression",
+                                           "interlaced elastic stretched",
+                                           "interlaced elastic compressed",
+                                           "interlaced plastic spreading",
+                                           "interlaced plastic compression"};
 
 static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 static double norm3(const double a[3]) { return sqrt(dot3(a, a)); }
@@ -223,8 +235,8 @@ static void check_link_jacobians(const cloth_material *m)
             CHECK(e_j < 1e-6,
                   "%s: K = df_i/dx_j (rule off) vs FD: rel err %.3g (d/rest %g)\n"
                   "  K  = [%g %g %g; %g %g %g; %g %g %g]\n  FD = [%g %g %g; %g %g %g; %g %g %g]",
-                  region_name[region], e_j, lc.d / lc.rest, K[0], K[1], K[2], K[3], K[4], K[5], K[6],
-                  K[7], K[8], Jj[0], Jj[1], Jj[2], Jj[3], Jj[4], Jj[5], Jj[6], Jj[7], Jj[8]);
+                  region_name[region], e_j, lc.d / lc.rest, K[0], K[1], K[2], K[3], K[4], K[5], K[6], K[7], K[8], Jj[0],
+                  Jj[1], Jj[2], Jj[3], Jj[4], Jj[5], Jj[6], Jj[7], Jj[8]);
             CHECK(e_i < 1e-6, "%s: -K vs FD of f_i wrt x_i (rule off): rel err %.3g", region_name[region], e_i);
 
             /* the law's limit term (seq_law: k_delta k_t past (1 + delta) l0) */
@@ -232,8 +244,7 @@ static void check_link_jacobians(const cloth_material *m)
                 CHECK(fabs(lc.law.k_lim - m->k_delta * m->k_t) <= 1e-15 * m->k_delta * m->k_t &&
                           fabs(lc.law.lim - (1.0 + m->delta) * lc.rest) <= 1e-15 * lc.rest,
                       "%s: seq_law's k_lim %.17g lim %.17g, want k_delta k_t %.17g, (1 + delta) l0 %.17g",
-                      region_name[region], lc.law.k_lim, lc.law.lim, m->k_delta * m->k_t,
-                      (1.0 + m->delta) * lc.rest);
+                      region_name[region], lc.law.k_lim, lc.law.lim, m->k_delta * m->k_t, (1.0 + m->delta) * lc.rest);
 
             /* rule off: eigenvalues fe/d (twice, across u) and k + k_lim
              * (along u), fe = k (d - rest) + k_lim (d - lim) past the limit;
@@ -266,8 +277,9 @@ static void check_link_jacobians(const cloth_material *m)
                           ka);
                 }
                 if (compressed_region)
-                    CHECK(ev[0] < 0, "%s: compressed link (d/rest %g) with the rule off should have a "
-                                     "negative eigenvalue k(1-rest/d) = %g, got %g",
+                    CHECK(ev[0] < 0,
+                          "%s: compressed link (d/rest %g) with the rule off should have a "
+                          "negative eigenvalue k(1-rest/d) = %g, got %g",
                           region_name[region], lc.d / lc.rest, lt, ev[0]);
             }
 
@@ -285,28 +297,34 @@ static void check_link_jacobians(const cloth_material *m)
                 sym3_eigenvalues(Kon, evon);
                 CHECK(evon[0] >= -1e-12 * nKon,
                       "%s: K (rule on) has eigenvalue %.6g < 0 (d/rest %g): the link's 6x6 stiffness "
-                      "is not negative semidefinite", region_name[region], evon[0], lc.d / lc.rest);
+                      "is not negative semidefinite",
+                      region_name[region], evon[0], lc.d / lc.rest);
                 if (!compressed_region)
                     CHECK(diff <= 1e-14 * nKon, "%s: the rule changed a stretched link's K by %.3g",
                           region_name[region], diff);
                 else {
-                    CHECK(diffuu <= 1e-12 * lc.k, "%s: rule on, compressed: K differs from k uu^T by %.3g "
-                          "(k %g, d/rest %g)", region_name[region], diffuu, lc.k, lc.d / lc.rest);
+                    CHECK(diffuu <= 1e-12 * lc.k,
+                          "%s: rule on, compressed: K differs from k uu^T by %.3g "
+                          "(k %g, d/rest %g)",
+                          region_name[region], diffuu, lc.k, lc.d / lc.rest);
                     CHECK(fabs(evon[2] - lc.k) <= 1e-10 * lc.k && fabs(evon[0]) <= 1e-10 * lc.k &&
                               fabs(evon[1]) <= 1e-10 * lc.k,
-                          "%s: rule on, compressed: eigenvalues %g %g %g, want 0 0 %g", region_name[region],
-                          evon[0], evon[1], evon[2], lc.k);
+                          "%s: rule on, compressed: eigenvalues %g %g %g, want 0 0 %g", region_name[region], evon[0],
+                          evon[1], evon[2], lc.k);
                 }
             }
         }
-        printf("%-32s %d samples: worst rel err of K vs FD %.2e, eigenvalues %.2e%s\n", region_name[region],
-               samples, worst, worst_ev, check_failures() > failed_before ? "  (FAILURES)" : "");
+        printf("%-32s %d samples: worst rel err of K vs FD %.2e, eigenvalues %.2e%s\n", region_name[region], samples,
+               worst, worst_ev, check_failures() > failed_before ? "  (FAILURES)" : "");
     }
 }
 
 /* ----------------------------------------------------- whole cloth vs energy */
 
-typedef struct link_snapshot { int plastic; double l1; } link_snapshot;
+typedef struct link_snapshot {
+    int plastic;
+    double l1;
+} link_snapshot;
 
 static void snapshot_links(const cloth *c, link_snapshot *s)
 {
@@ -352,8 +370,8 @@ static void check_cloth_gradient(void)
     for (int k = 0; k < 3 * n; k++) x0[k] += rng_range(&r, -0.2, 0.2) * spacing;
     CHECK(cloth_set_positions(c, x0) == CLOTH_OK, "set_positions: %s", cloth_last_error(c));
     nplastic = cloth_update_plastic(c);
-    CHECK(nplastic > 0 && nplastic < n_int, "want some but not all interlaced links plastic, got %d of %d",
-          nplastic, n_int);
+    CHECK(nplastic > 0 && nplastic < n_int, "want some but not all interlaced links plastic, got %d of %d", nplastic,
+          n_int);
     /* state B: move again, without updating the plastic state, so plastic
      * links sit on both sides of l1 (k_s above, k_b below) */
     for (int k = 0; k < 3 * n; k++) x0[k] += rng_range(&r, -0.05, 0.05) * spacing;
@@ -417,20 +435,20 @@ static void check_cloth_gradient(void)
         }
         CHECK(f2 > 0, "internal forces all zero on a deformed cloth");
         CHECK(sqrt(err2) <= 1e-6 * sqrt(f2),
-              "cloth_internal_forces vs -grad elastic energy: |err| %.3g, |f| %.3g (rel %.3g)", sqrt(err2),
-              sqrt(f2), sqrt(err2 / f2));
+              "cloth_internal_forces vs -grad elastic energy: |err| %.3g, |f| %.3g (rel %.3g)", sqrt(err2), sqrt(f2),
+              sqrt(err2 / f2));
         CHECK(emax <= 1e-6 * fmax, "cloth_internal_forces vs -grad elastic energy: max component err %.3g of %.3g",
               emax, fmax);
         printf("%-32s %d plastic (%d above l1, %d below), %d sequential past the limit: rel err of forces vs "
-               "-grad E %.2e\n", "whole cloth", nplastic, above, below, past_limit, sqrt(err2 / f2));
+               "-grad E %.2e\n",
+               "whole cloth", nplastic, above, below, past_limit, sqrt(err2 / f2));
     }
     snapshot_links(c, s1);
     {
         int changed = 0;
         for (int e = 0; e < n_int; e++)
             if (s0[e].plastic != s1[e].plastic || s0[e].l1 != s1[e].l1) changed++;
-        CHECK(changed == 0, "set_positions/energies/internal_forces changed the plastic state of %d links",
-              changed);
+        CHECK(changed == 0, "set_positions/energies/internal_forces changed the plastic state of %d links", changed);
     }
     free(x0);
     free(x);
@@ -473,8 +491,10 @@ static void check_predicted_links(const cloth_material *m)
                 double g = (predicted_at(&lc, u0, 0, b, h, 0, 0) - predicted_at(&lc, u0, 0, b, -h, 0, 0)) / (2 * h);
                 eg = fmax(eg, fabs(f[b] + g) / nf);
                 for (int a = 0; a < 3; a++) {
-                    double dj = (predicted_at(&lc, u0, 1, b, h, 1, a) - predicted_at(&lc, u0, 1, b, -h, 1, a)) / (2 * h);
-                    double di = (predicted_at(&lc, u0, 0, b, h, 1, a) - predicted_at(&lc, u0, 0, b, -h, 1, a)) / (2 * h);
+                    double dj = (predicted_at(&lc, u0, 1, b, h, 1, a) - predicted_at(&lc, u0, 1, b, -h, 1, a)) /
+                                (2 * h);
+                    double di = (predicted_at(&lc, u0, 0, b, h, 1, a) - predicted_at(&lc, u0, 0, b, -h, 1, a)) /
+                                (2 * h);
                     ek = fmax(ek, fmax(fabs(K[3 * a + b] - dj), fabs(K[3 * a + b] + di)) / nK);
                 }
             }

@@ -46,7 +46,10 @@ static uint64_t le64(const unsigned char *p)
     return v;
 }
 
-static uint32_t le32(const unsigned char *p) { return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24; }
+static uint32_t le32(const unsigned char *p)
+{
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
 
 static double f64(const unsigned char *p)
 {
@@ -85,7 +88,7 @@ static cloth *scene(void)
     d.rows = 9;
     d.cols = 7;
     d.solver.method = CLOTH_BDF2;
-    d.material.alpha = 0.99;          /* creases early */
+    d.material.alpha = 0.99;         /* creases early */
     d.material.tension_yield = 1e-4; /* the links at the pins stretch past it */
     d.material.tension_set = 0.5;
     cloth *c = NULL;
@@ -130,8 +133,7 @@ static void read_with_perm(cloth_state *s, const unsigned char *buf, size_t len,
 /* 4: buf (len bytes, q multipliers, m interlaced links) made a version 1,
  * 2 or 3 record reads into sr, which held nonzero permanent sets, bent
  * flags and tension sets, as the same state with those zero (s0) */
-static void older_version(cloth_state *s0, cloth_state *sr, const unsigned char *buf, size_t len, size_t q,
-                          size_t m)
+static void older_version(cloth_state *s0, cloth_state *sr, const unsigned char *buf, size_t len, size_t q, size_t m)
 {
     read_with_perm(s0, buf, len, m, q, 0.0, 0);
     unsigned char *zero = with_perm(buf, len, m, q, 0.0, 0); /* a version 3 record keeps perm and bent */
@@ -199,7 +201,7 @@ static void newton_multipliers(void)
 static void damaged(const cloth_state *sa, cloth_state *sr, const unsigned char *buf, unsigned char *bad, size_t len,
                     size_t n, size_t m, size_t q)
 {
-    const size_t tail = 9 * m; /* the permanent sets and bent flags, before the tension sets */
+    const size_t tail = 9 * m;       /* the permanent sets and bent flags, before the tension sets */
     const size_t lend = len - 8 * q; /* the record's length without the tension sets */
     cloth_error err;
     struct {
@@ -255,8 +257,8 @@ static void damaged(const cloth_state *sa, cloth_state *sr, const unsigned char 
             /* sealed: the field check names it (the magic, version and sizes
              * come before the checksum; unsealed others hit the checksum) */
             const char *want = sealed || k < 5 ? dmg[k].word : "checksum";
-            CHECK(strstr(err.message, want) != NULL, "%s (sealed %d): message '%s' does not name '%s'",
-                  dmg[k].what, sealed, err.message, want);
+            CHECK(strstr(err.message, want) != NULL, "%s (sealed %d): message '%s' does not name '%s'", dmg[k].what,
+                  sealed, err.message, want);
         }
 }
 
@@ -287,8 +289,8 @@ int main(void)
         nplastic += l.plastic;
     }
     CHECK(memcmp(buf, "ODCLSTAT", 8) == 0, "magic");
-    CHECK(le32(buf + 8) == 4 && le32(buf + 12) == (uint32_t)n && le32(buf + 16) == (uint32_t)m,
-          "version %u n %u m %u", le32(buf + 8), le32(buf + 12), le32(buf + 16));
+    CHECK(le32(buf + 8) == 4 && le32(buf + 12) == (uint32_t)n && le32(buf + 16) == (uint32_t)m, "version %u n %u m %u",
+          le32(buf + 8), le32(buf + 12), le32(buf + 16));
     CHECK(le32(buf + 20) == 1 && f64(buf + 24) == 1.0 / 60, "has_prev %u h_prev %g", le32(buf + 20), f64(buf + 24));
     CHECK(f64(buf + 32) == x[0], "x[0] %g vs %g", f64(buf + 32), x[0]);
     CHECK(f64(buf + 32 + 8 * (6 * (size_t)n - 1)) == v[3 * n - 1], "v[3n-1]");

@@ -154,8 +154,8 @@ static void scene_body(void)
     if (!c) return;
     cloth_body b = {.mass = 0.1, .inertia = {1e-3, 0, 0, 0, 1e-3, 0, 0, 0, 1e-3}, .com = {0.5, 0.0, 1.0}};
     CHECK(cloth_set_bodies(c, &b, 1) == CLOTH_OK, "cloth_set_bodies: %s", cloth_last_error(c));
-    CHECK(cloth_hold_by_body(c, 0, 0) == CLOTH_OK && cloth_hold_by_body(c, 20, 0) == CLOTH_OK,
-          "cloth_hold_by_body: %s", cloth_last_error(c));
+    CHECK(cloth_hold_by_body(c, 0, 0) == CLOTH_OK && cloth_hold_by_body(c, 20, 0) == CLOTH_OK, "cloth_hold_by_body: %s",
+          cloth_last_error(c));
     count_steps("a body solved with the cloth", c, NULL, 30, 1.0 / 60);
     cloth_destroy(c);
 }

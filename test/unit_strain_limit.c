@@ -121,8 +121,10 @@ static void check_common(const cloth *c, const char *what, const double *x0, con
     CHECK(err <= 1e-12 * dxmax / cfac, "%s: dv differs from dx / cfac by %.3g (max |dx| / cfac %.3g)", what, err,
           dxmax / cfac);
     if (conserve > 0) {
-        CHECK(norm3(mdx) <= conserve * scale, "%s: the centre of mass moved: |sum m dx| %.3g, sum m |dx| %.3g (rel "
-              "%.3g > %.3g)", what, norm3(mdx), scale, norm3(mdx) / scale, conserve);
+        CHECK(norm3(mdx) <= conserve * scale,
+              "%s: the centre of mass moved: |sum m dx| %.3g, sum m |dx| %.3g (rel "
+              "%.3g > %.3g)",
+              what, norm3(mdx), scale, norm3(mdx) / scale, conserve);
         CHECK(norm3(mdv) <= conserve * scale / cfac, "%s: momentum changed by %.3g (sum m |dx| / cfac %.3g)", what,
               norm3(mdv), scale / cfac);
     }
@@ -307,7 +309,8 @@ static void case_plane_line(double cfac, int ndof)
     k.vertex = 1;
     k.ndof = ndof;
     for (int a = 0; a < 3; a++) {
-        k.axis[a] = ndof == 1 ? 0.6 * s.U[a] + 0.3 * s.V[a] + 0.74 * s.N[a] : 0.9 * s.U[a] + 0.35 * s.V[a] - 0.25 * s.N[a];
+        k.axis[a] = ndof == 1 ? 0.6 * s.U[a] + 0.3 * s.V[a] + 0.74 * s.N[a]
+                              : 0.9 * s.U[a] + 0.35 * s.V[a] - 0.25 * s.N[a];
         k.target[a] = s.x[3 + a];
     }
     CHECK(cloth_set_constraint(s.c, &k) == CLOTH_OK, "set_constraint: %s", cloth_last_error(s.c));
@@ -341,8 +344,7 @@ static void case_plane_line(double cfac, int ndof)
     } else {
         double along = dot3(dx, k.axis), perp[3];
         for (int a = 0; a < 3; a++) perp[a] = dx[a] - along * k.axis[a];
-        CHECK(norm3(perp) <= 1e-12 * ndx, "%s: dx_1 has %.3g across the line (|dx_1| %.3g)", what, norm3(perp),
-              ndx);
+        CHECK(norm3(perp) <= 1e-12 * ndx, "%s: dx_1 has %.3g across the line (|dx_1| %.3g)", what, norm3(perp), ndx);
     }
     double d1 = dist3(s.x, s.x + 3), e = dist3(s.x + 3, want);
     CHECK(d1 <= lmax * (1 + 1e-8) && d1 >= lmax * (1 - 1e-8), "%s: link at %.17g, want lmax %.17g", what, d1, lmax);
@@ -350,8 +352,8 @@ static void case_plane_line(double cfac, int ndof)
     check_others_still(&s, what, 0, 1);
     check_common(s.c, what, s.x0, s.x, s.v0, s.v, cfac, 0);
     check_scratch(s.c, what);
-    printf("%-44s |dx_1| %.5f, off the closed form by %.2e m\n", ndof == 1 ? "3 plane (vertex 0 pinned)" :
-           "3 line (vertex 0 pinned)", ndx, e);
+    printf("%-44s |dx_1| %.5f, off the closed form by %.2e m\n",
+           ndof == 1 ? "3 plane (vertex 0 pinned)" : "3 line (vertex 0 pinned)", ndx, e);
     scene_free(&s);
 }
 
@@ -394,7 +396,9 @@ static void case_random(double cfac, int mode, double stretch, double conserve, 
     if (!c) return;
     char what[96];
     snprintf(what, sizeof what, "random 5x5 x%.2f (%s)", stretch,
-             mode == R_FREE ? "free" : mode == R_CONSTRAINED ? "pin, plane, line" : "infeasible line");
+             mode == R_FREE          ? "free"
+             : mode == R_CONSTRAINED ? "pin, plane, line"
+                                     : "infeasible line");
     int n = 25;
     double *x = malloc(3 * n * sizeof(double)), *v = malloc(3 * n * sizeof(double));
     double *x0 = malloc(3 * n * sizeof(double)), *v0 = malloc(3 * n * sizeof(double));
@@ -453,8 +457,8 @@ static void case_random(double cfac, int mode, double stretch, double conserve, 
     }
     if (mode != R_FREE) {
         cloth_constraint k;
-        CHECK(memcmp(x, x0, 3 * sizeof(double)) == 0 && memcmp(v, v0, 3 * sizeof(double)) == 0,
-              "%s: the pin moved", what);
+        CHECK(memcmp(x, x0, 3 * sizeof(double)) == 0 && memcmp(v, v0, 3 * sizeof(double)) == 0, "%s: the pin moved",
+              what);
         cloth_get_constraint(c, 12, &k);
         double dx[3] = {x[36] - x0[36], x[37] - x0[37], x[38] - x0[38]};
         /* rounding only: 1e-11 m on a 1 m cloth (measured <= 1e-12 m: the

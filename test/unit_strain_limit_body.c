@@ -80,8 +80,8 @@ int main(void)
      * linearised turn theta x r, which keeps their distance l to first
      * order: it changes by at most l theta^2 / 2 */
     double theta = cfac * sqrt(du[3] * du[3] + du[4] * du[4] + du[5] * du[5]);
-    printf("%d links over; the body turned %.4f rad; the held pair %.15f -> %.15f m (l theta^2 / 2 = %.3g m)\n",
-           over, theta, pair0, pair1, 0.5 * pair0 * theta * theta);
+    printf("%d links over; the body turned %.4f rad; the held pair %.15f -> %.15f m (l theta^2 / 2 = %.3g m)\n", over,
+           theta, pair0, pair1, 0.5 * pair0 * theta * theta);
     CHECK(over >= 5, "only %d links over: the case does not test the projection", over);
     CHECK(theta > 1e-3, "the body did not turn (%.3g rad): the levers are not tested", theta);
     CHECK(fabs(pair1 - pair0) <= 0.5 * pair0 * theta * theta * (1.0 + 1e-6),

@@ -89,8 +89,8 @@ static void check_rule(void)
 /* ------------------------------------------------------------ the strip */
 
 #define SR 3
-#define SC 17 /* long enough that the free end's boundary layer (a third per column) is 1e-10 at column 4 */
-#define SM 4  /* the column measured */
+#define SC 17   /* long enough that the free end's boundary layer (a third per column) is 1e-10 at column 4 */
+#define SM 4    /* the column measured */
 #define SA 0.03 /* m, column spacing */
 #define SB 0.06 /* m, row spacing: the diagonals stretch less than a third as much as the rows, below the yield */
 
@@ -225,7 +225,8 @@ static void check_strip(void)
     double r0 = pull_hold_release(&off, e, held0, end0);
     CHECK_NEAR(r0, 1.0, 1e-9);
     printf("strip pulled to 1 + %.2f (yield %.2f, share %.2f), released: %.9f (closed form %.9f, off by %.2g), "
-           "off %.9f\n", e, on.tension_yield, on.tension_set, r, want, fabs(r - want), r0);
+           "off %.9f\n",
+           e, on.tension_yield, on.tension_set, r, want, fabs(r - want), r0);
     /* below the yield: the same run as with the option off, bit for bit */
     double rb = pull_hold_release(&on, 0.5 * on.tension_yield, held, end);
     double rb0 = pull_hold_release(&off, 0.5 * on.tension_yield, held0, end0);

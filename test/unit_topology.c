@@ -57,8 +57,7 @@ static void check_grid(int R, int C, int skew)
         nv = sqrt(dot3(v, v));
         for (int a = 0; a < 3; a++) v[a] /= nv;
     }
-    if (!CHECK(cloth_create(&d, &c, &err) == CLOTH_OK && c, "%dx%d: cloth_create: %s", R, C, err.message))
-        return;
+    if (!CHECK(cloth_create(&d, &c, &err) == CLOTH_OK && c, "%dx%d: cloth_create: %s", R, C, err.message)) return;
     CHECK(cloth_rows(c) == R && cloth_cols(c) == C && cloth_vertex_count(c) == R * C,
           "%dx%d: rows %d cols %d vertices %d", R, C, cloth_rows(c), cloth_cols(c), cloth_vertex_count(c));
     {
@@ -143,7 +142,8 @@ static void check_grid(int R, int C, int skew)
             CHECK(bad_get == 0, "%dx%d: cloth_get_link failed on %d valid indices", R, C, bad_get);
             CHECK(bad_order == 0, "%dx%d: %d %s links without 0 <= i < j < n", R, C, bad_order,
                   t ? "interlaced" : "sequential");
-            CHECK(bad_pair == 0, "%dx%d: %d %s links join wrong pairs", R, C, bad_pair, t ? "interlaced" : "sequential");
+            CHECK(bad_pair == 0, "%dx%d: %d %s links join wrong pairs", R, C, bad_pair,
+                  t ? "interlaced" : "sequential");
             CHECK(dup == 0, "%dx%d: %d duplicate %s links", R, C, dup, t ? "interlaced" : "sequential");
             CHECK(missing == 0, "%dx%d: %d %s neighbour pairs have no link", R, C, missing,
                   t ? "interlaced" : "sequential");
@@ -176,8 +176,7 @@ int main(void)
                   cloth_link_count(c, CLOTH_SEQUENTIAL));
             CHECK(cloth_link_count(c, CLOTH_INTERLACED) == 1520, "21x21: %d interlaced links, want 1520",
                   cloth_link_count(c, CLOTH_INTERLACED));
-        } else
-            CHECK(0, "cloth_create(default desc) failed");
+        } else CHECK(0, "cloth_create(default desc) failed");
         cloth_destroy(c);
     }
     return check_summary();

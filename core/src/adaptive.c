@@ -9,32 +9,32 @@
 
 struct cloth_adaptive {
     const cloth *owner;
-    int n;                 /* vertices */
+    int n; /* vertices */
     cloth_adaptive_desc d;
-    cloth_state *snap;     /* the frame's start, for rollback */
-    double *v0, *acc;      /* 3n: velocities before a substep, its acceleration */
-    double *acc_prev;      /* 3n: the last accepted substep's acceleration */
-    double *acc_prev_start;/* 3n: the same at the frame's start (a_0) */
+    cloth_state *snap;      /* the frame's start, for rollback */
+    double *v0, *acc;       /* 3n: velocities before a substep, its acceleration */
+    double *acc_prev;       /* 3n: the last accepted substep's acceleration */
+    double *acc_prev_start; /* 3n: the same at the frame's start (a_0) */
     int have_prev, have_prev_start;
-    int n_next;            /* substeps of the next frame */
-    double cg_next;        /* CG tolerance of the next frame */
-    double elapsed;        /* s, simulated time of the accepted frames */
+    int n_next;     /* substeps of the next frame */
+    double cg_next; /* CG tolerance of the next frame */
+    double elapsed; /* s, simulated time of the accepted frames */
     /* the global estimate: a shadow cloth run alongside at twice the step */
-    cloth *shadow;         /* NULL: no global estimate (bodies, or no memory) */
+    cloth *shadow; /* NULL: no global estimate (bodies, or no memory) */
     cloth_state *shadow_snap;
-    cloth_state *alt, *alt_shadow; /* the first frame's backward Euler solution while symplectic Euler is tried */
-    int shadow_synced;     /* 1 once the shadow has been started from the cloth */
-    double global;         /* m, RMS |x - x_shadow| after the last accepted frame */
-    double h_int;          /* s^2, integral of the substep size over the shadow's run */
-    double k_err;          /* m / s^2, the estimate per unit step and time (decaying maximum) */
-    double carried;        /* m, the estimate at the shadow's last restart */
-    cloth_method method;   /* of the last frame: backward or symplectic Euler */
-    double k_be;           /* m / s^2, k_err of backward Euler when it last ran */
-    double it_be;          /* CG iterations per backward Euler substep (running mean) */
-    double h_stab;         /* s, symplectic Euler's stable step (0: not yet computed) */
-    double h_scale;        /* 1, halved whenever a symplectic frame fails */
+    cloth_state *alt, *alt_shadow;    /* the first frame's backward Euler solution while symplectic Euler is tried */
+    int shadow_synced;                /* 1 once the shadow has been started from the cloth */
+    double global;                    /* m, RMS |x - x_shadow| after the last accepted frame */
+    double h_int;                     /* s^2, integral of the substep size over the shadow's run */
+    double k_err;                     /* m / s^2, the estimate per unit step and time (decaying maximum) */
+    double carried;                   /* m, the estimate at the shadow's last restart */
+    cloth_method method;              /* of the last frame: backward or symplectic Euler */
+    double k_be;                      /* m / s^2, k_err of backward Euler when it last ran */
+    double it_be;                     /* CG iterations per backward Euler substep (running mean) */
+    double h_stab;                    /* s, symplectic Euler's stable step (0: not yet computed) */
+    double h_scale;                   /* 1, halved whenever a symplectic frame fails */
     double *uk, *uc, *px, *pf0, *pf1; /* 3n each: power iterations */
-    double *cf0;           /* 3n: the constraint forces before the frame (a failed frame keeps them) */
+    double *cf0;                      /* 3n: the constraint forces before the frame (a failed frame keeps them) */
 };
 
 cloth_adaptive_desc cloth_adaptive_default_desc(void)
@@ -54,8 +54,7 @@ cloth_adaptive_desc cloth_adaptive_default_desc(void)
 
 static int finite_pos(double x) { return isfinite(x) && x > 0.0; }
 
-cloth_status cloth_adaptive_create(const cloth *c, const cloth_adaptive_desc *d, cloth_adaptive **out,
-                                   cloth_error *err)
+cloth_status cloth_adaptive_create(const cloth *c, const cloth_adaptive_desc *d, cloth_adaptive **out, cloth_error *err)
 {
     if (out) *out = NULL;
     if (!out) return error_set(err, CLOTH_EINVAL, "cloth_adaptive_create: out is NULL");
@@ -88,7 +87,8 @@ cloth_status cloth_adaptive_create(const cloth *c, const cloth_adaptive_desc *d,
     int ok = a->snap && a->v0;
     /* the shadow needs an even substep count in the user's range (with
      * min = max = 3 frames ran 2 and 4 substeps: found in review) */
-    if (ok && d->global_estimate && d->min_substeps + (d->min_substeps & 1) <= d->max_substeps - (d->max_substeps & 1)) {
+    if (ok && d->global_estimate &&
+        d->min_substeps + (d->min_substeps & 1) <= d->max_substeps - (d->max_substeps & 1)) {
         /* the shadow: the same cloth (the masses copied, as cloth_set_material
          * keeps the ones made at creation) */
         cloth_desc sd = cloth_get_desc(c);
@@ -170,7 +170,7 @@ static double rms_diff(const double *x, const double *y, int n)
 typedef struct attempt {
     cloth_failure failure; /* NONE: all substeps taken */
     int callback_failed;
-    double ex, ev;         /* position (m) and velocity (m/s) estimates */
+    double ex, ev; /* position (m) and velocity (m/s) estimates */
     int steps, iterations;
 } attempt;
 
@@ -357,7 +357,8 @@ static cloth_method choose_method(cloth_adaptive *a, const cloth *c, double fram
                 method = CLOTH_SYMPLECTIC_EULER;
                 a->k_be = a->k_err;
                 *n = ns;
-            } else if (a->method == CLOTH_SYMPLECTIC_EULER && (cost_be < ADAPTIVE_BACK_TO_IMPLICIT * *n || ns >= n_top(a, 1))) {
+            } else if (a->method == CLOTH_SYMPLECTIC_EULER &&
+                       (cost_be < ADAPTIVE_BACK_TO_IMPLICIT * *n || ns >= n_top(a, 1))) {
                 method = CLOTH_BACKWARD_EULER;
                 *n = clamp_substeps(a, nb, 1);
             }
@@ -580,8 +581,7 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
         if (global) cloth_restore(a->shadow, a->shadow_snap);
         memcpy(a->acc_prev, a->acc_prev_start, n3 * sizeof *a->acc_prev);
         a->have_prev = a->have_prev_start;
-        if (!ok && (t.callback_failed || (n >= n_top(a, global) &&
-                                          method == CLOTH_BACKWARD_EULER))) {
+        if (!ok && (t.callback_failed || (n >= n_top(a, global) && method == CLOTH_BACKWARD_EULER))) {
             cloth_set_solver(c, &user);
             memcpy(c->con_force, a->cf0, n3 * sizeof *a->cf0);
             st.failure = t.failure;

@@ -80,8 +80,8 @@ static void add_blocks(const cloth *c, bsr *A, const int p[3], const int *blk, c
 /* Triangle k's vertices p, area and unit normal n (frame at xf + hf vf), its
  * velocity r relative to the wind and drag density Dr = D r, whose force is
  * -area Dr; area 0 if degenerate. */
-static double tri_drag(const cloth *c, const double *xf, const double *vf, double hf, const double *v, int k,
-                       int p[3], double n[3], double r[3], double Dr[3])
+static double tri_drag(const cloth *c, const double *xf, const double *vf, double hf, const double *v, int k, int p[3],
+                       double n[3], double r[3], double Dr[3])
 {
     const double *w = c->air.wind;
     double cn = c->air.drag_normal, ct = c->air.drag_tangent;
@@ -164,8 +164,10 @@ cloth_status cloth_set_air(cloth *c, const cloth_air *air)
     if (!finite3(air->wind))
         return cloth_fail(c, CLOTH_EINVAL, "cloth_set_air: wind (%g, %g, %g) m/s must be finite", air->wind[0],
                           air->wind[1], air->wind[2]);
-    const struct { const char *name; double v; } drag[] = {{"drag_normal", air->drag_normal},
-                                                           {"drag_tangent", air->drag_tangent}};
+    const struct {
+        const char *name;
+        double v;
+    } drag[] = {{"drag_normal", air->drag_normal}, {"drag_tangent", air->drag_tangent}};
     for (int k = 0; k < 2; k++)
         if (!(drag[k].v >= 0.0) || !isfinite(drag[k].v))
             return cloth_fail(c, CLOTH_EINVAL, "cloth_set_air: %s %g N s/m^3 must be finite and >= 0", drag[k].name,

@@ -10,7 +10,9 @@
 
 /* workspace per body, in doubles: M ginv (36 each), rhs u r p q s (6 each),
  * com (3), then for the elongation limit minv (36), F and D (6 each) */
-enum { WS_PER_BODY = 2 * 36 + 6 * 6 + 3 + 36 + 12 + 6 + 6 + 6 }; /* + U (6): the substep retry's sum of du;
+enum {
+    WS_PER_BODY = 2 * 36 + 6 * 6 + 3 + 36 + 12 + 6 + 6 + 6
+}; /* + U (6): the substep retry's sum of du;
                                                                     + the Newton iterations' first du (6);
                                                                     + their saved du (6) */
 
@@ -133,8 +135,8 @@ cloth_status cloth_body_velocity_change(const cloth *c, int index, double dv[6])
 {
     if (!c || !dv) return CLOTH_EINVAL;
     if (index < 0 || index >= c->nbody)
-        return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_body_velocity_change: body %d out of range [0, %d)",
-                          index, c->nbody);
+        return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_body_velocity_change: body %d out of range [0, %d)", index,
+                          c->nbody);
     memcpy(dv, c->body_ws + 2 * 36 * (size_t)c->nbody + 6 * ((size_t)c->nbody + index), 6 * sizeof *dv);
     return CLOTH_OK;
 }
@@ -308,8 +310,8 @@ void body_kept(cloth *c, double s)
 
 
 /* Loop over the held vertices (the constrained ones with a body). */
-#define FOR_HELD(P, i, g)                                                         \
-    for (int k_ = 0, n_ = (P)->con ? (P)->ncon : (P)->A->n; k_ < n_; k_++)       \
+#define FOR_HELD(P, i, g)                                                  \
+    for (int k_ = 0, n_ = (P)->con ? (P)->ncon : (P)->A->n; k_ < n_; k_++) \
         for (int i = (P)->con ? (P)->con[k_] : k_, g = (P)->bodies->vbody[i]; g >= 0; g = -1)
 
 static void lever(const mpcg_bodies *B, int i, int g, double r[3])
@@ -320,7 +322,8 @@ static void lever(const mpcg_bodies *B, int i, int g, double r[3])
 void bodies_expand(const mpcg_problem *P, const double *u, double *out)
 {
     const mpcg_bodies *B = P->bodies;
-    FOR_HELD(P, i, g) {
+    FOR_HELD(P, i, g)
+    {
         const double *ug = u + 6 * g;
         double r[3], v[3], pv[3];
         lever(B, i, g, r);
@@ -342,7 +345,8 @@ void bodies_reduce(const mpcg_problem *P, const double *t, const double *u, doub
             o[a] = s_m * m;
         }
     }
-    FOR_HELD(P, i, g) {
+    FOR_HELD(P, i, g)
+    {
         double r[3], f[3];
         lever(B, i, g, r);
         con_project(P->S + 9 * (size_t)i, t + 3 * i, f);
@@ -396,7 +400,8 @@ int bodies_precond(const mpcg_problem *P)
     int nb = B->nb;
     /* accumulate into ginv, then invert each block in place */
     memcpy(B->ginv, B->M, 36 * (size_t)nb * sizeof *B->ginv);
-    FOR_HELD(P, i, g) {
+    FOR_HELD(P, i, g)
+    {
         const double *S = P->S + 9 * (size_t)i, *Aii = P->A->val + 9 * (size_t)P->A->diag[i];
         double r[3], PJ[18], APJ[18];
         lever(B, i, g, r);

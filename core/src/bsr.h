@@ -5,12 +5,12 @@
 #define ODECLOTH_BSR_H
 
 typedef struct bsr {
-    int n;          /* block rows (= block columns) */
-    int nnzb;       /* stored blocks, diagonal included */
-    int *row_ptr;   /* n + 1 */
-    int *col;       /* nnzb, sorted within each row */
-    int *diag;      /* n: index of block (i, i) */
-    double *val;    /* 9 * nnzb, each block row-major */
+    int n;        /* block rows (= block columns) */
+    int nnzb;     /* stored blocks, diagonal included */
+    int *row_ptr; /* n + 1 */
+    int *col;     /* nnzb, sorted within each row */
+    int *diag;    /* n: index of block (i, i) */
+    double *val;  /* 9 * nnzb, each block row-major */
     /* 2n row flags (bsr_check_sym), or NULL: sym[i] = 1 when row i's blocks in val are exactly
      * symmetric as last checked (stale once val changes); sym[n + i] the same for a caller's copy
      * of the values on this pattern (ssor.c's filtered matrix). */

@@ -31,10 +31,8 @@ static double refine(const double *c, double lo, double hi, double flo)
         if (fabs(dx) <= CCD_TTOL) break;
         f = cubic_at(c, t);
         df = cubic_slope(c, t);
-        if (f < 0.0)
-            neg = t;
-        else
-            pos = t;
+        if (f < 0.0) neg = t;
+        else pos = t;
     }
     return t;
 }
@@ -71,7 +69,8 @@ int ccd_cubic_roots(const double *c, double ftol, double *t)
     /* Bernstein coefficients on [0, 1] all of one sign: no root (the curve
      * lies in their convex hull) */
     double b1 = c[0] + c[1] / 3.0, b2 = b1 + (c[1] + c[2]) / 3.0, b3 = c[0] + c[1] + c[2] + c[3];
-    if ((c[0] > ftol && b1 > ftol && b2 > ftol && b3 > ftol) || (c[0] < -ftol && b1 < -ftol && b2 < -ftol && b3 < -ftol))
+    if ((c[0] > ftol && b1 > ftol && b2 > ftol && b3 > ftol) ||
+        (c[0] < -ftol && b1 < -ftol && b2 < -ftol && b3 < -ftol))
         return 0;
     double b[4] = {0.0};
     int nb = 1 + turning_points(3.0 * c[3], 2.0 * c[2], c[1], b + 1);

@@ -71,10 +71,12 @@ cloth_status cloth_desc_validate(const cloth_desc *d, cloth_error *err)
         return error_set(err, CLOTH_EINVAL, "grid %d x %d has more than %d nodes", d->rows, d->cols,
                          CLOTH_MAX_VERTICES);
     if (!isfinite(d->width) || !(d->width > 0.0) || !isfinite(d->height) || !(d->height > 0.0))
-        return error_set(err, CLOTH_EINVAL, "size %g x %g m: width and height must be finite and > 0",
-                         d->width, d->height);
-    const struct { const char *name; const double *v; } vec[] = {
-        {"origin", d->origin}, {"axis_u", d->axis_u}, {"axis_v", d->axis_v}, {"gravity", d->gravity}};
+        return error_set(err, CLOTH_EINVAL, "size %g x %g m: width and height must be finite and > 0", d->width,
+                         d->height);
+    const struct {
+        const char *name;
+        const double *v;
+    } vec[] = {{"origin", d->origin}, {"axis_u", d->axis_u}, {"axis_v", d->axis_v}, {"gravity", d->gravity}};
     for (size_t k = 0; k < 4; k++)
         if (!finite3(vec[k].v)) return error_set(err, CLOTH_EINVAL, "%s is not finite", vec[k].name);
     double au[3], av[3];
@@ -93,15 +95,16 @@ cloth_status cloth_desc_validate(const cloth_desc *d, cloth_error *err)
         return error_set(err, CLOTH_EINVAL,
                          "node spacing %g m (size %g x %g m, grid %d x %d) must be >= %g m and >= %g times the "
                          "cloth's distance from 0 (%g m) to be resolved",
-                         sp, d->width, d->height, d->rows, d->cols, CLOTH_MIN_SPACING, CLOTH_MIN_SPACING_REL,
-                         extent);
+                         sp, d->width, d->height, d->rows, d->cols, CLOTH_MIN_SPACING, CLOTH_MIN_SPACING_REL, extent);
     cloth_status s = cloth_material_validate(&d->material, err);
     if (s != CLOTH_OK) return s;
     /* a corner node carries a quarter cell, an inner one a whole cell */
     double cell = d->material.density * dx * dy;
     if (!(0.25 * cell >= DBL_MIN) || !isfinite(cell))
-        return error_set(err, CLOTH_EINVAL, "node masses from density %g kg/m^2 and cells of %g x %g m are %g kg: "
-                         "not a normal positive double", d->material.density, dx, dy, 0.25 * cell);
+        return error_set(err, CLOTH_EINVAL,
+                         "node masses from density %g kg/m^2 and cells of %g x %g m are %g kg: "
+                         "not a normal positive double",
+                         d->material.density, dx, dy, 0.25 * cell);
     return cloth_solver_validate(&d->solver, err);
 }
 
@@ -144,16 +147,22 @@ static int make_links(int R, int C, int s, const double *x0, link_topo *out)
     return m;
 }
 
-static int links_to_blocks(bsr *A, int n, const link_topo *seq, int n_seq, const link_topo *lint,
-                           int n_int, int *seq_blk, int *int_blk, int *own)
+static int links_to_blocks(bsr *A, int n, const link_topo *seq, int n_seq, const link_topo *lint, int n_int,
+                           int *seq_blk, int *int_blk, int *own)
 {
     int ne = n_seq + n_int;
     int *ei = malloc((size_t)ne * sizeof *ei), *ej = malloc((size_t)ne * sizeof *ej);
     int *blk = malloc(2 * (size_t)ne * sizeof *blk);
     int rc = -1;
     if (ei && ej && blk) {
-        for (int e = 0; e < n_seq; e++) { ei[e] = seq[e].i; ej[e] = seq[e].j; }
-        for (int e = 0; e < n_int; e++) { ei[n_seq + e] = lint[e].i; ej[n_seq + e] = lint[e].j; }
+        for (int e = 0; e < n_seq; e++) {
+            ei[e] = seq[e].i;
+            ej[e] = seq[e].j;
+        }
+        for (int e = 0; e < n_int; e++) {
+            ei[n_seq + e] = lint[e].i;
+            ej[n_seq + e] = lint[e].j;
+        }
         rc = bsr_build(A, n, ne, ei, ej, blk);
         if (rc == 0) {
             *own = bsr_edges_own_offdiag(A, ne, blk);
@@ -298,8 +307,8 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
     if (!c->con || !c->con_force || !c->seq_blk || !c->int_blk || !c->lim_shift || !c->lim_rho || !c->lim_viol ||
         !c->slack_age || !c->K_seq || !c->K_int)
         goto nomem;
-    if (links_to_blocks(&c->A, n, c->seq, c->n_seq, c->lint, c->n_int, c->seq_blk, c->int_blk,
-                        &c->links_own_blocks) != 0)
+    if (links_to_blocks(&c->A, n, c->seq, c->n_seq, c->lint, c->n_int, c->seq_blk, c->int_blk, &c->links_own_blocks) !=
+        0)
         goto nomem;
     if (air_blocks(c) != 0) goto nomem;
     if (workspace_alloc(c) != 0) goto nomem;

@@ -328,8 +328,8 @@ cloth_status cloth_get_contact_planes(const cloth *c, int vertex, cloth_constrai
 {
     if (!c) return CLOTH_EINVAL;
     if (vertex < 0 || vertex >= c->n)
-        return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_get_contact_planes: vertex %d out of range [0, %d)",
-                          vertex, c->n);
+        return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_get_contact_planes: vertex %d out of range [0, %d)", vertex,
+                          c->n);
     int two = second_held(c, vertex);
     const cloth_constraint *q = two ? &c->con1[vertex] : &c->con[vertex];
     const double *f = c->con_force + 3 * (size_t)vertex, *n2 = c->cand2 + 6 * (size_t)vertex;

@@ -12,21 +12,31 @@
 cloth_status cloth_fabric_validate(const cloth_fabric *f, cloth_error *err)
 {
     if (!f) return error_set(err, CLOTH_EINVAL, "fabric is NULL");
-    const struct { const char *name; double v; int positive; } q[] = {
-        {"tensile", f->tensile, 1},         {"bending", f->bending, 1},
-        {"density", f->density, 1},         {"compression", f->compression, 1},
-        {"alpha", f->alpha, 0},             {"spreading", f->spreading, 0},
-        {"delta", f->delta, 1},             {"k_delta", f->k_delta, 0},
-        {"tau_tension", f->tau_tension, 0}, {"tau_bending", f->tau_bending, 0},
+    const struct {
+        const char *name;
+        double v;
+        int positive;
+    } q[] = {
+        {"tensile", f->tensile, 1},
+        {"bending", f->bending, 1},
+        {"density", f->density, 1},
+        {"compression", f->compression, 1},
+        {"alpha", f->alpha, 0},
+        {"spreading", f->spreading, 0},
+        {"delta", f->delta, 1},
+        {"k_delta", f->k_delta, 0},
+        {"tau_tension", f->tau_tension, 0},
+        {"tau_bending", f->tau_bending, 0},
         {"bend_curvature", f->bend_curvature, 0},
-        {"tau_set", f->tau_set, 0},         {"tau_recover", f->tau_recover, 0},
+        {"tau_set", f->tau_set, 0},
+        {"tau_recover", f->tau_recover, 0},
         {"set_hardening", f->set_hardening, 0},
-        {"tension_yield", f->tension_yield, 0}, {"tension_set", f->tension_set, 0},
+        {"tension_yield", f->tension_yield, 0},
+        {"tension_set", f->tension_set, 0},
         {"crease_stiffness", f->crease_stiffness, 0},
     };
     for (size_t k = 0; k < sizeof q / sizeof q[0]; k++) {
-        if (!isfinite(q[k].v))
-            return error_set(err, CLOTH_EINVAL, "fabric.%s is not finite", q[k].name);
+        if (!isfinite(q[k].v)) return error_set(err, CLOTH_EINVAL, "fabric.%s is not finite", q[k].name);
         if (q[k].positive ? !(q[k].v > 0.0) : q[k].v < 0.0)
             return error_set(err, CLOTH_EINVAL, "fabric.%s = %g must be %s", q[k].name, q[k].v,
                              q[k].positive ? "> 0" : ">= 0");
@@ -35,13 +45,15 @@ cloth_status cloth_fabric_validate(const cloth_fabric *f, cloth_error *err)
     if (f->set_hardening > 1.0)
         return error_set(err, CLOTH_EINVAL, "fabric.set_hardening = %g must be in [0, 1]", f->set_hardening);
     if (f->tension_yield > f->delta)
-        return error_set(err, CLOTH_EINVAL, "fabric.tension_yield = %g must be in [0, delta = %g]",
-                         f->tension_yield, f->delta);
+        return error_set(err, CLOTH_EINVAL, "fabric.tension_yield = %g must be in [0, delta = %g]", f->tension_yield,
+                         f->delta);
     if (f->tension_set > 1.0)
         return error_set(err, CLOTH_EINVAL, "fabric.tension_set = %g must be in [0, 1]", f->tension_set);
     if (f->crease_stiffness > 0.0 && (f->tau_set > 0.0 || f->tau_recover > 0.0 || f->set_hardening > 0.0))
-        return error_set(err, CLOTH_EINVAL, "fabric.crease_stiffness = %g takes the crease law: tau_set, "
-                         "tau_recover and set_hardening must be 0", f->crease_stiffness);
+        return error_set(err, CLOTH_EINVAL,
+                         "fabric.crease_stiffness = %g takes the crease law: tau_set, "
+                         "tau_recover and set_hardening must be 0",
+                         f->crease_stiffness);
     return CLOTH_OK;
 }
 
@@ -60,10 +72,7 @@ double cloth_fabric_reference_curvature(const cloth_fabric *f)
 
 /* Membrane stiffness per unit k_t along the cells' a side (b across it),
  * uniaxial strain: the a-links give a / b, the two diagonals 2 a^3 / (b L^2). */
-static double tension_per_k(double a, double b)
-{
-    return a / b + 2.0 * a * a * a / (b * (a * a + b * b));
-}
+static double tension_per_k(double a, double b) { return a / b + 2.0 * a * a * a / (b * (a * a + b * b)); }
 
 /* Bending energy per area per unit k_b kappa^4, bent along side a: the
  * a-links shorten by a^3 kappa^2 / 4, the diagonals by a^4 kappa^2 / (4 L). */
@@ -105,18 +114,13 @@ static cloth_status link_stiffnesses(const cloth_fabric *f, double dx, double dy
 /* The crease law's hinge stiffness for a moment S per length and radian near flat: a hinge of a link with
  * halves dx turns its middle node with k dx^2 / 4 per radian, one per dy of crease, so k = 4 S dy / dx^2;
  * the mean of the two thread directions. */
-static double crease_per_link(double S, double dx, double dy)
-{
-    return 2.0 * S * (dy / (dx * dx) + dx / (dy * dy));
-}
+static double crease_per_link(double S, double dx, double dy) { return 2.0 * S * (dy / (dx * dx) + dx / (dy * dy)); }
 
-cloth_status cloth_fabric_material(const cloth_fabric *f, double dx, double dy, cloth_material *out,
-                                   cloth_error *err)
+cloth_status cloth_fabric_material(const cloth_fabric *f, double dx, double dy, cloth_material *out, cloth_error *err)
 {
     cloth_status s = cloth_fabric_validate(f, err);
     if (s != CLOTH_OK) return s;
-    if ((s = spacing_check(dx, "dx", err)) != CLOTH_OK || (s = spacing_check(dy, "dy", err)) != CLOTH_OK)
-        return s;
+    if ((s = spacing_check(dx, "dx", err)) != CLOTH_OK || (s = spacing_check(dy, "dy", err)) != CLOTH_OK) return s;
     if (!out) return error_set(err, CLOTH_EINVAL, "fabric material: out is NULL");
     cloth_material m = {0};
     if ((s = link_stiffnesses(f, dx, dy, &m.k_t, &m.k_b, err)) != CLOTH_OK) return s;
@@ -136,13 +140,16 @@ cloth_status cloth_fabric_material(const cloth_fabric *f, double dx, double dy, 
     m.tension_set = f->tension_set;
     m.k_crease = crease_per_link(f->crease_stiffness, dx, dy);
     /* a fabric and spacing of extreme scales can overflow or underflow */
-    const struct { const char *name; double v; int positive; } r[] = {
-        {"k_t", m.k_t, 1}, {"k_c", m.k_c, 1}, {"k_b", m.k_b, 1},
-        {"k_s", m.k_s, 0}, {"c_t", m.c_t, 0}, {"c_b", m.c_b, 0}, {"k_crease", m.k_crease, 0}};
+    const struct {
+        const char *name;
+        double v;
+        int positive;
+    } r[] = {{"k_t", m.k_t, 1}, {"k_c", m.k_c, 1}, {"k_b", m.k_b, 1},          {"k_s", m.k_s, 0},
+             {"c_t", m.c_t, 0}, {"c_b", m.c_b, 0}, {"k_crease", m.k_crease, 0}};
     for (size_t k = 0; k < sizeof r / sizeof r[0]; k++)
         if (!isfinite(r[k].v) || (r[k].positive && !(r[k].v > 0.0)))
-            return error_set(err, CLOTH_EINVAL, "fabric material at spacing %g x %g m: %s = %g is out of range",
-                             dx, dy, r[k].name, r[k].v);
+            return error_set(err, CLOTH_EINVAL, "fabric material at spacing %g x %g m: %s = %g is out of range", dx, dy,
+                             r[k].name, r[k].v);
     if ((s = cloth_material_validate(&m, err)) != CLOTH_OK) return s;
     *out = m;
     return CLOTH_OK;

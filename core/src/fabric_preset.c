@@ -27,16 +27,11 @@ static cloth_fabric fabric(double w, double c, double tensile, double delta, dou
 cloth_fabric cloth_fabric_preset(cloth_fabric_kind k)
 {
     switch (k) {
-    case CLOTH_FABRIC_WOOL:
-        return fabric(0.28, 0.024, KES_500GF_PER_CM / 0.08, 0.10, 0.1, 0.01);
-    case CLOTH_FABRIC_SILK:
-        return fabric(0.06, 0.014, KES_500GF_PER_CM / 0.10, 0.08, 0.5, 0.1);
-    case CLOTH_FABRIC_DENIM:
-        return fabric(0.40, 0.035, KES_500GF_PER_CM / 0.055, 0.03, 0.8, 0.5);
-    case CLOTH_FABRIC_POLYESTER:
-        return fabric(0.10, 0.020, KES_500GF_PER_CM / 0.03, 0.03, 0.1, 0.01);
+    case CLOTH_FABRIC_WOOL: return fabric(0.28, 0.024, KES_500GF_PER_CM / 0.08, 0.10, 0.1, 0.01);
+    case CLOTH_FABRIC_SILK: return fabric(0.06, 0.014, KES_500GF_PER_CM / 0.10, 0.08, 0.5, 0.1);
+    case CLOTH_FABRIC_DENIM: return fabric(0.40, 0.035, KES_500GF_PER_CM / 0.055, 0.03, 0.8, 0.5);
+    case CLOTH_FABRIC_POLYESTER: return fabric(0.10, 0.020, KES_500GF_PER_CM / 0.03, 0.03, 0.1, 0.01);
     case CLOTH_FABRIC_COTTON:
-    default:
-        return fabric(0.13, 0.022, KES_500GF_PER_CM / 0.04, 0.03, 0.8, 0.5);
+    default: return fabric(0.13, 0.022, KES_500GF_PER_CM / 0.04, 0.03, 0.8, 0.5);
     }
 }

@@ -27,8 +27,8 @@ static int kblock(const int *slot, const int *rc, int I, int J)
 /* Each contribution w_I w_J F_ij (j >= i) to K's upper triangle: to (I, J) if I <= J, and as F_ji
  * (transposed) to (J, I) if J <= I and j > i. With ent NULL counted in count[2 t + transposed], else
  * stored at fill[2 t + transposed]++; -1 on an uncodable weight. */
-static int visit(const bsr *F, const int *par, const double *w, const int *slot, const int *rc, int *count,
-                 int *fill, uint32_t *ent)
+static int visit(const bsr *F, const int *par, const double *w, const int *slot, const int *rc, int *count, int *fill,
+                 uint32_t *ent)
 {
     for (int i = 0; i < F->n; i++)
         for (int k = F->diag[i]; k < F->row_ptr[i + 1]; k++) {
@@ -49,8 +49,8 @@ static int visit(const bsr *F, const int *par, const double *w, const int *slot,
     return 0;
 }
 
-int galerkin_plan_make(galerkin_plan *g, const bsr *F, const int *par, const double *w, const bsr *K,
-                       const int *slot, const int *rc)
+int galerkin_plan_make(galerkin_plan *g, const bsr *F, const int *par, const double *w, const bsr *K, const int *slot,
+                       const int *rc)
 {
     memset(g, 0, sizeof *g);
     /* a block gives at most 32 entries (16 parent pairs, twice): the counts stay ints */
@@ -163,8 +163,8 @@ MAT3_INLINE void apply_upper(int avx, const galerkin_plan *g, const double *val,
 }
 
 #if MAT3_HAVE_AVX
-MAT3_AVX_FN static void apply_upper_avx(const galerkin_plan *g, const double *val, const double *filt,
-                                        const int *fidx, bsr *K)
+MAT3_AVX_FN static void apply_upper_avx(const galerkin_plan *g, const double *val, const double *filt, const int *fidx,
+                                        bsr *K)
 {
     apply_upper(1, g, val, filt, fidx, K);
 }

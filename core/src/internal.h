@@ -24,19 +24,18 @@ double spring_energy(const double xi[3], const double xj[3], spring_law s);
 /* Elastic force on node i (f_j = -f_i) and K = df_i/dx_j (3x3, may be NULL); the other blocks follow
  * from K. definiteness != 0 applies the paper's rule: the transverse term k (1 - rest/d)(I - uu^T)
  * is dropped when d < rest, so K stays semidefinite. */
-void spring_eval(const double xi[3], const double xj[3], spring_law s,
-                 int definiteness, double f_i[3], double K[9]);
+void spring_eval(const double xi[3], const double xj[3], spring_law s, int definiteness, double f_i[3], double K[9]);
 
 /* Damping along the link (eq. 4): f_i = c ((v_j - v_i) . u) u, f_j = -f_i,
  * and D = df_i/dv_j = c uu^T (3x3), also df_i/dv_i = -D. D may be NULL. */
-void damper_eval(const double xi[3], const double xj[3], const double vi[3],
-                 const double vj[3], double c, double f_i[3], double D[9]);
+void damper_eval(const double xi[3], const double xj[3], const double vi[3], const double vj[3], double c,
+                 double f_i[3], double D[9]);
 
 /* Spring and damper of one link at once (one square root): the total force
  * on node i and, if K is not NULL, K = df_i/dx_j and D = df_i/dv_j as above.
  * The step's hot loop; equal to spring_eval + damper_eval. */
-void link_eval(const double xi[3], const double xj[3], const double vi[3], const double vj[3], spring_law s,
-               double c, int definiteness, double f_i[3], double K[9], double D[9]);
+void link_eval(const double xi[3], const double xj[3], const double vi[3], const double vj[3], spring_law s, double c,
+               int definiteness, double f_i[3], double K[9], double D[9]);
 
 /* A link in the Newton step: tension and limit along its direction, compression along the frozen u0,
  * so E is convex, K semidefinite and E >= spring_energy. Returns E; f_i, K, slack may be NULL.
@@ -48,7 +47,7 @@ double spring_eval_predicted(const double xi[3], const double xj[3], const doubl
 
 typedef struct link_topo {
     int i, j;
-    double rest;    /* l0 */
+    double rest; /* l0 */
 } link_topo;
 
 /* The spring law of link e in its current region, inline for the links' loops:
@@ -82,8 +81,8 @@ void plastic_rule_memory(double alpha, int memory, double rest, double d, int *p
 /* The time-dependent law (material.tau_set, tau_recover, set_hardening; viscoplastic.c) over a step of h
  * seconds ending at length d. *perm: the permanent set as a share of rest; *bent: whether the link is past
  * the yield as of the last update. */
-void plastic_rule_time(const cloth_material *m, double rest, double d, double h, int *plastic, double *l1,
-                       double *perm, int *bent);
+void plastic_rule_time(const cloth_material *m, double rest, double d, double h, int *plastic, double *l1, double *perm,
+                       int *bent);
 /* The crease law (material.k_crease; crease_law.c): whether m asks for it; a link's fold angle at chord d;
  * and its rule, the set's chord *l1 kept within the yield angle 2 acos(alpha) of the fold (*plastic: l1 < rest). */
 int crease_law_on(const cloth_material *m);
@@ -112,9 +111,9 @@ double tension_set_rule(const cloth_material *m, double rest, double d, double s
 /* ------------------------------------------------------------------ state */
 
 struct cloth_state {
-    int n;          /* vertices */
-    int n_int;      /* interlaced links */
-    double *x, *v;  /* 3n */
+    int n;                  /* vertices */
+    int n_int;              /* interlaced links */
+    double *x, *v;          /* 3n */
     unsigned char *plastic; /* n_int */
     double *l1;             /* n_int */
     double *perm;           /* n_int: permanent set, a share of l0 (viscoplastic.c) */
@@ -125,9 +124,9 @@ struct cloth_state {
     double *x_prev, *v_prev; /* 3n, BDF2 history (valid if has_prev) */
     double h_prev;
     int has_prev;
-    double *dv_prev;         /* 3n, warm start */
+    double *dv_prev; /* 3n, warm start */
     int n_seq;
-    double *lim_shift;       /* n_seq: the elongation limit's multipliers, as
+    double *lim_shift; /* n_seq: the elongation limit's multipliers, as
                                 shifts of each link's limit length (newton.c),
                                 the next step's start */
 };
@@ -135,92 +134,92 @@ struct cloth_state {
 /* ------------------------------------------------------------------ cloth */
 
 struct cloth {
-    cloth_desc desc;           /* as created, with material/solver/gravity kept current */
+    cloth_desc desc; /* as created, with material/solver/gravity kept current */
     int rows, cols, n;
-    double *mass;              /* n   */
+    double *mass; /* n   */
     int n_seq, n_int;
-    link_topo *seq, *lint;     /* sequential and interlaced links */
-    struct cloth_state st;     /* the evolving state */
-    struct cloth_state retry_bk; /* the substep retry's copy of st, and its */
+    link_topo *seq, *lint;         /* sequential and interlaced links */
+    struct cloth_state st;         /* the evolving state */
+    struct cloth_state retry_bk;   /* the substep retry's copy of st, and its */
     double *retry_xs, *retry_fsum; /* 3n start positions and force sums      */
 
     /* constraints: one slot per vertex */
-    cloth_constraint *con;     /* n, ndof 0 = free */
+    cloth_constraint *con; /* n, ndof 0 = free */
     int n_con;
-    double *con_force;         /* 3n, N, from the last step */
-    double *cand;              /* 6n: contact candidates (cloth_set_contact): normal, point */
-    double *cand_pull;         /* n: N, a plane contact pulling beyond this lets
+    double *con_force;       /* 3n, N, from the last step */
+    double *cand;            /* 6n: contact candidates (cloth_set_contact): normal, point */
+    double *cand_pull;       /* n: N, a plane contact pulling beyond this lets
                                   go within the step (cloth_set_contact_pull) */
-    unsigned char *cand_on;    /* n: 1 candidate, 2 made a plane, 3 let slide, 8 plane released
+    unsigned char *cand_on;  /* n: 1 candidate, 2 made a plane, 3 let slide, 8 plane released
                                 * (candidate again), 9 made again, 4/5 released for good, 6/7 sliding/
                                 * sticking candidate released; second candidate: 10 released, 11 made again */
-    double *cand2;             /* 6n: second candidates (cloth_set_contact_second): normal, point */
-    unsigned char *cand2_on;   /* n: 1 a candidate, 2 held, 8 let go (a candidate again), 9 held
+    double *cand2;           /* 6n: second candidates (cloth_set_contact_second): normal, point */
+    unsigned char *cand2_on; /* n: 1 a candidate, 2 held, 8 let go (a candidate again), 9 held
                                   again, 4 let go for good (contacts.c) */
-    cloth_constraint *con1;    /* n: while the second plane holds a vertex (cand2_on 2 or 9), its
+    cloth_constraint *con1;  /* n: while the second plane holds a vertex (cand2_on 2 or 9), its
                                   constraint without it; con[i] is then their meet */
-    double *f_ext;             /* 3n, N, external forces (cloth_set_external_forces) */
-    cloth_air air;             /* air drag and wind (cloth_set_air; air.c) */
-    int *air_blk;              /* 6 per grid triangle: its pairs' blocks in A (air.c) */
-    double air_force[3];       /* the air's total force over the last step (N; air.c) */
-    double air_torque[3];      /* and its torque about the origin (N m) */
+    double *f_ext;           /* 3n, N, external forces (cloth_set_external_forces) */
+    cloth_air air;           /* air drag and wind (cloth_set_air; air.c) */
+    int *air_blk;            /* 6 per grid triangle: its pairs' blocks in A (air.c) */
+    double air_force[3];     /* the air's total force over the last step (N; air.c) */
+    double air_torque[3];    /* and its torque about the origin (N m) */
     /* rigid bodies solved with the cloth (bodies.c) */
     int nbody;
-    cloth_body *body;          /* nbody, as set */
-    double *body_ws;           /* per body: M (36), rhs (6), du (6), Ginv (36),
+    cloth_body *body;                  /* nbody, as set */
+    double *body_ws;                   /* per body: M (36), rhs (6), du (6), Ginv (36),
                                   CG vectors (5 x 6); vbody (n ints) after */
-    int *vbody;                /* n: body of each constrained vertex, -1 none */
-    int body_held;             /* vertices held by bodies in this step's solve */
-    double *body_dev;          /* 3n: the substep retry's displacement of held
+    int *vbody;                        /* n: body of each constrained vertex, -1 none */
+    int body_held;                     /* vertices held by bodies in this step's solve */
+    double *body_dev;                  /* 3n: the substep retry's displacement of held
                                   vertices by their bodies' du so far */
-    int body_retry;            /* 1 while a step is retried in substeps */
-    double body_hs;            /* that substep's size */
+    int body_retry;                    /* 1 while a step is retried in substeps */
+    double body_hs;                    /* that substep's size */
     struct self_contact *self_contact; /* the Newton step's self-contact, bound by a
                                   self-collision pass (self_contact.h), or NULL */
 
     /* step workspace, sized at creation: the step allocates nothing */
-    bsr A;                     /* pattern: diagonal + one block pair per link */
-    int *seq_blk, *int_blk;    /* 2 per link: blocks (i,j) and (j,i) in A */
-    int links_own_blocks;      /* each off-diagonal block is one link's (bsr_edges_own_offdiag) */
-    double *work;              /* one allocation behind the vectors below */
+    bsr A;                                      /* pattern: diagonal + one block pair per link */
+    int *seq_blk, *int_blk;                     /* 2 per link: blocks (i,j) and (j,i) in A */
+    int links_own_blocks;                       /* each off-diagonal block is one link's (bsr_edges_own_offdiag) */
+    double *work;                               /* one allocation behind the vectors below */
     double *f, *b, *dv, *z, *y, *x_new, *v_new; /* 3n each */
-    double *ddv;               /* 3n: a Newton correction of dv */
-    double *na;                /* 3n: x_new = na + cfac v_new (potential.c) */
-    double *dvt, *xt, *vt;     /* 3n each: the line search's trial point */
-    double *ut;                /* 3 per link (sequential, then interlaced): the
+    double *ddv;                                /* 3n: a Newton correction of dv */
+    double *na;                                 /* 3n: x_new = na + cfac v_new (potential.c) */
+    double *dvt, *xt, *vt;                      /* 3n each: the line search's trial point */
+    double *ut;                                 /* 3 per link (sequential, then interlaced): the
                                   damping directions of the step */
-    double *cg;                /* 6 * 3n: MPCG workspace */
-    double *jac;               /* 3n: scalar Jacobi inverse diagonal */
-    double *x_lever;           /* 3n: constrained vertices' predicted end-of-step
+    double *cg;                                 /* 6 * 3n: MPCG workspace */
+    double *jac;                                /* 3n: scalar Jacobi inverse diagonal */
+    double *x_lever;                            /* 3n: constrained vertices' predicted end-of-step
                                   positions, where bodies take their forces */
-    unsigned char *cflag;      /* n: vertex constrained (filter needed) */
-    int *clist;                /* n_con: the constrained vertices, ascending */
-    multigrid mg;              /* levels sized at creation */
-    double *con_new;           /* 3n: constraint forces of the step being taken */
-    double *pre;               /* 9n: preconditioner blocks */
-    double *S;                 /* 9n: per-vertex filter (I - constrained projector) */
-    double *Ah;                /* 9 nnzb: the filtered matrix, for the SSOR solver */
-    double *sl;                /* 9 n_seq: elongation-limit projection (u, C, lambda, CG) */
-    int *sl_act;               /* n_seq: its active links */
-    unsigned char *sl_held;    /* n_seq: links held at the limit this step; then n marks */
-    double *sl_vtx;            /* 3n: its per-vertex scratch, kept zeroed */
-    double *sl_x0;             /* 3n: the positions it started from (the held vertices' levers) */
-    const double *sl_x;        /* sl_x0 while it runs, else NULL (bodies.c's levers from the step's start) */
-    double *sl_dv;             /* 3n: its velocity correction of the step being taken (step.c) */
-    double *lim_shift;         /* n_seq: the step's multipliers of the elongation limit
+    unsigned char *cflag;                       /* n: vertex constrained (filter needed) */
+    int *clist;                                 /* n_con: the constrained vertices, ascending */
+    multigrid mg;                               /* levels sized at creation */
+    double *con_new;                            /* 3n: constraint forces of the step being taken */
+    double *pre;                                /* 9n: preconditioner blocks */
+    double *S;                                  /* 9n: per-vertex filter (I - constrained projector) */
+    double *Ah;                                 /* 9 nnzb: the filtered matrix, for the SSOR solver */
+    double *sl;                                 /* 9 n_seq: elongation-limit projection (u, C, lambda, CG) */
+    int *sl_act;                                /* n_seq: its active links */
+    unsigned char *sl_held;                     /* n_seq: links held at the limit this step; then n marks */
+    double *sl_vtx;                             /* 3n: its per-vertex scratch, kept zeroed */
+    double *sl_x0;                              /* 3n: the positions it started from (the held vertices' levers) */
+    const double *sl_x;           /* sl_x0 while it runs, else NULL (bodies.c's levers from the step's start) */
+    double *sl_dv;                /* 3n: its velocity correction of the step being taken (step.c) */
+    double *lim_shift;            /* n_seq: the step's multipliers of the elongation limit
                                   (newton.c: from st.lim_shift, committed with the step;
                                   linearized.c: from 0) */
-    double *lim_rho;           /* n_seq: each link's penalty factor on k_lim in the step
+    double *lim_rho;              /* n_seq: each link's penalty factor on k_lim in the step
                                   (limit_multipliers.c; 1 at the step's start) */
-    double *lim_viol;          /* n_seq: its violation at the last multiplier update (< 0:
+    double *lim_viol;             /* n_seq: its violation at the last multiplier update (< 0:
                                   dictated by the constraints, left to the plain law) */
-    unsigned char *slack_age;  /* n_seq: the Newton iterates in a row each link has been
+    unsigned char *slack_age;     /* n_seq: the Newton iterates in a row each link has been
                                   slack in this step (potential.c) */
-    double diss_links;         /* the links' part of the last potential_residual's dissipation */
-    double diss_e0;            /* the links' energy at x0 without the limit (NaN: not yet this step) */
+    double diss_links;            /* the links' part of the last potential_residual's dissipation */
+    double diss_e0;               /* the links' energy at x0 without the limit (NaN: not yet this step) */
     double *dv_saved, *con_saved; /* 3n each (linearized.c): dv and con_new when the
                                   corrections last converged */
-    double *K_seq, *K_int;     /* per-link 3x3 df_i/dx_j (linearized.c's K v products) */
+    double *K_seq, *K_int;        /* per-link 3x3 df_i/dx_j (linearized.c's K v products) */
 
     cloth_step_stats stats;
     char err[256];
@@ -351,9 +350,7 @@ int update_plastic_energy(cloth *c, double h, double *elastic);
 cloth_energy energies_with_elastic(const cloth *c, double elastic);
 
 /* small vector helpers */
-static inline int finite3(const double a[3]) {
-    return a[0] - a[0] == 0.0 && a[1] - a[1] == 0.0 && a[2] - a[2] == 0.0;
-}
+static inline int finite3(const double a[3]) { return a[0] - a[0] == 0.0 && a[1] - a[1] == 0.0 && a[2] - a[2] == 0.0; }
 int all_finite(const double *a, size_t n);
 
 #endif

@@ -127,8 +127,7 @@ static double free_norm(const cloth *c, const double *b)
 /* Backward Euler (bdf2 = 0) or BDF2 (Choi-Ko 2002), f linearised about (x0, v0), x_new = a + cfac v_new:
  * BE (M - h D - h^2 K) dv = h f0 + K (h^2 v0), a = x0; BDF2 (M - 2/3 h D - 4/9 h^2 K) dv = 2/3 h f0
  * + 1/3 M (v0 - v_-1) + K (2/9 h (x0 - x_-1) + 4/9 h^2 v0), a = x0 + (x0 - x_-1)/3. */
-cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, double frac,
-                                   cloth_step_stats *st)
+cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, double frac, cloth_step_stats *st)
 {
     const struct cloth_state *S0 = &c->st;
     const double *x0 = S0->x, *v0 = S0->v;
@@ -153,8 +152,9 @@ cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, do
     const cloth_solver *sv = &c->desc.solver;
     if (sv->warm_start) memcpy(c->dv, S0->dv_prev, n3 * sizeof *c->dv);
     else memset(c->dv, 0, n3 * sizeof *c->dv);
-    mpcg_problem P = {&c->A, b, c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL,
-                      sv->cg_tolerance, sv->cg_max_iterations, NULL, 0.0, 0, 0.0, NULL, 0};
+    mpcg_problem P =
+        {&c->A, b,   c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL, sv->cg_tolerance, sv->cg_max_iterations,
+         NULL,  0.0, 0,    0.0,  NULL,   0};
     mpcg_bodies bodies;
     P.bodies = bodies_prepare(c, h, cfac, &bodies);
     mpcg_result r = linsolve_run(c, &P, c->dv);
@@ -238,4 +238,3 @@ cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, do
     }
     return CLOTH_FAIL_NONE;
 }
-

@@ -39,8 +39,7 @@ static inline void mat3mul(const double *A, const double *B, double *C)
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC unroll 3
 #endif
-        for (int s = 0; s < 3; s++)
-            C[3 * r + s] = A[3 * r] * B[s] + A[3 * r + 1] * B[3 + s] + A[3 * r + 2] * B[6 + s];
+        for (int s = 0; s < 3; s++) C[3 * r + s] = A[3 * r] * B[s] + A[3 * r + 1] * B[3 + s] + A[3 * r + 2] * B[6 + s];
 }
 
 /* A += s B, element by element (SSE2: two at a time, the same operations) */
@@ -54,7 +53,8 @@ static inline void mat3_axpy(double *A, const double *B, double s)
 {
 #if defined(__SSE2__)
     __m128d sv = _mm_set1_pd(s);
-    for (int k = 0; k < 8; k += 2) _mm_storeu_pd(A + k, _mm_add_pd(_mm_loadu_pd(A + k), _mm_mul_pd(sv, _mm_loadu_pd(B + k))));
+    for (int k = 0; k < 8; k += 2)
+        _mm_storeu_pd(A + k, _mm_add_pd(_mm_loadu_pd(A + k), _mm_mul_pd(sv, _mm_loadu_pd(B + k))));
     A[8] += s * B[8];
 #else
     for (int k = 0; k < 9; k++) A[k] += s * B[k];
@@ -92,21 +92,21 @@ static inline int mat3_is_sym(const double *B)
 }
 
 /* acc += (row_add) or -= (row_sub) sum B_k x_col[k] */
-#define MAT3_ROW(name, op)                                                                                  \
+#define MAT3_ROW(name, op)                                                                                 \
     MAT3_INLINE void name(const double *val, const int *col, int a, int z, const double *x, double acc[3]) \
-    {                                                                                                       \
-        double a0 = acc[0], a1 = acc[1], a2 = acc[2];                                                       \
-        MAT3_UNROLL                                                                                         \
-        for (int k = a; k < z; k++) {                                                                       \
-            const double *B = val + 9 * (size_t)k, *xj = x + 3 * (size_t)col[k];                            \
-            double x0 = xj[0], x1 = xj[1], x2 = xj[2];                                                      \
-            a0 op B[0] * x0 + B[1] * x1 + B[2] * x2;                                                        \
-            a1 op B[3] * x0 + B[4] * x1 + B[5] * x2;                                                        \
-            a2 op B[6] * x0 + B[7] * x1 + B[8] * x2;                                                        \
-        }                                                                                                   \
-        acc[0] = a0;                                                                                        \
-        acc[1] = a1;                                                                                        \
-        acc[2] = a2;                                                                                        \
+    {                                                                                                      \
+        double a0 = acc[0], a1 = acc[1], a2 = acc[2];                                                      \
+        MAT3_UNROLL                                                                                        \
+        for (int k = a; k < z; k++) {                                                                      \
+            const double *B = val + 9 * (size_t)k, *xj = x + 3 * (size_t)col[k];                           \
+            double x0 = xj[0], x1 = xj[1], x2 = xj[2];                                                     \
+            a0 op B[0] * x0 + B[1] * x1 + B[2] * x2;                                                       \
+            a1 op B[3] * x0 + B[4] * x1 + B[5] * x2;                                                       \
+            a2 op B[6] * x0 + B[7] * x1 + B[8] * x2;                                                       \
+        }                                                                                                  \
+        acc[0] = a0;                                                                                       \
+        acc[1] = a1;                                                                                       \
+        acc[2] = a2;                                                                                       \
     }
 MAT3_ROW(row_add, +=)
 MAT3_ROW(row_sub, -=)
@@ -115,23 +115,23 @@ MAT3_ROW(row_sub, -=)
 /* The same for rows of symmetric blocks: with SSE2 rows 0 and 1 go as one pair, whose column pairs
  * are adjacent in memory for a symmetric block; each lane keeps the scalar order, so the bits match. */
 #if defined(__SSE2__)
-#define MAT3_ROW_SYM(name, op, vop)                                                                         \
+#define MAT3_ROW_SYM(name, op, vop)                                                                        \
     MAT3_INLINE void name(const double *val, const int *col, int a, int z, const double *x, double acc[3]) \
-    {                                                                                                       \
-        __m128d a01 = _mm_loadu_pd(acc);                                                                    \
-        double a2 = acc[2];                                                                                 \
-        MAT3_UNROLL                                                                                         \
-        for (int k = a; k < z; k++) {                                                                       \
-            const double *B = val + 9 * (size_t)k, *xj = x + 3 * (size_t)col[k];                            \
-            double x0 = xj[0], x1 = xj[1], x2 = xj[2];                                                      \
-            __m128d t = _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(B), _mm_set1_pd(x0)),                            \
-                                   _mm_mul_pd(_mm_loadu_pd(B + 3), _mm_set1_pd(x1)));                       \
-            t = _mm_add_pd(t, _mm_mul_pd(_mm_loadu_pd(B + 6), _mm_set1_pd(x2)));                            \
-            a01 = vop(a01, t);                                                                              \
-            a2 op B[6] * x0 + B[7] * x1 + B[8] * x2;                                                        \
-        }                                                                                                   \
-        _mm_storeu_pd(acc, a01);                                                                            \
-        acc[2] = a2;                                                                                        \
+    {                                                                                                      \
+        __m128d a01 = _mm_loadu_pd(acc);                                                                   \
+        double a2 = acc[2];                                                                                \
+        MAT3_UNROLL                                                                                        \
+        for (int k = a; k < z; k++) {                                                                      \
+            const double *B = val + 9 * (size_t)k, *xj = x + 3 * (size_t)col[k];                           \
+            double x0 = xj[0], x1 = xj[1], x2 = xj[2];                                                     \
+            __m128d t = _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(B), _mm_set1_pd(x0)),                           \
+                                   _mm_mul_pd(_mm_loadu_pd(B + 3), _mm_set1_pd(x1)));                      \
+            t = _mm_add_pd(t, _mm_mul_pd(_mm_loadu_pd(B + 6), _mm_set1_pd(x2)));                           \
+            a01 = vop(a01, t);                                                                             \
+            a2 op B[6] * x0 + B[7] * x1 + B[8] * x2;                                                       \
+        }                                                                                                  \
+        _mm_storeu_pd(acc, a01);                                                                           \
+        acc[2] = a2;                                                                                       \
     }
 MAT3_ROW_SYM(row_add_sym, +=, _mm_add_pd)
 MAT3_ROW_SYM(row_sub_sym, -=, _mm_sub_pd)
@@ -141,7 +141,8 @@ MAT3_ROW_SYM(row_sub_sym, -=, _mm_sub_pd)
 MAT3_INLINE void mat3vec_sym(const double *M, const double *x, double *y)
 {
     double x0 = x[0], x1 = x[1], x2 = x[2];
-    __m128d t = _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(M), _mm_set1_pd(x0)), _mm_mul_pd(_mm_loadu_pd(M + 3), _mm_set1_pd(x1)));
+    __m128d t = _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(M), _mm_set1_pd(x0)),
+                           _mm_mul_pd(_mm_loadu_pd(M + 3), _mm_set1_pd(x1)));
     t = _mm_add_pd(t, _mm_mul_pd(_mm_loadu_pd(M + 6), _mm_set1_pd(x2)));
     double y2 = M[6] * x0 + M[7] * x1 + M[8] * x2;
     _mm_storeu_pd(y, t);
@@ -156,8 +157,7 @@ MAT3_INLINE void mat3vec_sym(const double *M, const double *x, double *y)
 /* ----------------- AVX: symmetric rows' sums in 256-bit vectors, chosen at run time, no FMA (same
  * bits); the fourth lane reads one double past a block (matrices are padded). Kernels take a constant
  * flag avx, wrapped twice (MAT3_AVX_FN for 1); mat3_avx() picks (docs/newton.md, "Design notes"). */
-#if defined(__SSE2__) && defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__)) && \
-    !defined(ODECLOTH_NO_AVX)
+#if defined(__SSE2__) && defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__)) && !defined(ODECLOTH_NO_AVX)
 #define MAT3_HAVE_AVX 1
 #include <immintrin.h>
 #define MAT3_AVX_FN __attribute__((target("avx"), flatten))
@@ -165,21 +165,21 @@ MAT3_INLINE void mat3vec_sym(const double *M, const double *x, double *y)
 static inline int mat3_avx(void) { return __builtin_cpu_supports("avx"); }
 
 /* not always_inline: inlined only into MAT3_AVX_FN functions */
-#define MAT3_ROW_SYM_AVX(name, vop)                                                                          \
+#define MAT3_ROW_SYM_AVX(name, vop)                                                                         \
     static inline __attribute__((target("avx"))) void name(const double *val, const int *col, int a, int z, \
                                                            const double *x, double acc[3])                  \
-    {                                                                                                        \
-        __m256d ac = _mm256_set_pd(0.0, acc[2], acc[1], acc[0]);                                             \
-        MAT3_UNROLL                                                                                          \
-        for (int k = a; k < z; k++) {                                                                        \
-            const double *B = val + 9 * (size_t)k, *xj = x + 3 * (size_t)col[k];                             \
-            __m256d t = _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(B), _mm256_broadcast_sd(xj)),            \
-                                      _mm256_mul_pd(_mm256_loadu_pd(B + 3), _mm256_broadcast_sd(xj + 1)));   \
+    {                                                                                                       \
+        __m256d ac = _mm256_set_pd(0.0, acc[2], acc[1], acc[0]);                                            \
+        MAT3_UNROLL                                                                                         \
+        for (int k = a; k < z; k++) {                                                                       \
+            const double *B = val + 9 * (size_t)k, *xj = x + 3 * (size_t)col[k];                            \
+            __m256d t = _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(B), _mm256_broadcast_sd(xj)),           \
+                                      _mm256_mul_pd(_mm256_loadu_pd(B + 3), _mm256_broadcast_sd(xj + 1)));  \
             t = _mm256_add_pd(t, _mm256_mul_pd(_mm256_loadu_pd(B + 6), _mm256_broadcast_sd(xj + 2)));       \
-            ac = vop(ac, t);                                                                                 \
-        }                                                                                                    \
-        _mm_storeu_pd(acc, _mm256_castpd256_pd128(ac));                                                      \
-        _mm_store_sd(acc + 2, _mm256_extractf128_pd(ac, 1));                                                 \
+            ac = vop(ac, t);                                                                                \
+        }                                                                                                   \
+        _mm_storeu_pd(acc, _mm256_castpd256_pd128(ac));                                                     \
+        _mm_store_sd(acc + 2, _mm256_extractf128_pd(ac, 1));                                                \
     }
 MAT3_ROW_SYM_AVX(row_add_sym_avx, _mm256_add_pd)
 MAT3_ROW_SYM_AVX(row_sub_sym_avx, _mm256_sub_pd)
@@ -193,8 +193,7 @@ static inline int mat3_avx(void) { return 0; }
 
 /* row_add_sym / row_sub_sym, by the AVX loop when avx (a constant in the
  * kernels) is set */
-MAT3_INLINE void row_add_symv(int avx, const double *val, const int *col, int a, int z, const double *x,
-                              double acc[3])
+MAT3_INLINE void row_add_symv(int avx, const double *val, const int *col, int a, int z, const double *x, double acc[3])
 {
 #if MAT3_HAVE_AVX
     if (avx) {
@@ -206,8 +205,7 @@ MAT3_INLINE void row_add_symv(int avx, const double *val, const int *col, int a,
     row_add_sym(val, col, a, z, x, acc);
 }
 
-MAT3_INLINE void row_sub_symv(int avx, const double *val, const int *col, int a, int z, const double *x,
-                              double acc[3])
+MAT3_INLINE void row_sub_symv(int avx, const double *val, const int *col, int a, int z, const double *x, double acc[3])
 {
 #if MAT3_HAVE_AVX
     if (avx) {

@@ -26,16 +26,15 @@ static double dot(const double *a, const double *b, size_t n)
     return s;
 }
 
-mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const double *z,
-                       const double *Pinv, double tol, int max_iter, double *x, double *w)
+mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const double *z, const double *Pinv, double tol,
+                       int max_iter, double *x, double *w)
 {
     mpcg_problem P = {A, b, S, z, Pinv, NULL, 0, NULL, NULL, tol, max_iter, NULL, 0.0, 0, 0.0, NULL, 0};
     return mpcg_run(&P, x, w);
 }
 
-mpcg_result mpcg_solve_pc(const bsr *A, const double *b, const double *S, const double *z,
-                          const double *Dinv, mpcg_precond_fn pc, void *ctx, double tol, int max_iter,
-                          double *x, double *w)
+mpcg_result mpcg_solve_pc(const bsr *A, const double *b, const double *S, const double *z, const double *Dinv,
+                          mpcg_precond_fn pc, void *ctx, double tol, int max_iter, double *x, double *w)
 {
     mpcg_problem P = {A, b, S, z, Dinv, NULL, 0, pc, ctx, tol, max_iter, NULL, 0.0, 0, 0.0, NULL, 0};
     return mpcg_run(&P, x, w);
@@ -124,8 +123,8 @@ static double mul_filter_dot(const mpcg_problem *P, const double *p, double *q)
 
 /* x += alpha p, r -= alpha q; block Jacobi: s = S Dinv r and returns
  * r^T s */
-static double update_jacobi(const mpcg_problem *P, double alpha, const double *p, const double *q, double *x,
-                            double *r, double *s)
+static double update_jacobi(const mpcg_problem *P, double alpha, const double *p, const double *q, double *x, double *r,
+                            double *s)
 {
     con_walk w = {P->con, P->ncon, 0};
     double rs = 0.0;
@@ -244,12 +243,12 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
     size_t NB = B ? 6 * (size_t)B->nb : 0;
     /* s = S M r (the filtered preconditioned residual). With block Jacobi
      * (pc NULL) M = Dinv, and the norm r^T Dinv r is r^T s: no second product. */
-#define PRECONDITION()                                          \
-    do {                                                        \
-        if (P->pc) P->pc(P->ctx, r, s);                         \
-        else filter_apply(n, Dinv, r, s);                       \
-        filter_inplace(P, s);                                   \
-        if (B) bodies_apply_ginv(B, B->r, B->s);                \
+#define PRECONDITION()                           \
+    do {                                         \
+        if (P->pc) P->pc(P->ctx, r, s);          \
+        else filter_apply(n, Dinv, r, s);        \
+        filter_inplace(P, s);                    \
+        if (B) bodies_apply_ginv(B, B->r, B->s); \
     } while (0)
 #define NORM2() (filter_apply(n, Dinv, r, u), dot(r, u, N) + (B ? dot(B->r, B->s, NB) : 0.0))
 #define DOT(a, b) (dot(a, b, N) + (B ? dot(B->a, B->b, NB) : 0.0))

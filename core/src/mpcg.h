@@ -14,8 +14,8 @@ typedef struct mpcg_result {
 /* Solve A x = b for the free components, the constrained ones held at z (S, Pinv: 9n per-vertex filter
  * and preconditioner blocks; x 3n in: warm start, out: solution with (I - S) x = z; w 6 * 3n scratch).
  * Stops when |S r|_P <= tol |S (b - A z)|_P, |y|_P^2 = y^T Pinv y (see mpcg_solve_pc). */
-mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const double *z,
-                       const double *Pinv, double tol, int max_iter, double *x, double *w);
+mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const double *z, const double *Pinv, double tol,
+                       int max_iter, double *x, double *w);
 
 /* A preconditioner: s = M r for a symmetric positive definite M (on the free
  * directions; the solver filters s afterwards). */
@@ -26,13 +26,13 @@ typedef void (*mpcg_precond_fn)(void *ctx, const double *r, double *s);
  * symmetric and definite when A is. */
 typedef struct mpcg_bodies {
     int nb;
-    const int *vbody;  /* n: body of each vertex, -1 none (constrained only) */
-    const double *x;   /* 3n: positions at the step's start (lever arms) */
-    const double *com; /* 3 nb */
-    const double *M;   /* 36 nb: 6x6 mass matrices, scaled as the cloth's rows */
-    const double *rhs; /* 6 nb: impulse from everything but the cloth, likewise */
-    double *ginv;      /* 36 nb: out of bodies_precond */
-    double *u;         /* 6 nb: out, the velocity changes */
+    const int *vbody;      /* n: body of each vertex, -1 none (constrained only) */
+    const double *x;       /* 3n: positions at the step's start (lever arms) */
+    const double *com;     /* 3 nb */
+    const double *M;       /* 36 nb: 6x6 mass matrices, scaled as the cloth's rows */
+    const double *rhs;     /* 6 nb: impulse from everything but the cloth, likewise */
+    double *ginv;          /* 36 nb: out of bodies_precond */
+    double *u;             /* 6 nb: out, the velocity changes */
     double *r, *p, *q, *s; /* 6 nb each: CG scratch */
 } mpcg_bodies;
 
@@ -87,9 +87,8 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w);
 
 /* As mpcg_solve with any preconditioner pc; the norm is weighted by Dinv.
  * w: 6 * 3n doubles. */
-mpcg_result mpcg_solve_pc(const bsr *A, const double *b, const double *S, const double *z,
-                          const double *Dinv, mpcg_precond_fn pc, void *ctx, double tol, int max_iter,
-                          double *x, double *w);
+mpcg_result mpcg_solve_pc(const bsr *A, const double *b, const double *S, const double *z, const double *Dinv,
+                          mpcg_precond_fn pc, void *ctx, double tol, int max_iter, double *x, double *w);
 
 /* y = S_i x_i per vertex (may alias). */
 void filter_apply(int n, const double *S, const double *x, double *y);

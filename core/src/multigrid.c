@@ -311,8 +311,8 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
 
 /* acc -= sum A_ij x_j over row i's blocks k in [a, z), each block summed as mat3vec does (mat3.h),
  * symmetric rows by the paired loop with the same bits. */
-MAT3_INLINE void level_row_sub(int avx, const bsr *A, const unsigned char *symrow, int i, int a, int z,
-                                 const double *x, double acc[3])
+MAT3_INLINE void level_row_sub(int avx, const bsr *A, const unsigned char *symrow, int i, int a, int z, const double *x,
+                               double acc[3])
 {
     if (symrow[i]) row_sub_symv(avx, A->val, A->col, a, z, x, acc);
     else row_sub(A->val, A->col, a, z, x, acc);
@@ -368,8 +368,7 @@ MAT3_INLINE void backward_sweep_k(int avx, const multigrid *mg, int l, double *x
 /* Forward block Gauss-Seidel from x = 0, fused with restricting its residual (bc = W^T r): what
  * remains is r_i = -sum_{j>i} A_ij x_j, taken a band behind the sweep while its blocks are in cache,
  * so one pass over the matrix; residuals reach parents in ascending order, as a separate pass would. */
-MAT3_INLINE void forward_sweep_restrict_k(int avx, const multigrid *mg, int l, double *x, const double *b,
-                                          double *bc)
+MAT3_INLINE void forward_sweep_restrict_k(int avx, const multigrid *mg, int l, double *x, const double *b, double *bc)
 {
     const mg_level *L = &mg->lev[l];
     const bsr *A = level_matrix(mg, l);
@@ -490,7 +489,4 @@ static void vcycle(int avx, const multigrid *mg, int l, double *x, const double 
     backward_sweep(avx, mg, l, x, b);
 }
 
-void mg_apply(void *ctx, const double *r, double *s)
-{
-    vcycle(mat3_avx(), (const multigrid *)ctx, 0, s, r);
-}
+void mg_apply(void *ctx, const double *r, double *s) { vcycle(mat3_avx(), (const multigrid *)ctx, 0, s, r); }

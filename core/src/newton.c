@@ -45,8 +45,8 @@ static double residual_norm(const cloth *c, const mpcg_problem *P, const double 
 /* Backtracking (Armijo) along ddv from dv, from t = tmax; returns the t taken and sets *phi to its
  * potential (phi0, slope: potential and derivative at dv, bodies included). The full step's residual
  * lands in c->b; *ready says whether the full step was taken, so the next iteration reuses it. */
-static double line_search(cloth *c, const step_eq *q, const double *dv, const double *ddv, int bodies,
-                          double tmax, double phi0, double slope, double *phi, int *ready)
+static double line_search(cloth *c, const step_eq *q, const double *dv, const double *ddv, int bodies, double tmax,
+                          double phi0, double slope, double *phi, int *ready)
 {
     size_t n3 = 3 * (size_t)c->n;
     double t = tmax;
@@ -241,9 +241,8 @@ static double contact_free_share(cloth *c, const step_eq *q, const double *dv, c
 /* One Newton iteration from dv: solve, search (not on the first, which lands the constraints), take
  * (*taken: the update's share). *size gets the full step's size, *ready whether b is assembled at the
  * new dv; returns the CG's failure (NONE, or a cut-short solve's). */
-static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *P, double *dv, double *phi,
-                                      int first, int matrix, double *size, int *ready, double *taken,
-                                      cloth_step_stats *st)
+static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *P, double *dv, double *phi, int first,
+                                      int matrix, double *size, int *ready, double *taken, cloth_step_stats *st)
 {
     size_t n3 = 3 * (size_t)c->n;
     double *ddv = c->ddv;
@@ -287,8 +286,8 @@ static void contacts_changed(cloth *c, const step_eq *q, mpcg_problem *P, const 
 /* Contact candidates the iterate dv (in c->x_new) puts behind their
  * surface, beyond what the tolerance leaves open (cfac newton_tolerance),
  * become planes landed by the next iteration; returns how many. */
-static int decide_contacts(cloth *c, const step_eq *q, mpcg_problem *P, const double *dv, const double *xs,
-                           double frac, cloth_step_stats *st)
+static int decide_contacts(cloth *c, const step_eq *q, mpcg_problem *P, const double *dv, const double *xs, double frac,
+                           cloth_step_stats *st)
 {
     int added = contacts_decide(c, c->x_new, q->cfac * c->desc.solver.newton_tolerance);
     if (!added) return 0;
@@ -319,8 +318,9 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     memcpy(c->lim_shift, c->st.lim_shift, (size_t)c->n_seq * sizeof *c->lim_shift);
     limit_multipliers_begin(c);
     int landed = newton_start(c, &q, dv);
-    mpcg_problem P = {&c->A, b, c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL,
-                      sv->newton_cg_tolerance, sv->cg_max_iterations, NULL, 0.0, 1, 0.0, NULL, 0};
+    mpcg_problem P =
+        {&c->A, b,   c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL, sv->newton_cg_tolerance, sv->cg_max_iterations,
+         NULL,  0.0, 1,    0.0,  NULL,   0};
     mpcg_bodies bodies;
     P.bodies = bodies_prepare(c, h, q.cfac, &bodies);
     double mt = 0.0;
@@ -330,9 +330,9 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
     P.ref_floor = mt * pow(sv->newton_tolerance / sv->newton_cg_tolerance, 2);
     P.mass = c->mass;
     int it = 0, limit_rounds = 0, assembled = 0, landing = 1; /* limit_rounds: the multipliers' updates so far */
-    int ready = 0; /* b already at dv (the line search's full step) */
-    int matrix = 0; /* the Newton matrix already at dv */
-    int since = 0; /* iterations since the contacts or multipliers changed */
+    int ready = 0;                                            /* b already at dv (the line search's full step) */
+    int matrix = 0;                                           /* the Newton matrix already at dv */
+    int since = 0;                                            /* iterations since the contacts or multipliers changed */
     double phi = NAN, size = INFINITY, rn = INFINITY, goal = sv->newton_tolerance;
     int conv = 0, pending = !landed; /* pending: constraints the iterate has not landed */
     *limit_held = 0;
@@ -390,8 +390,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
             phi = NAN;
             since = 0;
         }
-        if (phi != phi && it > 0)
-            phi = potential_value(c, &q, dv, c->xt, c->vt) + (P.bodies ? bodies_energy(c) : 0.0);
+        if (phi != phi && it > 0) phi = potential_value(c, &q, dv, c->xt, c->vt) + (P.bodies ? bodies_energy(c) : 0.0);
         double taken = 1.0;
         /* the share serves the size test; iterations after it is met are
          * for the energy bound, whose residual only a full solve reduces */

@@ -10,15 +10,15 @@
 void plastic_rule_memory(double alpha, int memory, double rest, double d, int *plastic, double *l1)
 {
     if (alpha <= 0.0) {
-        *plastic = 0;          /* elastic material: never plastic */
+        *plastic = 0; /* elastic material: never plastic */
     } else if (d > alpha * rest) {
         if (!memory) *plastic = 0; /* paper: elastic region, rest length l0 */
         /* memory: a plastic link keeps plastic and l1 (an elastic one stays elastic) */
     } else if (!*plastic) {
-        *plastic = 1;          /* entry: l1 = the length at entry (<= alpha l0) */
+        *plastic = 1; /* entry: l1 = the length at entry (<= alpha l0) */
         *l1 = d;
     } else if (d < *l1) {
-        *l1 = d;               /* the crease deepens: stores no bending energy */
+        *l1 = d; /* the crease deepens: stores no bending energy */
     }
 }
 

@@ -305,7 +305,8 @@ double potential_dissipation(const cloth *c, const step_eq *q)
             spring_law s = law_of(c, t, e);
             s.k_lim = 0.0;
             double gap = spring_predicted(x0 + 3 * i, x0 + 3 * j, u, s, 0.0, NULL, NULL, NULL) -
-                         spring_predicted(x + 3 * i, x + 3 * j, u, s, 0.0, f, NULL, NULL), rate = 0.0;
+                         spring_predicted(x + 3 * i, x + 3 * j, u, s, 0.0, f, NULL, NULL),
+                   rate = 0.0;
             for (int r = 0; r < 3; r++) {
                 gap -= f[r] * ((x0[3 * j + r] - x0[3 * i + r]) - (x[3 * j + r] - x[3 * i + r]));
                 rate += (v[3 * j + r] - v[3 * i + r]) * u[r];

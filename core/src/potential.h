@@ -9,7 +9,7 @@
 typedef struct step_eq {
     double h, beta, cfac; /* cfac = beta h = dx/dv */
     int bdf2;
-    const double *a;      /* 3n: x = a + cfac v */
+    const double *a; /* 3n: x = a + cfac v */
 } step_eq;
 
 /* The step's equations: a (into c->na) and the links' frozen directions

@@ -13,23 +13,23 @@
 
 struct self_ccd {
     int n, ntri, nedge;
-    int *tri, *edge;          /* 3 ntri, 2 nedge vertex indices */
+    int *tri, *edge; /* 3 ntri, 2 nedge vertex indices */
     /* every vertex's, triangle's and edge's swept box (kept current for
      * the active ones); the active ones' boxes, indices and grid */
     double *all[3];
     sweep_grid *grid[3];
     double *box[3];
     int *id[3], nact[3];
-    unsigned char *act;       /* n: active in this sweep */
-    unsigned char *mark;      /* n: active in the next (moved, or in a hit) */
-    int full;                 /* the next sweep tests every pair */
-    double *din;              /* 3 n: displacements entering the zones */
-    double *mass;             /* n: the zones' fit masses */
-    double *lim;              /* nedge: edge length limits */
-    int *parent;              /* n: zones (union-find) */
-    unsigned char *dirty;     /* n: a zone's root, when the zone grew */
-    int *order, *first;       /* n, n + 1: vertices grouped by zone */
-    int *pair, npair, cap;    /* the colliding pairs' vertices, 4 each */
+    unsigned char *act;    /* n: active in this sweep */
+    unsigned char *mark;   /* n: active in the next (moved, or in a hit) */
+    int full;              /* the next sweep tests every pair */
+    double *din;           /* 3 n: displacements entering the zones */
+    double *mass;          /* n: the zones' fit masses */
+    double *lim;           /* nedge: edge length limits */
+    int *parent;           /* n: zones (union-find) */
+    unsigned char *dirty;  /* n: a zone's root, when the zone grew */
+    int *order, *first;    /* n, n + 1: vertices grouped by zone */
+    int *pair, npair, cap; /* the colliding pairs' vertices, 4 each */
 };
 
 enum { ACT_VERTEX, ACT_TRIANGLE, ACT_EDGE };
@@ -201,10 +201,8 @@ static int pair_test(self_ccd *s, sweep_ctx *c, const int *v, int edges)
     c->hits++;
     for (int j = 0; j < 4; j++) s->mark[v[j]] = 1;
     if (c->mode == SWEEP_RESPOND) {
-        if (impulse(c, v, &h))
-            c->applied++;
-        else
-            c->left++;
+        if (impulse(c, v, &h)) c->applied++;
+        else c->left++;
     } else if (c->mode == SWEEP_RECORD) {
         if (s->npair == s->cap) {
             int cap = s->cap ? 2 * s->cap : 64;
@@ -470,8 +468,7 @@ static int bad_input(const self_ccd *s, const double *x0, const double *x1, cons
     return 0;
 }
 
-int self_ccd_apply(self_ccd *s, const double *x0, double *x1, const double *inv_mass, double eta,
-                   self_ccd_stats *stats)
+int self_ccd_apply(self_ccd *s, const double *x0, double *x1, const double *inv_mass, double eta, self_ccd_stats *stats)
 {
     self_ccd_stats st;
     memset(&st, 0, sizeof st);

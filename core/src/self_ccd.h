@@ -27,8 +27,7 @@ void self_ccd_destroy(self_ccd *s); /* NULL is fine */
 
 /* Resolve x0 -> x1 (3 nvert each; x1 changes); inv_mass 0: held; eta > 0 m; st may be NULL. Returns
  * the pairs left colliding; -1: bad input (x1 unchanged) or out of memory (x1 may be partly resolved). */
-int self_ccd_apply(self_ccd *s, const double *x0, double *x1, const double *inv_mass, double eta,
-                   self_ccd_stats *st);
+int self_ccd_apply(self_ccd *s, const double *x0, double *x1, const double *inv_mass, double eta, self_ccd_stats *st);
 
 /* The pairs colliding over x0 -> x1 (a sweep, no response); -1 as above. */
 int self_ccd_count(self_ccd *s, const double *x0, const double *x1, double eta);

@@ -18,39 +18,39 @@ typedef struct pair_list {
 
 /* Close pairs of a reference */
 typedef struct ref_set {
-    pair_list close;         /* (kind, candidate) of the close pairs, in list order */
-    double *xref;            /* 3 n: their reference positions */
-    long close_at;           /* the lists they are of (version then); -1: none */
-    long used;               /* the clock when last used */
+    pair_list close; /* (kind, candidate) of the close pairs, in list order */
+    double *xref;    /* 3 n: their reference positions */
+    long close_at;   /* the lists they are of (version then); -1: none */
+    long used;       /* the clock when last used */
 } ref_set;
 
 struct self_contact {
     int n, ntri, nedge;
     double D, kappa;
-    const int *tri;          /* 3 ntri corners, kept by pointer */
-    int *edges;              /* 2 per edge of the triangles */
-    sweep_grid *grid;        /* the broadphase of a rebuild */
-    double *box;             /* 6 per triangle or edge: boxes */
-    double *frame;           /* 12 per triangle: its frame at the evaluation (pair_apart.h) */
-    double *vbox;            /* 6 per vertex: the box of its path in a sweep */
-    double *lo, *hi;         /* 3 n each: the vertices' regions (boxes) the candidates cover */
-    int listed;              /* whether the candidates are listed */
-    long version;            /* counts the lists' changes */
-    double *xstart;          /* 3 n: the step's start positions (self_contact_begin) */
-    int *out;                /* n: the vertices outside their regions */
-    unsigned char *mark;     /* n: zero but while their pairs are found */
-    int has_start;           /* whether xstart is set */
-    pair_list vt, ee;        /* candidates: (vertex, triangle), (edge, later edge) */
-    pair_list swept;         /* a direct sweep's pairs of one query */
-    pair_list near;          /* (kind, candidate) of the pairs the last evaluation did not prove apart */
-    ref_set ref;             /* the close pairs of the last evaluation or sweep */
+    const int *tri;                    /* 3 ntri corners, kept by pointer */
+    int *edges;                        /* 2 per edge of the triangles */
+    sweep_grid *grid;                  /* the broadphase of a rebuild */
+    double *box;                       /* 6 per triangle or edge: boxes */
+    double *frame;                     /* 12 per triangle: its frame at the evaluation (pair_apart.h) */
+    double *vbox;                      /* 6 per vertex: the box of its path in a sweep */
+    double *lo, *hi;                   /* 3 n each: the vertices' regions (boxes) the candidates cover */
+    int listed;                        /* whether the candidates are listed */
+    long version;                      /* counts the lists' changes */
+    double *xstart;                    /* 3 n: the step's start positions (self_contact_begin) */
+    int *out;                          /* n: the vertices outside their regions */
+    unsigned char *mark;               /* n: zero but while their pairs are found */
+    int has_start;                     /* whether xstart is set */
+    pair_list vt, ee;                  /* candidates: (vertex, triangle), (edge, later edge) */
+    pair_list swept;                   /* a direct sweep's pairs of one query */
+    pair_list near;                    /* (kind, candidate) of the pairs the last evaluation did not prove apart */
+    ref_set ref;                       /* the close pairs of the last evaluation or sweep */
     ref_set spare[SELF_CONTACT_SPARE]; /* those of earlier references, kept for evaluations that return there */
-    long clock;              /* counts the close pairs' uses */
-    double *xnear;           /* 3 n: its positions */
-    long near_at;            /* the lists it used (version then) */
-    int near_ok;             /* whether near holds them all */
+    long clock;                        /* counts the close pairs' uses */
+    double *xnear;                     /* 3 n: its positions */
+    long near_at;                      /* the lists it used (version then) */
+    int near_ok;                       /* whether near holds them all */
     self_contact_work work;
-    cloth *owner;            /* the cloth whose steps feel it, or NULL */
+    cloth *owner; /* the cloth whose steps feel it, or NULL */
 };
 
 static int pair_reserve(pair_list *l, int more)
@@ -213,8 +213,8 @@ static void corners_box(const int *idx, int k, const double *x0, const double *x
 /* Boxes a and b within pad of each other on every axis */
 static inline int near_boxes(const double *a, const double *b, double pad)
 {
-    return a[0] - pad <= b[3] && b[0] - pad <= a[3] && a[1] - pad <= b[4] && b[1] - pad <= a[4] &&
-           a[2] - pad <= b[5] && b[2] - pad <= a[5];
+    return a[0] - pad <= b[3] && b[0] - pad <= a[3] && a[1] - pad <= b[4] && b[1] - pad <= a[4] && a[2] - pad <= b[5] &&
+           b[2] - pad <= a[5];
 }
 
 /* The widest gap between boxes a and b along an axis (0 when they overlap): a lower bound on the
@@ -462,8 +462,8 @@ static void add_diag(bsr *A, int i, double h, const double *n)
 /* A pair of vertices v (4) whose closest points differ by sum_k c_k x_k = d n
  * (n unit, sum |c_k| = 2): the barrier's energy at d, its share of b and A
  * if d < D; 0 otherwise. */
-static double pair_terms(const self_contact *s, const int *v, const double *c, const double *x, double cfac,
-                         double *b, bsr *A)
+static double pair_terms(const self_contact *s, const int *v, const double *c, const double *x, double cfac, double *b,
+                         bsr *A)
 {
     double n[3] = {0.0, 0.0, 0.0}, D = s->D;
     for (int k = 0; k < 4; k++) vec3_axpy(n, c[k], x + 3 * v[k]);
@@ -516,8 +516,8 @@ static double pair_gap(const self_contact *s, int ee, int i, const double *x, do
     v[0] = a, v[1] = tv[0], v[2] = tv[1], v[3] = tv[2];
     g = box_gap(pt, s->box + 6 * (size_t)t);
     if (g >= enough) return g;
-    double sep = pair_apart_point_triangle_gap(p, x + 3 * v[1], x + 3 * v[2], x + 3 * v[3],
-                                               s->frame + 12 * (size_t)t, enough);
+    double sep = pair_apart_point_triangle_gap(p, x + 3 * v[1], x + 3 * v[2], x + 3 * v[3], s->frame + 12 * (size_t)t,
+                                               enough);
     return sep > g ? sep : g;
 }
 
@@ -532,8 +532,7 @@ static void note(pair_list *l, int *ok, int kind, int i)
 
 /* The terms of the candidate pairs (vertex-triangle, or with ee edge-edge) within D at x: every
  * candidate when listing the close pairs (into s->ref, *ok 0 out of memory), else the close ones */
-static double pairs_at(self_contact *s, int ee, const double *x, double cfac, double *b, bsr *A, int listing,
-                       int *ok)
+static double pairs_at(self_contact *s, int ee, const double *x, double cfac, double *b, bsr *A, int listing, int *ok)
 {
     double E = 0.0, apart = s->D * PAIR_APART_MARGIN, keep = apart + 2.0 * SELF_CONTACT_SLACK * s->D;
     const pair_list *cl = &s->ref.close;

@@ -13,20 +13,20 @@
 struct cloth_self_collision {
     int rows, cols, n, ntri;
     double thickness;
-    double cell;       /* m, hash cell: no larger than a triangle's box (clamped), so a
+    double cell;             /* m, hash cell: no larger than a triangle's box (clamped), so a
                           triangle is listed in at most 8 cells */
-    int *tri;          /* 3 ntri: corners */
-    int *stamp;        /* ntri: last vertex visit that tested the triangle */
-    int *head;         /* nbucket: first entry of each bucket, -1 none */
+    int *tri;                /* 3 ntri: corners */
+    int *stamp;              /* ntri: last vertex visit that tested the triangle */
+    int *head;               /* nbucket: first entry of each bucket, -1 none */
     int *ent_tri, *ent_next; /* 8 ntri entries: triangle and next in its bucket */
     int nbucket;
-    double *x, *v;     /* 3n: working copies of the state */
-    double *xprev;     /* 3n: positions after the last apply (the sides) */
-    double *winv;      /* n: inverse mass, 0 for a constrained vertex */
+    double *x, *v; /* 3n: working copies of the state */
+    double *xprev; /* 3n: positions after the last apply (the sides) */
+    double *winv;  /* n: inverse mass, 0 for a constrained vertex */
     int have_prev;
-    double *now, *prev;  /* TRI_GEOM per triangle: its geometry at x (when current) and at xprev */
+    double *now, *prev;            /* TRI_GEOM per triangle: its geometry at x (when current) and at xprev */
     long *now_at, *moved_at, tick; /* ntri, n: when a triangle's pair was last found and a vertex last moved */
-    self_contact *contact; /* the Newton step's self-contact, bound to the cloth applied to */
+    self_contact *contact;         /* the Newton step's self-contact, bound to the cloth applied to */
 };
 
 /* Unit normal of triangle (a, b, c) into nrm; 0 if degenerate. */
@@ -99,8 +99,7 @@ static int bucket(const cloth_self_collision *s, long i, long j, long k)
     return (int)(h % (uint64_t)s->nbucket);
 }
 
-cloth_status cloth_self_collision_create(const cloth *c, double thickness, cloth_self_collision **out,
-                                         cloth_error *err)
+cloth_status cloth_self_collision_create(const cloth *c, double thickness, cloth_self_collision **out, cloth_error *err)
 {
     if (!out) return error_set(err, CLOTH_EINVAL, "cloth_self_collision_create: out is NULL");
     *out = NULL;
@@ -260,8 +259,10 @@ cloth_status cloth_self_collision_apply(cloth_self_collision *s, cloth *c, cloth
     if (stats) *stats = st;
     if (!s || !c) return CLOTH_EINVAL;
     if (cloth_rows(c) != s->rows || cloth_cols(c) != s->cols)
-        return cloth_fail(c, CLOTH_EINVAL, "cloth_self_collision_apply: the cloth is %d x %d, the pass was made "
-                          "for %d x %d", cloth_rows(c), cloth_cols(c), s->rows, s->cols);
+        return cloth_fail(c, CLOTH_EINVAL,
+                          "cloth_self_collision_apply: the cloth is %d x %d, the pass was made "
+                          "for %d x %d",
+                          cloth_rows(c), cloth_cols(c), s->rows, s->cols);
     size_t n = (size_t)s->n;
     self_contact_bind(s->contact, c);
     memcpy(s->x, cloth_positions(c), 3 * n * sizeof *s->x);

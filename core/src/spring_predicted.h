@@ -55,8 +55,8 @@ MAT3_INLINE double spring_predicted_lim(const double xi[3], const double xj[3], 
     return E;
 }
 
-MAT3_INLINE double spring_predicted(const double xi[3], const double xj[3], const double u0[3], spring_law s,
-                                    double w, double f_i[3], double K[9], int *slack)
+MAT3_INLINE double spring_predicted(const double xi[3], const double xj[3], const double u0[3], spring_law s, double w,
+                                    double f_i[3], double K[9], int *slack)
 {
     return spring_predicted_lim(xi, xj, u0, s, w, f_i, K, slack, NULL);
 }

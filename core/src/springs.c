@@ -26,16 +26,15 @@ double spring_energy(const double xi[3], const double xj[3], spring_law s)
     return 0.5 * (e >= 0.0 ? s.k_hi : s.k_lo) * e * e + 0.5 * s.k_lim * el * el;
 }
 
-void spring_eval(const double xi[3], const double xj[3], spring_law s,
-                 int definiteness, double f_i[3], double K[9])
+void spring_eval(const double xi[3], const double xj[3], spring_law s, int definiteness, double f_i[3], double K[9])
 {
     static const double zero[3] = {0.0, 0.0, 0.0};
     double D[9];
     link_eval(xi, xj, zero, zero, s, 0.0, definiteness, f_i, K, D);
 }
 
-void damper_eval(const double xi[3], const double xj[3], const double vi[3],
-                 const double vj[3], double c, double f_i[3], double D[9])
+void damper_eval(const double xi[3], const double xj[3], const double vi[3], const double vj[3], double c,
+                 double f_i[3], double D[9])
 {
     double u[3];
     double d = link_vec(xi, xj, u);
@@ -51,8 +50,8 @@ void damper_eval(const double xi[3], const double xj[3], const double vi[3],
             for (int b = 0; b < 3; b++) D[3 * a + b] = c * u[a] * u[b];
 }
 
-void link_eval(const double xi[3], const double xj[3], const double vi[3], const double vj[3], spring_law s,
-               double c, int definiteness, double f_i[3], double K[9], double D[9])
+void link_eval(const double xi[3], const double xj[3], const double vi[3], const double vj[3], spring_law s, double c,
+               int definiteness, double f_i[3], double K[9], double D[9])
 {
     double u[3];
     double d = link_vec(xi, xj, u);

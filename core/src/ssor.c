@@ -159,8 +159,8 @@ MAT3_INLINE mpcg_result ssor_run_k(int avx, const mpcg_problem *P, const unsigne
     if (mpcg_reference(P, x, u, t, &ref, &res)) return res;
     /* warm start xh0 = S x: y0 = Q xh0, r~0 = P^-1 (rh0 - Ah xh0) */
     filter_apply(n, P->S, x, x);
-    tri_mul(avx, A, Ah, 1, x, p);                   /* p = Q xh0 = y0 */
-    tri_mul(avx, A, Ah, 0, x, q);                   /* q = P xh0 */
+    tri_mul(avx, A, Ah, 1, x, p); /* p = Q xh0 = y0 */
+    tri_mul(avx, A, Ah, 0, x, q); /* q = P xh0 */
     /* Ah xh0 = P xh0 + Q xh0 - D xh0 */
     for (int i = 0; i < n; i++) {
         const double *Dii = Ah + 9 * (size_t)A->diag[i];
@@ -168,14 +168,14 @@ MAT3_INLINE mpcg_result ssor_run_k(int avx, const mpcg_problem *P, const unsigne
         mat3vec(Dii, x + 3 * i, dx);
         for (int k = 0; k < 3; k++) t[3 * i + k] = q[3 * i + k] + p[3 * i + k] - dx[k];
     }
-    for (size_t k = 0; k < N; k++) u[k] -= t[k];   /* u = rh = rh0 - Ah xh0 */
-    double *y = x;                                /* y lives in x until the end */
+    for (size_t k = 0; k < N; k++) u[k] -= t[k]; /* u = rh = rh0 - Ah xh0 */
+    double *y = x;                               /* y lives in x until the end */
     memcpy(y, p, N * sizeof *y);
-    forward(avx, A, Ah, Dinv, u, r);                  /* r = r~ */
+    forward(avx, A, Ah, Dinv, u, r); /* r = r~ */
     double tol2 = P->tol * P->tol * ref;
     double true2 = wnorm2(n, Dinv, u);
     /* preconditioner D: s = D r~ */
-#define APPLY_D(in, out)                                                       \
+#define APPLY_D(in, out) \
     for (int i = 0; i < n; i++) mat3vec(Ah + 9 * (size_t)A->diag[i], (in) + 3 * i, (out) + 3 * i)
     APPLY_D(r, s);
     double delta = dot(r, s, N);

@@ -243,8 +243,7 @@ cloth_status cloth_state_write(const cloth_state *s, void *buf, size_t cap, size
     if (!buf) return error_set(err, CLOTH_EINVAL, "cloth_state_write: buffer is NULL");
     size_t n = (size_t)s->n, m = (size_t)s->n_int, need = cloth_state_size_bytes(s);
     if (cap < need)
-        return error_set(err, CLOTH_EINVAL, "cloth_state_write: buffer of %zu bytes, the state needs %zu", cap,
-                         need);
+        return error_set(err, CLOTH_EINVAL, "cloth_state_write: buffer of %zu bytes, the state needs %zu", cap, need);
     unsigned char *p = buf, *q = p;
     memcpy(q, STATE_MAGIC, 8);
     put_u32(q + 8, STATE_VERSION);
@@ -307,16 +306,17 @@ static cloth_status check_record(const cloth_state *s, const unsigned char *p, s
                          (unsigned)n, (unsigned)m, s->n, s->n_int);
     size_t need = state_record_bytes(s, ver);
     if (len != need)
-        return error_set(err, CLOTH_EINVAL, "cloth_state_read: %zu bytes, a record of this size has %zu", len,
-                         need);
+        return error_set(err, CLOTH_EINVAL, "cloth_state_read: %zu bytes, a record of this size has %zu", len, need);
     uint64_t sum = get_u64(p + need - 8);
     if (sum != fnv1a(p, need - 8))
         return error_set(err, CLOTH_EINVAL, "cloth_state_read: checksum mismatch (the record is damaged)");
     if (hp > 1) return error_set(err, CLOTH_EINVAL, "cloth_state_read: has_prev = %u must be 0 or 1", (unsigned)hp);
     double hprev = get_f64(p + 24);
     if (!isfinite(hprev) || hprev < 0.0 || (hp && !(hprev > 0.0)))
-        return error_set(err, CLOTH_EINVAL, "cloth_state_read: h_prev = %g must be finite and >= 0 (> 0 with "
-                         "history)", hprev);
+        return error_set(err, CLOTH_EINVAL,
+                         "cloth_state_read: h_prev = %g must be finite and >= 0 (> 0 with "
+                         "history)",
+                         hprev);
     const unsigned char *q = p + STATE_HEADER;
     for (int k = 0; k < 5; k++)
         for (size_t i = 0; i < 3 * (size_t)n; i++, q += 8)

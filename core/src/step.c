@@ -19,13 +19,16 @@ int workspace_alloc(cloth *c)
     c->work = calloc(31 * n3 + nl, sizeof *c->work);
     if (!c->work) return -1;
     double *w = c->work;
-    double **v3[] = {&c->f, &c->b, &c->dv, &c->z, &c->y, &c->x_new, &c->v_new, &c->con_new,
-                     &c->jac, &c->na, &c->dvt, &c->xt, &c->vt, &c->sl_x0, &c->ddv, &c->dv_saved,
-                     &c->con_saved, &c->x_lever, &c->sl_dv};
+    double **v3[] = {&c->f,       &c->b,        &c->dv,        &c->z,       &c->y,    &c->x_new, &c->v_new,
+                     &c->con_new, &c->jac,      &c->na,        &c->dvt,     &c->xt,   &c->vt,    &c->sl_x0,
+                     &c->ddv,     &c->dv_saved, &c->con_saved, &c->x_lever, &c->sl_dv};
     for (size_t k = 0; k < sizeof v3 / sizeof *v3; k++, w += n3) *v3[k] = w;
-    c->cg = w; w += 6 * n3;
-    c->pre = w; w += 3 * n3;
-    c->S = w; w += 3 * n3;
+    c->cg = w;
+    w += 6 * n3;
+    c->pre = w;
+    w += 3 * n3;
+    c->S = w;
+    w += 3 * n3;
     c->ut = w;
     return 0;
 }

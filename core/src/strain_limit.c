@@ -130,8 +130,8 @@ static int rigid_pair(const cloth *c, int i, int j)
 
 /* Fill row a of the link system for link e at positions x: u, C = d - lmax,
  * and the inverse of its (damped) diagonal. 0 if neither end can move. */
-static int link_row(const cloth *c, const double *S, const double *x, int e, double limit, double mu,
-                    double *ua, double *Ca, double *dinva)
+static int link_row(const cloth *c, const double *S, const double *x, int e, double limit, double mu, double *ua,
+                    double *Ca, double *dinva)
 {
     int i = c->seq[e].i, j = c->seq[e].j;
     if (rigid_pair(c, i, j)) return 0;

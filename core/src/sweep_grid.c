@@ -9,17 +9,17 @@
 
 struct sweep_grid {
     const double *box;
-    int n, cap;         /* boxes; capacity of the per-box arrays */
-    double cell;        /* m */
-    double bound[6];    /* the box around every box filed */
-    int *big, nbig;     /* boxes over SWEEP_GRID_MAX_CELLS cells */
-    int *stamp, query;  /* per box: the last query that met it */
-    int *out;           /* a query's answer */
-    double *side;       /* scratch: the boxes' largest sides */
-    size_t nbucket;     /* a power of two */
+    int n, cap;        /* boxes; capacity of the per-box arrays */
+    double cell;       /* m */
+    double bound[6];   /* the box around every box filed */
+    int *big, nbig;    /* boxes over SWEEP_GRID_MAX_CELLS cells */
+    int *stamp, query; /* per box: the last query that met it */
+    int *out;          /* a query's answer */
+    double *side;      /* scratch: the boxes' largest sides */
+    size_t nbucket;    /* a power of two */
     size_t bucket_cap;
-    size_t *start;      /* nbucket + 1: each bucket's first entry */
-    int *entry;         /* boxes, bucket by bucket */
+    size_t *start; /* nbucket + 1: each bucket's first entry */
+    int *entry;    /* boxes, bucket by bucket */
     size_t nentry, entry_cap;
 };
 
@@ -71,7 +71,8 @@ static int cell_range(const sweep_grid *g, const double *box, int64_t *lo, int64
 
 static size_t bucket_of(const sweep_grid *g, int64_t i, int64_t j, int64_t k)
 {
-    uint64_t h = (uint64_t)i * 0x9E3779B97F4A7C15u + (uint64_t)j * 0xC2B2AE3D27D4EB4Fu + (uint64_t)k * 0x165667B19E3779F9u;
+    uint64_t h = (uint64_t)i * 0x9E3779B97F4A7C15u + (uint64_t)j * 0xC2B2AE3D27D4EB4Fu +
+                 (uint64_t)k * 0x165667B19E3779F9u;
     h ^= h >> 31;
     return (size_t)(h & (g->nbucket - 1));
 }
@@ -156,10 +157,8 @@ static size_t file_boxes(sweep_grid *g, int mode)
                 for (int64_t c = lo[2]; c <= hi[2]; c++, total++) {
                     if (mode == SWEEP_COUNT) continue;
                     size_t k = bucket_of(g, a, b, c);
-                    if (mode == SWEEP_TALLY)
-                        g->start[k + 2]++;
-                    else
-                        g->entry[g->start[k + 1]++] = i;
+                    if (mode == SWEEP_TALLY) g->start[k + 2]++;
+                    else g->entry[g->start[k + 1]++] = i;
                 }
     }
     return total;

@@ -8,7 +8,7 @@
 
 typedef struct sweep_grid sweep_grid;
 
-sweep_grid *sweep_grid_create(void); /* NULL: out of memory */
+sweep_grid *sweep_grid_create(void);    /* NULL: out of memory */
 void sweep_grid_destroy(sweep_grid *g); /* NULL is fine */
 
 /* Files n boxes, 6 doubles each (low corner, high corner), kept by pointer

@@ -13,8 +13,8 @@ int plastic_time_on(const cloth_material *m)
 /* What is left of a difference after h seconds of decay at tau (0: none). */
 static double decay(double h, double tau) { return tau > 0.0 ? exp(-h / tau) : 0.0; }
 
-void plastic_rule_time(const cloth_material *m, double rest, double d, double h, int *plastic, double *l1,
-                       double *perm, int *bent)
+void plastic_rule_time(const cloth_material *m, double rest, double d, double h, int *plastic, double *l1, double *perm,
+                       int *bent)
 {
     double lp = rest - *perm * rest;
     if (m->alpha <= 0.0) {
@@ -32,9 +32,9 @@ void plastic_rule_time(const cloth_material *m, double rest, double d, double h,
         return;
     }
     if (*bent && *plastic && *l1 < lp) {
-        lp -= m->set_hardening * (lp - *l1); /* released: part of the set stays for good */
+        lp -= m->set_hardening * (lp - *l1);                   /* released: part of the set stays for good */
         *perm = fmin((rest - lp) / rest, nextafter(1.0, 0.0)); /* below 1, which the state reader refuses */
-        lp = rest - *perm * rest; /* as the next update reads it back */
+        lp = rest - *perm * rest;                              /* as the next update reads it back */
     }
     *bent = 0;
     if (!*plastic) return;

@@ -25,12 +25,8 @@ static const struct option bench_common[] = {
 static int common_option(bench_opts *o, int opt, const char *v)
 {
     switch (opt) {
-    case BENCH_FAST:
-        o->fast = 1;
-        return 1;
-    case BENCH_CHECK:
-        o->check = 1;
-        return 1;
+    case BENCH_FAST: o->fast = 1; return 1;
+    case BENCH_CHECK: o->check = 1; return 1;
     case BENCH_OUT:
         if (!*v || strchr(v, '\'')) { /* the path goes into shell commands in quotes */
             fprintf(stderr, "%s: --out '%s': give a non-empty directory name without a ' in it\n", o->prog, v);
@@ -48,8 +44,7 @@ static int common_option(bench_opts *o, int opt, const char *v)
         o->grid = (int)g;
         return 1;
     }
-    default:
-        return 0;
+    default: return 0;
     }
 }
 

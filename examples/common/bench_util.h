@@ -8,11 +8,11 @@
 #include <stdio.h>
 
 typedef struct bench_opts {
-    const char *prog;   /* for messages */
-    const char *usage;  /* printed by --help */
-    const char *out;    /* output directory, default out/bench */
-    int grid;           /* --grid N (0: not given) */
-    int fast, check;    /* --fast, --check */
+    const char *prog;  /* for messages */
+    const char *usage; /* printed by --help */
+    const char *out;   /* output directory, default out/bench */
+    int grid;          /* --grid N (0: not given) */
+    int fast, check;   /* --fast, --check */
 } bench_opts;
 
 /* A program's own options: a getopt_long table ending in a zero entry whose

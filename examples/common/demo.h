@@ -20,50 +20,50 @@
 #define DEMO_MAX_ALPHAS 8
 
 typedef struct demo_opts {
-    const char *prog;             /* program name, for messages            */
+    const char *prog; /* program name, for messages            */
     double alphas[DEMO_MAX_ALPHAS];
-    int nalpha;                   /* 0: the demo's default list            */
-    int material_set;             /* --material given                      */
+    int nalpha;       /* 0: the demo's default list            */
+    int material_set; /* --material given                      */
     cloth_preset material;
     const char *material_name;
-    int fabric;                   /* --fabric: 1 + the cloth_fabric_kind, derived
+    int fabric; /* --fabric: 1 + the cloth_fabric_kind, derived
                                      for the grid's spacing; 0 = none given */
     const char *fabric_name;
-    double self_thickness;        /* --self-collision T: m, cloth against itself
+    double self_thickness; /* --self-collision T: m, cloth against itself
                                      (odecloth/selfcollision.h); 0 = off       */
-    double k_b;                   /* --bending K: N/m, replaces the preset's
+    double k_b;            /* --bending K: N/m, replaces the preset's
                                      interlaced stiffness k_b (0: the preset's) */
-    double crease_grip;           /* --crease-grip G: N, with plastic memory a
+    double crease_grip;    /* --crease-grip G: N, with plastic memory a
                                      crease's pull k_s = G / spacing (0: the demo's) */
-    double crease_law;            /* --crease-law S: N, material.k_crease = 2 S /
+    double crease_law;     /* --crease-law S: N, material.k_crease = 2 S /
                                      spacing (0: the demo's)                */
-    int removal;                  /* --removal: 1 four corners (the paper's),
+    int removal;           /* --removal: 1 four corners (the paper's),
                                      2 two corners (a person's); 0 = the demo's */
-    int memory;                   /* --memory 0|1: material.plastic_memory
+    int memory;            /* --memory 0|1: material.plastic_memory
                                      (-1: the demo's default)               */
-    int grid;                     /* nodes per side (--grid N)             */
-    double hz;                    /* steps per second                      */
-    int hz_set;                   /* --steps-per-second given              */
-    const char *out;              /* directory for pictures and OBJ files  */
-    int obj;                      /* --obj: an OBJ per saved frame          */
-    int frames;                   /* --frames K: K extra evenly spaced frames */
-    int check;                    /* --check: assert the demo's claims      */
-    int short_run;                /* --short: a shorter timeline            */
-    const char *csv;              /* --csv FILE: append one row per run      */
-    int smooth;                   /* display subdivision levels (0-3)       */
-    int width, height;            /* picture size in pixels                 */
-    int images;                   /* 0 with --no-images                     */
-    int trace;                    /* --trace: print every step's stats      */
-    int phases;                   /* --phases: a line per scripted phase    */
-    int box_table;                /* --box-table: the table as a dBox       */
-    int selftest;                 /* --selftest: check the metrics, exit    */
-    int sleep;                    /* --sleep: dClothSetAutoSleep (1 cm/s, 10 steps) */
-    int solver;                   /* --solver: 0 the library's default, else
+    int grid;              /* nodes per side (--grid N)             */
+    double hz;             /* steps per second                      */
+    int hz_set;            /* --steps-per-second given              */
+    const char *out;       /* directory for pictures and OBJ files  */
+    int obj;               /* --obj: an OBJ per saved frame          */
+    int frames;            /* --frames K: K extra evenly spaced frames */
+    int check;             /* --check: assert the demo's claims      */
+    int short_run;         /* --short: a shorter timeline            */
+    const char *csv;       /* --csv FILE: append one row per run      */
+    int smooth;            /* display subdivision levels (0-3)       */
+    int width, height;     /* picture size in pixels                 */
+    int images;            /* 0 with --no-images                     */
+    int trace;             /* --trace: print every step's stats      */
+    int phases;            /* --phases: a line per scripted phase    */
+    int box_table;         /* --box-table: the table as a dBox       */
+    int selftest;          /* --selftest: check the metrics, exit    */
+    int sleep;             /* --sleep: dClothSetAutoSleep (1 cm/s, 10 steps) */
+    int solver;            /* --solver: 0 the library's default, else
                                      1 + the cloth_nonlinear chosen           */
-    int view;                     /* --view: a live window (view.h)         */
-    int view_frames;              /* --view-frames N: close it after N frames
+    int view;              /* --view: a live window (view.h)         */
+    int view_frames;       /* --view-frames N: close it after N frames
                                      (0: when the user closes it)          */
-    int video;                    /* --video: each run as <out>/<tag>.mp4    */
+    int video;             /* --video: each run as <out>/<tag>.mp4    */
 } demo_opts;
 
 /* Defaults: grid 21, 60 steps/s, out "out/<prog>", smooth 1, 400 x 300,
@@ -153,16 +153,16 @@ int demo_draw_scene(const demo_camera *cam, dSpaceID space, dClothID *cloths, in
 /* ---------------------------------------------------------------- metrics */
 
 typedef struct demo_metrics {
-    double crease_deg;     /* mean |dihedral angle| over interior edges, deg  */
-    double crease_max_deg; /* largest |dihedral angle|, deg                   */
-    double height;         /* m, highest vertex above the floor (z = floor)   */
-    int plastic_links;     /* interlaced links in the plastic region           */
-    int wrinkles;          /* ridges: see demo_wrinkles                        */
+    double crease_deg;      /* mean |dihedral angle| over interior edges, deg  */
+    double crease_max_deg;  /* largest |dihedral angle|, deg                   */
+    double height;          /* m, highest vertex above the floor (z = floor)   */
+    int plastic_links;      /* interlaced links in the plastic region           */
+    int wrinkles;           /* ridges: see demo_wrinkles                        */
     double max_penetration; /* m, over the whole run (plugin stats)            */
-    double max_strain;     /* over the whole run (core stats, after limiting)  */
-    double min_bend;       /* deepest bend over the run: smallest d / l0 of an
+    double max_strain;      /* over the whole run (core stats, after limiting)  */
+    double min_bend;        /* deepest bend over the run: smallest d / l0 of an
                               interlaced link (a link yields at d / l0 <= alpha) */
-    double wall;           /* s                                                */
+    double wall;            /* s                                                */
     int steps;
 } demo_metrics;
 
@@ -216,8 +216,8 @@ int demo_video_fps(void); /* frames per simulated second */
 int demo_video_check(const demo_opts *o);
 /* After step `step` (1-based) of `total`: the frames due by then. Step 1
  * (or a new tag) starts a recording, step total ends it. */
-void demo_video_hook(const demo_opts *o, const char *tag, int step, int total, const demo_camera *cam,
-                     dSpaceID space, dClothID *cloths, int n);
+void demo_video_hook(const demo_opts *o, const char *tag, int step, int total, const demo_camera *cam, dSpaceID space,
+                     dClothID *cloths, int n);
 /* After a run: ends a recording still open (a run that failed); -1 if any
  * recording failed since the last call (each said why), else 0. */
 int demo_video_finish(const demo_opts *o);

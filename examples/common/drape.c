@@ -15,16 +15,16 @@
 #define SPHERE_R 0.25
 #define SPHERE_Z 0.55
 #define LIFT_Z 1.4
-#define UNWRAP 0.97      /* corners' spacing, of the flat spacing, while lifted off */
-#define SLACK 0.8        /* corners' spacing while carried */
-#define SPREAD_Z 0.35    /* height where the corners are spread out */
-#define CARRY_X 1.0      /* the cloth is laid down centred at (CARRY_X, 0) */
+#define UNWRAP 0.97        /* corners' spacing, of the flat spacing, while lifted off */
+#define SLACK 0.8          /* corners' spacing while carried */
+#define SPREAD_Z 0.35      /* height where the corners are spread out */
+#define CARRY_X 1.0        /* the cloth is laid down centred at (CARRY_X, 0) */
 #define TWO_CORNER_MOVES 4 /* phases of the two-corner removal before it is laid down */
-#define LAY_TIME 3.0     /* s the laying down takes, --short or not */
-#define HAND_Z 1.5       /* two-corner removal: hands' height while carrying     */
-#define HAND_GAP 0.9     /* their spacing then, of the cloth's width             */
-#define HAND_BACK 0.2    /* m, how far back of the cloth's edge they lift it     */
-#define HAND_SLACK 0.03  /* slack while laying it down, of the cloth's length      */
+#define LAY_TIME 3.0       /* s the laying down takes, --short or not */
+#define HAND_Z 1.5         /* two-corner removal: hands' height while carrying     */
+#define HAND_GAP 0.9       /* their spacing then, of the cloth's width             */
+#define HAND_BACK 0.2      /* m, how far back of the cloth's edge they lift it     */
+#define HAND_SLACK 0.03    /* slack while laying it down, of the cloth's length      */
 
 static const float table_rgb[3] = {0.55f, 0.40f, 0.28f}, sphere_rgb[3] = {0.60f, 0.62f, 0.68f};
 
@@ -311,7 +311,7 @@ int drape_run(const demo_opts *o, const demo_scene *scene, const drape_variant *
     int hold_steps = (int)lround(hold * o->hz);
     int lay_steps = (int)lround(LAY_TIME * o->hz);
     int remove_steps = v->removal == DRAPE_REMOVE_TWO_CORNERS ? TWO_CORNER_MOVES * move_steps + lay_steps
-                                                               : 6 * move_steps;
+                                                              : 6 * move_steps;
     R.total = settle_steps + folds * hold_steps + (folds - 1) * 3 * move_steps + remove_steps;
     double t0 = demo_now();
 
@@ -321,14 +321,12 @@ int drape_run(const demo_opts *o, const demo_scene *scene, const drape_variant *
         phase_done(&R, "hold");
         if (refold(&R, col, corner, move_steps)) goto done;
     }
-    if (settle_and_capture(&R, hold_steps, scene->tags[0], t0, &cam_draped, &r->draped, &r->pic_draped))
-        goto done;
+    if (settle_and_capture(&R, hold_steps, scene->tags[0], t0, &cam_draped, &r->draped, &r->pic_draped)) goto done;
 
     if (v->removal == DRAPE_REMOVE_TWO_CORNERS ? remove_by_two_corners(&R, corner, d.thickness, move_steps, lay_steps)
                                                : remove_by_four_corners(&R, col, corner, d.thickness, move_steps))
         goto done;
-    if (settle_and_capture(&R, settle_steps, scene->tags[1], t0, &cam_after, &r->after, &r->pic_after))
-        goto done;
+    if (settle_and_capture(&R, settle_steps, scene->tags[1], t0, &cam_after, &r->after, &r->pic_after)) goto done;
     rc = 0;
     if (o->sleep)
         printf("%s: slept %d of %d steps (%.0f%%), %.2f s wall\n", v->tag, R.slept, R.step,
@@ -343,10 +341,28 @@ done:
     return rc;
 }
 
-const demo_scene drape_table_scene = {"table", {"draped", "after removal"}, {"draped", "after"}, DRAPE_TABLE,
-                                      drape_run, DRAPE_BENDING, 1, 1, 0, DRAPE_GRIP, 1};
-const demo_scene drape_sphere_scene = {"sphere", {"draped", "after removal"}, {"draped", "after"}, DRAPE_SPHERE,
-                                       drape_run, DRAPE_BENDING, 1, 1, 0, DRAPE_GRIP, 0};
+const demo_scene drape_table_scene = {"table",
+                                      {"draped", "after removal"},
+                                      {"draped", "after"},
+                                      DRAPE_TABLE,
+                                      drape_run,
+                                      DRAPE_BENDING,
+                                      1,
+                                      1,
+                                      0,
+                                      DRAPE_GRIP,
+                                      1};
+const demo_scene drape_sphere_scene = {"sphere",
+                                       {"draped", "after removal"},
+                                       {"draped", "after"},
+                                       DRAPE_SPHERE,
+                                       drape_run,
+                                       DRAPE_BENDING,
+                                       1,
+                                       1,
+                                       0,
+                                       DRAPE_GRIP,
+                                       0};
 
 int drape_run_all(const demo_opts *o, const demo_scene *sc, const drape_variant *v, int nv, drape_result *results,
                   const char *sheet, const char *title)
@@ -356,7 +372,7 @@ int drape_run_all(const demo_opts *o, const demo_scene *sc, const drape_variant 
     if (o->images && (!demo_render_available() || !demo_png_available()))
         printf("%s: no pictures: %s\n", o->prog,
                !demo_render_available() ? demo_render_unavailable_reason()
-                                         : "built without libpng (install libpng-dev and rebuild)");
+                                        : "built without libpng (install libpng-dev and rebuild)");
     int rc = 0;
     for (int i = 0; i < nv && !rc; i++) {
         printf("== %s: %s, %s\n", o->prog, v[i].label, sc->name);
@@ -536,8 +552,8 @@ int drape_material_variants(const demo_opts *o, drape_variant *v)
     return n;
 }
 
-dClothID demo_hang_cloth(const demo_opts *o, const drape_variant *v, demo_contacts *w, dSpaceID space,
-                         dClothDesc *d, drape_result *r)
+dClothID demo_hang_cloth(const demo_opts *o, const drape_variant *v, demo_contacts *w, dSpaceID space, dClothDesc *d,
+                         drape_result *r)
 {
     d->cloth.axis_u[0] = 1, d->cloth.axis_u[1] = 0, d->cloth.axis_u[2] = 0;
     d->cloth.axis_v[0] = 0, d->cloth.axis_v[1] = 0, d->cloth.axis_v[2] = -1;
@@ -624,9 +640,9 @@ void demo_moment_offer(demo_moment *k, double value, dClothID c, dBodyID b, cons
     demo_measure_shape(c, 0.0, m);
 }
 
-void demo_moment_finish(const demo_opts *o, const demo_scene *sc, const drape_variant *v, demo_moment *k,
-                        dClothID c, dBodyID b, dSpaceID space, const demo_camera *cam, const demo_metrics *run,
-                        double t0, drape_result *r)
+void demo_moment_finish(const demo_opts *o, const demo_scene *sc, const drape_variant *v, demo_moment *k, dClothID c,
+                        dBodyID b, dSpaceID space, const demo_camera *cam, const demo_metrics *run, double t0,
+                        drape_result *r)
 {
     r->after = *run;
     r->after.wall = demo_now() - t0;

@@ -42,10 +42,10 @@
  * --fabric NAME takes the fabric in physical units instead (no k_b
  * override); with memory a crease's pull is then set per length of crease,
  * k_s = crease_grip / spacing (--crease-grip), as k_s alone is not the same at every grid. */
-#define DRAPE_FLAT_DEG 0.5     /* alpha 0: mean residual crease below this   */
-#define DRAPE_MORE_FACTOR 1.5  /* "clearly more": by this factor             */
-#define DRAPE_BENDING 0.05     /* k_b N/m of drape_table / drape_sphere      */
-#define DRAPE_GRIP 0.04        /* N: crease_grip of drape_table / drape_sphere */
+#define DRAPE_FLAT_DEG 0.5    /* alpha 0: mean residual crease below this   */
+#define DRAPE_MORE_FACTOR 1.5 /* "clearly more": by this factor             */
+#define DRAPE_BENDING 0.05    /* k_b N/m of drape_table / drape_sphere      */
+#define DRAPE_GRIP 0.04       /* N: crease_grip of drape_table / drape_sphere */
 #ifndef ODECLOTH_EXAMPLES_DRAPE_H
 #define ODECLOTH_EXAMPLES_DRAPE_H
 
@@ -71,23 +71,23 @@ typedef enum drape_removal {
 } drape_removal;
 
 typedef struct drape_variant {
-    char label[48];          /* column label ("alpha 0.5", "wool")      */
-    char tag[48];            /* file name part ("alpha0.5", "wool")     */
+    char label[48]; /* column label ("alpha 0.5", "wool")      */
+    char tag[48];   /* file name part ("alpha0.5", "wool")     */
     cloth_material material;
-    double hold;             /* s the cloth stays draped before removal
+    double hold;           /* s the cloth stays draped before removal
                                 (drape_run; 0: the scene's settle)       */
-    int folds;               /* drape_run: drapes before the removal, each
+    int folds;             /* drape_run: drapes before the removal, each
                                 after the first lifted off and laid back
                                 flat over the collider (0 or 1: once)   */
-    drape_removal removal;   /* drape_run: how the cloth is taken off    */
+    drape_removal removal; /* drape_run: how the cloth is taken off    */
 } drape_variant;
 
 typedef struct drape_result {
-    demo_metrics draped;     /* at the end of the drape (first picture)  */
-    demo_metrics after;      /* settled after removal (second picture)   */
-    double delta;            /* the material's elongation limit          */
-    double strain_allow;     /* past delta, what the step guarantees      */
-    double thickness;        /* m                                        */
+    demo_metrics draped;                /* at the end of the drape (first picture)  */
+    demo_metrics after;                 /* settled after removal (second picture)   */
+    double delta;                       /* the material's elongation limit          */
+    double strain_allow;                /* past delta, what the step guarantees      */
+    double thickness;                   /* m                                        */
     demo_image *pic_draped, *pic_after; /* NULL without pictures         */
 } drape_result;
 
@@ -95,22 +95,22 @@ typedef struct drape_result {
  * crumple demo's press and release too. */
 typedef struct demo_scene demo_scene;
 struct demo_scene {
-    const char *name;      /* "table", ...                                     */
-    const char *rows[2];   /* picture labels: "draped", "after removal"        */
-    const char *tags[2];   /* file and CSV names: "draped", "after"            */
-    drape_collider col;    /* for drape_run                                    */
+    const char *name;    /* "table", ...                                     */
+    const char *rows[2]; /* picture labels: "draped", "after removal"        */
+    const char *tags[2]; /* file and CSV names: "draped", "after"            */
+    drape_collider col;  /* for drape_run                                    */
     /* 0 on success, -1 if a step failed (message printed) */
     int (*run)(const demo_opts *o, const demo_scene *s, const drape_variant *v, drape_result *r);
     /* drape_alpha_main's material, unless --fabric / --material / --bending / --memory say otherwise */
-    double k_b;            /* N/m bending in place of the preset's (not a fabric's); 0 = the preset's */
-    int memory;            /* material.plastic_memory                              */
+    double k_b; /* N/m bending in place of the preset's (not a fabric's); 0 = the preset's */
+    int memory; /* material.plastic_memory                              */
     /* drape_check_alphas: 1 = every alpha > 0 must crease clearly more than
      * alpha 0 and less than every larger alpha (the paper's graded claim);
      * 0 = a run that never yielded may instead equal the elastic run */
     int graded;
-    int fabric;            /* drape_alpha_main: 1 + the cloth_fabric_kind by default; 0 = the --material preset */
-    double crease_grip;    /* N: with a fabric and plastic memory, k_s = crease_grip / spacing (0: the fabric's) */
-    int draped_graded;     /* drape_alpha_main: 1 = drape_check_draped too */
+    int fabric;         /* drape_alpha_main: 1 + the cloth_fabric_kind by default; 0 = the --material preset */
+    double crease_grip; /* N: with a fabric and plastic memory, k_s = crease_grip / spacing (0: the fabric's) */
+    int draped_graded;  /* drape_alpha_main: 1 = drape_check_draped too */
 };
 
 /* The drape-and-remove run of one variant (a demo_scene's run). */
@@ -186,8 +186,8 @@ int demo_scene_step(const demo_opts *o, const drape_variant *v, demo_contacts *w
 /* A cloth hanging from its first row (columns along x, rows down -z) at
  * the variant's material, created from d in w's world and space; r gets
  * its delta and thickness. NULL if refused (message printed). */
-dClothID demo_hang_cloth(const demo_opts *o, const drape_variant *v, demo_contacts *w, dSpaceID space,
-                         dClothDesc *d, drape_result *r);
+dClothID demo_hang_cloth(const demo_opts *o, const drape_variant *v, demo_contacts *w, dSpaceID space, dClothDesc *d,
+                         drape_result *r);
 /* The moment of a run worth a picture besides its end (the deepest sag, the
  * widest swing): the cloth's state, a body's position (b may be NULL: no
  * body), the metrics then. */
@@ -206,9 +206,9 @@ void demo_moment_offer(demo_moment *k, double value, dClothID c, dBodyID b, cons
 /* At the end of a run: r->after = run (shape now, wall since t0), its
  * picture <tag>_<tags[1]>; then the kept moment put back (cloth and body)
  * and its picture <tag>_<tags[0]>. */
-void demo_moment_finish(const demo_opts *o, const demo_scene *sc, const drape_variant *v, demo_moment *k,
-                        dClothID c, dBodyID b, dSpaceID space, const demo_camera *cam, const demo_metrics *run,
-                        double t0, drape_result *r);
+void demo_moment_finish(const demo_opts *o, const demo_scene *sc, const drape_variant *v, demo_moment *k, dClothID c,
+                        dBodyID b, dSpaceID space, const demo_camera *cam, const demo_metrics *run, double t0,
+                        drape_result *r);
 
 /* The scene's teardown: the kept moment, the cloth, the contact group, the
  * space and the world. */

@@ -33,8 +33,22 @@ void draw_look_at(const double eye[3], const double target[3])
     }
     draw_normalize3(s);
     draw_cross3(s, f, u);
-    double m[16] = {s[0], u[0], -f[0], 0, s[1], u[1], -f[1], 0, s[2], u[2], -f[2], 0,
-                    -draw_dot3(s, eye), -draw_dot3(u, eye), draw_dot3(f, eye), 1};
+    double m[16] = {s[0],
+                    u[0],
+                    -f[0],
+                    0,
+                    s[1],
+                    u[1],
+                    -f[1],
+                    0,
+                    s[2],
+                    u[2],
+                    -f[2],
+                    0,
+                    -draw_dot3(s, eye),
+                    -draw_dot3(u, eye),
+                    draw_dot3(f, eye),
+                    1};
     glLoadMatrixd(m);
 }
 

@@ -37,8 +37,10 @@ static FT_Face font_face(void)
         return NULL;
     }
     if (FT_New_Face(library, path, 0, &face)) {
-        fprintf(stderr, "labels: cannot load the font %s (Debian: fonts-dejavu-core, or name a .ttf in "
-                        "ODECLOTH_FONT): pictures without labels\n", path);
+        fprintf(stderr,
+                "labels: cannot load the font %s (Debian: fonts-dejavu-core, or name a .ttf in "
+                "ODECLOTH_FONT): pictures without labels\n",
+                path);
         FT_Done_FreeType(library);
         return NULL;
     }

@@ -16,16 +16,14 @@ static double orient(const double *a, const double *b, const double *c, const do
         v[k] = c[k] - a[k];
         w[k] = d[k] - a[k];
     }
-    return u[0] * (v[1] * w[2] - v[2] * w[1]) + u[1] * (v[2] * w[0] - v[0] * w[2]) +
-           u[2] * (v[0] * w[1] - v[1] * w[0]);
+    return u[0] * (v[1] * w[2] - v[2] * w[1]) + u[1] * (v[2] * w[0] - v[0] * w[2]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
 }
 
 static int side(double v, double tol) { return v > tol ? 1 : v < -tol ? -1 : 0; }
 
 /* Segment pq passes strictly through triangle abc: p and q on opposite
  * sides of its plane, and line pq strictly inside its three edges. */
-static int edge_crosses(const double *p, const double *q, const double *a, const double *b, const double *c,
-                        double tol)
+static int edge_crosses(const double *p, const double *q, const double *a, const double *b, const double *c, double tol)
 {
     if (side(orient(a, b, c, p), tol) * side(orient(a, b, c, q), tol) != -1) return 0;
     int s0 = side(orient(p, q, a, b), tol), s1 = side(orient(p, q, b, c), tol), s2 = side(orient(p, q, c, a), tol);
@@ -189,7 +187,8 @@ static long scan(const grid *g, const entry *e, size_t n, const double *x, const
 {
     long pairs = 0;
     for (size_t s = 0, end; s < n; s = end) {
-        for (end = s + 1; end < n && e[end].key == e[s].key; end++) {}
+        for (end = s + 1; end < n && e[end].key == e[s].key; end++) {
+        }
         for (size_t i = s; i < end; i++)
             for (size_t j = i + 1; j < end; j++) {
                 int a = e[i].tri, b = e[j].tri;
@@ -202,8 +201,7 @@ static long scan(const grid *g, const entry *e, size_t n, const double *x, const
     return pairs;
 }
 
-int intersections_count(const double *x, int nv, const int *tri, int nt, intersections *out,
-                        unsigned char *mark)
+int intersections_count(const double *x, int nv, const int *tri, int nt, intersections *out, unsigned char *mark)
 {
     out->pairs = 0;
     out->vertices = 0;

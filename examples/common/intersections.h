@@ -19,8 +19,8 @@
 #define INTERSECTIONS_FLAT 1e-12
 
 typedef struct intersections {
-    long pairs;    /* intersecting pairs of triangles */
-    int vertices;  /* vertices of their triangles */
+    long pairs;   /* intersecting pairs of triangles */
+    int vertices; /* vertices of their triangles */
 } intersections;
 
 /* Counts the intersecting pairs of the nt triangles tri (3 vertex indices
@@ -28,8 +28,7 @@ typedef struct intersections {
  * set to 1 at the vertices of the intersecting pairs' triangles, 0
  * elsewhere. Returns 0; -1 (out and mark zeroed) when an index is out of range, a
  * used coordinate is not finite, or memory ran out. */
-int intersections_count(const double *x, int nv, const int *tri, int nt, intersections *out,
-                        unsigned char *mark);
+int intersections_count(const double *x, int nv, const int *tri, int nt, intersections *out, unsigned char *mark);
 
 /* Whether triangles ta and tb (3 indices each into x) intersect, as
  * intersections_count decides it for one pair; 0 when they share a vertex. */

@@ -9,8 +9,8 @@
 
 /* An interior edge: the two triangles that share it. */
 typedef struct edge {
-    int a, b;     /* vertices, a < b */
-    int t0, t1;   /* triangles */
+    int a, b;   /* vertices, a < b */
+    int t0, t1; /* triangles */
 } edge;
 
 typedef struct half {
@@ -170,8 +170,8 @@ void demo_print_metrics(FILE *f, const char *label, const demo_metrics *m)
     fprintf(f,
             "%-22s crease %6.2f deg (max %5.1f)  height %.3f m  plastic links %4d  wrinkles %3d  "
             "max penetration %.2f mm  max strain %.4f  deepest bend %.3f  wall %.1f s\n",
-            label, m->crease_deg, m->crease_max_deg, m->height, m->plastic_links, m->wrinkles,
-            1e3 * m->max_penetration, m->max_strain, m->min_bend, m->wall);
+            label, m->crease_deg, m->crease_max_deg, m->height, m->plastic_links, m->wrinkles, 1e3 * m->max_penetration,
+            m->max_strain, m->min_bend, m->wall);
 }
 
 int demo_csv_row(const char *path, const char *demo, const char *label, double alpha, const demo_metrics *m)
@@ -188,8 +188,8 @@ int demo_csv_row(const char *path, const char *demo, const char *label, double a
         fprintf(f, "demo,label,alpha,crease_deg,crease_max_deg,height_m,plastic_links,wrinkles,"
                    "max_penetration_m,max_strain,deepest_bend,wall_s,steps\n");
     fprintf(f, "%s,%s,%g,%.4f,%.3f,%.5f,%d,%d,%.6g,%.6f,%.4f,%.3f,%d\n", demo, label, alpha, m->crease_deg,
-            m->crease_max_deg, m->height, m->plastic_links, m->wrinkles, m->max_penetration, m->max_strain,
-            m->min_bend, m->wall, m->steps);
+            m->crease_max_deg, m->height, m->plastic_links, m->wrinkles, m->max_penetration, m->max_strain, m->min_bend,
+            m->wall, m->steps);
     if (fclose(f)) {
         fprintf(stderr, "%s: write failed: %s\n", path, strerror(errno));
         return -1;

@@ -136,10 +136,35 @@ static int parse_fabric(const char *s, int *fabric)
 }
 
 enum {
-    OPT_OBJ = 256, OPT_CHECK, OPT_SHORT, OPT_NO_IMAGES, OPT_TRACE, OPT_PHASES, OPT_BOX_TABLE, OPT_SELFTEST,
-    OPT_SLEEP, OPT_VIEW, OPT_VIDEO, OPT_ALPHA, OPT_MATERIAL, OPT_FABRIC, OPT_SELF_COLLISION, OPT_CREASE_GRIP,
-    OPT_CREASE_LAW, OPT_REMOVAL, OPT_MEMORY, OPT_BENDING, OPT_SOLVER, OPT_GRID, OPT_HZ, OPT_OUT, OPT_FRAMES, OPT_VIEW_FRAMES,
-    OPT_SMOOTH, OPT_SIZE, OPT_CSV,
+    OPT_OBJ = 256,
+    OPT_CHECK,
+    OPT_SHORT,
+    OPT_NO_IMAGES,
+    OPT_TRACE,
+    OPT_PHASES,
+    OPT_BOX_TABLE,
+    OPT_SELFTEST,
+    OPT_SLEEP,
+    OPT_VIEW,
+    OPT_VIDEO,
+    OPT_ALPHA,
+    OPT_MATERIAL,
+    OPT_FABRIC,
+    OPT_SELF_COLLISION,
+    OPT_CREASE_GRIP,
+    OPT_CREASE_LAW,
+    OPT_REMOVAL,
+    OPT_MEMORY,
+    OPT_BENDING,
+    OPT_SOLVER,
+    OPT_GRID,
+    OPT_HZ,
+    OPT_OUT,
+    OPT_FRAMES,
+    OPT_VIEW_FRAMES,
+    OPT_SMOOTH,
+    OPT_SIZE,
+    OPT_CSV,
 };
 
 static const struct option options[] = {
@@ -263,8 +288,7 @@ static int take_value(demo_opts *o, int opt, const char *opt_name, const char *v
         if (parse_int(v, 0, 1000, &o->frames)) return bad(o, opt_name, v, "want a whole number in 0..1000");
         break;
     case OPT_VIEW_FRAMES:
-        if (parse_int(v, 1, 1000000, &o->view_frames))
-            return bad(o, opt_name, v, "want a whole number in 1..1000000");
+        if (parse_int(v, 1, 1000000, &o->view_frames)) return bad(o, opt_name, v, "want a whole number in 1..1000000");
         o->view = 1;
         break;
     case OPT_SMOOTH:
@@ -400,8 +424,8 @@ int demo_step(const demo_opts *o, dWorldID world, dClothID *cloths, int n, doubl
             printf("step %5d cloth %d: CG %3d  strain %.5f  limited %3d  contacts %3d (sticking %3d, "
                    "triangles %3d)  resolves %d  penetration %.2f mm  plastic %4d  kinetic %.3e J\n",
                    step, i, st->core.iterations, st->core.max_strain, st->core.strain_limited, st->contacts,
-                   st->sticking, st->triangle_contacts, st->resolves, 1e3 * st->max_penetration,
-                   st->core.plastic_links, st->core.energy.kinetic);
+                   st->sticking, st->triangle_contacts, st->resolves, 1e3 * st->max_penetration, st->core.plastic_links,
+                   st->core.energy.kinetic);
         }
         return 0;
     }

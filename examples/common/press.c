@@ -6,16 +6,16 @@
 #include "drape.h"
 #include "view.h"
 
-#define TOP_Z 1.3      /* m, the top plate's underside; the cloth hangs from it */
-#define PLATE_T 0.04   /* m, plate thickness */
-#define PLATE_W 1.2    /* m, along x */
-#define PLATE_D 0.04   /* m, along y: bars, so the side plates can close past them */
-#define GAP 0.08       /* m, between the plates when pressed */
-#define SIDE_H 1.1     /* m, height of the side plates */
-#define SIDE_OPEN 0.45 /* m, their inner faces' distance from the cloth's plane, open */
-#define SIDE_SHUT 0.03 /* m, and shut */
-#define RIPPLE 0.01    /* m, initial out-of-plane ripple */
-#define SLIDE 1.4      /* m, how far the bottom plate slides away along x once it lets go */
+#define TOP_Z 1.3       /* m, the top plate's underside; the cloth hangs from it */
+#define PLATE_T 0.04    /* m, plate thickness */
+#define PLATE_W 1.2     /* m, along x */
+#define PLATE_D 0.04    /* m, along y: bars, so the side plates can close past them */
+#define GAP 0.08        /* m, between the plates when pressed */
+#define SIDE_H 1.1      /* m, height of the side plates */
+#define SIDE_OPEN 0.45  /* m, their inner faces' distance from the cloth's plane, open */
+#define SIDE_SHUT 0.03  /* m, and shut */
+#define RIPPLE 0.01     /* m, initial out-of-plane ripple */
+#define SLIDE 1.4       /* m, how far the bottom plate slides away along x once it lets go */
 #define OPEN_LENGTH 0.9 /* m, the plates' gap once they open again (the cloth is 1 m) */
 
 static const float plate_rgb[3] = {0.45f, 0.52f, 0.60f}, side_rgb[3] = {0.70f, 0.74f, 0.78f};
@@ -119,8 +119,10 @@ static int press_run(const demo_opts *o, const demo_scene *sc, const drape_varia
     dGeomID pg[4];
     demo_box_mesh mesh[4];
     memset(mesh, 0, sizeof mesh);
-    const double size[4][3] = {{PLATE_W, PLATE_D, PLATE_T}, {PLATE_W, PLATE_D, PLATE_T},
-                               {PLATE_W, PLATE_T, SIDE_H}, {PLATE_W, PLATE_T, SIDE_H}};
+    const double size[4][3] = {{PLATE_W, PLATE_D, PLATE_T},
+                               {PLATE_W, PLATE_D, PLATE_T},
+                               {PLATE_W, PLATE_T, SIDE_H},
+                               {PLATE_W, PLATE_T, SIDE_H}};
     for (int k = 0; k < 4; k++) {
         plate[k] = dBodyCreate(world);
         dBodySetKinematic(plate[k]);
@@ -232,5 +234,5 @@ done:
     return rc;
 }
 
-const demo_scene press_scene = {"plates", {"pressed", "released"}, {"pressed", "released"}, DRAPE_TABLE, press_run,
-                               0.0, 0, 0, 0, 0.0, 0};
+const demo_scene press_scene =
+    {"plates", {"pressed", "released"}, {"pressed", "released"}, DRAPE_TABLE, press_run, 0.0, 0, 0, 0, 0.0, 0};

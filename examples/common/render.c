@@ -49,8 +49,7 @@ static void draw_all(dSpaceID space, const demo_camera *cam, const draw_mesh *m,
 }
 
 /* The depth pass; 0 with the map made, -1 if there is nothing to cast. */
-static int make_shadow(shadow_map *sm, dSpaceID space, const demo_camera *cam, const draw_mesh *m, int n, int w,
-                       int h)
+static int make_shadow(shadow_map *sm, dSpaceID space, const demo_camera *cam, const draw_mesh *m, int n, int w, int h)
 {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     draw_bounds(space, m, n, lo, hi);
@@ -170,8 +169,7 @@ static int ensure_context(int w, int h)
     return 0;
 }
 
-demo_image *demo_render(const demo_camera *cam, dSpaceID space, dClothID *cloths, int ncloths, int smooth, int w,
-                        int h)
+demo_image *demo_render(const demo_camera *cam, dSpaceID space, dClothID *cloths, int ncloths, int smooth, int w, int h)
 {
     const int ss = 2; /* supersampling */
     if (w <= 0 || h <= 0 || ensure_context(ss * w, ss * h)) {
@@ -210,12 +208,10 @@ const char *demo_render_unavailable_reason(void)
 }
 void demo_render_shutdown(void) {}
 
-demo_image *demo_render(const demo_camera *cam, dSpaceID space, dClothID *cloths, int ncloths, int smooth, int w,
-                        int h)
+demo_image *demo_render(const demo_camera *cam, dSpaceID space, dClothID *cloths, int ncloths, int smooth, int w, int h)
 {
     (void)cam, (void)space, (void)cloths, (void)ncloths, (void)smooth, (void)w, (void)h;
     fprintf(stderr, "render: %s\n", demo_render_unavailable_reason());
     return NULL;
 }
 #endif
-

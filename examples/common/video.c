@@ -122,8 +122,8 @@ static void write_frame(const demo_opts *o, const demo_image *im, long copies)
     demo_image_destroy(f);
 }
 
-void demo_video_hook(const demo_opts *o, const char *tag, int step, int total, const demo_camera *cam,
-                     dSpaceID space, dClothID *cloths, int n)
+void demo_video_hook(const demo_opts *o, const char *tag, int step, int total, const demo_camera *cam, dSpaceID space,
+                     dClothID *cloths, int n)
 {
     if (!o->video) return;
     if (step == 1 || strcmp(tag, V.tag)) { /* a new run */

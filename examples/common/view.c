@@ -7,8 +7,8 @@
 
 #ifndef ODECLOTH_HAVE_GLFW
 
-void demo_view_frame(const demo_opts *o, const char *label, int step, int total, const demo_camera *cam,
-                     dSpaceID space, dClothID *cloths, int n)
+void demo_view_frame(const demo_opts *o, const char *label, int step, int total, const demo_camera *cam, dSpaceID space,
+                     dClothID *cloths, int n)
 {
     static int said;
     (void)label, (void)step, (void)total, (void)cam, (void)space, (void)cloths, (void)n;
@@ -26,9 +26,9 @@ void demo_view_frame(const demo_opts *o, const char *label, int step, int total,
 /* Everything the window needs between calls: there is one window a
  * process, kept across the demo's runs. */
 static struct {
-    int given_up;     /* no display, or the window was closed: headless on  */
+    int given_up; /* no display, or the window was closed: headless on  */
     GLFWwindow *win;
-    char error[200];  /* GLFW's last error, for the message                 */
+    char error[200]; /* GLFW's last error, for the message                 */
     /* the run being shown */
     const demo_opts *o;
     char label[64];
@@ -36,7 +36,7 @@ static struct {
     dSpaceID space;
     dClothID *cloths;
     int n;
-    double anchor;    /* wall time at which this run's simulated time was 0 */
+    double anchor; /* wall time at which this run's simulated time was 0 */
     double last_draw;
     long frames;
     int shots;
@@ -87,10 +87,7 @@ static demo_camera orbit_camera(void)
     return c;
 }
 
-static void zoom(double factor)
-{
-    V.dist = fmin(100.0, fmax(0.05, V.dist * factor));
-}
+static void zoom(double factor) { V.dist = fmin(100.0, fmax(0.05, V.dist * factor)); }
 
 /* -------------------------------------------------------------- callbacks */
 
@@ -118,8 +115,10 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
 static void on_button(GLFWwindow *w, int button, int action, int mods)
 {
     (void)mods;
-    int bit = button == GLFW_MOUSE_BUTTON_LEFT ? 1 : button == GLFW_MOUSE_BUTTON_RIGHT ? 2
-            : button == GLFW_MOUSE_BUTTON_MIDDLE ? 4 : 0;
+    int bit = button == GLFW_MOUSE_BUTTON_LEFT     ? 1
+              : button == GLFW_MOUSE_BUTTON_RIGHT  ? 2
+              : button == GLFW_MOUSE_BUTTON_MIDDLE ? 4
+                                                   : 0;
     if (action == GLFW_PRESS) V.buttons |= bit;
     else V.buttons &= ~bit;
     glfwGetCursorPos(w, &V.mx, &V.my);
@@ -172,14 +171,10 @@ static void draw_overlay(int W, int H)
         snprintf(text[nl++], sizeof text[0], "CG %d  strain %.4f  contacts %d  plastic %d  pen %.2f mm%s",
                  st->core.iterations, st->core.max_strain, st->contacts, st->core.plastic_links,
                  1e3 * st->max_penetration, st->sleeping ? "  asleep" : "");
-    if (V.o->view_frames)
-        snprintf(text[nl++], sizeof text[0], "frame %ld of %d", V.frames + 1, V.o->view_frames);
-    else if (V.at_end)
-        snprintf(text[nl++], sizeof text[0], "end of run: space goes on, q closes");
-    else if (V.paused)
-        snprintf(text[nl++], sizeof text[0], "paused: space runs, n steps");
-    else
-        snprintf(text[nl++], sizeof text[0], "%s", V.fast ? "running, fast (f: real time)" : "running (f: fast)");
+    if (V.o->view_frames) snprintf(text[nl++], sizeof text[0], "frame %ld of %d", V.frames + 1, V.o->view_frames);
+    else if (V.at_end) snprintf(text[nl++], sizeof text[0], "end of run: space goes on, q closes");
+    else if (V.paused) snprintf(text[nl++], sizeof text[0], "paused: space runs, n steps");
+    else snprintf(text[nl++], sizeof text[0], "%s", V.fast ? "running, fast (f: real time)" : "running (f: fast)");
     snprintf(text[nl++], sizeof text[0], "drag turns, right/wheel zooms, middle pans; r s q");
     int w = 0;
     for (int i = 0; i < nl; i++) {
@@ -214,7 +209,7 @@ static void draw_overlay(int W, int H)
     glEnable(GL_BLEND);
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glRasterPos2i(8, 8 + h); /* bottom left: mostly floor there */
+    glRasterPos2i(8, 8 + h);  /* bottom left: mostly floor there */
     glPixelZoom(1.0f, -1.0f); /* the image's row 0 is its top */
     glDrawPixels(w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
     glPixelZoom(1.0f, 1.0f);
@@ -328,8 +323,8 @@ static int open_window(void)
     if (V.o->view_frames)
         printf("%s: --view: window %d x %d, closing after %d frames\n", V.o->prog, W, H, V.o->view_frames);
     else
-        printf("%s: --view: window %d x %d (space pause, n step, f fast, r camera, s save, q close)\n",
-               V.o->prog, W, H);
+        printf("%s: --view: window %d x %d (space pause, n step, f fast, r camera, s save, q close)\n", V.o->prog, W,
+               H);
     fflush(stdout);
     return 0;
 }
@@ -349,8 +344,8 @@ static void hold(double t)
     V.anchor = demo_now() - t; /* real time goes on from here */
 }
 
-void demo_view_frame(const demo_opts *o, const char *label, int step, int total, const demo_camera *cam,
-                     dSpaceID space, dClothID *cloths, int n)
+void demo_view_frame(const demo_opts *o, const char *label, int step, int total, const demo_camera *cam, dSpaceID space,
+                     dClothID *cloths, int n)
 {
     if (!o->view || V.given_up) return;
     V.o = o;

@@ -36,7 +36,7 @@
  * With it, the first call opens the window (or says why not); then each
  * call polls events and draws (at most 60 frames a second, holding the run
  * to real time unless f was pressed), and blocks while paused. */
-void demo_view_frame(const demo_opts *o, const char *label, int step, int total, const demo_camera *cam,
-                     dSpaceID space, dClothID *cloths, int n);
+void demo_view_frame(const demo_opts *o, const char *label, int step, int total, const demo_camera *cam, dSpaceID space,
+                     dClothID *cloths, int n);
 
 #endif

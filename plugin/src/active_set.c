@@ -104,8 +104,7 @@ void dcloth_constrain(dClothID c, double h, dClothStepStats *st)
             /* Newton lets a vertex's own contact that follows a triangle's
              * go within the step at the pull the peel below judges after
              * it; a triangle's own goes by its force (share_pulled) */
-            if (by_triangle_rule(c, i) && !shared(c, i, newton))
-                cloth_set_contact_pull(core, i, LETGO_PULL * letgo_t);
+            if (by_triangle_rule(c, i) && !shared(c, i, newton)) cloth_set_contact_pull(core, i, LETGO_PULL * letgo_t);
         }
         second_candidate(c, i, h, nw, newton);
         for (int r = 0; r < 3; r++) c->fext[3 * i + r] += nw->friction[r];
@@ -198,8 +197,8 @@ static int peel_sweep(dClothID c)
             vcontact *va = &c->vc_new[a], *vb = &c->vc_new[b];
             /* from those let go after this solve (still active),
              * not in this sweep (2): a sweep goes one link */
-            if (va->let_go != 1 || !va->active || vb->let_go || !vb->active || !vb->from_triangle ||
-                vb->forced || vb->pinched || vb->geom != va->geom)
+            if (va->let_go != 1 || !va->active || vb->let_go || !vb->active || !vb->from_triangle || vb->forced ||
+                vb->pinched || vb->geom != va->geom)
                 continue;
             double f[3];
             dcloth_first_force(core, b, f);

@@ -13,8 +13,7 @@ static int plane_finite(const double *n, const double *p, double gap)
     return isfinite(n[0] + n[1] + n[2] + p[0] + p[1] + p[2] + gap);
 }
 
-void dcloth_offer_opposite(vcontact *vc, dGeomID g, dBodyID body, const double n[3], double gap,
-                           const double point[3])
+void dcloth_offer_opposite(vcontact *vc, dGeomID g, dBodyID body, const double n[3], double gap, const double point[3])
 {
     if (!vc->geom || vc->geom == g || dcloth_dot3(vc->normal, n) > -DCLOTH_PINCH_COS) return;
     if (gap < vc->gap) { /* the candidate replaces vc's contact, which becomes the opposite */
@@ -38,8 +37,7 @@ void dcloth_offer_opposite(vcontact *vc, dGeomID g, dBodyID body, const double n
 int dcloth_second_fits(const vcontact *vc, dBodyID body, const double n[3])
 {
     double nn = dcloth_dot3(vc->normal, n);
-    return vc->geom && (!body || dBodyIsKinematic(body)) && nn > -DCLOTH_PINCH_COS &&
-           nn < DCLOTH_SECOND_COS;
+    return vc->geom && (!body || dBodyIsKinematic(body)) && nn > -DCLOTH_PINCH_COS && nn < DCLOTH_SECOND_COS;
 }
 
 void dcloth_offer_second(vcontact *vc, dGeomID g, double t, dBodyID body, const double n[3], const double point[3],

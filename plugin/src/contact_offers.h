@@ -11,8 +11,7 @@ void dcloth_set_contact(vcontact *vc, const struct dcloth_surf *sf, dBodyID body
 /* before contact (g, body, n, gap at point) is offered to vertex contact vc (kept if deeper), note it, or
  * vc's present contact if it is to be replaced, as vc's opposite when the two geoms differ and their
  * normals oppose (DCLOTH_PINCH_COS) */
-void dcloth_offer_opposite(vcontact *vc, dGeomID g, dBodyID body, const double n[3], double gap,
-                           const double point[3]);
+void dcloth_offer_opposite(vcontact *vc, dGeomID g, dBodyID body, const double n[3], double gap, const double point[3]);
 /* a contact vc does not keep, offered as its second surface: kept if g is static or kinematic (vc's own
  * geom too: an edge's plane), the normals neither oppose (the pinch's) nor lie within DCLOTH_SECOND_COS
  * (their line ill-posed), deepest so far */

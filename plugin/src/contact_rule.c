@@ -51,8 +51,8 @@ static void anchor(vcontact *nw, const vcontact *old, int had, const double *x, 
 /* Decide the vertex's contact for this step: none (returns 0), sticking or
  * sliding; fills its constraint and, sliding, its friction force. newton:
  * the core decides contacts within its step (candidates). */
-int dcloth_contact_rule(dClothID c, int i, double h, double mass, const double g[3], vcontact *nw,
-                        const vcontact *old, cloth_constraint *k, dClothStepStats *st, int forced, int newton)
+int dcloth_contact_rule(dClothID c, int i, double h, double mass, const double g[3], vcontact *nw, const vcontact *old,
+                        cloth_constraint *k, dClothStepStats *st, int forced, int newton)
 {
     const double *x = cloth_positions(c->core) + 3 * i, *v = cloth_velocities(c->core) + 3 * i;
     const double *n = nw->normal;

@@ -405,7 +405,7 @@ cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dReal *points, i
     if (!g) return dcloth_fail(c, CLOTH_EINVAL, "dClothSetConvexPoints: geom is 0");
     if (dGeomGetClass(g) != dConvexClass)
         return dcloth_fail(c, CLOTH_EINVAL, "dClothSetConvexPoints: the geom is not a convex (class %d)",
-                          dGeomGetClass(g));
+                           dGeomGetClass(g));
     if (count < 0 || (count > 0 && !points))
         return dcloth_fail(c, CLOTH_EINVAL, "dClothSetConvexPoints: %d points at %p", count, (const void *)points);
     for (int k = 0; k < 3 * count; k++)

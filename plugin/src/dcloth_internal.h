@@ -11,48 +11,48 @@ typedef char dcloth_dreal_must_be_double[sizeof(dReal) == sizeof(double) ? 1 : -
 
 /* A vertex's contact in one step. */
 typedef struct vcontact {
-    dGeomID geom;        /* 0: no contact                                   */
-    dBodyID body;        /* 0 for a static geom                             */
-    double normal[3];    /* unit, out of the geom toward the vertex         */
-    double point[3];     /* m, the surface point under the vertex           */
-    double gap;          /* m, distance to the surface minus the thickness  */
-    double thickness;    /* m, the geom's contact distance this step        */
-    double mu;           /* the geom's friction coefficient this step       */
-    double vbody[3];     /* m/s, the body's velocity at the point           */
-    int sticking;        /* 1: pinned to the body's motion (static friction) */
-    int anchored;        /* 1: sticking to a kinematic body at anchor       */
-    double anchor[3];    /* body frame: where the sticking vertex is held    */
-    int from_triangle;   /* 1: set by a triangle test (triangles.c)         */
-    int tri;             /* that cloth triangle's index (-1: a link's edge
+    dGeomID geom;       /* 0: no contact                                   */
+    dBodyID body;       /* 0 for a static geom                             */
+    double normal[3];   /* unit, out of the geom toward the vertex         */
+    double point[3];    /* m, the surface point under the vertex           */
+    double gap;         /* m, distance to the surface minus the thickness  */
+    double thickness;   /* m, the geom's contact distance this step        */
+    double mu;          /* the geom's friction coefficient this step       */
+    double vbody[3];    /* m/s, the body's velocity at the point           */
+    int sticking;       /* 1: pinned to the body's motion (static friction) */
+    int anchored;       /* 1: sticking to a kinematic body at anchor       */
+    double anchor[3];   /* body frame: where the sticking vertex is held    */
+    int from_triangle;  /* 1: set by a triangle test (triangles.c)         */
+    int tri;            /* that cloth triangle's index (-1: a link's edge
                             contact, edges.c), and the query that            */
-    unsigned query;      /* set it (dxCloth's tri_query): one contact        */
-    double weight;       /* the contact point's barycentric weight on the
+    unsigned query;     /* set it (dxCloth's tri_query): one contact        */
+    double weight;      /* the contact point's barycentric weight on the
                             vertex (triangle contacts; 1 for a vertex's own)  */
-    int active;          /* 1: a constraint in this step's solve            */
-    int forced;          /* 1: a re-solve found the vertex inside its shell  */
-    int candidate;       /* 1: left free, a contact candidate the Newton
+    int active;         /* 1: a constraint in this step's solve            */
+    int forced;         /* 1: a re-solve found the vertex inside its shell  */
+    int candidate;      /* 1: left free, a contact candidate the Newton
                             step decides (cloth_set_contact)                */
-    int let_go;          /* 1: a triangle's contact pulled in a solve of this
+    int let_go;         /* 1: a triangle's contact pulled in a solve of this
                             step; free in the next solve. Kept (Newton): the
                             whole contact pulled; the next step lets it go  */
-    int slides;          /* 1: held on a link past the elongation limit in a
+    int slides;         /* 1: held on a link past the elongation limit in a
                             solve of this step; slides in the next          */
-    double friction[3];  /* N, sliding friction force applied on the vertex */
-    double slip[3];      /* m/s, tangential velocity relative to the body at
+    double friction[3]; /* N, sliding friction force applied on the vertex */
+    double slip[3];     /* m/s, tangential velocity relative to the body at
                             the step's start                               */
-    double force[3];     /* N, total contact force on the vertex (after the step) */
+    double force[3];    /* N, total contact force on the vertex (after the step) */
     /* the nearest contact with another geom whose normal opposes this one (dcloth_offer_opposite):
      * where both targets cannot be met (the gap under two thicknesses), contact_rule aims midway */
-    dGeomID opp_geom;    /* 0: none                                         */
+    dGeomID opp_geom; /* 0: none                                         */
     dBodyID opp_body;
     double opp_normal[3], opp_gap, opp_vbody[3];
-    int pinched;         /* 1: this step's target is the midway one         */
-    double pinch_shift;  /* m, along the normal: the midway target's offset
+    int pinched;        /* 1: this step's target is the midway one         */
+    double pinch_shift; /* m, along the normal: the midway target's offset
                             from this contact's own (0 unless pinched)      */
     /* a second surface (dcloth_offer_second): another static or kinematic geom's
      * plane near the vertex, for the Newton step to decide (cloth_set_contact_second);
      * not carried between steps */
-    dGeomID sec_geom;    /* 0: none                                         */
+    dGeomID sec_geom; /* 0: none                                         */
     dBodyID sec_body;
     double sec_normal[3], sec_point[3], sec_gap, sec_thickness, sec_vbody[3];
 } vcontact;
@@ -65,33 +65,33 @@ typedef struct dcloth_geom_list {
 
 typedef struct vpin {
     int active;
-    dBodyID body;        /* 0: pinned to the world                          */
-    double local[3];     /* body frame (or world point if no body)          */
-    double world[3];     /* m, the pin point's position at the step's start */
-    double force[3];     /* N, on the vertex, last step                     */
+    dBodyID body;    /* 0: pinned to the world                          */
+    double local[3]; /* body frame (or world point if no body)          */
+    double world[3]; /* m, the pin point's position at the step's start */
+    double force[3]; /* N, on the vertex, last step                     */
 } vpin;
 
 struct dxCloth {
     cloth *core;
     int n, ntri;
-    int *tri;            /* 3 ntri                                          */
+    int *tri; /* 3 ntri                                          */
     /* configuration: what the user set */
     dWorldID world;
     dSpaceID space;
     double thickness, mu;
     unsigned long category, collide;
-    int implicit;        /* 1: couple dynamic bodies implicitly (default)   */
-    dClothFailureMode on_failure; /* what a failed solve gives (dcloth.h)   */
+    int implicit;                  /* 1: couple dynamic bodies implicitly (default)   */
+    dClothFailureMode on_failure;  /* what a failed solve gives (dcloth.h)   */
     dClothFrictionFn *friction_fn; /* per-geom friction (NULL: mu for all)  */
     void *friction_data;
-    dClothSurfaceFn *surface_fn;   /* per-geom mu and thickness (NULL: none) */
+    dClothSurfaceFn *surface_fn; /* per-geom mu and thickness (NULL: none) */
     void *surface_data;
     /* convex geoms' points, for triangle tests (dClothSetConvexPoints) */
     struct cvx_points {
         dGeomID g;
         int n;
-        double *p;       /* 3n, the geom's frame */
-    } *cvx;
+        double *p; /* 3n, the geom's frame */
+    } * cvx;
     int ncvx;
     /* geoms whose triangle tests are off (dClothSetTriangleTests) */
     dcloth_geom_list tri_off;
@@ -100,18 +100,18 @@ struct dxCloth {
     dcloth_geom_list edge_off; /* geoms whose link tests are off (dClothSetEdgeTests) */
     /* carried from one step to the next (dClothSave copies these, and surf_tmax) */
     vcontact *vc, *vc_new; /* n: committed and candidate contact states      */
-    vpin *pin;           /* n                                               */
-    double *fadd;        /* 3n: dClothAddVertexForce's, for the next step    */
-    int held_run;        /* steps held in a row: each retries the next in one
+    vpin *pin;             /* n                                               */
+    double *fadd;          /* 3n: dClothAddVertexForce's, for the next step    */
+    int held_run;          /* steps held in a row: each retries the next in one
                             more substep halving (body_coupling.c)          */
     /* sleeping (sleep.c): the settings and state, and the geoms near it
      * when it fell asleep (sleep.n of them) */
     struct sleep_state {
         int on, steps, still, asleep, n;
         double speed;
-        double gravity[3];   /* the world's gravity when it fell asleep     */
+        double gravity[3]; /* the world's gravity when it fell asleep     */
     } sleep;
-    double *sleep_geoms;      /* per candidate then: position (3), and the
+    double *sleep_geoms; /* per candidate then: position (3), and the
                                  geom itself in sleep_ids                   */
     dGeomID *sleep_ids;
     int sleep_cap;
@@ -120,31 +120,31 @@ struct dxCloth {
     /* the cloth's whole state before a step, for dClothWorldStep's undo (world_step.c) */
     struct dClothState *undo;
     /* the step's (step.c): its start, to solve it again from */
-    double *fext;        /* 3n: the user's forces plus sliding friction, handed
+    double *fext;      /* 3n: the user's forces plus sliding friction, handed
                             to the core for the step                        */
-    double *fuser;       /* 3n: the core's own external forces (the user's),
+    double *fuser;     /* 3n: the core's own external forces (the user's),
                             put back after each step                        */
-    double *x0;          /* 3n: positions at the step's start               */
-    double *v0;          /* 3n: velocities at the step's start              */
-    cloth_state *save;   /* the core's state at the step's start (re-solves) */
+    double *x0;        /* 3n: positions at the step's start               */
+    double *v0;        /* 3n: velocities at the step's start              */
+    cloth_state *save; /* the core's state at the step's start (re-solves) */
     /* the broadphase's (broadphase.c) */
-    dGeomID box;         /* broadphase proxy: the cloth's swept AABB        */
-    dGeomID *cand;       /* candidate geoms of the step                     */
+    dGeomID box;   /* broadphase proxy: the cloth's swept AABB        */
+    dGeomID *cand; /* candidate geoms of the step                     */
     int ncand, cand_cap;
     /* each candidate's mu and thickness this step (surf[a] for cand[a]), a scratch copy for a wider
      * broadphase, and the largest thickness the surface callback has given since it was set */
     struct dcloth_surf {
         dGeomID g;
         double mu, thickness;
-    } *surf, *surf_old;
+    } * surf, *surf_old;
     int surf_cap;
     double surf_tmax;
     /* the vertex tests' (vertex_contacts.c) */
-    dGeomID sphere;      /* narrowphase proxy: one vertex                    */
-    dGeomID ray;         /* narrowphase proxy over heightfields              */
+    dGeomID sphere; /* narrowphase proxy: one vertex                    */
+    dGeomID ray;    /* narrowphase proxy over heightfields              */
     /* the triangle tests' (triangles.c, triangle_query.c) */
-    unsigned tri_query;  /* triangle queries so far (vcontact's query)       */
-    int tri_hits;        /* vertex contacts set by triangle tests this step  */
+    unsigned tri_query; /* triangle queries so far (vcontact's query)       */
+    int tri_hits;       /* vertex contacts set by triangle tests this step  */
     /* mesh_contacts.c's scratch: a trimesh's triangles this step (9 world coordinates and 3 edge flags
      * each: 1 where the surface turns convexly or ends), edges for matching neighbours, and the cloth's
      * triangles in a hash grid */
@@ -154,11 +154,11 @@ struct dxCloth {
         struct mesh_edge {
             double a[3], b[3]; /* the ends, a before b (lexicographic)         */
             int tri, e;        /* triangle j, edge e (from corner e to e + 1)  */
-        } *edges;
+        } * edges;
         int cap;
-        double *grid_box;    /* 6 per cloth triangle: its box, grown          */
-        int *grid_stamp;     /* per cloth triangle: the last mesh triangle + 1 */
-        int *grid_head;      /* per bucket: its first entry, -1 if none       */
+        double *grid_box; /* 6 per cloth triangle: its box, grown          */
+        int *grid_stamp;  /* per cloth triangle: the last mesh triangle + 1 */
+        int *grid_head;   /* per bucket: its first entry, -1 if none       */
         int *grid_next, *grid_tri;
         long long *grid_key;
         int grid_nbuck, grid_cap;
@@ -172,24 +172,24 @@ struct dxCloth {
         int *start, *ent, *stamp;
         int start_cap, ent_cap, stamp_cap;
     } edge;
-    int edge_hits;       /* vertex contacts set by link tests this step     */
+    int edge_hits; /* vertex contacts set by link tests this step     */
     /* the active set's (active_set.c) */
-    double *share_sum;   /* n: per lead, a triangle contact's force (workspace) */
+    double *share_sum; /* n: per lead, a triangle contact's force (workspace) */
     /* the moving bodies solved with the cloth this step (body_coupling.c) */
     dBodyID *bodies;
     cloth_body *bdesc;
     int nbodies, bodies_cap;
     /* the reactions' (reactions.c, momentum.c) */
-    double *vfix;        /* 3n: velocities after the step's contact fix-up  */
-    dBodyID *holder;     /* n: the body that takes each vertex's force, or 0 */
+    double *vfix;         /* 3n: velocities after the step's contact fix-up  */
+    dBodyID *holder;      /* n: the body that takes each vertex's force, or 0 */
     dBodyID *turn_bodies; /* n: the moving bodies the turn moves (workspace) */
-    double *turn_dv;     /* 3n: the turn's velocity change (workspace)      */
+    double *turn_dv;      /* 3n: the turn's velocity change (workspace)      */
     /* journal.c's: the bodies this step touched, each saved from before the step */
     struct body_journal {
         struct body_rec {
             dBodyID b;
             dReal f[3], t[3], lv[3], av[3];
-        } *rec;
+        } * rec;
         int n, cap;
     } journal;
 };
@@ -212,13 +212,10 @@ struct dClothState {
 
 /* statefile.c: dClothReadState on a file already in memory (name: for the
  * messages), for the fuzzer. */
-cloth_status dcloth_read_state(dClothID c, const char *name, const unsigned char *buf, size_t len,
-                               const dGeomID *geoms, int ngeoms, const dBodyID *bodies, int nbodies);
+cloth_status dcloth_read_state(dClothID c, const char *name, const unsigned char *buf, size_t len, const dGeomID *geoms,
+                               int ngeoms, const dBodyID *bodies, int nbodies);
 
-static inline double dcloth_dot3(const double *a, const double *b)
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
+static inline double dcloth_dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 /* body_coupling.c: a held run retries in at most this many substep halvings,
  * so held_run never exceeds it (statefile.c checks it on reading). */

@@ -225,8 +225,8 @@ static int link_query(const dClothID c, const tri_grid *gr, int stamp, int tie, 
                 for (int m = gr->start[k]; m < gr->start[k + 1]; m++) {
                     int j = gr->ent[m];
                     const double *bx = box + 6 * j, *t = tb + 9 * j;
-                    if (c->edge.stamp[j] == stamp || bx[1] < lo[0] || bx[0] > hi[0] || bx[3] < lo[1] ||
-                        bx[2] > hi[1] || bx[5] < lo[2] || bx[4] > hi[2])
+                    if (c->edge.stamp[j] == stamp || bx[1] < lo[0] || bx[0] > hi[0] || bx[3] < lo[1] || bx[2] > hi[1] ||
+                        bx[5] < lo[2] || bx[4] > hi[2])
                         continue;
                     c->edge.stamp[j] = stamp;
                     if (segment_meets(a, b, t)) return 0;
@@ -328,7 +328,7 @@ static int offer(dClothID c, int i, const struct dcloth_surf *sf, dBodyID body, 
     dcloth_set_contact(vc, sf, body, n, p, gap);
     vc->from_triangle = 1; /* a shared contact: the triangles' release rules */
     vc->tri = -1;          /* a link's, not one triangle's: judged per vertex */
-    if (was.geom) /* the plane replaced, the second */
+    if (was.geom)          /* the plane replaced, the second */
         dcloth_offer_second(vc, was.geom, was.thickness, was.body, was.normal, was.point, was.gap);
     return 1;
 }

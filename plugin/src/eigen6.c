@@ -40,4 +40,3 @@ void dcloth_eigen6(double A[6][6], double d[6], double V[6][6])
     }
     for (int i = 0; i < 6; i++) d[i] = A[i][i];
 }
-

@@ -37,10 +37,7 @@ cloth_status dClothSetTriangleTests(dClothID c, dGeomID g, int enable)
     return dcloth_geom_list_set(c, &c->tri_off, g, !enable, "dClothSetTriangleTests");
 }
 
-int dClothGetTriangleTests(dClothID c, dGeomID g)
-{
-    return c && g && !dcloth_geom_list_has(&c->tri_off, g);
-}
+int dClothGetTriangleTests(dClothID c, dGeomID g) { return c && g && !dcloth_geom_list_has(&c->tri_off, g); }
 
 cloth_status dClothSetExactTriangleTests(dClothID c, dGeomID g, int enable)
 {
@@ -52,10 +49,7 @@ cloth_status dClothSetExactTriangleTests(dClothID c, dGeomID g, int enable)
     return dcloth_geom_list_set(c, &c->tri_exact, g, enable != 0, "dClothSetExactTriangleTests");
 }
 
-int dClothGetExactTriangleTests(dClothID c, dGeomID g)
-{
-    return c && g && dcloth_geom_list_has(&c->tri_exact, g);
-}
+int dClothGetExactTriangleTests(dClothID c, dGeomID g) { return c && g && dcloth_geom_list_has(&c->tri_exact, g); }
 
 cloth_status dClothSetEdgeTests(dClothID c, dGeomID g, int enable)
 {
@@ -64,7 +58,4 @@ cloth_status dClothSetEdgeTests(dClothID c, dGeomID g, int enable)
     return dcloth_geom_list_set(c, &c->edge_off, g, !enable, "dClothSetEdgeTests");
 }
 
-int dClothGetEdgeTests(dClothID c, dGeomID g)
-{
-    return c && g && !dcloth_geom_list_has(&c->edge_off, g);
-}
+int dClothGetEdgeTests(dClothID c, dGeomID g) { return c && g && !dcloth_geom_list_has(&c->edge_off, g); }

@@ -4,10 +4,7 @@
 #include "dcloth_internal.h"
 #include "geom_triangles.h"
 
-int dcloth_geom_triangle_count(dGeomID g, int cls)
-{
-    return cls == dBoxClass ? 12 : dGeomTriMeshGetTriangleCount(g);
-}
+int dcloth_geom_triangle_count(dGeomID g, int cls) { return cls == dBoxClass ? 12 : dGeomTriMeshGetTriangleCount(g); }
 
 void dcloth_geom_triangles(dGeomID g, int cls, int nt, double *tb)
 {

@@ -254,9 +254,9 @@ int dcloth_mesh_contacts(dClothID c, convex_query *q, double h, ccd_t *ccd, ccd_
         nrm[2] = u[0] * w[1] - u[1] * w[0];
         double area2 = sqrt(dcloth_dot3(nrm, nrm));
         if (!(area2 > 0.0) || !isfinite(area2)) continue;
-        double lmin = sqrt(fmin(dcloth_dot3(u, u), fmin(dcloth_dot3(w, w), (e[0] - b[0]) * (e[0] - b[0]) +
-                                                                          (e[1] - b[1]) * (e[1] - b[1]) +
-                                                                          (e[2] - b[2]) * (e[2] - b[2]))));
+        double lmin = sqrt(fmin(dcloth_dot3(u, u),
+                                fmin(dcloth_dot3(w, w), (e[0] - b[0]) * (e[0] - b[0]) + (e[1] - b[1]) * (e[1] - b[1]) +
+                                                            (e[2] - b[2]) * (e[2] - b[2]))));
         double depth = fmin(fmin(0.5 * lmin, 0.5 * least), MESH_PRISM_DEPTH * q->surf->thickness);
         for (int r = 0; r < 3; r++) {
             nrm[r] /= area2;
@@ -308,4 +308,3 @@ int dcloth_mesh_contacts(dClothID c, convex_query *q, double h, ccd_t *ccd, ccd_
     }
     return hits;
 }
-

@@ -309,4 +309,3 @@ int dcloth_turn(dClothID c, const double dL[3], double done[3])
         for (int q = 0; q < 3; q++) done[q] = dL[q] - L * miss[3 + q];
     return ok ? 0 : -1;
 }
-

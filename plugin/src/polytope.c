@@ -155,8 +155,8 @@ static void add_projected(poly *a, const double x[3], const double u[3], double 
 /* The feature pair where triangle t and P meet along bn (from P toward t), P's supporting plane there
  * bn . x = h: its point on that plane into c. kind: P's face f >= 0, the triangle's plane -1, or edges -2.
  * 0 where the features do not meet (the axis is not where they are nearest). */
-static int meet(const dcloth_polytope *P, const double *const t[3], const double nt[3], const double bn[3],
-                int kind, double tol, double c[3])
+static int meet(const dcloth_polytope *P, const double *const t[3], const double nt[3], const double bn[3], int kind,
+                double tol, double c[3])
 {
     double h = support(P, bn), lo = tri_min(t, bn);
     poly a = {0}, b = {0};
@@ -236,8 +236,8 @@ static int over(const double (*q)[3], int m, const double nrm[3], const double x
 
 /* Triangle t apart from P: their nearest points p (on P) and q (on t), from the pairs a nearest pair can be
  * (a vertex of either over a face of the other, two edges), face pairs first; their distance */
-static double nearest(const dcloth_polytope *P, const double *const t[3], const double nt[3], double tol,
-                      double p[3], double q[3])
+static double nearest(const dcloth_polytope *P, const double *const t[3], const double nt[3], double tol, double p[3],
+                      double q[3])
 {
     double best = INFINITY, tq[3][3], fq[4][3];
     for (int k = 0; k < 3; k++) memcpy(tq[k], t[k], sizeof tq[0]);
@@ -270,8 +270,8 @@ static double nearest(const dcloth_polytope *P, const double *const t[3], const 
     return best;
 }
 
-int dcloth_polytope_query(const dcloth_polytope *P, const double *const t[3], double r, double *depth,
-                          double n[3], double pos[3])
+int dcloth_polytope_query(const dcloth_polytope *P, const double *const t[3], double r, double *depth, double n[3],
+                          double pos[3])
 {
     double e[3][3], nt[3];
     for (int k = 0; k < 3; k++)

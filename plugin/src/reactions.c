@@ -91,7 +91,7 @@ void dcloth_reactions(dClothID c, double h, dClothStepStats *st)
         vpin *p = &c->pin[i];
         vcontact *nw = &c->vc_new[i];
         double f[3] = {0.0, 0.0, 0.0}, w = 0.0; /* w: the vertex's share of the leftovers */
-        dBodyID b = c->holder[i]; /* the body the turn moved with the vertex */
+        dBodyID b = c->holder[i];               /* the body the turn moved with the vertex */
         /* where the cloth felt the force: a body takes it there too, so no
          * angular momentum is made between them */
         const double *at = cloth_positions(core) + 3 * i;

@@ -74,7 +74,8 @@ cloth_status dClothRestore(dClothID c, const dClothState *s)
     if (!c) return CLOTH_EINVAL;
     if (!s) return dcloth_fail(c, CLOTH_EINVAL, "dClothRestore: state is NULL");
     if (s->n != c->n)
-        return dcloth_fail(c, CLOTH_EINVAL, "dClothRestore: the state is for %d vertices, the cloth has %d", s->n, c->n);
+        return dcloth_fail(c, CLOTH_EINVAL, "dClothRestore: the state is for %d vertices, the cloth has %d", s->n,
+                           c->n);
     /* the snapshot first (the only step that can fail), into the cloth's own arrays */
     if (s->sleep.n > c->sleep_cap) {
         if (copy_snapshot(s->sleep.n, s->sleep_ids, s->sleep_geoms, &c->sleep_ids, &c->sleep_geoms))

@@ -54,8 +54,8 @@ static int scene_changed(dClothID c)
         /* a static geom moved by hand (a body's motion is judged by its
          * velocity: a resting body's position drifts by rounding) */
         const dReal *p = dGeomGetClass(gg) == dPlaneClass || dGeomGetBody(gg) ? NULL : dGeomGetPosition(gg);
-        if (p && (p[0] != c->sleep_geoms[3 * k] || p[1] != c->sleep_geoms[3 * k + 1] ||
-                  p[2] != c->sleep_geoms[3 * k + 2]))
+        if (p &&
+            (p[0] != c->sleep_geoms[3 * k] || p[1] != c->sleep_geoms[3 * k + 1] || p[2] != c->sleep_geoms[3 * k + 2]))
             return 1;
     }
     return 0;

@@ -38,14 +38,14 @@
  * it: the field order is written once (the xfer_* functions). */
 typedef struct io {
     int reading;
-    unsigned char *buf;  /* writing: grown as needed; reading: the file   */
+    unsigned char *buf; /* writing: grown as needed; reading: the file   */
     size_t len, at, cap;
     const dGeomID *geoms;
     int ngeoms;
     const dBodyID *bodies;
     int nbodies;
-    char where[48];      /* the record being transferred, for messages    */
-    char err[320];       /* the first error; empty while all is well      */
+    char where[48]; /* the record being transferred, for messages    */
+    char err[320];  /* the first error; empty while all is well      */
 } io;
 
 /* Note the first error: "<record>: <field><what>". */
@@ -313,8 +313,8 @@ static cloth_status check_args(dClothID c, const char *fn, const char *path, int
     return CLOTH_OK;
 }
 
-cloth_status dClothWriteState(dClothID c, const char *path, const dGeomID *geoms, int ngeoms,
-                              const dBodyID *bodies, int nbodies)
+cloth_status dClothWriteState(dClothID c, const char *path, const dGeomID *geoms, int ngeoms, const dBodyID *bodies,
+                              int nbodies)
 {
     cloth_status r = check_args(c, "dClothWriteState", path, ngeoms, nbodies);
     if (r != CLOTH_OK) return r;
@@ -334,8 +334,8 @@ cloth_status dClothWriteState(dClothID c, const char *path, const dGeomID *geoms
         uint64_t sum = s.err[0] ? 0 : fnv1a(s.buf, s.at);
         io_u64(&s, &sum, "checksum");
         if (s.err[0]) {
-            r = dcloth_fail(c, strcmp(s.err, "out of memory") ? CLOTH_EINVAL : CLOTH_ENOMEM,
-                            "dClothWriteState: %s", s.err);
+            r = dcloth_fail(c, strcmp(s.err, "out of memory") ? CLOTH_EINVAL : CLOTH_ENOMEM, "dClothWriteState: %s",
+                            s.err);
         } else {
             FILE *f = fopen(path, "wb");
             if (!f)
@@ -416,8 +416,8 @@ static void decode(io *s, dClothID c, dClothState *st)
                  ver == 1u ? "pin" : "pending force");
 }
 
-cloth_status dcloth_read_state(dClothID c, const char *name, const unsigned char *buf, size_t len,
-                               const dGeomID *geoms, int ngeoms, const dBodyID *bodies, int nbodies)
+cloth_status dcloth_read_state(dClothID c, const char *name, const unsigned char *buf, size_t len, const dGeomID *geoms,
+                               int ngeoms, const dBodyID *bodies, int nbodies)
 {
     io s;
     io_names(&s, geoms, ngeoms, bodies, nbodies);
@@ -441,8 +441,8 @@ cloth_status dcloth_read_state(dClothID c, const char *name, const unsigned char
     return r;
 }
 
-cloth_status dClothReadState(dClothID c, const char *path, const dGeomID *geoms, int ngeoms,
-                             const dBodyID *bodies, int nbodies)
+cloth_status dClothReadState(dClothID c, const char *path, const dGeomID *geoms, int ngeoms, const dBodyID *bodies,
+                             int nbodies)
 {
     cloth_status r = check_args(c, "dClothReadState", path, ngeoms, nbodies);
     if (r != CLOTH_OK) return r;

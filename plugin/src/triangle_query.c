@@ -65,8 +65,8 @@ static void barycentric(const double *const v[3], const double *p, double w[3])
 
 /* Triangle ts into q's shape, as ccdGJKPenetration answers (0: they overlap): by separating axes on a
  * polytope where a face decides it (polytope.c), else by libccd with ccd's tolerance */
-static int penetration(const convex_query *q, const tri_shape *ts, const ccd_t *ccd, ccd_real_t *depth,
-                       ccd_vec3_t *dir, ccd_vec3_t *pos)
+static int penetration(const convex_query *q, const tri_shape *ts, const ccd_t *ccd, ccd_real_t *depth, ccd_vec3_t *dir,
+                       ccd_vec3_t *pos)
 {
     int r = q->poly ? dcloth_polytope_query(q->poly, ts->v, ts->radius, depth, dir->v, pos->v) : 0;
     if (r) return r > 0 ? 0 : -1;
@@ -373,10 +373,8 @@ int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, cc
          * the higher holds the vertex */
         double fh = fl && over_face(q, face, ts.v[a]) ? dcloth_dot3(face, ts.v[a]) - fsup - t : -INFINITY;
         double plane = (clear || ahead) ? support : dcloth_dot3(n, pos.v);
-        if (fh >= above[a])
-            tri_vertex_contact(c, q, k, p[a], face, fmax(gap, fh), fsup, &pos, w[a], 1);
-        else
-            tri_vertex_contact(c, q, k, p[a], n, gap, plane, &pos, w[a], 0);
+        if (fh >= above[a]) tri_vertex_contact(c, q, k, p[a], face, fmax(gap, fh), fsup, &pos, w[a], 1);
+        else tri_vertex_contact(c, q, k, p[a], n, gap, plane, &pos, w[a], 0);
         hits += c->vc_new[p[a]].query == c->tri_query;
     }
     return hits;

@@ -12,17 +12,17 @@ typedef struct convex_query {
     const void *shape;
     ccd_support_fn support;
     ccd_center_fn center;
-    const double *face; /* a mesh triangle's outward unit normal, or NULL */
-    double out[3][3];   /* its edges' outward normals in its plane          */
+    const double *face;          /* a mesh triangle's outward unit normal, or NULL */
+    double out[3][3];            /* its edges' outward normals in its plane          */
     const unsigned char *convex; /* its edges' flags (mesh_convex)         */
-    double aabb[6];   /* the shape's, world frame */
-    double span;      /* its diagonal */
+    double aabb[6];              /* the shape's, world frame */
+    double span;                 /* its diagonal */
     dGeomID g;
     dBodyID body;
     const struct dcloth_surf *surf; /* the geom's mu and thickness this step */
-    int moving;       /* the geom moves more than SWEEP_NEGLIGIBLE per step */
-    int cls;          /* the geom's class (dTriMeshClass: face is set) */
-    const dcloth_polytope *poly; /* the shape as a polytope (an exact box), or NULL */
+    int moving;                     /* the geom moves more than SWEEP_NEGLIGIBLE per step */
+    int cls;                        /* the geom's class (dTriMeshClass: face is set) */
+    const dcloth_polytope *poly;    /* the shape as a polytope (an exact box), or NULL */
 } convex_query;
 
 /* libccd's support and centre of a cloth triangle grown by a radius (the query's second shape) */

@@ -29,8 +29,12 @@ int dcloth_triangle_contacts(dClothID c, const struct dcloth_surf *sf, double h)
     ccd.epa_tolerance = 1e-3 * t;
     ccd_t fine = ccd;
     fine.epa_tolerance = EPA_FINE * t;
-    convex_query q = {.shape = &gs, .support = dcloth_geom_support, .center = dcloth_geom_center,
-                      .g = g, .body = dGeomGetBody(g), .surf = sf};
+    convex_query q = {.shape = &gs,
+                      .support = dcloth_geom_support,
+                      .center = dcloth_geom_center,
+                      .g = g,
+                      .body = dGeomGetBody(g),
+                      .surf = sf};
     q.moving = dcloth_geom_speed(g) * h > SWEEP_NEGLIGIBLE * t; /* not ODE's jitter of a body at rest */
     q.cls = gs.cls;
     dcloth_polytope box;

@@ -2,7 +2,4 @@
 #include "odecloth/cloth.h"
 #include "odecloth/dcloth.h"
 
-const char *dClothGetVersion(void)
-{
-    return cloth_version();
-}
+const char *dClothGetVersion(void) { return cloth_version(); }

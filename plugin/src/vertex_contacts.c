@@ -64,7 +64,7 @@ static int closed_form(dGeomID g, const double *x, double *dist, double n[3])
             out = sqrt(out);
             for (int k = 0; k < 3; k++) q[k] /= out;
             *dist = out;
-        } else {         /* inside: out through the nearest face */
+        } else { /* inside: out through the nearest face */
             q[0] = q[1] = q[2] = 0.0;
             q[amax] = p[amax] >= 0.0 ? 1.0 : -1.0;
             *dist = qmax;
@@ -104,8 +104,7 @@ static int closed_form(dGeomID g, const double *x, double *dist, double n[3])
         to_world_dir(g, q, n);
         return 1;
     }
-    default:
-        return 0;
+    default: return 0;
     }
 }
 
@@ -116,7 +115,7 @@ static int heightfield_query(dClothID c, dGeomID g, const double *x, double reac
 {
     const dReal *R = dGeomGetRotation(g);
     double up[3] = {R[1], R[5], R[9]}; /* world image of local y */
-    double L = 2.0 * reach + 1.0;       /* start well above any bump the vertex sits in */
+    double L = 2.0 * reach + 1.0;      /* start well above any bump the vertex sits in */
     dGeomRaySet(c->ray, x[0] + L * up[0], x[1] + L * up[1], x[2] + L * up[2], -up[0], -up[1], -up[2]);
     dGeomRaySetLength(c->ray, L + reach);
     dContactGeom cg;

@@ -18,10 +18,7 @@ int dcloth_held_by_coupled(dClothID c, int i)
 
 /* The force (N) vertex i's contact exerted in the step, without its second
  * plane's (whose geom is static or kinematic: it takes no force) */
-void dcloth_first_force(cloth *core, int i, double f[3])
-{
-    cloth_get_contact_planes(core, i, NULL, NULL, f, NULL);
-}
+void dcloth_first_force(cloth *core, int i, double f[3]) { cloth_get_contact_planes(core, i, NULL, NULL, f, NULL); }
 
 double dcloth_vertex_force(dClothID c, int i, const double F[3], double wsum, double f[3])
 {
@@ -48,4 +45,3 @@ dBodyID dcloth_force_body(dClothID c, int i, const double f[3])
     if (nw->pinched && dcloth_dot3(f, nw->normal) < 0.0 && !dcloth_held_by_coupled(c, i)) return nw->opp_body;
     return nw->body;
 }
-

@@ -10,8 +10,8 @@
 int main(void)
 {
     char expected[32];
-    snprintf(expected, sizeof expected, "%d.%d.%d", ODECLOTH_VERSION_MAJOR,
-             ODECLOTH_VERSION_MINOR, ODECLOTH_VERSION_PATCH);
+    snprintf(expected, sizeof expected, "%d.%d.%d", ODECLOTH_VERSION_MAJOR, ODECLOTH_VERSION_MINOR,
+             ODECLOTH_VERSION_PATCH);
     const char *v = cloth_version();
     if (v == NULL || strcmp(v, expected) != 0) {
         fprintf(stderr, "cloth_version() = %s, header says %s\n", v ? v : "(null)", expected);

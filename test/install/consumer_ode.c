@@ -14,8 +14,7 @@ int main(void)
 
     const char *v = dClothGetVersion();
     if (v == NULL || strcmp(v, cloth_version()) != 0) {
-        fprintf(stderr, "dClothGetVersion() = %s, cloth_version() = %s\n",
-                v ? v : "(null)", cloth_version());
+        fprintf(stderr, "dClothGetVersion() = %s, cloth_version() = %s\n", v ? v : "(null)", cloth_version());
         return 1;
     }
     printf("odecloth ODE plugin %s\n", v);

@@ -94,7 +94,7 @@ typedef struct cloth_adaptive_desc {
     int max_substeps;        /* per frame, >= min_substeps                          */
     double cg_tolerance_min; /* range of the chosen CG tolerance, 0 < min <= max < 1 */
     double cg_tolerance_max;
-    double velocity_weight;  /* s, how long a velocity error counts as position
+    double velocity_weight; /* s, how long a velocity error counts as position
                                 error, > 0                                       */
     /* Called before every substep with its h (contacts, moving pins): set the
      * constraints there, on the cloth passed in (the shadow's substeps call
@@ -102,8 +102,8 @@ typedef struct cloth_adaptive_desc {
      * before it; on the shadow: the shadow is restarted). May be NULL. */
     int (*before_substep)(cloth *c, double h, void *user);
     void *user;
-    int global_estimate;     /* 1: run the shadow (see above); 0: local estimate only */
-    int allow_explicit;      /* 1: may step symplectic Euler where cheaper (needs
+    int global_estimate; /* 1: run the shadow (see above); 0: local estimate only */
+    int allow_explicit;  /* 1: may step symplectic Euler where cheaper (needs
                                 the shadow); 0: backward Euler only            */
 } cloth_adaptive_desc;
 

@@ -35,9 +35,9 @@ ODECLOTH_API const char *cloth_version(void);
 
 typedef enum cloth_status {
     CLOTH_OK = 0,
-    CLOTH_EINVAL,  /* a bad argument: NULL, NaN/inf, out of range      */
-    CLOTH_ENOMEM,  /* allocation failed or size overflows              */
-    CLOTH_ESTEP    /* the step failed and was rolled back (see stats)  */
+    CLOTH_EINVAL, /* a bad argument: NULL, NaN/inf, out of range      */
+    CLOTH_ENOMEM, /* allocation failed or size overflows              */
+    CLOTH_ESTEP   /* the step failed and was rolled back (see stats)  */
 } cloth_status;
 
 /* Short name of a status ("invalid argument", ...). Never NULL. */
@@ -58,18 +58,18 @@ typedef enum cloth_preset {
 } cloth_preset;
 
 typedef struct cloth_material {
-    double k_t;      /* N/m     sequential link stiffness in tension (d >= l0)     */
-    double k_c;      /* N/m     sequential link stiffness in compression (d < l0)   */
-    double k_b;      /* N/m     interlaced link bending stiffness                  */
-    double k_s;      /* N/m     spreading stiffness: resists unbending a crease    */
-    double alpha;    /* 1       plastic yield ratio d/l0, in [0, 1]; 0 = elastic   */
-    double delta;    /* 1       elongation limit: sequential links stretch <= delta */
-    double k_delta;  /* 1       stiffening past the limit: a sequential link longer
+    double k_t;         /* N/m     sequential link stiffness in tension (d >= l0)     */
+    double k_c;         /* N/m     sequential link stiffness in compression (d < l0)   */
+    double k_b;         /* N/m     interlaced link bending stiffness                  */
+    double k_s;         /* N/m     spreading stiffness: resists unbending a crease    */
+    double alpha;       /* 1       plastic yield ratio d/l0, in [0, 1]; 0 = elastic   */
+    double delta;       /* 1       elongation limit: sequential links stretch <= delta */
+    double k_delta;     /* 1       stiffening past the limit: a sequential link longer
                                 than (1 + delta) l0 adds k_delta k_t on the excess
                                 (0 = none; the projection alone holds delta)      */
-    double c_t;      /* N s/m   damping along sequential links                     */
-    double c_b;      /* N s/m   damping along interlaced links                     */
-    double density;  /* kg/m^2  areal density                                      */
+    double c_t;         /* N s/m   damping along sequential links                     */
+    double c_b;         /* N s/m   damping along interlaced links                     */
+    double density;     /* kg/m^2  areal density                                      */
     int plastic_memory; /* 0 (default, the paper's per-step rule, paper eq. 8-12):
                            a link pulled back above alpha l0 is elastic again,
                            rest l0. 1 (opt-in, ours): a link once plastic stays
@@ -97,7 +97,7 @@ typedef struct cloth_material {
     /* The crease law (ours: core/src/crease_law.c, docs/materials.md): a link's set fold angle stays within
      * 2 acos(alpha) of its fold; a hinge at its middle node resists unfolding in place of k_s. 0 (the default):
      * the rules above, bit for bit; > 0 needs tau_set, tau_recover, set_hardening 0 (plastic_memory unused). */
-    double k_crease;      /* N/m, >= 0: the hinge's stiffness, middle node
+    double k_crease; /* N/m, >= 0: the hinge's stiffness, middle node
                              against its ends' midpoint (cloth_fabric:
                              4 crease_stiffness / spacing)                     */
 } cloth_material;
@@ -140,24 +140,24 @@ typedef struct cloth_solver {
      * system's relative residual, S the constraint filter, and |y|_D^2 =
      * y^T D^-1 y with D the 3x3 diagonal blocks of the filtered matrix
      * (a block-diagonal-weighted norm, the same whatever the preconditioner). */
-    double cg_tolerance;          /* 1, in (0, 1)                         */
-    int cg_max_iterations;        /* >= 1; reaching it fails the step     */
-    int definiteness_rule;        /* 1: compressed links keep only k uu^T (paper
+    double cg_tolerance;         /* 1, in (0, 1)                         */
+    int cg_max_iterations;       /* >= 1; reaching it fails the step     */
+    int definiteness_rule;       /* 1: compressed links keep only k uu^T (paper
                                      sec. 3.2); CLOTH_LINEARIZED only (Newton's
                                      matrix is its potential's Hessian) */
-    int warm_start;               /* 1: start CG from last step's dv in free directions */
-    int strain_limit_iterations;  /* elongation-limit projection (Newton)
+    int warm_start;              /* 1: start CG from last step's dv in free directions */
+    int strain_limit_iterations; /* elongation-limit projection (Newton)
                                      steps after a step: the explicit
                                      methods' limit, and the implicit
                                      ones' safety net where their own
                                      multipliers did not converge; 0 = off */
-    double strain_fail;           /* 1, a step whose max sequential strain
+    double strain_fail;          /* 1, a step whose max sequential strain
                                      exceeds this after limiting fails    */
-    int max_substep_halvings;     /* a failed step is retried in substeps
+    int max_substep_halvings;    /* a failed step is retried in substeps
                                      h/2, h/4, ... h/2^this (0 = no retry;
                                      in [0, 16], default 4); see
                                      cloth_step */
-    int newton_iterations;        /* in [0, 256], default 16. CLOTH_LINEARIZED:
+    int newton_iterations;       /* in [0, 256], default 16. CLOTH_LINEARIZED:
                                      with rigid bodies solved with the cloth
                                      (cloth_body), at most this many Newton
                                      corrections of a step in which a
@@ -196,14 +196,14 @@ typedef struct cloth_solver {
      * projection above acting only where they did not converge. Design
      * and measurements: docs/newton.md. */
     cloth_nonlinear nonlinear;
-    double newton_tolerance;      /* m/s, > 0 (default 1e-2)              */
-    double newton_rtol;           /* 1, in [0, 1) (default 1e-2): the warm
+    double newton_tolerance;    /* m/s, > 0 (default 1e-2)              */
+    double newton_rtol;         /* 1, in [0, 1) (default 1e-2): the warm
                                      start kept unsolved only within this
                                      fraction of its velocity change, so a
                                      force too weak for newton_tolerance
                                      still acts                           */
-    double limit_tolerance;       /* 1, in (0, 1) (default 1e-3)          */
-    double newton_cg_tolerance;   /* 1, in (0, 1) (default 1e-2): CLOTH_NEWTON's
+    double limit_tolerance;     /* 1, in (0, 1) (default 1e-3)          */
+    double newton_cg_tolerance; /* 1, in (0, 1) (default 1e-2): CLOTH_NEWTON's
                                      linear solves stop here, in cg_tolerance's
                                      norm (which they do not use): an
                                      inexact Newton step, the next
@@ -212,7 +212,7 @@ typedef struct cloth_solver {
                                      constraints landed or, if smaller, the
                                      one before (but not below a residual of
                                      newton_tolerance's size)              */
-    double newton_cg_share;       /* 1, in [0, 1) (default 0.25): while a
+    double newton_cg_share;     /* 1, in [0, 1) (default 0.25): while a
                                      Newton step is larger than its goal
                                      (newton_tolerance), its linear solves
                                      also stop once their error, estimated
@@ -221,7 +221,7 @@ typedef struct cloth_solver {
                                      (not with bodies in the solve; the
                                      plugin turns it off while a dynamic
                                      body holds the cloth); 0: off        */
-    int keep_unconverged;         /* 0 (default) or 1. CLOTH_NEWTON: 1 keeps
+    int keep_unconverged;       /* 0 (default) or 1. CLOTH_NEWTON: 1 keeps
                                      the last iterate of a solve that runs
                                      out of newton_iterations at the
                                      smallest substep instead of failing
@@ -234,12 +234,12 @@ ODECLOTH_API cloth_status cloth_solver_validate(const cloth_solver *s, cloth_err
 /* ------------------------------------------------------------------ cloth */
 
 typedef struct cloth_desc {
-    int rows, cols;        /* nodes along axis_v and axis_u; each >= 3          */
-    double width, height;  /* m, extent along axis_u (cols) and axis_v (rows)   */
-    double origin[3];      /* m, rest position of node (0, 0)                   */
-    double axis_u[3];      /* direction of increasing column (normalised)       */
-    double axis_v[3];      /* direction of increasing row (made orthogonal to u) */
-    double gravity[3];     /* m/s^2                                             */
+    int rows, cols;       /* nodes along axis_v and axis_u; each >= 3          */
+    double width, height; /* m, extent along axis_u (cols) and axis_v (rows)   */
+    double origin[3];     /* m, rest position of node (0, 0)                   */
+    double axis_u[3];     /* direction of increasing column (normalised)       */
+    double axis_v[3];     /* direction of increasing row (made orthogonal to u) */
+    double gravity[3];    /* m/s^2                                             */
     cloth_material material;
     cloth_solver solver;
 } cloth_desc;
@@ -323,11 +323,11 @@ typedef enum cloth_link_type {
 } cloth_link_type;
 
 typedef struct cloth_link {
-    int i, j;         /* vertex indices, i < j                 */
-    double rest;      /* m, l0                                 */
-    int plastic;      /* interlaced: 1 in the plastic region; sequential:
+    int i, j;    /* vertex indices, i < j                 */
+    double rest; /* m, l0                                 */
+    int plastic; /* interlaced: 1 in the plastic region; sequential:
                          1 when it carries a tension set (tension_yield) */
-    double l1;        /* m, plastic rest length (valid when plastic); a
+    double l1;   /* m, plastic rest length (valid when plastic); a
                          sequential link's is its rest length in use    */
 } cloth_link;
 
@@ -369,9 +369,9 @@ ODECLOTH_API double cloth_max_strain(const cloth *c);
  * A moving pin: set a new target before every step. */
 typedef struct cloth_constraint {
     int vertex;
-    int ndof;          /* 1, 2 or 3; 0 = free */
-    double axis[3];    /* unit vector (normalised on set)  */
-    double target[3];  /* m, end-of-step position          */
+    int ndof;         /* 1, 2 or 3; 0 = free */
+    double axis[3];   /* unit vector (normalised on set)  */
+    double target[3]; /* m, end-of-step position          */
 } cloth_constraint;
 
 /* One constraint per vertex; setting replaces the vertex's constraint. */
@@ -438,14 +438,14 @@ ODECLOTH_API cloth_status cloth_constraint_force(const cloth *c, int vertex, dou
  * substeps (max_substep_halvings) carries each body's du from substep to
  * substep and reports their sum. */
 typedef struct cloth_body {
-    double mass;       /* kg, > 0 */
-    double inertia[9]; /* kg m^2, about the centre of mass in world axes,
+    double mass;        /* kg, > 0 */
+    double inertia[9];  /* kg m^2, about the centre of mass in world axes,
                           symmetric positive definite (row-major) */
-    double com[3];     /* m, centre of mass at the start of the step */
-    double force[3];   /* N, everything but the cloth acting on the body
+    double com[3];      /* m, centre of mass at the start of the step */
+    double force[3];    /* N, everything but the cloth acting on the body
                           during the step (gravity, the user's forces) */
-    double torque[3];  /* N m, about com, likewise */
-    double velocity[6];/* m/s then rad/s (about com): the body's velocity at
+    double torque[3];   /* N m, about com, likewise */
+    double velocity[6]; /* m/s then rad/s (about com): the body's velocity at
                           the start of the step, which bounds the work an
                           inexact Newton step does on it (zeros: at rest) */
 } cloth_body;
@@ -469,12 +469,12 @@ ODECLOTH_API cloth_status cloth_body_velocity_change(const cloth *c, int index, 
 
 typedef enum cloth_failure {
     CLOTH_FAIL_NONE = 0,
-    CLOTH_FAIL_NAN,            /* NaN or inf appeared                      */
-    CLOTH_FAIL_CG_MAX_ITER,    /* CG hit its iteration cap unconverged     */
-    CLOTH_FAIL_CG_INDEFINITE,  /* CG met p^T A p <= 0 (non-positive curvature) */
-    CLOTH_FAIL_STRAIN,         /* strain past solver.strain_fail           */
-    CLOTH_FAIL_BAD_STEP,       /* h not finite or <= 0                     */
-    CLOTH_FAIL_NEWTON          /* Newton not converged in newton_iterations */
+    CLOTH_FAIL_NAN,           /* NaN or inf appeared                      */
+    CLOTH_FAIL_CG_MAX_ITER,   /* CG hit its iteration cap unconverged     */
+    CLOTH_FAIL_CG_INDEFINITE, /* CG met p^T A p <= 0 (non-positive curvature) */
+    CLOTH_FAIL_STRAIN,        /* strain past solver.strain_fail           */
+    CLOTH_FAIL_BAD_STEP,      /* h not finite or <= 0                     */
+    CLOTH_FAIL_NEWTON         /* Newton not converged in newton_iterations */
 } cloth_failure;
 
 ODECLOTH_API const char *cloth_failure_string(cloth_failure f);
@@ -489,36 +489,36 @@ typedef struct cloth_step_stats {
     cloth_energy energy;   /* after the step (before it, if it failed) */
     double max_strain;     /* after strain limiting                    */
     int plastic_links;
-    int constrained;       /* constrained vertices                    */
-    int strain_limited;    /* sequential links corrected by the limit,
+    int constrained;             /* constrained vertices                    */
+    int strain_limited;          /* sequential links corrected by the limit,
                               summed over the substeps                */
-    int substeps;          /* substeps of the committed step (1: taken
+    int substeps;                /* substeps of the committed step (1: taken
                               whole, else 2^halvings); on failure, those
                               the last attempt reached                 */
-    int halvings;          /* retries: times the substep was halved (0 if
+    int halvings;                /* retries: times the substep was halved (0 if
                               the whole step succeeded)               */
-    int substeps_failed;   /* failed attempts: the whole step, then one
+    int substeps_failed;         /* failed attempts: the whole step, then one
                               per substep size that failed             */
     cloth_failure first_failure; /* why the whole step failed before the
                               retries (NONE if it did not)             */
-    int newton;            /* Newton iterations, over every attempt    */
-    double newton_residual;/* m/s, the last attempt's final residual
+    int newton;                  /* Newton iterations, over every attempt    */
+    double newton_residual;      /* m/s, the last attempt's final residual
                               size (solver.newton_tolerance's norm)   */
-    double newton_goal;    /* m/s, the size that attempt had to reach
+    double newton_goal;          /* m/s, the size that attempt had to reach
                               (newton_tolerance; less when it kept its
                               warm start unsolved)                    */
-    int limit_updates;     /* updates of the elongation limit's
+    int limit_updates;           /* updates of the elongation limit's
                               multipliers, over every attempt          */
-    int line_search_cuts;  /* Newton iterations whose full step the
+    int line_search_cuts;        /* Newton iterations whose full step the
                               line search shortened                   */
-    int unconverged;       /* Newton solves kept unconverged: solves of
+    int unconverged;             /* Newton solves kept unconverged: solves of
                               the smallest substep (see cloth_step) that
                               ran out of newton_iterations            */
-    int contacts_decided;  /* contacts (cloth_set_contact) the Newton
+    int contacts_decided;        /* contacts (cloth_set_contact) the Newton
                               step changed: free vertices held on the
                               surface, sticking ones let slide; over
                               every attempt                           */
-    int self_contact_dropped; /* smallest substeps that the self-contact
+    int self_contact_dropped;    /* smallest substeps that the self-contact
                               barrier (odecloth/selfcollision.h) could
                               not take: taken without it, their pairs
                               left to the pass after the step         */

@@ -58,32 +58,32 @@ extern "C" {
 #define CLOTH_FABRIC_GRAVITY 9.81
 
 typedef struct cloth_fabric {
-    double tensile;        /* N/m   > 0: membrane stiffness along a thread
+    double tensile;          /* N/m   > 0: membrane stiffness along a thread
                                     direction, the cross direction held
                                     (stress per unit width / strain)       */
-    double bending;        /* N m   > 0: bending rigidity B per unit width
+    double bending;          /* N m   > 0: bending rigidity B per unit width
                                     (KES-F B; ASTM D1388: B = w g c^3)     */
-    double density;        /* kg/m^2 > 0: weight per area                  */
-    double compression;    /* 1     > 0: k_c / k_t, compression softness   */
-    double alpha;          /* 1     in [0, 1]: plastic yield ratio d/l0 of
+    double density;          /* kg/m^2 > 0: weight per area                  */
+    double compression;      /* 1     > 0: k_c / k_t, compression softness   */
+    double alpha;            /* 1     in [0, 1]: plastic yield ratio d/l0 of
                                     the interlaced links (0 = elastic)     */
-    double spreading;      /* 1     >= 0: k_s / k_b                        */
-    double delta;          /* 1     > 0: elongation limit                  */
-    double k_delta;        /* 1     >= 0: stiffening past the limit, as
+    double spreading;        /* 1     >= 0: k_s / k_b                        */
+    double delta;            /* 1     > 0: elongation limit                  */
+    double k_delta;          /* 1     >= 0: stiffening past the limit, as
                                     cloth_material.k_delta                 */
-    double tau_tension;    /* s     >= 0: c_t = tau_tension k_t            */
-    double tau_bending;    /* s     >= 0: c_b = tau_bending k_b            */
-    double bend_curvature; /* 1/m   >= 0: kappa_ref, where the bending
+    double tau_tension;      /* s     >= 0: c_t = tau_tension k_t            */
+    double tau_bending;      /* s     >= 0: c_b = tau_bending k_b            */
+    double bend_curvature;   /* 1/m   >= 0: kappa_ref, where the bending
                                     energy equals B kappa^2 / 2; 0 = the
                                     cantilever's, eta / bending length     */
-    double tau_set;        /* s     >= 0: passed through (cloth_material's
+    double tau_set;          /* s     >= 0: passed through (cloth_material's
                                     time-dependent plastic law; 0 in the
                                     presets: the paper's rule)             */
-    double tau_recover;    /* s     >= 0: passed through, likewise         */
-    double set_hardening;  /* 1     in [0, 1]: passed through, likewise    */
-    double tension_yield;  /* 1     in [0, delta]: passed through (cloth_material's
+    double tau_recover;      /* s     >= 0: passed through, likewise         */
+    double set_hardening;    /* 1     in [0, 1]: passed through, likewise    */
+    double tension_yield;    /* 1     in [0, delta]: passed through (cloth_material's
                                     tension plasticity; 0 in the presets: off) */
-    double tension_set;    /* 1     in [0, 1]: passed through, likewise    */
+    double tension_set;      /* 1     in [0, 1]: passed through, likewise    */
     double crease_stiffness; /* N (N m/m per radian) >= 0: the crease law's
                                     moment per length of crease per radian
                                     near flat; 0 = off (the presets)       */

@@ -113,41 +113,41 @@ ODECLOTH_API cloth_status dClothSetFailureMode(dClothID c, dClothFailureMode mod
 ODECLOTH_API cloth_status dClothWorldStep(dWorldID world, dClothID *cloths, int n, dReal h, int quick);
 
 typedef struct dClothStepStats {
-    cloth_step_stats core;   /* iterations, residual, energy, strain, failure */
-    int contacts;            /* vertices with a contact constraint            */
-    int sticking;            /* of which sticking (friction within mu N)      */
-    int released;            /* contacts released because they pulled         */
-    int pins;                /* pinned vertices                               */
-    int resolves;            /* extra solves: free vertices that ended inside
+    cloth_step_stats core;           /* iterations, residual, energy, strain, failure */
+    int contacts;                    /* vertices with a contact constraint            */
+    int sticking;                    /* of which sticking (friction within mu N)      */
+    int released;                    /* contacts released because they pulled         */
+    int pins;                        /* pinned vertices                               */
+    int resolves;                    /* extra solves: free vertices that ended inside
                                 their shell were held and the step redone     */
-    int late_contacts;       /* vertices the contact search had not reached at
+    int late_contacts;               /* vertices the contact search had not reached at
                                 the step's start that ended inside a shell:
                                 contacts from then on (each such solve is
                                 one of the resolves)                          */
-    int candidates;          /* geoms whose AABB met the cloth's              */
-    int triangle_contacts;   /* vertex contacts set by cloth-triangle tests
+    int candidates;                  /* geoms whose AABB met the cloth's              */
+    int triangle_contacts;           /* vertex contacts set by cloth-triangle tests
                                 (box, capsule, cylinder, via libccd)          */
-    dReal max_penetration;   /* m, deepest vertex inside its thickness shell,
+    dReal max_penetration;           /* m, deepest vertex inside its thickness shell,
                                 by its own distance, before the step (0 if
                                 none)                                         */
-    double seconds_contacts; /* s, wall time finding contacts (broad + narrow) */
-    double seconds_total;    /* s, wall time of the whole dClothStep           */
-    int sleeping;            /* 1: the cloth slept through this step (no solve;
+    double seconds_contacts;         /* s, wall time finding contacts (broad + narrow) */
+    double seconds_total;            /* s, wall time of the whole dClothStep           */
+    int sleeping;                    /* 1: the cloth slept through this step (no solve;
                                 see dClothSetAutoSleep); the other fields are
                                 then those of the last step it was solved,
                                 but the timings                               */
-    int held;                /* 1: the solve failed and the cloth was stopped
+    int held;                        /* 1: the solve failed and the cloth was stopped
                                 where it was (DCLOTH_FAILURE_HOLD)            */
-    int newton_all;          /* Newton iterations of all the step's solves
+    int newton_all;                  /* Newton iterations of all the step's solves
                                 (core.newton is the last solve's)             */
-    int cg_all;              /* CG iterations of all the step's solves        */
-    int edge_contacts;       /* vertex contacts set by the links' tests against
+    int cg_all;                      /* CG iterations of all the step's solves        */
+    int edge_contacts;               /* vertex contacts set by the links' tests against
                                 the edges of boxes, trimeshes and convexes
                                 whose triangle tests are off                  */
-    double turned[3];        /* N m s: the angular momentum the rigid turn took
+    double turned[3];                /* N m s: the angular momentum the rigid turn took
                                 out of the cloth and its moving holders (the
                                 part no force explains: docs/contacts.md)     */
-    double couple[3];        /* N m: the couple the moving holders got for
+    double couple[3];                /* N m: the couple the moving holders got for
                                 what that turn could not take, each its
                                 constraints' share of it                      */
     double self_contact_seconds_all; /* s, wall time of the cloth's self-contact
