@@ -347,8 +347,8 @@ int main(void)
     /* A step that fails whole, retried in substeps: the CG capped at 80
      * iterations, which the first step needs more of at h and fewer at
      * h/16. The body's du must carry from substep to substep (the targets of
-     * its vertices and the reported du): momentum then holds as above.
-     * (Measured without the carrying: momentum off by 1.16 |P0|.) */
+     * its vertices and the reported du): momentum then holds as above;
+     * without the carrying it does not. */
     int f0 = light_body_thrown(20, 1.0, 0, 0.05, 80, CLOTH_LINEARIZED);
     int f4 = light_body_thrown(20, 1.0, 4, 0.05, 80, CLOTH_LINEARIZED);
     CHECK(f0 == 0, "CG capped, without the retry: the first step should fail (failed at %d)", f0);

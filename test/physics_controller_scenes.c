@@ -1,5 +1,5 @@
 /* Physics: the accuracy-driven controller (cloth_adaptive_*, core/src/adaptive.c)
- * on three scenes unlike the swing and sphere it was tuned on
+ * on three scenes unlike the swing and sphere it is tuned on
  * (examples/bench_workprecision.c, k_t 200 N/m). Elastic cotton, 1 m square,
  * 0.2 kg, 15x15, damping 2.5x the preset's as on the chart (x sqrt(10) at k_t
  * 20000 N/m: the same damping ratio):
