@@ -141,10 +141,9 @@ static void run(int newton_iterations, double *strain_out, double *away_out, dou
         cloth_destroy(c);
         return;
     }
-    /* tensions t >= 0 on the links at the limit with r = sum_e t_e g_e
-     * (g_e: +u_e at i, -u_e at j, the pull of a stretched link, times h,
-     * folded into t), fitted by projected gradient descent on |G t - r|^2
-     * over the free rows */
+    /* tensions t >= 0 on the links at the limit with r = sum_e t_e g_e (g_e: +u_e at i, -u_e at j, the pull of a
+     * stretched link, times h, folded into t), fitted by projected gradient descent on |G t - r|^2 over the free
+     * rows */
     static double t[4 * NV], gu[4 * NV][3];
     double res[3 * NV];
     for (int k = 0; k < nat; k++) {
