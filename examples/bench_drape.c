@@ -17,7 +17,7 @@
  *   variant names the solver: linearized, newton, step-newton, ...).
  * Columns: wall and CPU seconds of the steps, failed and substepped steps,
  * steps that kept an unconverged Newton iterate (unc; near the CSV's end,
- * before the preconditioner, --precond),
+ * ahead of the preconditioner, --precond),
  * Newton iterations and CG iterations per step (the core's counts; the
  * plugin reports its last solve's), strain over the sequential links at the
  * end (p99, max) and over the run, the deepest vertex inside the sphere (the

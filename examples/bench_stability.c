@@ -415,13 +415,12 @@ static int theory_check(double c_t)
 
 /* --check at the demo's resolution, 21x21: the same scene over the whole h
  * range (13 h from 1/2000 to 1/10 s, also in --fast; T as the map's),
- * backward Euler with the rule at k_t = 2000. Measured: stable up to
- * 1/38 s; from 1/24 s the first step from the 20%-compressed start
- * fails by strain (at 1/10 the linearised step stretches a link to 21
- * times its length, too far for the elongation limit's projection),
- * never a later one, and with the step's substep retry (the library's
- * default, 4 halvings, off in this chart) the first step is taken in
- * substeps and the run is stable to the end. Checked: every h <= 1/30 s
+ * backward Euler with the rule at k_t = 2000. At the largest h the first
+ * step from the 20%-compressed start fails by strain (the linearised step
+ * stretches links too far for the elongation limit's projection), never a
+ * later one, and with the step's substep retry (the library's default, 4
+ * halvings, off in this chart) the first step is taken in substeps and the
+ * run is stable to the end (docs/benchmarks.md). Checked: every h <= 1/30 s
  * stable without retry; elsewhere failures only on the first step,
  * and none with the retry. Returns 1 on failure. */
 static int check_21(double T)

@@ -13,8 +13,7 @@
  * damping (c_t / k_t = 2.5e-4 s); --cotton, the preset itself (k_t 2000 N/m,
  * c_t / k_t = 1e-5 s) at 21x21 and 41x41, the swing 1 s (later the swing
  * amplifies every error about 8x per 0.25 s, and no reference within reach
- * converges: at 2 s symplectic Euler at 1/98304 moves 0.22 mm when its h is
- * halved), with more series: the Newton step
+ * converges, docs/benchmarks.md), with more series: the Newton step
  * (CLOTH_NEWTON) converged to 1e-4 m/s and cut to one iteration (the
  * iterate kept unconverged), and backward Euler with each preconditioner.
  * Reference: BDF2 (the swing) or backward Euler (the sphere: BDF2 does not
@@ -391,9 +390,7 @@ typedef struct reference {
  * BDF2. The sphere: backward Euler, as BDF2 does not converge through the
  * contacts: a vertex stopped by its plane constraint keeps, in BDF2's
  * x_n - x_{n-1}, the step before the contact, an error of the size of that
- * step's motion at every contact event, whatever h (measured: halving h_ref
- * moved the BDF2 reference by 2.7 mm at 0.25 s while explicit, symplectic
- * and backward Euler all converged to a common limit 2.1 mm from it).
+ * step's motion at every contact event, whatever h (docs/benchmarks.md).
  * Symplectic Euler (method given) for --cotton: see family_reference. */
 static reference make_reference(const config *cf, int scene, cloth_method m, double hz)
 {

@@ -16,8 +16,8 @@
  *
  * The same with ODE's box geom as the table (vertex and libccd triangle
  * contacts), lifted off over its edges, at cotton's own bending and the
- * paper's rule (what it tested before the drapes' defaults changed; with
- * them, alpha 1 reaches strain 0.0305 in the short run):
+ * paper's rule (at the drapes' defaults alpha 1 goes past the strain bound
+ * in the short run, docs/demos.md):
  * Test demo_drape_table_box in test/CMakeLists.txt.
  *
  * The fabric cotton in physical units (--fabric), taken off by two corners

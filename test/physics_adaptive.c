@@ -405,10 +405,9 @@ static void global_estimate_against_reference(void)
     free(ref2);
 }
 
-/* Found in review: (1) the shadow's solver set by hand skipped the
- * multigrid levels cloth_set_solver builds, so a cloth switched to multigrid
- * after the controller was made crashed it; (2) rounding the substeps even
- * for the shadow left the user's range (min = max = 3 ran 2 and 4). */
+/* (1) A cloth switched to multigrid after the controller is made steps: the
+ * shadow's solver needs the levels cloth_set_solver builds; (2) the substeps
+ * stay in the user's range (min = max = 3 runs 3), not rounded to even. */
 static void review_cases(void)
 {
     cloth *c = make_cloth(1);

@@ -12,7 +12,7 @@
  *    work, damping and the projection take it out), so the allowance only
  *    covers round-off and a multistep method's energy not falling at every
  *    step; a blow-up passes it by orders of magnitude. With dx / (2h/3) and
- *    BDF2's history left as it was, four of these cells blow up.
+ *    BDF2's history left unprojected, four of these cells blow up.
  * 2. A closed form: a 3x3 cloth with no forces at all (k_t 1e-12, no
  *    damping, bending or gravity), its first row pinned and the other rows
  *    moving away at 0.07 m/s. The projection stops each row where its link

@@ -344,11 +344,8 @@ int main(void)
     CHECK(light_body_thrown(0, 1.0, 0, 0.05, 0, CLOTH_LINEARIZED) < 0, "thrown, elongation limit off: a step failed");
     CHECK(light_body_thrown(20, 1.0, 0, 0.05, 0, CLOTH_LINEARIZED) < 0, "thrown, elongation limit on: a step failed");
     CHECK(light_body_thrown(0, 1.0, 0, 0.05, 0, CLOTH_NEWTON) < 0, "by Newton, limit off: a step failed");
-    /* A step that fails whole, retried in substeps: the CG capped at 80
-     * iterations, which the first step needs more of at h and fewer at
-     * h/16. The body's du must carry from substep to substep (the targets of
-     * its vertices and the reported du): momentum then holds as above.
-     * (Measured without the carrying: momentum off by 1.16 |P0|.) */
+    /* A step that fails whole at h (CG capped at 80 iterations), retried in substeps of h/16: the body's du must
+     * carry from substep to substep (its vertices' targets and the reported du) for momentum to hold as above. */
     int f0 = light_body_thrown(20, 1.0, 0, 0.05, 80, CLOTH_LINEARIZED);
     int f4 = light_body_thrown(20, 1.0, 4, 0.05, 80, CLOTH_LINEARIZED);
     CHECK(f0 == 0, "CG capped, without the retry: the first step should fail (failed at %d)", f0);

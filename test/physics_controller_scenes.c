@@ -1,5 +1,5 @@
 /* Physics: the accuracy-driven controller (cloth_adaptive_*, core/src/adaptive.c)
- * on three scenes unlike the swing and sphere it was tuned on
+ * on three scenes unlike the swing and sphere it is tuned on
  * (examples/bench_workprecision.c, k_t 200 N/m). Elastic cotton, 1 m square,
  * 0.2 kg, 15x15, damping 2.5x the preset's as on the chart (x sqrt(10) at k_t
  * 20000 N/m: the same damping ratio):
@@ -14,8 +14,8 @@
  *          plucked across (up to 1 m/s at the bottom, a half sine along the
  *          width); 0.5 s.
  * The lengths and the damping keep the scenes predictable: with the preset's
- * damping, fixed steps of 1/30720 and 1/61440 s stopped converging after
- * 1/6-1/2 s, the stiff scene before 1/6 s (with k_c = k_t it converged: links
+ * damping, fixed steps of 1/30720 and 1/61440 s stop converging after
+ * 1/6-1/2 s, the stiff scene before 1/6 s (with k_c = k_t it converges: links
  * ringing about their rest length, where the stiffness jumps k_c -> k_t).
  *
  * Reference: symplectic Euler at 1/61440 s; its RMS difference to 1/30720 s

@@ -1,6 +1,6 @@
 /* Physics: ASTM D1388's cantilever test, simulated with the core alone, gives
- * each fabric preset's bending length c = (B / (w g))^(1/3) within 5% (the
- * issue asks 10%), at two grid resolutions. The bending length goes as the
+ * each fabric preset's bending length c = (B / (w g))^(1/3) within 5%, at
+ * two grid resolutions. The bending length goes as the
  * fifth root of the model's bending modulus, so this is a coarse check of
  * the derivation's factors (physics_fabric_energy is the fine one); 5%
  * fails eta 1.0 instead of 1.1349 (+5.6 to +7.1%).

@@ -7,8 +7,8 @@
  * (6, 0, -6) m/s with its centre of mass 0.2 m off the held vertex; in one
  * step of 1/60 s the links around the centre go far past the limit (0.32
  * without corrections). With the k_delta law alone the converged step
- * leaves them past it (strain 0.030296, measured before the multipliers:
- * the first and third checks below then fail);
+ * leaves them past it (without the multipliers the first and third checks
+ * below fail);
  * with the limit held as a constraint (its multipliers updated once the
  * corrections converge, the step corrected again) the step ends with
  *   - every sequential link within (1 + delta) l0 (to 1e-5 of it), measured
@@ -141,10 +141,9 @@ static void run(int newton_iterations, double *strain_out, double *away_out, dou
         cloth_destroy(c);
         return;
     }
-    /* tensions t >= 0 on the links at the limit with r = sum_e t_e g_e
-     * (g_e: +u_e at i, -u_e at j, the pull of a stretched link, times h,
-     * folded into t), fitted by projected gradient descent on |G t - r|^2
-     * over the free rows */
+    /* tensions t >= 0 on the links at the limit with r = sum_e t_e g_e (g_e: +u_e at i, -u_e at j, the pull of a
+     * stretched link, times h, folded into t), fitted by projected gradient descent on |G t - r|^2 over the free
+     * rows */
     static double t[4 * NV], gu[4 * NV][3];
     double res[3 * NV];
     for (int k = 0; k < nat; k++) {

@@ -21,12 +21,9 @@
  *     force balance below are about the same statement of "at rest";
  *   - over the last 2 s, the sum of the two pin forces (cloth_constraint_
  *     force) balances the weight: |F_1 + F_2 + M g| <= 0.01 M |g|.
- * How long: measured with this core, the kinetic energy's envelope decays
- * by about 2x every 2.3 s after the first swing (backward Euler's numerical
- * damping plus 1% link damping); the largest kinetic energy in 2-s windows
- * ending at 10, 20, 26 and 30 s was 1.2e-2, 4.0e-4, 6.8e-5 and 1.9e-5 of the
- * peak, and the pin-force imbalance 6.8%, 1.4%, 0.55% and 0.31%. So 10 s is
- * not enough; 30 s leaves a factor of 3-5 on both bounds.
+ * How long: the kinetic energy's envelope decays by about 2x every 2.3 s
+ * after the first swing (backward Euler's numerical damping plus 1% link
+ * damping), so 10 s is not enough and 30 s leaves a margin on both bounds.
  */
 #include <math.h>
 #include <stdlib.h>

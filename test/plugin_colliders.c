@@ -23,11 +23,11 @@
  *                A exp(-r^2 / s^2), A = 8 cm, s = 0.3 m, over flat ground
  *                z = 0 (ODE heightfields are y-up: turned +90 deg about x)
  * Why a 0.6 m box and not a smaller one: over a 0.4 m box the default cotton
- * came to rest tented, the middle of the top 10-16 mm from the surface (the
- * thickness is 5 mm), held up by the cloth itself (measured: the internal
- * forces on those vertices balance their weight to 1e-4 of it, with no
- * contact force on them). That is the cloth model's stiffness, not contact
- * handling, so it is not what this test is about.
+ * comes to rest tented, the middle of the top several thicknesses from the
+ * surface, held up by the cloth itself (the internal forces on those
+ * vertices balance their weight, with no contact force on them). That is the
+ * cloth model's stiffness, not contact handling, so it is not what this test
+ * is about.
  *
  * Every vertex's signed distance to the geom's surface is computed here,
  * independently of the plugin, from the dimensions and placement this test
@@ -61,8 +61,8 @@
  *     curved with radius rho (the surface's, plus the thickness) rides up to
  *     r^2 / (2 rho) higher, r = 3.5 cm the circumradius of a cloth triangle
  *     (half a 5 cm cell's diagonal): 2.05 mm on the sphere, 4.0 mm on the
- *     capsule (rho 0.155 m; an upper bound: it curves one way only, 2.0 mm
- *     measured), 1.1 mm on the heightfield's bump (rho = s^2 / (2 A)); 0 on
+ *     capsule (rho 0.155 m; an upper bound: it curves one way only),
+ *     1.1 mm on the heightfield's bump (rho = s^2 / (2 A)); 0 on
  *     the flat tops;
  *   - over the last WINDOW = 0.5 s the vertical contact forces on the cloth
  *     (dClothGetContactForce), averaged, carry its weight to 1%: at rest the
@@ -584,9 +584,8 @@ static void check_rest(const char *name, const dClothDesc *d, const figures *f, 
     CHECK(f->max_pen <= PEN_STATS_FRAC * th, "%s: stats: max_penetration %.3g mm > %.3g mm", name, 1e3 * f->max_pen,
           1e3 * PEN_STATS_FRAC * th);
     /* no edge or corner through a triangle, at any step checked (every
-     * third). The trimesh box's passed through (0 mm, measured) while a mesh
-     * had vertex contacts only; its triangles now meet the cloth's as prisms
-     * (triangles.c), closest 4.87 mm at impact. */
+     * third): a mesh's triangles meet the cloth's as prisms (triangles.c),
+     * which vertex contacts alone would not keep out. */
     CHECK(f->edge > 0.0, "%s: an edge or corner of the geom passes through a cloth triangle (step %d)", name,
           f->edge_step);
 }

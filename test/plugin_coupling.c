@@ -275,11 +275,9 @@ static void slider(void)
 
 /* A light body thrown with the cloth (0.5 kg, the cloth 0.2 kg) runs here:
  * the body is solved with the cloth (cloth_body), which explicit coupling
- * could not do (it failed at step 5). The box resting on the cloth (1.) was
- * its own test, Disabled while changes of the contact set under it kicked
- * it to 1-15 mm/s (pin forces to 15%); the triangle contacts' geometry
- * refined within the shell (plugin/src/triangles.c) settled it: 0.16%,
- * 0.34 mm/s. */
+ * cannot do. The box resting on the cloth (1.) needs the triangle contacts'
+ * geometry refined within the shell (plugin/src/triangles.c): without it,
+ * changes of the contact set under the box kick it. */
 int main(void)
 {
     dInitODE2(0);

@@ -182,9 +182,8 @@ int main(void)
             destroy(&c);
         }
     }
-    /* 3. dClothSave / dClothRestore: the whole cloth (core and plugin
-     * history) and the body saved at step 80, the run taken on to 160 with
-     * a detour (the cloth's gravity tilted for 20 steps, then back, so the history
+    /* 3. dClothSave / dClothRestore: the whole cloth (core and plugin history) and the body saved at step 80, the
+     * run taken on to 160 with a detour (the cloth's gravity tilted for 20 steps, then back, so the history
      * changes), restored, run again to 160: bitwise the first run */
     {
         run d;

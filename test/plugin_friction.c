@@ -216,11 +216,9 @@ static void slope_tests(double mu)
     CHECK(above.ok && above.moved > SLIDE, "mu %.2f, theta = 1.05 atan(mu): the cloth moved %.3g m (<= %.3g)", mu,
           above.moved, SLIDE);
 
-    /* sweep 0.70 ... 1.30 atan(mu) by 0.02: below the first angle where the
-     * cloth does not stay put, it stays put at every angle (that is the
-     * definition); above it, it must slide at every angle (one transition,
-     * not a creep that starts early or a stick that comes back); then bisect
-     * between the last angle that stays and the first that does not */
+    /* sweep 0.70 ... 1.30 atan(mu) by 0.02: below the first angle where the cloth does not stay put, it stays put
+     * at every angle (the definition); above it, it must slide at every angle (one transition, not a creep that
+     * starts early or a stick that comes back); then bisect between the last angle that stays and the first not */
     enum { NS = 31 };
     double f[NS], moved[NS];
     int first = -1, ok = 1;

@@ -68,8 +68,8 @@ static void fuzz_surface(void *data, dClothID c, dGeomID g, dClothSurface *sf)
 }
 static int index_of(rng *g, int n) { return rng_u64(g) % 2 ? (int)(rng_u64(g) % (uint64_t)n) : xi(g); }
 
-/* A thickness: any extreme (1e300 once crashed libccd and 1e-300 spun its
- * GJK, before the plugin bounded the thickness: found here). */
+/* A thickness: any extreme (unbounded, 1e300 would crash libccd and 1e-300
+ * spin its GJK: the plugin bounds the thickness). */
 static double thick(rng *g) { return xd(g); }
 
 static int status_ok(cloth_status s)

@@ -17,14 +17,13 @@
  * plugin's stats: max_penetration counts only vertex contacts). At the end
  * the cloth rests flat on the top: its centre vertex within TOL of TOP + T.
  *
- * Why (measured before the mends in triangles.c and mpcg.c): a direction
- * off a mesh face's normal across its flat diagonal replaced vertices' own
- * contacts (one vertex 6.4 mm through); on every collider the
- * contact point EPA picks between parallel faces is arbitrary, and the
- * lift shared from it stopped vertices short: the cloth crumpled on
- * impact, vertices reached 0.9-3.7 mm inside the face, and the centre
- * rested 1-6 cm up; with those mended, CG stopped on a residual of
- * rounding size read as negative (-2e-55), "not definite".
+ * Why: a direction off a mesh face's normal across its flat diagonal must
+ * not replace vertices' own contacts (a vertex would go through); on every
+ * collider the contact point EPA picks between parallel faces is arbitrary,
+ * and a lift shared from it must not stop vertices short (the cloth would
+ * crumple on impact, vertices inside the face, the centre resting high); and
+ * CG must not read a residual of rounding size that comes out negative as
+ * "not definite" (triangles.c and mpcg.c).
  * Not covered: a cloth hanging over a box's edge at these speeds fails
  * its first step (strain far past the limit: in one step the overhang
  * would have to wrap the edge, which a step linearised once cannot do;

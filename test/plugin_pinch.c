@@ -19,15 +19,13 @@
  * are averaged). They are at rest there: the velocity the plugin reports
  * for each is at most VREST = 1 mm/s (0.017 mm a step), as the plate stopped
  * a second before; what pushed a pinched vertex to midway is a displacement,
- * not a velocity (the shortfall over h, 0.12 m/s, was left on it).
+ * not a velocity (the shortfall over h, 0.12 m/s, is not left on it).
  *
- * Why: a vertex kept one contact, the nearer surface's, and its target on
- * that surface's shell lay inside the other's. Measured before: box geoms,
- * the vertices under the plate ended on one surface's shell, 2.0 mm from
- * midway (inside the other's); box meshes, a vertex went 38.8 mm through
- * the lower box and one 28.7 mm above the plate's underside, and step 8
- * failed. (Also mended then: a vertex contact with a static geom that
- * replaced a moving body's kept that body's velocity.) */
+ * Why: a vertex that keeps one contact only, the nearer surface's, gets a
+ * target on that surface's shell inside the other's: with box geoms it ends
+ * off midway, with box meshes it goes through a box and steps fail. A vertex
+ * contact with a static geom that replaces a moving body's must not keep
+ * that body's velocity. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>

@@ -6,9 +6,8 @@
  *    space, or with a hash space holding one, steps, and settles on the box
  *    in it (no vertex below the box's top).
  * 2. A body whose velocity is NaN (or infinite) next to the cloth: the step
- *    neither gives every vertex a contact (its reach was infinite) nor
- *    kicks the cloth (measured before the fix: 441 contacts, a vertex at
- *    37 m/s after one step); its contacts are left out, the rest of the
+ *    neither gives every vertex a contact (its reach would be infinite) nor
+ *    kicks the cloth; its contacts are left out, the rest of the
  *    cloth steps as without it. The control, the ball at rest, does touch
  *    the cloth (so the bad cases are near enough to matter).
  */

@@ -634,8 +634,8 @@ static void check_existing(void)
 }
 
 /* Axes of extreme but valid size are normalised exactly (scaled by their
- * largest component first): 1e200 and 1e-200 components once became a zero
- * normal or were refused as zero. */
+ * largest component first): unscaled, 1e200 and 1e-200 components would
+ * give a zero normal or be refused as zero. */
 static void check_extreme_axes(void)
 {
     cloth_desc d = cloth_default_desc();

@@ -194,11 +194,9 @@ int main(void)
 {
     const char *mname[] = {"BE", "", "", "BDF2"}, *pname[] = {"block", "jacobi", "multigrid", "ssor"};
     const cloth_method methods[] = {CLOTH_BACKWARD_EULER, CLOTH_BDF2};
-    /* scene 0: the rest grid at half size, h = 1/60: every diagonal block of
-     *   A is itself indefinite (m - h^2 sum k < 0 out of plane);
-     * scene 1: at 0.8 size, h = 1/240: 77 of 81 diagonal blocks positive
-     *   definite, A still indefinite (its checkerboard out-of-plane modes),
-     *   found inside the CG iteration. */
+    /* scene 0: the rest grid at half size, h = 1/60: every diagonal block of A is itself indefinite (m - h^2 sum k
+     * < 0 out of plane); scene 1: at 0.8 size, h = 1/240: 77 of 81 diagonal blocks positive definite, A still
+     * indefinite (its checkerboard out-of-plane modes), found inside the CG iteration. */
     const double scales[2] = {0.5, 0.8}, hs[2] = {1.0 / 60, 1.0 / 240};
     for (int sc = 0; sc < 2; sc++)
         for (int mi = 0; mi < 2; mi++)

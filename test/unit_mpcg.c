@@ -390,13 +390,9 @@ static void run_case(const sys *s, int mix, rng *g, int *iters_out)
     int *con = malloc(sizeof(int) * n), ncon = 0;
     for (int i = 0; i < n; i++)
         if (kinds[i] != FREE) con[ncon++] = i;
-    /* variant 0: mpcg_solve, block preconditioner (also the norm);
-     * 1: mpcg_solve, scalar Jacobi (also the norm);
-     * 2: mpcg_solve_pc, scalar Jacobi as a function, block-weighted norm;
-     * 3: mpcg_run with the list of constrained vertices (filtering only
-     *    those), block Jacobi (pc NULL);
-     * 4: mpcg_run with the list and scalar Jacobi as a function
-     *    (3 and 4 are how the step calls it) */
+    /* variant 0: mpcg_solve, block preconditioner (also the norm); 1: mpcg_solve, scalar Jacobi (also the norm);
+     * 2: mpcg_solve_pc, scalar Jacobi as a function, block-weighted norm; 3 and 4, as the step calls it: mpcg_run
+     * with the list of constrained vertices (filtering only those), block Jacobi (pc NULL) or scalar as a function */
     for (int var = 0; var < 5; var++) {
         make_precond(&s->A, S, var != 1, P); /* the norm's blocks (and mpcg_solve's preconditioner) */
         make_precond(&s->A, S, 0, Pjac);

@@ -378,11 +378,11 @@ enum { R_FREE, R_CONSTRAINED, R_INFEASIBLE };
  *     `conserve`; when every link is over, the first link system is
  *     singular - 72 rows, at most 69 independent - and the damped
  *     multipliers reach ~100 for a step of ~0.06, so rounding leaves
- *     ~1e-12 of the step: measured 2.7e-12).
+ *     ~1e-12 of the step).
  *   R_CONSTRAINED: a pin at 0, a plane (random normal) at 12, a line at 24
  *     whose direction is within 37 degrees of the way to vertex 0, so the
  *     limit can be met: it is, the pin stays bitwise, the others stay on
- *     their plane and line to 1e-11 m (rounding: measured <= 1e-12 m).
+ *     their plane and line to 1e-11 m (rounding).
  *   R_INFEASIBLE: the line at 24 perpendicular to x_24 - x_0, which is
  *     longer than the 4 diagonal links between them can reach
  *     (4 lmax_diag): no state meets the limit. The projection must still
@@ -461,9 +461,9 @@ static void case_random(double cfac, int mode, double stretch, double conserve, 
               what);
         cloth_get_constraint(c, 12, &k);
         double dx[3] = {x[36] - x0[36], x[37] - x0[37], x[38] - x0[38]};
-        /* rounding only: 1e-11 m on a 1 m cloth (measured <= 1e-12 m: the
-         * filter is applied to multipliers ~100 times the step, and the
-         * infeasible case takes 100 steps back and forth) */
+        /* rounding only: 1e-11 m on a 1 m cloth (the filter is applied to
+         * multipliers ~100 times the step, and the infeasible case takes 100
+         * steps back and forth) */
         CHECK(fabs(dot3(dx, k.axis)) <= 1e-11, "%s: the plane vertex left its plane by %.3g m (|dx| %.3g)", what,
               dot3(dx, k.axis), norm3(dx));
         cloth_get_constraint(c, 24, &k);

@@ -35,8 +35,8 @@
  * material.plastic_memory). k_b 20 never bends a link below d/l0 0.89 here
  * (no crease at alpha 0.5 or 0.8); real light cotton at this 5 cm spacing
  * is estimated at 0.005-0.02 N/m (docs/demos.md); 0.05 is the softest
- * tried that keeps penetration well under the thickness (at 0.02 the short
- * sphere run reaches 4.8 mm of 5). Memory lets a crease that the spread
+ * tried that keeps penetration well under the thickness (docs/demos.md).
+ * Memory lets a crease that the spread
  * opens re-form once let go (the paper's "creases remain even after a brief
  * covering"); with the paper's per-step rule the spread erases them all.
  * --fabric NAME takes the fabric in physical units instead (no k_b

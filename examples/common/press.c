@@ -162,8 +162,7 @@ static int press_run(const demo_opts *o, const demo_scene *sc, const drape_varia
     }
     /* The mesh plates give vertex contacts only: with their triangle tests
      * on, as with ODE's box plates (--box-table), the cloth squashed between
-     * them fails a step (step 261, strain past 0.4: a vertex pinched between
-     * two plates keeps one contact; README, known gaps) */
+     * them fails a step (docs/demos.md) */
     for (int k = 0; k < 4 && !o->box_table; k++) dClothSetTriangleTests(c, pg[k], 0);
     /* a small out-of-plane ripple (3 half waves down the cloth, 1 cm), so
      * the squeezed cloth buckles into an accordion rather than folding

@@ -241,10 +241,9 @@ static void save_window(int W, int H, const char *path)
 static void draw(const char *shot_path)
 {
     int W, H;
-    /* The window's context is current only while it draws: the offscreen
-     * renderer (OSMesa) makes its own current in between, behind the back
-     * of libGL (glvnd), which would take a second glXMakeCurrent of the
-     * same context for a no-op and leave OSMesa's in place. */
+    /* The window's context is current only while it draws: OSMesa makes its own current in between, behind
+     * libGL's (glvnd) back, which would take a second glXMakeCurrent of the same context for a no-op and leave
+     * OSMesa's in place. */
     glfwGetFramebufferSize(V.win, &W, &H);
     V.last_draw = demo_now();
     if (W <= 0 || H <= 0) return; /* minimised */
