@@ -21,7 +21,6 @@
  * (its figures are over the steps it took), so the whole table stays within
  * minutes on a small machine. */
 #define _POSIX_C_SOURCE 200809L
-#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -233,11 +232,10 @@ static int parse_options(int argc, char **argv, bench_args *a)
 }
 
 /* The chart of DIR/bench_step.csv: steps/s and CG iterations against node count, log-log */
-static void write_chart(const char *out)
+static void write_chart(const bench_opts *o)
 {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/bench_step.gp", out);
-    FILE *gp = fopen(path, "w");
+    const char *out = o->out;
+    FILE *gp = bench_open_script(o, "bench_step");
     if (!gp) return;
     fprintf(gp,
             "set terminal pngcairo size 1200,480 font ',10'\n"
@@ -256,9 +254,7 @@ static void write_chart(const char *out)
             "unset multiplot\n",
             out, out, out);
     fclose(gp);
-    snprintf(path, sizeof path, "gnuplot '%s/bench_step.gp'", out);
-    if (system(path) != 0) fprintf(stderr, "bench_step: gnuplot failed; the CSV is in %s\n", out);
-    else printf("wrote %s/bench_step.csv and %s/bench_step.png\n", out, out);
+    bench_run_gnuplot(o, "bench_step");
 }
 
 int main(int argc, char **argv)
@@ -266,19 +262,9 @@ int main(int argc, char **argv)
     bench_args a;
     int status = parse_options(argc, argv, &a);
     if (status >= 0) return status;
-    const char *out = a.out;
-    char path[1024];
-    snprintf(path, sizeof path, "mkdir -p '%s'", out);
-    if (system(path) != 0) {
-        fprintf(stderr, "bench_step: cannot create %s\n", out);
-        return 1;
-    }
-    snprintf(path, sizeof path, "%s/bench_step.csv", out);
-    FILE *csv = fopen(path, "w");
-    if (!csv) {
-        fprintf(stderr, "bench_step: cannot write %s: %s\n", path, strerror(errno));
-        return 1;
-    }
+    const bench_opts o = {"bench_step", NULL, a.out, 0, 0, 0};
+    FILE *csv = bench_open_csv(&o, "bench_step");
+    if (!csv) return 1;
     fprintf(csv, "grid,nodes,hz,precond,steps,steps_done,steps_per_s,median_step_ms,cg_iterations,partial,"
                  "cpu_steps_per_s,best_steps_per_s\n");
     const double hzs[2] = {60.0, 240.0};
@@ -306,6 +292,6 @@ int main(int argc, char **argv)
             }
     fclose(csv);
 
-    write_chart(out);
+    write_chart(&o);
     return 0;
 }
