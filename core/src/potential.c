@@ -211,8 +211,10 @@ static double other_terms(cloth *c, const step_eq *q, double P, double *b, int m
     double cf = q->cfac;
     const double *x = c->x_new, *v = c->v_new;
     if (crease_law_on(&c->desc.material)) { /* the crease law's hinges (crease_law.c), pushing as at the start */
-        if (b) P += crease_energy(c, x, c->st.x);
-        if (b) crease_forces(c, x, c->st.x, cf, b);
+        if (b) {
+            P += crease_energy(c, x, c->st.x);
+            crease_forces(c, x, c->st.x, cf, b);
+        }
         if (mat) crease_matrix(c, x, c->st.x, cf * cf);
     }
     /* air drag, a damper with its normals and areas at x~ */
