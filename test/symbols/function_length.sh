@@ -18,7 +18,7 @@ fi
 # clang-format (Linux braces) puts a function's "{" and "}" alone at column 0;
 # the signature is the run of lines above the "{" since a blank, "#", ";" or "}" line
 awk -v limit="$limit" '
-FNR == 1 { nsig = 0; start = 0 }
+FNR == 1 { nsig = 0; start = 0; nfiles++ }
 start == 0 && /^\{[[:space:]]*$/ {
     start = FNR
     sig = ""
@@ -48,5 +48,6 @@ END {
         printf "function_length: %d function(s) longer than %d lines\n", nlong, limit
         exit 1
     }
+    printf "function_length: no function longer than %d lines in %d files\n", limit, nfiles
 }
 ' "${files[@]}"
