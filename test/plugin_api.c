@@ -422,41 +422,65 @@ static int no_force(dBodyID b)
     return f[0] == 0 && f[1] == 0 && f[2] == 0 && t[0] == 0 && t[1] == 0 && t[2] == 0;
 }
 
-static void test_step_and_pin_bad_input(void)
+/* A warmed-up cloth with a body pinned to corner 0 and a world pin at the
+ * other corner of row 0, and a snapshot of both that failed calls keep. */
+typedef struct pinned_cloth {
+    dWorldID w, w2;
+    dSpaceID sp;
+    dClothDesc d;
+    dClothID c;
+    dBodyID b;
+    int n, C;
+    dReal zero[3], wp[3]; /* the body pin's point on the body, the world pin's point */
+    snapshot snp;
+} pinned_cloth;
+
+/* Returns 0 (after a failed check) when the cloth cannot be created. */
+static int pinned_cloth_make(pinned_cloth *p)
 {
-    dWorldID w = dWorldCreate(), w2 = dWorldCreate();
-    dWorldSetGravity(w, 0, 0, -9.81);
-    dSpaceID sp = dHashSpaceCreate(0);
-    dClothDesc d = dClothDefaultDesc();
-    dClothID c = NULL;
+    p->w = dWorldCreate();
+    p->w2 = dWorldCreate();
+    dWorldSetGravity(p->w, 0, 0, -9.81);
+    p->sp = dHashSpaceCreate(0);
+    p->d = dClothDefaultDesc();
+    p->c = NULL;
     cloth_error err;
-    if (!CHECK(dClothCreate(w, sp, &d, &c, &err) == CLOTH_OK, "dClothCreate: %s", err.message)) return;
-    int n = dClothGetVertexCount(c), C = d.cloth.cols;
-    /* a body pinned to corner 0 (the cloth pulls it), a world pin at the
-     * other corner of row 0 */
-    dBodyID b = dBodyCreate(w);
+    if (!CHECK(dClothCreate(p->w, p->sp, &p->d, &p->c, &err) == CLOTH_OK, "dClothCreate: %s", err.message)) return 0;
+    dClothID c = p->c;
+    int n = p->n = dClothGetVertexCount(c), C = p->C = p->d.cloth.cols;
+    dBodyID b = p->b = dBodyCreate(p->w);
     dMass m;
     dMassSetSphereTotal(&m, 2.0, 0.05);
     dBodySetMass(b, &m);
     const double *x0 = dClothGetPositions(c);
     dBodySetPosition(b, x0[0], x0[1], x0[2]);
     dBodySetGravityMode(b, 0);
-    dReal zero[3] = {0, 0, 0}, wp[3] = {x0[3 * (C - 1)], x0[3 * (C - 1) + 1], x0[3 * (C - 1) + 2]};
-    CHECK(dClothPinToBody(c, 0, b, zero) == CLOTH_OK, "dClothPinToBody: %s", dClothGetLastError(c));
-    CHECK(dClothPinToWorld(c, C - 1, wp) == CLOTH_OK, "dClothPinToWorld: %s", dClothGetLastError(c));
+    for (int r = 0; r < 3; r++) {
+        p->zero[r] = 0;
+        p->wp[r] = x0[3 * (C - 1) + r];
+    }
+    CHECK(dClothPinToBody(c, 0, b, p->zero) == CLOTH_OK, "dClothPinToBody: %s", dClothGetLastError(c));
+    CHECK(dClothPinToWorld(c, C - 1, p->wp) == CLOTH_OK, "dClothPinToWorld: %s", dClothGetLastError(c));
     for (int s = 0; s < 20; s++)
-        CHECK(dClothWorldStep(w, &c, 1, H, 0) == CLOTH_OK, "warm-up step %d: %s", s, dClothGetLastError(c));
+        CHECK(dClothWorldStep(p->w, &p->c, 1, H, 0) == CLOTH_OK, "warm-up step %d: %s", s, dClothGetLastError(c));
     CHECK(dClothGetStats(c)->pins == 2, "%d pins, expected 2", dClothGetStats(c)->pins);
     dBodySetLinearVel(b, 0.1, 0, 0);
 
-    snapshot snp;
-    memset(&snp, 0, sizeof snp);
-    snap(&snp, c, b);
+    memset(&p->snp, 0, sizeof p->snp);
+    snap(&p->snp, c, b);
     int nonzero_v = 0;
-    for (int i = 0; i < 3 * n; i++) nonzero_v += snp.v[i] != 0.0;
+    for (int i = 0; i < 3 * n; i++) nonzero_v += p->snp.v[i] != 0.0;
     CHECK(nonzero_v > n, "the warm-up left the cloth at rest: the bit-for-bit checks would be empty");
+    return 1;
+}
 
-    /* dClothStep with a bad h */
+/* dClothStep and dClothWorldStep with a bad h, and dClothWorldStep with bad
+ * cloth arrays, counts or world: refused before touching the cloth or the world. */
+static void check_bad_step(pinned_cloth *p)
+{
+    dClothID c = p->c;
+    dBodyID b = p->b;
+    const snapshot *snp = &p->snp;
     const double bad_h[] = {0.0, -0.0, -1.0, -H, NAN, INFINITY, -INFINITY};
     const char *bad_h_name[] = {"0", "-0", "-1", "-1/60", "NaN", "inf", "-inf"};
     dClothStepStats before = *dClothGetStats(c);
@@ -466,32 +490,38 @@ static void test_step_and_pin_bad_input(void)
         CHECK(s == CLOTH_EINVAL, "dClothStep(h = %s) returned %d, expected CLOTH_EINVAL", bad_h_name[i], s);
         CHECK(has_text(dClothGetLastError(c), "dClothStep"), "dClothStep(h = %s): message '%s'", bad_h_name[i],
               dClothGetLastError(c));
-        CHECK(same_cloth(&snp, c), "dClothStep(h = %s) changed the cloth's positions or velocities", bad_h_name[i]);
+        CHECK(same_cloth(snp, c), "dClothStep(h = %s) changed the cloth's positions or velocities", bad_h_name[i]);
         CHECK(no_force(b), "dClothStep(h = %s) applied a force or torque to the pinned body", bad_h_name[i]);
         CHECK(memcmp(&before, dClothGetStats(c), sizeof before) == 0, "dClothStep(h = %s) changed the stats",
               bad_h_name[i]);
     }
     /* dClothWorldStep: fails before touching the cloth or the world */
     for (size_t i = 0; i < sizeof bad_h / sizeof bad_h[0]; i++) {
-        cloth_status s = dClothWorldStep(w, &c, 1, bad_h[i], 0);
-        CHECK(s == CLOTH_EINVAL && same_cloth(&snp, c) && same_body(&snp, b),
+        cloth_status s = dClothWorldStep(p->w, &p->c, 1, bad_h[i], 0);
+        CHECK(s == CLOTH_EINVAL && same_cloth(snp, c) && same_body(snp, b),
               "dClothWorldStep(h = %s): status %d (expected CLOTH_EINVAL), cloth unchanged %d, body unchanged %d",
-              bad_h_name[i], s, same_cloth(&snp, c), same_body(&snp, b));
+              bad_h_name[i], s, same_cloth(snp, c), same_body(snp, b));
     }
     dClothID two[2] = {c, NULL};
-    cloth_status s = dClothWorldStep(w, two + 1, 1, H, 0);
-    CHECK(s == CLOTH_EINVAL && same_body(&snp, b), "dClothWorldStep({NULL}): status %d, body unchanged %d", s,
-          same_body(&snp, b));
-    s = dClothWorldStep(w, NULL, 1, H, 0);
-    CHECK(s == CLOTH_EINVAL && same_body(&snp, b), "dClothWorldStep(cloths NULL, n 1): status %d", s);
-    s = dClothWorldStep(w, &c, -1, H, 0);
-    CHECK(s == CLOTH_EINVAL && same_body(&snp, b) && same_cloth(&snp, c), "dClothWorldStep(n -1): status %d", s);
-    s = dClothWorldStep(0, &c, 1, H, 0);
-    CHECK(s == CLOTH_EINVAL && same_cloth(&snp, c), "dClothWorldStep(world 0): status %d", s);
+    cloth_status s = dClothWorldStep(p->w, two + 1, 1, H, 0);
+    CHECK(s == CLOTH_EINVAL && same_body(snp, b), "dClothWorldStep({NULL}): status %d, body unchanged %d", s,
+          same_body(snp, b));
+    s = dClothWorldStep(p->w, NULL, 1, H, 0);
+    CHECK(s == CLOTH_EINVAL && same_body(snp, b), "dClothWorldStep(cloths NULL, n 1): status %d", s);
+    s = dClothWorldStep(p->w, &p->c, -1, H, 0);
+    CHECK(s == CLOTH_EINVAL && same_body(snp, b) && same_cloth(snp, c), "dClothWorldStep(n -1): status %d", s);
+    s = dClothWorldStep(0, &p->c, 1, H, 0);
+    CHECK(s == CLOTH_EINVAL && same_cloth(snp, c), "dClothWorldStep(world 0): status %d", s);
     CHECK(no_force(b), "a failed dClothWorldStep left a force on the body");
+}
 
-    /* pins */
-    dReal pnan[3] = {0, NAN, 0}, pinf[3] = {INFINITY, 0, 0}, ok[3] = {0, 0, 1};
+/* The pin calls and the force queries with a vertex out of range. */
+static void check_bad_pin_vertex(pinned_cloth *p)
+{
+    dClothID c = p->c;
+    int n = p->n;
+    cloth_status s;
+    dReal ok[3] = {0, 0, 1};
     struct {
         const char *name;
         cloth_status got;
@@ -509,7 +539,7 @@ static void test_step_and_pin_bad_input(void)
               dClothGetLastError(c));
         np++;
         prime_error(c);
-        s = dClothPinToBody(c, bad_vertex[i], b, zero);
+        s = dClothPinToBody(c, bad_vertex[i], p->b, p->zero);
         CHECK(s == CLOTH_EINVAL && has_text(dClothGetLastError(c), "dClothPinToBody"),
               "dClothPinToBody(vertex %d): status %d, message '%s'", bad_vertex[i], s, dClothGetLastError(c));
         prime_error(c);
@@ -526,10 +556,18 @@ static void test_step_and_pin_bad_input(void)
         CHECK(s == CLOTH_EINVAL && has_text(dClothGetLastError(c), "dClothGetContactForce"),
               "dClothGetContactForce(vertex %d): status %d, message '%s'", bad_vertex[i], s, dClothGetLastError(c));
     }
-    /* bad points and bodies, on the pinned vertices themselves (0: body pin,
-     * C - 1: world pin) and on a free one (the centre) */
-    dBodyID other = dBodyCreate(w2);
-    const int targets[] = {0, C - 1, centre_vertex(c)};
+}
+
+/* Bad points and bodies, on the pinned vertices themselves (0: body pin,
+ * C - 1: world pin) and on a free one (the centre); NULL outputs. */
+static void check_bad_pin_args(pinned_cloth *p)
+{
+    dClothID c = p->c;
+    dBodyID b = p->b;
+    cloth_status s;
+    dReal pnan[3] = {0, NAN, 0}, pinf[3] = {INFINITY, 0, 0};
+    dBodyID other = dBodyCreate(p->w2);
+    const int targets[] = {0, p->C - 1, centre_vertex(c)};
     for (int t = 0; t < 3; t++) {
         int v = targets[t];
         const dReal *pts[] = {NULL, pnan, pinf};
@@ -547,11 +585,11 @@ static void test_step_and_pin_bad_input(void)
                   dClothGetLastError(c));
         }
         prime_error(c);
-        s = dClothPinToBody(c, v, NULL, zero);
+        s = dClothPinToBody(c, v, NULL, p->zero);
         CHECK(s == CLOTH_EINVAL && has_text(dClothGetLastError(c), "dClothPinToBody"),
               "dClothPinToBody(vertex %d, body 0): status %d, message '%s'", v, s, dClothGetLastError(c));
         prime_error(c);
-        s = dClothPinToBody(c, v, other, zero);
+        s = dClothPinToBody(c, v, other, p->zero);
         CHECK(s == CLOTH_EINVAL && has_text(dClothGetLastError(c), "dClothPinToBody"),
               "dClothPinToBody(vertex %d, a body of another world): status %d, message '%s'", v, s,
               dClothGetLastError(c));
@@ -572,14 +610,22 @@ static void test_step_and_pin_bad_input(void)
     s = dClothGetNormals(c, NULL);
     CHECK(s == CLOTH_EINVAL && has_text(dClothGetLastError(c), "dClothGetNormals"),
           "dClothGetNormals(NULL): status %d, message '%s'", s, dClothGetLastError(c));
-    CHECK(same_cloth(&snp, c) && same_body(&snp, b) && no_force(b), "a failed pin call changed the cloth or body");
+    CHECK(same_cloth(&p->snp, c) && same_body(&p->snp, b) && no_force(b),
+          "a failed pin call changed the cloth or body");
+}
 
-    /* parameters out of range keep their value */
+/* Friction and thickness out of range keep their value. */
+static void check_bad_parameters(pinned_cloth *p)
+{
+    dClothID c = p->c;
+    const dClothDesc *d = &p->d;
+    cloth_status s;
     const double bad_mu[] = {-0.1, -INFINITY, NAN, INFINITY};
     for (int i = 0; i < 4; i++) {
         prime_error_with(c, 1);
         s = dClothSetFriction(c, bad_mu[i]);
-        CHECK(s == CLOTH_EINVAL && dClothGetFriction(c) == d.mu && has_text(dClothGetLastError(c), "dClothSetFriction"),
+        CHECK(s == CLOTH_EINVAL && dClothGetFriction(c) == d->mu &&
+                  has_text(dClothGetLastError(c), "dClothSetFriction"),
               "dClothSetFriction(%g): status %d, friction now %g, message '%s'", bad_mu[i], s, dClothGetFriction(c),
               dClothGetLastError(c));
     }
@@ -587,20 +633,27 @@ static void test_step_and_pin_bad_input(void)
     for (int i = 0; i < 7; i++) {
         prime_error(c);
         s = dClothSetThickness(c, bad_t[i]);
-        CHECK(s == CLOTH_EINVAL && dClothGetThickness(c) == d.thickness &&
+        CHECK(s == CLOTH_EINVAL && dClothGetThickness(c) == d->thickness &&
                   has_text(dClothGetLastError(c), "dClothSetThickness"),
               "dClothSetThickness(%g): status %d, thickness now %g, message '%s'", bad_t[i], s, dClothGetThickness(c),
               dClothGetLastError(c));
     }
     CHECK(dClothSetFriction(c, 0.0) == CLOTH_OK && dClothGetFriction(c) == 0.0, "dClothSetFriction(0) refused");
-    CHECK(dClothSetFriction(c, d.mu) == CLOTH_OK && dClothGetFriction(c) == d.mu, "dClothSetFriction(mu) refused");
+    CHECK(dClothSetFriction(c, d->mu) == CLOTH_OK && dClothGetFriction(c) == d->mu, "dClothSetFriction(mu) refused");
+}
 
-    /* nothing was pinned, unpinned or moved by the failed calls: the next
-     * step has the same two pins, the world pin holds its point, the body
-     * pin follows the body, and the centre is free */
-    if (CHECK(dClothWorldStep(w, &c, 1, H, 0) == CLOTH_OK, "step after the bad calls: %s", dClothGetLastError(c))) {
+/* Nothing was pinned, unpinned or moved by the failed calls: the next
+ * step has the same two pins, the world pin holds its point, the body
+ * pin follows the body, and the centre is free. */
+static void check_pins_kept(pinned_cloth *p)
+{
+    dClothID c = p->c;
+    int C = p->C;
+    const dReal *wp = p->wp;
+    if (CHECK(dClothWorldStep(p->w, &p->c, 1, H, 0) == CLOTH_OK, "step after the bad calls: %s",
+              dClothGetLastError(c))) {
         const double *x = dClothGetPositions(c);
-        const dReal *pb = dBodyGetPosition(b);
+        const dReal *pb = dBodyGetPosition(p->b);
         dReal f[3];
         CHECK(dClothGetStats(c)->pins == 2, "%d pins after the failed pin calls, expected 2", dClothGetStats(c)->pins);
         CHECK(x[3 * (C - 1)] == wp[0] && x[3 * (C - 1) + 1] == wp[1] && x[3 * (C - 1) + 2] == wp[2],
@@ -614,12 +667,23 @@ static void test_step_and_pin_bad_input(void)
         dClothGetPinForce(c, centre_vertex(c), f);
         CHECK(f[0] == 0 && f[1] == 0 && f[2] == 0, "the centre vertex got pinned");
     }
-    free(snp.x);
-    free(snp.v);
-    dClothDestroy(c);
-    dSpaceDestroy(sp);
-    dWorldDestroy(w2);
-    dWorldDestroy(w);
+}
+
+static void test_step_and_pin_bad_input(void)
+{
+    pinned_cloth p;
+    if (!pinned_cloth_make(&p)) return;
+    check_bad_step(&p);
+    check_bad_pin_vertex(&p);
+    check_bad_pin_args(&p);
+    check_bad_parameters(&p);
+    check_pins_kept(&p);
+    free(p.snp.x);
+    free(p.snp.v);
+    dClothDestroy(p.c);
+    dSpaceDestroy(p.sp);
+    dWorldDestroy(p.w2);
+    dWorldDestroy(p.w);
 }
 
 /* ------------------------------------------------------ 4. NULL dClothID */

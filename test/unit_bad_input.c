@@ -102,17 +102,14 @@ static double *mat_field(cloth_material *m, int k)
     return (double *)((char *)m + (desc_doubles[MATERIAL_FIRST + k].off - offsetof(cloth_desc, material)));
 }
 
-static void check_create(void)
+static const double nonfinite[3] = {NAN, INFINITY, -INFINITY};
+static const char *const nf_name[3] = {"NaN", "inf", "-inf"};
+
+/* The table covers every double of the desc, and the default is valid. */
+static void check_create_default(const cloth_desc *d0)
 {
-    const cloth_desc d0 = cloth_default_desc();
-    cloth_desc d;
     cloth_error err;
     cloth *c = NULL;
-    char what[128];
-    const double nonfinite[3] = {NAN, INFINITY, -INFINITY};
-    const char *nf_name[3] = {"NaN", "inf", "-inf"};
-
-    /* sanity: the table covers every double of the desc, and the default is valid */
     /* ten doubles, the one int plastic_memory (checked by BAD below), six doubles */
     CHECK(offsetof(cloth_material, plastic_memory) == 10 * sizeof(double) &&
               offsetof(cloth_material, tau_set) == 11 * sizeof(double) &&
@@ -123,46 +120,49 @@ static void check_create(void)
               strcmp(desc_doubles[MATERIAL_FIRST + NMATERIAL_DOUBLES - 1].name, "material.k_crease") == 0 &&
               strcmp(desc_doubles[MATERIAL_FIRST + NMATERIAL_DOUBLES].name, "solver.cg_tolerance") == 0,
           "table order");
-    CHECK(cloth_desc_validate(&d0, NULL) == CLOTH_OK, "the default desc is invalid");
-    CHECK(cloth_create(&d0, &c, &err) == CLOTH_OK && c, "cloth_create(default) failed: %s", err.message);
+    CHECK(cloth_desc_validate(d0, NULL) == CLOTH_OK, "the default desc is invalid");
+    CHECK(cloth_create(d0, &c, &err) == CLOTH_OK && c, "cloth_create(default) failed: %s", err.message);
     cloth_destroy(c);
     cloth_destroy(NULL); /* documented as fine */
+}
 
-    /* every double field, NaN / inf / -inf */
+/* Every double field NaN / inf / -inf, and sizes too small or overflowing. */
+static void check_create_nonfinite_and_sizes(const cloth_desc *d0)
+{
+    cloth_desc d;
+    char what[128];
     for (size_t f = 0; f < NDESC_DOUBLES; f++)
         for (int k = 0; k < 3; k++) {
-            d = d0;
+            d = *d0;
             *(double *)((char *)&d + desc_doubles[f].off) = nonfinite[k];
             snprintf(what, sizeof what, "%s = %s", desc_doubles[f].name, nf_name[k]);
             expect_desc_rejected(&d, what, 0);
         }
-
-    /* sizes */
-    {
-        static const int bad[][2] = {{2, 5}, {5, 2}, {0, 0}, {-1, 5}, {5, -3}, {1, 1}, {2, 2}, {INT_MIN, 5}};
-        for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
-            d = d0;
-            d.rows = bad[k][0];
-            d.cols = bad[k][1];
-            snprintf(what, sizeof what, "rows %d cols %d", d.rows, d.cols);
-            expect_desc_rejected(&d, what, 0);
-        }
+    static const int bad[][2] = {{2, 5}, {5, 2}, {0, 0}, {-1, 5}, {5, -3}, {1, 1}, {2, 2}, {INT_MIN, 5}};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        d = *d0;
+        d.rows = bad[k][0];
+        d.cols = bad[k][1];
+        snprintf(what, sizeof what, "rows %d cols %d", d.rows, d.cols);
+        expect_desc_rejected(&d, what, 0);
     }
-    {
-        static const int huge[][2] = {{100000, 100000}, {46341, 46341}, {INT_MAX, 3}, {3, INT_MAX}, {INT_MAX, INT_MAX}};
-        for (size_t k = 0; k < sizeof huge / sizeof huge[0]; k++) {
-            d = d0;
-            d.rows = huge[k][0];
-            d.cols = huge[k][1];
-            snprintf(what, sizeof what, "rows %d cols %d (overflow)", d.rows, d.cols);
-            expect_desc_rejected(&d, what, 1);
-        }
+    static const int huge[][2] = {{100000, 100000}, {46341, 46341}, {INT_MAX, 3}, {3, INT_MAX}, {INT_MAX, INT_MAX}};
+    for (size_t k = 0; k < sizeof huge / sizeof huge[0]; k++) {
+        d = *d0;
+        d.rows = huge[k][0];
+        d.cols = huge[k][1];
+        snprintf(what, sizeof what, "rows %d cols %d (overflow)", d.rows, d.cols);
+        expect_desc_rejected(&d, what, 1);
     }
+}
 
-    /* out-of-range values */
+/* Out-of-range values, one field at a time. */
+static void check_create_out_of_range(const cloth_desc *d0)
+{
+    cloth_desc d;
 #define BAD(stmt, label)                    \
     do {                                    \
-        d = d0;                             \
+        d = *d0;                            \
         stmt;                               \
         expect_desc_rejected(&d, label, 0); \
     } while (0)
@@ -214,86 +214,98 @@ static void check_create(void)
     BAD(d.solver.precond = (cloth_precond)99, "precond 99");
     BAD(d.solver.strain_limit_iterations = -1, "strain_limit_iterations -1");
 #undef BAD
+}
 
-    /* NULL arguments */
-    {
-        cloth *out = (cloth *)&err;
-        cloth_status s;
-        memset(&err, 0, sizeof err);
-        s = cloth_create(NULL, &out, &err);
-        CHECK(s == CLOTH_EINVAL && err.message[0] && out == NULL,
-              "cloth_create(NULL desc): status %d, message \"%s\", out %p", (int)s, err.message, (void *)out);
-        memset(&err, 0, sizeof err);
-        s = cloth_create(&d0, NULL, &err);
-        CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_create(out = NULL): status %d, message \"%s\"", (int)s,
-              err.message);
-        memset(&err, 0, sizeof err);
-        s = cloth_desc_validate(NULL, &err);
-        CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_desc_validate(NULL): status %d", (int)s);
-        memset(&err, 0, sizeof err);
-        s = cloth_material_validate(NULL, &err);
-        CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_material_validate(NULL): status %d", (int)s);
-        memset(&err, 0, sizeof err);
-        s = cloth_solver_validate(NULL, &err);
-        CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_solver_validate(NULL): status %d", (int)s);
-    }
+/* NULL desc, out and validator arguments. */
+static void check_create_null(const cloth_desc *d0)
+{
+    cloth_error err;
+    cloth *out = (cloth *)&err;
+    cloth_status s;
+    memset(&err, 0, sizeof err);
+    s = cloth_create(NULL, &out, &err);
+    CHECK(s == CLOTH_EINVAL && err.message[0] && out == NULL,
+          "cloth_create(NULL desc): status %d, message \"%s\", out %p", (int)s, err.message, (void *)out);
+    memset(&err, 0, sizeof err);
+    s = cloth_create(d0, NULL, &err);
+    CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_create(out = NULL): status %d, message \"%s\"", (int)s,
+          err.message);
+    memset(&err, 0, sizeof err);
+    s = cloth_desc_validate(NULL, &err);
+    CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_desc_validate(NULL): status %d", (int)s);
+    memset(&err, 0, sizeof err);
+    s = cloth_material_validate(NULL, &err);
+    CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_material_validate(NULL): status %d", (int)s);
+    memset(&err, 0, sizeof err);
+    s = cloth_solver_validate(NULL, &err);
+    CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_solver_validate(NULL): status %d", (int)s);
+}
 
-    /* the stand-alone validators */
-    {
-        cloth_material m;
-        cloth_solver sv;
-        cloth_status s;
-        for (int p = 0; p < 3; p++) {
-            m = cloth_material_preset((cloth_preset)p);
-            CHECK(cloth_material_validate(&m, NULL) == CLOTH_OK, "preset %d is invalid", p);
-        }
-        for (int k = 0; k < NMATERIAL_DOUBLES; k++)
-            for (int v = 0; v < 4; v++) {
-                m = cloth_material_preset(CLOTH_COTTON);
-                *mat_field(&m, k) = v < 3 ? nonfinite[v] : -1.0;
-                memset(&err, 0, sizeof err);
-                s = cloth_material_validate(&m, &err);
-                CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_material_validate(%s = %s): status %d",
-                      desc_doubles[MATERIAL_FIRST + k].name, v < 3 ? nf_name[v] : "-1", (int)s);
-            }
-        /* k_delta: the message names the field; 0 (no stiffening) is valid */
-        {
-            const double kd[] = {NAN, INFINITY, -INFINITY, -1.0, -1e-300};
-            for (size_t v = 0; v < sizeof kd / sizeof kd[0]; v++) {
-                m = cloth_material_preset(CLOTH_COTTON);
-                m.k_delta = kd[v];
-                memset(&err, 0, sizeof err);
-                s = cloth_material_validate(&m, &err);
-                CHECK(s == CLOTH_EINVAL && strstr(err.message, "k_delta") != NULL,
-                      "cloth_material_validate(k_delta = %g): status %d, message \"%s\" (want EINVAL naming "
-                      "k_delta)",
-                      kd[v], (int)s, err.message);
-            }
-            for (int p = 0; p < 3; p++) {
-                m = cloth_material_preset((cloth_preset)p);
-                CHECK(m.k_delta == 100.0, "preset %d: k_delta %g, want 100", p, m.k_delta);
-                m.k_delta = 0.0;
-                memset(&err, 0, sizeof err);
-                s = cloth_material_validate(&m, &err);
-                CHECK(s == CLOTH_OK, "preset %d with k_delta 0 rejected: %s", p, err.message);
-            }
-            d = d0;
-            d.material.k_delta = 0.0;
-            c = NULL;
-            s = cloth_create(&d, &c, &err);
-            CHECK(s == CLOTH_OK && c, "cloth_create(k_delta 0) failed: %s", err.message);
-            cloth_destroy(c);
-        }
-        sv = d0.solver;
-        CHECK(cloth_solver_validate(&sv, NULL) == CLOTH_OK, "the default solver is invalid");
-        sv.cg_tolerance = NAN;
-        s = cloth_solver_validate(&sv, &err);
-        CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_solver_validate(cg_tolerance NaN): status %d", (int)s);
-        sv = d0.solver;
-        sv.cg_max_iterations = 0;
-        s = cloth_solver_validate(&sv, &err);
-        CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_solver_validate(cg_max_iterations 0): status %d", (int)s);
+/* The stand-alone validators: presets valid, each material field bad, k_delta
+ * named by the message and 0 (no stiffening) valid, bad solvers. */
+static void check_validators(const cloth_desc *d0)
+{
+    cloth_desc d;
+    cloth_error err;
+    cloth *c = NULL;
+    cloth_material m;
+    cloth_solver sv;
+    cloth_status s;
+    for (int p = 0; p < 3; p++) {
+        m = cloth_material_preset((cloth_preset)p);
+        CHECK(cloth_material_validate(&m, NULL) == CLOTH_OK, "preset %d is invalid", p);
     }
+    for (int k = 0; k < NMATERIAL_DOUBLES; k++)
+        for (int v = 0; v < 4; v++) {
+            m = cloth_material_preset(CLOTH_COTTON);
+            *mat_field(&m, k) = v < 3 ? nonfinite[v] : -1.0;
+            memset(&err, 0, sizeof err);
+            s = cloth_material_validate(&m, &err);
+            CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_material_validate(%s = %s): status %d",
+                  desc_doubles[MATERIAL_FIRST + k].name, v < 3 ? nf_name[v] : "-1", (int)s);
+        }
+    const double kd[] = {NAN, INFINITY, -INFINITY, -1.0, -1e-300};
+    for (size_t v = 0; v < sizeof kd / sizeof kd[0]; v++) {
+        m = cloth_material_preset(CLOTH_COTTON);
+        m.k_delta = kd[v];
+        memset(&err, 0, sizeof err);
+        s = cloth_material_validate(&m, &err);
+        CHECK(s == CLOTH_EINVAL && strstr(err.message, "k_delta") != NULL,
+              "cloth_material_validate(k_delta = %g): status %d, message \"%s\" (want EINVAL naming k_delta)", kd[v],
+              (int)s, err.message);
+    }
+    for (int p = 0; p < 3; p++) {
+        m = cloth_material_preset((cloth_preset)p);
+        CHECK(m.k_delta == 100.0, "preset %d: k_delta %g, want 100", p, m.k_delta);
+        m.k_delta = 0.0;
+        memset(&err, 0, sizeof err);
+        s = cloth_material_validate(&m, &err);
+        CHECK(s == CLOTH_OK, "preset %d with k_delta 0 rejected: %s", p, err.message);
+    }
+    d = *d0;
+    d.material.k_delta = 0.0;
+    s = cloth_create(&d, &c, &err);
+    CHECK(s == CLOTH_OK && c, "cloth_create(k_delta 0) failed: %s", err.message);
+    cloth_destroy(c);
+    sv = d0->solver;
+    CHECK(cloth_solver_validate(&sv, NULL) == CLOTH_OK, "the default solver is invalid");
+    sv.cg_tolerance = NAN;
+    s = cloth_solver_validate(&sv, &err);
+    CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_solver_validate(cg_tolerance NaN): status %d", (int)s);
+    sv = d0->solver;
+    sv.cg_max_iterations = 0;
+    s = cloth_solver_validate(&sv, &err);
+    CHECK(s == CLOTH_EINVAL && err.message[0], "cloth_solver_validate(cg_max_iterations 0): status %d", (int)s);
+}
+
+static void check_create(void)
+{
+    const cloth_desc d0 = cloth_default_desc();
+    check_create_default(&d0);
+    check_create_nonfinite_and_sizes(&d0);
+    check_create_out_of_range(&d0);
+    check_create_null(&d0);
+    check_validators(&d0);
 }
 
 /* ----------------------------------------------------- an existing cloth */
@@ -377,109 +389,150 @@ static void compare(const snapshot *a, const snapshot *b, const char *what)
 
 static void release(snapshot *s) { cloth_state_destroy(s->st); }
 
-/* One bad call by number; returns the status, sets *what, *want. Returns
- * -1 past the last case. */
-static int bad_call(cloth *c, int k, char *what, size_t wn, cloth_status *want)
+/* set_material with material field f (k / 4) NaN, inf, -inf or -1 (k % 4): the message names the field. */
+static cloth_status bad_material_field(cloth *c, int k, char *what, size_t wn)
 {
-    cloth_desc d0 = cloth_default_desc();
-    double x[3 * NV], g[3] = {0, 0, -9.81}, p[3] = {0.1, 0.2, 0.3};
-    const double nf[3] = {NAN, INFINITY, -INFINITY};
-    *want = CLOTH_EINVAL;
-    memcpy(x, cloth_positions(c), sizeof x);
+    cloth_material m = cloth_get_desc(c).material;
+    int f = k / 4, v = k % 4;
+    *mat_field(&m, f) = v < 3 ? nonfinite[v] : -1.0;
+    snprintf(what, wn, "cloth_set_material(%s = %s)", desc_doubles[MATERIAL_FIRST + f].name,
+             v < 3 ? (v == 0   ? "NaN"
+                      : v == 1 ? "inf"
+                               : "-inf")
+                   : "-1");
+    cloth_status st = cloth_set_material(c, &m);
+    /* the message names the field ("material.k_delta is not finite") */
+    CHECK(st == CLOTH_OK || strstr(cloth_last_error(c), desc_doubles[MATERIAL_FIRST + f].name) != NULL,
+          "%s: message \"%s\" does not name the field", what, cloth_last_error(c));
+    return st;
+}
 
-    /* set_material: each field NaN, inf, negative; alpha > 1; delta 0; NULL */
-    if (k < NMATERIAL_DOUBLES * 4) {
-        cloth_material m = cloth_get_desc(c).material;
-        int f = k / 4, v = k % 4;
-        *mat_field(&m, f) = v < 3 ? nf[v] : -1.0;
-        snprintf(what, wn, "cloth_set_material(%s = %s)", desc_doubles[MATERIAL_FIRST + f].name,
-                 v < 3 ? (v == 0   ? "NaN"
-                          : v == 1 ? "inf"
-                                   : "-inf")
-                       : "-1");
-        cloth_status st = cloth_set_material(c, &m);
-        /* the message names the field ("material.k_delta is not finite") */
-        CHECK(st == CLOTH_OK || strstr(cloth_last_error(c), desc_doubles[MATERIAL_FIRST + f].name) != NULL,
-              "%s: message \"%s\" does not name the field", what, cloth_last_error(c));
-        return st;
-    }
-    k -= NMATERIAL_DOUBLES * 4;
+/* set_material with alpha > 1, delta 0, NULL, tension_yield above delta, tension_set above 1. */
+static cloth_status bad_material(cloth *c, int k, char *what, size_t wn)
+{
+    cloth_material m = cloth_get_desc(c).material;
     switch (k) {
-    case 0: {
-        cloth_material m = cloth_get_desc(c).material;
+    case 0:
         m.alpha = 1.5;
         snprintf(what, wn, "cloth_set_material(alpha 1.5)");
         return cloth_set_material(c, &m);
-    }
-    case 1: {
-        cloth_material m = cloth_get_desc(c).material;
+    case 1:
         m.delta = 0;
         snprintf(what, wn, "cloth_set_material(delta 0)");
         return cloth_set_material(c, &m);
-    }
     case 2: snprintf(what, wn, "cloth_set_material(NULL)"); return cloth_set_material(c, NULL);
-    case 3:
-    case 4:
-    case 5:
-    case 6:
-    case 7:
-    case 8:
-    case 9: {
-        cloth_solver s = d0.solver;
-        const char *nm[] = {"cg_tolerance 0", "cg_tolerance 1", "cg_tolerance NaN", "cg_max_iterations 0",
-                            "method 99",      "precond 99",     "strain_fail NaN"};
-        if (k == 3) s.cg_tolerance = 0;
-        if (k == 4) s.cg_tolerance = 1;
-        if (k == 5) s.cg_tolerance = NAN;
-        if (k == 6) s.cg_max_iterations = 0;
-        if (k == 7) s.method = (cloth_method)99;
-        if (k == 8) s.precond = (cloth_precond)99;
-        if (k == 9) s.strain_fail = NAN;
-        snprintf(what, wn, "cloth_set_solver(%s)", nm[k - 3]);
-        return cloth_set_solver(c, &s);
+    default: {
+        if (k == 60) m.tension_yield = m.delta * 1.5;
+        else m.tension_set = 1.5;
+        snprintf(what, wn, "cloth_set_material(%s)", k == 60 ? "tension_yield 1.5 delta" : "tension_set 1.5");
+        cloth_status st = cloth_set_material(c, &m);
+        CHECK(strstr(cloth_last_error(c), k == 60 ? "tension_yield" : "tension_set") != NULL,
+              "%s: message \"%s\" does not name the field", what, cloth_last_error(c));
+        return st;
     }
-    case 10: snprintf(what, wn, "cloth_set_solver(NULL)"); return cloth_set_solver(c, NULL);
-    case 11:
-    case 12:
-    case 13:
-    case 14:
-        if (k < 14) g[k - 11] = nf[k - 11];
-        snprintf(what, wn, "cloth_set_gravity(%s)", k < 14 ? "non-finite component" : "NULL");
-        return cloth_set_gravity(c, k < 14 ? g : NULL);
-    case 15:
-    case 16:
-    case 17:
-    case 18: {
+    }
+}
+
+/* set_solver with a bad field (k 3..9) or NULL (k 10). */
+static cloth_status bad_solver(cloth *c, int k, char *what, size_t wn)
+{
+    if (k == 10) {
+        snprintf(what, wn, "cloth_set_solver(NULL)");
+        return cloth_set_solver(c, NULL);
+    }
+    cloth_solver s = cloth_default_desc().solver;
+    const char *nm[] = {"cg_tolerance 0", "cg_tolerance 1", "cg_tolerance NaN", "cg_max_iterations 0",
+                        "method 99",      "precond 99",     "strain_fail NaN"};
+    if (k == 3) s.cg_tolerance = 0;
+    if (k == 4) s.cg_tolerance = 1;
+    if (k == 5) s.cg_tolerance = NAN;
+    if (k == 6) s.cg_max_iterations = 0;
+    if (k == 7) s.method = (cloth_method)99;
+    if (k == 8) s.precond = (cloth_precond)99;
+    if (k == 9) s.strain_fail = NAN;
+    snprintf(what, wn, "cloth_set_solver(%s)", nm[k - 3]);
+    return cloth_set_solver(c, &s);
+}
+
+/* set_gravity with a non-finite component (k 11..13) or NULL (k 14). */
+static cloth_status bad_gravity(cloth *c, int k, char *what, size_t wn)
+{
+    double g[3] = {0, 0, -9.81};
+    if (k < 14) g[k - 11] = nonfinite[k - 11];
+    snprintf(what, wn, "cloth_set_gravity(%s)", k < 14 ? "non-finite component" : "NULL");
+    return cloth_set_gravity(c, k < 14 ? g : NULL);
+}
+
+/* set_positions, set_velocities, set_vertex with NaN, inf, NULL or a vertex out of range (k 15..27). */
+static cloth_status bad_state(cloth *c, int k, char *what, size_t wn)
+{
+    double x[3 * NV];
+    memcpy(x, cloth_positions(c), sizeof x);
+    if (k <= 18) {
         int at[] = {0, 3 * NV / 2 + 1, 3 * NV - 1, 40};
         x[at[k - 15]] = k == 18 ? INFINITY : NAN;
         snprintf(what, wn, "cloth_set_positions(%s at %d)", k == 18 ? "inf" : "NaN", at[k - 15]);
         return cloth_set_positions(c, x);
     }
-    case 19: snprintf(what, wn, "cloth_set_positions(NULL)"); return cloth_set_positions(c, NULL);
-    case 20:
-    case 21: {
+    if (k == 19) {
+        snprintf(what, wn, "cloth_set_positions(NULL)");
+        return cloth_set_positions(c, NULL);
+    }
+    if (k <= 21) {
         double v[3 * NV];
         memcpy(v, cloth_velocities(c), sizeof v);
         v[k == 20 ? 3 * NV - 1 : 17] = k == 20 ? NAN : -INFINITY;
         snprintf(what, wn, "cloth_set_velocities(%s)", k == 20 ? "NaN last" : "-inf");
         return cloth_set_velocities(c, v);
     }
-    case 22: snprintf(what, wn, "cloth_set_velocities(NULL)"); return cloth_set_velocities(c, NULL);
-    case 23:
-    case 24:
-    case 25: {
+    if (k == 22) {
+        snprintf(what, wn, "cloth_set_velocities(NULL)");
+        return cloth_set_velocities(c, NULL);
+    }
+    if (k <= 25) {
         int vert = k == 23 ? -1 : k == 24 ? NV : INT_MAX;
         double xv[3] = {0.1, 0.2, 0.3}, vv[3] = {0, 0, 0};
         snprintf(what, wn, "cloth_set_vertex(%d)", vert);
         return cloth_set_vertex(c, vert, xv, vv);
     }
-    case 26:
-    case 27: {
-        double xv[3] = {0.1, NAN, 0.3}, vv[3] = {0, 0, INFINITY};
-        double xo[3] = {0.1, 0.2, 0.3}, vo[3] = {0, 0, 0};
-        snprintf(what, wn, "cloth_set_vertex(5, %s)", k == 26 ? "x NaN" : "v inf");
-        return k == 26 ? cloth_set_vertex(c, 5, xv, vo) : cloth_set_vertex(c, 5, xo, vv);
+    double xv[3] = {0.1, NAN, 0.3}, vv[3] = {0, 0, INFINITY};
+    double xo[3] = {0.1, 0.2, 0.3}, vo[3] = {0, 0, 0};
+    snprintf(what, wn, "cloth_set_vertex(5, %s)", k == 26 ? "x NaN" : "v inf");
+    return k == 26 ? cloth_set_vertex(c, 5, xv, vo) : cloth_set_vertex(c, 5, xo, vv);
+}
+
+/* set_constraint with a bad ndof, axis, target or vertex (k 36..42), or NULL (k 43). */
+static cloth_status bad_constraint(cloth *c, int k, char *what, size_t wn)
+{
+    if (k == 43) {
+        snprintf(what, wn, "cloth_set_constraint(NULL)");
+        return cloth_set_constraint(c, NULL);
     }
+    cloth_constraint q;
+    const char *nm[] = {"ndof 4",          "ndof -1",           "ndof 1 zero axis",   "ndof 2 zero axis",
+                        "ndof 1 NaN axis", "ndof 3 NaN target", "vertex out of range"};
+    memset(&q, 0, sizeof q);
+    q.vertex = 3;
+    q.ndof = 1;
+    q.axis[2] = 1;
+    memcpy(q.target, cloth_positions(c) + 9, sizeof q.target);
+    if (k == 36) q.ndof = 4;
+    if (k == 37) q.ndof = -1;
+    if (k == 38) q.axis[2] = 0;
+    if (k == 39) q.ndof = 2, q.axis[2] = 0;
+    if (k == 40) q.axis[0] = NAN;
+    if (k == 41) q.ndof = 3, q.target[1] = NAN;
+    if (k == 42) q.vertex = NV;
+    snprintf(what, wn, "cloth_set_constraint(%s)", nm[k - 36]);
+    return cloth_set_constraint(c, &q);
+}
+
+/* get_link out of range or of a bad type (k 28..31); pin, release, get_constraint,
+ * constraint_force out of range or with a bad target (k 32..35, 44..47). */
+static cloth_status bad_index(cloth *c, int k, char *what, size_t wn)
+{
+    double p[3] = {0.1, 0.2, 0.3};
+    switch (k) {
     case 28:
     case 29:
     case 30:
@@ -499,32 +552,6 @@ static int bad_call(cloth *c, int k, char *what, size_t wn, cloth_status *want)
         return cloth_pin(c, 3, t);
     }
     case 35: snprintf(what, wn, "cloth_pin(3, NULL)"); return cloth_pin(c, 3, NULL);
-    case 36:
-    case 37:
-    case 38:
-    case 39:
-    case 40:
-    case 41:
-    case 42: {
-        cloth_constraint q;
-        const char *nm[] = {"ndof 4",          "ndof -1",           "ndof 1 zero axis",   "ndof 2 zero axis",
-                            "ndof 1 NaN axis", "ndof 3 NaN target", "vertex out of range"};
-        memset(&q, 0, sizeof q);
-        q.vertex = 3;
-        q.ndof = 1;
-        q.axis[2] = 1;
-        memcpy(q.target, x + 9, sizeof q.target);
-        if (k == 36) q.ndof = 4;
-        if (k == 37) q.ndof = -1;
-        if (k == 38) q.axis[2] = 0;
-        if (k == 39) q.ndof = 2, q.axis[2] = 0;
-        if (k == 40) q.axis[0] = NAN;
-        if (k == 41) q.ndof = 3, q.target[1] = NAN;
-        if (k == 42) q.vertex = NV;
-        snprintf(what, wn, "cloth_set_constraint(%s)", nm[k - 36]);
-        return cloth_set_constraint(c, &q);
-    }
-    case 43: snprintf(what, wn, "cloth_set_constraint(NULL)"); return cloth_set_constraint(c, NULL);
     case 44:
     case 45: snprintf(what, wn, "cloth_release(%d)", k == 44 ? -1 : NV); return cloth_release(c, k == 44 ? -1 : NV);
     case 46: {
@@ -532,71 +559,86 @@ static int bad_call(cloth *c, int k, char *what, size_t wn, cloth_status *want)
         snprintf(what, wn, "cloth_get_constraint(%d)", NV);
         return cloth_get_constraint(c, NV, &q);
     }
-    case 47: {
+    default: {
         double f[3];
         snprintf(what, wn, "cloth_constraint_force(-1)");
         return cloth_constraint_force(c, -1, f);
     }
+    }
+}
+
+/* restore from a state of a cloth of another size, whose diff with c's is negative. */
+static cloth_status bad_restore_size(cloth *c, char *what, size_t wn)
+{
+    cloth_desc d = cloth_default_desc();
+    cloth *o = NULL;
+    cloth_state *s;
+    cloth_status st = CLOTH_OK;
+    d.rows = ROWS + 1;
+    d.cols = COLS;
+    snprintf(what, wn, "cloth_restore(state of a %dx%d cloth)", ROWS + 1, COLS);
+    if (cloth_create(&d, &o, NULL) != CLOTH_OK) return CLOTH_EINVAL;
+    s = cloth_state_create(o);
+    if (s) {
+        cloth_state *mine = cloth_state_create(c);
+        cloth_save(o, s);
+        if (mine) {
+            cloth_save(c, mine);
+            CHECK(cloth_state_diff(mine, s) < 0, "cloth_state_diff of states of different sizes is not negative");
+        }
+        cloth_state_destroy(mine);
+        st = cloth_restore(c, s);
+    }
+    cloth_state_destroy(s);
+    cloth_destroy(o);
+    return st;
+}
+
+/* step with h 0, < 0, NaN, inf (k 52..55): a bad argument, not a failed step, but stats say BAD_STEP. */
+static cloth_status bad_step(cloth *c, int k, char *what, size_t wn)
+{
+    const double hs[] = {0.0, -0.01, NAN, INFINITY};
+    cloth_step_stats stats;
+    cloth_status st;
+    memset(&stats, 0, sizeof stats);
+    snprintf(what, wn, "cloth_step(h = %g)", hs[k - 52]);
+    st = cloth_step(c, hs[k - 52], &stats);
+    CHECK(st == CLOTH_OK || stats.failure == CLOTH_FAIL_BAD_STEP, "%s: stats.failure %d (%s), want BAD_STEP", what,
+          (int)stats.failure, cloth_failure_string(stats.failure));
+    return st;
+}
+
+/* NULL where an output or a state goes (k 48..50, 56..59). */
+static cloth_status bad_null(cloth *c, int k, char *what, size_t wn)
+{
+    switch (k) {
     case 48: snprintf(what, wn, "cloth_internal_forces(NULL)"); return cloth_internal_forces(c, NULL);
     case 49: snprintf(what, wn, "cloth_save(NULL)"); return cloth_save(c, NULL);
     case 50: snprintf(what, wn, "cloth_restore(NULL)"); return cloth_restore(c, NULL);
-    case 51: {
-        /* a state of a cloth of another size */
-        cloth_desc d = cloth_default_desc();
-        cloth *o = NULL;
-        cloth_state *s;
-        cloth_status st = CLOTH_OK;
-        d.rows = ROWS + 1;
-        d.cols = COLS;
-        snprintf(what, wn, "cloth_restore(state of a %dx%d cloth)", ROWS + 1, COLS);
-        if (cloth_create(&d, &o, NULL) != CLOTH_OK) return CLOTH_EINVAL;
-        s = cloth_state_create(o);
-        if (s) {
-            cloth_state *mine = cloth_state_create(c);
-            cloth_save(o, s);
-            if (mine) {
-                cloth_save(c, mine);
-                CHECK(cloth_state_diff(mine, s) < 0, "cloth_state_diff of states of different sizes is not negative");
-            }
-            cloth_state_destroy(mine);
-            st = cloth_restore(c, s);
-        }
-        cloth_state_destroy(s);
-        cloth_destroy(o);
-        return st;
-    }
-    case 52:
-    case 53:
-    case 54:
-    case 55: {
-        const double hs[] = {0.0, -0.01, NAN, INFINITY};
-        cloth_step_stats stats;
-        cloth_status st;
-        memset(&stats, 0, sizeof stats);
-        snprintf(what, wn, "cloth_step(h = %g)", hs[k - 52]);
-        *want = CLOTH_EINVAL; /* a bad argument, not a failed step */
-        st = cloth_step(c, hs[k - 52], &stats);
-        CHECK(st == CLOTH_OK || stats.failure == CLOTH_FAIL_BAD_STEP, "%s: stats.failure %d (%s), want BAD_STEP", what,
-              (int)stats.failure, cloth_failure_string(stats.failure));
-        return st;
-    }
     case 56: snprintf(what, wn, "cloth_get_link(out NULL)"); return cloth_get_link(c, CLOTH_SEQUENTIAL, 0, NULL);
     case 57: snprintf(what, wn, "cloth_get_constraint(out NULL)"); return cloth_get_constraint(c, 0, NULL);
     case 58: snprintf(what, wn, "cloth_constraint_force(f NULL)"); return cloth_constraint_force(c, 0, NULL);
-    case 59: snprintf(what, wn, "cloth_set_vertex(x and v NULL)"); return cloth_set_vertex(c, 5, NULL, NULL);
-    case 60:
-    case 61: {
-        cloth_material m = cloth_get_desc(c).material;
-        if (k == 60) m.tension_yield = m.delta * 1.5;
-        else m.tension_set = 1.5;
-        snprintf(what, wn, "cloth_set_material(%s)", k == 60 ? "tension_yield 1.5 delta" : "tension_set 1.5");
-        cloth_status st = cloth_set_material(c, &m);
-        CHECK(strstr(cloth_last_error(c), k == 60 ? "tension_yield" : "tension_set") != NULL,
-              "%s: message \"%s\" does not name the field", what, cloth_last_error(c));
-        return st;
+    default: snprintf(what, wn, "cloth_set_vertex(x and v NULL)"); return cloth_set_vertex(c, 5, NULL, NULL);
     }
-    default: return -1;
-    }
+}
+
+/* One bad call by number; returns the status, sets *what, *want (EINVAL for
+ * all). Returns -1 past the last case. */
+static int bad_call(cloth *c, int k, char *what, size_t wn, cloth_status *want)
+{
+    *want = CLOTH_EINVAL;
+    if (k < NMATERIAL_DOUBLES * 4) return bad_material_field(c, k, what, wn);
+    k -= NMATERIAL_DOUBLES * 4;
+    if (k > 61) return -1;
+    if (k <= 2 || k >= 60) return bad_material(c, k, what, wn);
+    if (k <= 10) return bad_solver(c, k, what, wn);
+    if (k <= 14) return bad_gravity(c, k, what, wn);
+    if (k <= 27) return bad_state(c, k, what, wn);
+    if (k >= 36 && k <= 43) return bad_constraint(c, k, what, wn);
+    if (k <= 47) return bad_index(c, k, what, wn);
+    if (k == 51) return bad_restore_size(c, what, wn);
+    if (k >= 52 && k <= 55) return bad_step(c, k, what, wn);
+    return bad_null(c, k, what, wn);
 }
 
 static void check_existing(void)
