@@ -6,7 +6,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include "internal.h"
-#include "mpcg.h"
 
 /* workspace per body, in doubles: M ginv (36 each), rhs u r p q s (6 each),
  * com (3), then for the elongation limit minv (36), F and D (6 each) */
@@ -141,7 +140,13 @@ cloth_status cloth_body_velocity_change(const cloth *c, int index, double dv[6])
     return CLOTH_OK;
 }
 
-const mpcg_bodies *bodies_prepare(cloth *c, double h, double cfac, mpcg_bodies *B)
+static void bodies_expand(const void *ctx, const mpcg_problem *P, const double *u, double *out);
+static void bodies_reduce(const void *ctx, const mpcg_problem *P, const double *t, const double *u, double s_m,
+                          double *out);
+static int bodies_precond(const void *ctx, const mpcg_problem *P);
+static void bodies_apply_ginv(const void *ctx, const double *r, double *out);
+
+const mpcg_extra *bodies_prepare(cloth *c, double h, double cfac, mpcg_bodies *B)
 {
     c->body_held = 0;
     if (c->nbody == 0) return NULL;
@@ -154,15 +159,21 @@ const mpcg_bodies *bodies_prepare(cloth *c, double h, double cfac, mpcg_bodies *
     B->x = c->x_lever; /* the cloth feels the forces there: no torque created */
     B->M = M;
     B->ginv = ginv;
-    B->rhs = rhs;
-    B->u = rhs + 6 * nb;
-    B->r = rhs + 12 * nb;
-    B->p = rhs + 18 * nb;
-    B->q = rhs + 24 * nb;
-    B->s = rhs + 30 * nb;
+    B->ex = (mpcg_extra){.size = 6 * c->nbody,
+                         .rhs = rhs,
+                         .y = rhs + 6 * nb,
+                         .r = rhs + 12 * nb,
+                         .p = rhs + 18 * nb,
+                         .q = rhs + 24 * nb,
+                         .s = rhs + 30 * nb,
+                         .ctx = B,
+                         .expand = bodies_expand,
+                         .reduce = bodies_reduce,
+                         .factor = bodies_precond,
+                         .precondition = bodies_apply_ginv};
     double *com = rhs + 36 * nb;
     B->com = com;
-    memset(B->u, 0, 6 * nb * sizeof *B->u);
+    memset(B->ex.y, 0, 6 * nb * sizeof *B->ex.y);
     c->body_held = held;
     if (!held) return NULL;
     /* the cloth's rows are scaled by cfac (A dv - b = cfac f_c); the body's
@@ -184,7 +195,7 @@ const mpcg_bodies *bodies_prepare(cloth *c, double h, double cfac, mpcg_bodies *
      * projection sets them again from the positions it works on) */
     body_limit_begin(c);
     memset(com + 3 * nb + 36 * nb, 0, 12 * nb * sizeof *com);
-    return B;
+    return &B->ex;
 }
 
 /* ----------------------------------------- the elongation limit's share */
@@ -309,20 +320,21 @@ void body_kept(cloth *c, double s)
 }
 
 
-/* Loop over the held vertices (the constrained ones with a body). */
-#define FOR_HELD(P, i, g)                                                  \
+/* Loop over the held vertices (the constrained ones with a body of B). */
+#define FOR_HELD(P, B, i, g)                                               \
     for (int k_ = 0, n_ = (P)->con ? (P)->ncon : (P)->A->n; k_ < n_; k_++) \
-        for (int i = (P)->con ? (P)->con[k_] : k_, g = (P)->bodies->vbody[i]; g >= 0; g = -1)
+        for (int i = (P)->con ? (P)->con[k_] : k_, g = (B)->vbody[i]; g >= 0; g = -1)
 
 static void lever(const mpcg_bodies *B, int i, int g, double r[3])
 {
     for (int a = 0; a < 3; a++) r[a] = B->x[3 * i + a] - B->com[3 * g + a];
 }
 
-void bodies_expand(const mpcg_problem *P, const double *u, double *out)
+/* ex.expand: out += sum over held vertices of (I - S_i) J_i u */
+static void bodies_expand(const void *ctx, const mpcg_problem *P, const double *u, double *out)
 {
-    const mpcg_bodies *B = P->bodies;
-    FOR_HELD(P, i, g)
+    const mpcg_bodies *B = ctx;
+    FOR_HELD(P, B, i, g)
     {
         const double *ug = u + 6 * g;
         double r[3], v[3], pv[3];
@@ -333,9 +345,11 @@ void bodies_expand(const mpcg_problem *P, const double *u, double *out)
     }
 }
 
-void bodies_reduce(const mpcg_problem *P, const double *t, const double *u, double s_m, double *out)
+/* ex.reduce: out (6 nb) = s_m M u + sum_i J_i^T (I - S_i) t_i (u may be NULL: 0) */
+static void bodies_reduce(const void *ctx, const mpcg_problem *P, const double *t, const double *u, double s_m,
+                          double *out)
 {
-    const mpcg_bodies *B = P->bodies;
+    const mpcg_bodies *B = ctx;
     for (int g = 0; g < B->nb; g++) {
         double *o = out + 6 * g;
         for (int a = 0; a < 6; a++) {
@@ -345,7 +359,7 @@ void bodies_reduce(const mpcg_problem *P, const double *t, const double *u, doub
             o[a] = s_m * m;
         }
     }
-    FOR_HELD(P, i, g)
+    FOR_HELD(P, B, i, g)
     {
         double r[3], f[3];
         lever(B, i, g, r);
@@ -394,13 +408,15 @@ static int spd6_inverse(const double *A, double *out)
     return 0;
 }
 
-int bodies_precond(const mpcg_problem *P)
+/* ex.factor: ginv = (M + sum J^T (I - S) A_ii (I - S) J)^-1 per body; -1 when a block is not
+ * positive definite, else 0 */
+static int bodies_precond(const void *ctx, const mpcg_problem *P)
 {
-    const mpcg_bodies *B = P->bodies;
+    const mpcg_bodies *B = ctx;
     int nb = B->nb;
     /* accumulate into ginv, then invert each block in place */
     memcpy(B->ginv, B->M, 36 * (size_t)nb * sizeof *B->ginv);
-    FOR_HELD(P, i, g)
+    FOR_HELD(P, B, i, g)
     {
         const double *S = P->S + 9 * (size_t)i, *Aii = P->A->val + 9 * (size_t)P->A->diag[i];
         double r[3], PJ[18], APJ[18];
@@ -423,8 +439,10 @@ int bodies_precond(const mpcg_problem *P)
     return 0;
 }
 
-void bodies_apply_ginv(const mpcg_bodies *B, const double *r, double *out)
+/* ex.precondition: out = ginv r (6 nb) */
+static void bodies_apply_ginv(const void *ctx, const double *r, double *out)
 {
+    const mpcg_bodies *B = ctx;
     for (int g = 0; g < B->nb; g++)
         for (int a = 0; a < 6; a++) {
             double s = 0.0;
@@ -567,29 +585,29 @@ void bodies_newton_take(cloth *c, double t)
 }
 
 /* Body g's residual r = rhs - M u + sum J^T P b, after bodies_reduce has
- * put -M u + sum J^T P b in B->r */
+ * put -M u + sum J^T P b in B->ex.r */
 static void body_residual(const mpcg_bodies *B, int g, double r[6])
 {
-    for (int a = 0; a < 6; a++) r[a] = B->r[6 * g + a] + B->rhs[6 * g + a];
+    for (int a = 0; a < 6; a++) r[a] = B->ex.r[6 * g + a] + B->ex.rhs[6 * g + a];
 }
 
 double bodies_residual_work(const cloth *c, const mpcg_problem *P, const double *b)
 {
-    const mpcg_bodies *B = P->bodies;
-    bodies_reduce(P, b, B->u, -1.0, B->r);
+    const mpcg_bodies *B = P->bodies->ctx;
+    bodies_reduce(B, P, b, B->ex.y, -1.0, B->ex.r);
     double w = 0.0;
     for (int g = 0; g < B->nb; g++) {
         double r[6];
         body_residual(B, g, r);
-        for (int a = 0; a < 6; a++) w += (c->body[g].velocity[a] + B->u[6 * g + a]) * r[a];
+        for (int a = 0; a < 6; a++) w += (c->body[g].velocity[a] + B->ex.y[6 * g + a]) * r[a];
     }
     return w;
 }
 
 double bodies_residual_energy(const mpcg_problem *P, const double *b)
 {
-    const mpcg_bodies *B = P->bodies;
-    bodies_reduce(P, b, B->u, -1.0, B->r);
+    const mpcg_bodies *B = P->bodies->ctx;
+    bodies_reduce(B, P, b, B->ex.y, -1.0, B->ex.r);
     double s = 0.0;
     for (int g = 0; g < B->nb; g++) {
         double r[6], Mi[36];

@@ -6,6 +6,7 @@
 #include <math.h>
 #include "odecloth/cloth.h"
 #include "bsr.h"
+#include "mpcg.h"
 #include "multigrid.h"
 
 /* ---------------------------------------------------------------- springs */
@@ -238,10 +239,21 @@ int workspace_alloc(cloth *c);
  * Newton steps; returns the number of links over the limit before the first. */
 int strain_limit(cloth *c, double *x, double *v, const double *S, double h, int iterations);
 
-/* bodies.c: fill B for this step's solve (h the step, cfac the method's
- * dx/dv_new); NULL when no constrained vertex is held by a body. */
-struct mpcg_bodies;
-const struct mpcg_bodies *bodies_prepare(cloth *c, double h, double cfac, struct mpcg_bodies *B);
+/* Rigid bodies solved with the cloth (bodies.c): vertex i held by body g has dv_i = S_i w_i + z_i +
+ * (I - S_i) J_i u_g, J_i u_g its point velocity; the CG reaches the bodies' u through ex (mpcg.h). */
+typedef struct mpcg_bodies {
+    mpcg_extra ex; /* size 6 nb, y the velocity changes u; rhs the impulse from all but the cloth */
+    int nb;
+    const int *vbody;  /* n: body of each vertex, -1 none (constrained only) */
+    const double *x;   /* 3n: positions at the step's start (lever arms) */
+    const double *com; /* 3 nb */
+    const double *M;   /* 36 nb: 6x6 mass matrices, scaled as the cloth's rows (as is rhs) */
+    double *ginv;      /* 36 nb: out of ex.factor */
+} mpcg_bodies;
+
+/* bodies.c: fill B for this step's solve (h the step, cfac the method's dx/dv_new) and return its
+ * operators for mpcg_problem.bodies; NULL when no constrained vertex is held by a body. */
+const mpcg_extra *bodies_prepare(cloth *c, double h, double cfac, mpcg_bodies *B);
 
 /* bodies.c, for the elongation limit: whether a body holds vertex i's constrained components; u^T W u's
  * body share; F_g += s J^T P u; D = Minv F (F zeroed); q_i += s P J D; bodies' du += s D. */
@@ -283,11 +295,10 @@ double bodies_step_energy(const cloth *c);
 /* the bodies' share of the potential at u, outside an iteration */
 double bodies_energy(const cloth *c);
 /* sum of R_g^T M_g^-1 R_g over the bodies' rows, b = -R the cloth's */
-struct mpcg_problem;
-double bodies_residual_energy(const struct mpcg_problem *P, const double *b);
+double bodies_residual_energy(const mpcg_problem *P, const double *b);
 /* The bodies' residual's work at their velocities after the iterate,
  * sum (V0 + u)^T r_g (r_g as above, unsquared; V0 cloth_body.velocity) */
-double bodies_residual_work(const cloth *c, const struct mpcg_problem *P, const double *b);
+double bodies_residual_work(const cloth *c, const mpcg_problem *P, const double *b);
 
 /* limit_multipliers.c: whether both ends of a link are held in full by the same thing (the world or one
  * body), so no multiplier can change its length; and the multipliers' update s = max(0, s + d - lmax)

@@ -53,7 +53,7 @@ static void filter_inplace(const mpcg_problem *P, double *y)
     }
 }
 
-/* The fused loops of mpcg_run (no bodies): the separate passes' operations and ascending dot product
+/* The fused loops of mpcg_run (no extra unknowns): the separate passes' operations and ascending dot product
  * order, so bitwise the same with fewer passes. `fil` walks the ascending list of constrained vertices
  * (all when P->con is NULL): is vertex i filtered? */
 typedef struct con_walk {
@@ -168,7 +168,7 @@ static int con_sorted(const mpcg_problem *P)
 int mpcg_reference(const mpcg_problem *P, double *x, double *r, double *u, double *ref, mpcg_result *res)
 {
     size_t N = 3 * (size_t)P->A->n;
-    const mpcg_bodies *B = P->bodies;
+    const mpcg_extra *E = P->bodies;
     double free_ref = INFINITY;
     if (P->ref_floor > 0.0) {
         memcpy(r, P->b, N * sizeof *r);
@@ -180,16 +180,16 @@ int mpcg_reference(const mpcg_problem *P, double *x, double *r, double *u, doubl
     bsr_mul_cols(P->A, P->z, P->con, P->ncon, u);
     for (size_t k = 0; k < N; k++) r[k] = P->b[k] - u[k];
     double bref = 0.0;
-    if (B) {
-        /* the bodies' rows at u = 0: rhs + J^T P (b - A z), weighted by ginv */
-        if (bodies_precond(P)) {
+    if (E) {
+        /* the extra rows at y = 0: rhs + E^T (b - A z), weighted by G */
+        if (E->factor(E->ctx, P)) {
             res->failure = CLOTH_FAIL_CG_INDEFINITE;
             return 1;
         }
-        bodies_reduce(P, r, NULL, 0.0, B->r);
-        for (int k = 0; k < 6 * B->nb; k++) B->r[k] += B->rhs[k];
-        bodies_apply_ginv(B, B->r, B->s);
-        bref = dot(B->r, B->s, 6 * (size_t)B->nb);
+        E->reduce(E->ctx, P, r, NULL, 0.0, E->r);
+        for (int k = 0; k < E->size; k++) E->r[k] += E->rhs[k];
+        E->precondition(E->ctx, E->r, E->s);
+        bref = dot(E->r, E->s, (size_t)E->size);
     }
     filter_inplace(P, r);
     filter_apply(P->A->n, P->Dinv, r, u);
@@ -237,45 +237,45 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
     mpcg_result res = {0, 0.0, CLOTH_FAIL_NONE};
     double tol = P->tol;
     int max_iter = P->max_iter;
-    /* Bodies (P->bodies): six more unknowns each, the vectors' tails B->u,
-     * r, p, q, s of length NB; their preconditioner and norm weight is ginv. */
-    const mpcg_bodies *B = P->bodies;
-    size_t NB = B ? 6 * (size_t)B->nb : 0;
+    /* Extra unknowns (P->bodies): the vectors' tails E->y, r, p, q, s of
+     * length NE; their preconditioner and norm weight is E's G. */
+    const mpcg_extra *E = P->bodies;
+    size_t NE = E ? (size_t)E->size : 0;
     /* s = S M r (the filtered preconditioned residual). With block Jacobi
      * (pc NULL) M = Dinv, and the norm r^T Dinv r is r^T s: no second product. */
-#define PRECONDITION()                           \
-    do {                                         \
-        if (P->pc) P->pc(P->ctx, r, s);          \
-        else filter_apply(n, Dinv, r, s);        \
-        filter_inplace(P, s);                    \
-        if (B) bodies_apply_ginv(B, B->r, B->s); \
+#define PRECONDITION()                              \
+    do {                                            \
+        if (P->pc) P->pc(P->ctx, r, s);             \
+        else filter_apply(n, Dinv, r, s);           \
+        filter_inplace(P, s);                       \
+        if (E) E->precondition(E->ctx, E->r, E->s); \
     } while (0)
-#define NORM2() (filter_apply(n, Dinv, r, u), dot(r, u, N) + (B ? dot(B->r, B->s, NB) : 0.0))
-#define DOT(a, b) (dot(a, b, N) + (B ? dot(B->a, B->b, NB) : 0.0))
+#define NORM2() (filter_apply(n, Dinv, r, u), dot(r, u, N) + (E ? dot(E->r, E->s, NE) : 0.0))
+#define DOT(a, b) (dot(a, b, N) + (E ? dot(E->a, E->b, NE) : 0.0))
 
     /* reference: the reduced right-hand side S (b - A z) */
     double ref;
     if (mpcg_reference(P, x, r, t, &ref, &res)) return res;
 
-    /* x = S guess + z (and the bodies' u = 0) */
+    /* x = S guess + z (and the extra y = 0) */
     filter_inplace(P, x);
     for (size_t k = 0; k < N; k++) x[k] += z[k];
     bsr_mul(A, x, t);
     if (A->sym && !P->sym_checked) bsr_check_sym(A, A->val, A->sym); /* for bsr_mul_sym below */
     for (size_t k = 0; k < N; k++) r[k] = b[k] - t[k];
-    if (B) { /* the bodies' residual rhs - M u + J^T P (b - A dv) at u = 0 */
-        memset(B->u, 0, NB * sizeof *B->u);
-        bodies_reduce(P, r, NULL, 0.0, B->r);
-        for (size_t k = 0; k < NB; k++) B->r[k] += B->rhs[k];
+    if (E) { /* the extra residual rhs - M y + E^T (b - A x) at y = 0 */
+        memset(E->y, 0, NE * sizeof *E->y);
+        E->reduce(E->ctx, P, r, NULL, 0.0, E->r);
+        for (size_t k = 0; k < NE; k++) E->r[k] += E->rhs[k];
     }
     filter_inplace(P, r);
     PRECONDITION();
     double delta = DOT(r, s), rr = P->pc ? NORM2() : delta;
     memcpy(p, s, N * sizeof *p);
-    if (B) memcpy(B->p, B->s, NB * sizeof *B->p);
+    if (E) memcpy(E->p, E->s, NE * sizeof *E->p);
     double tol2 = tol * tol * ref;
-    /* the fused loops: without bodies, with the constrained list ascending */
-    int fused = !B && con_sorted(P);
+    /* the fused loops: without extra unknowns, with the constrained list ascending */
+    int fused = !E && con_sorted(P);
 
     int it = 0;
     double before = INFINITY; /* the last update's squared mass norm */
@@ -292,17 +292,17 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
             res.failure = CLOTH_FAIL_CG_MAX_ITER;
             break;
         }
-        if (B) { /* q = [S; J^T P] A (p + P J p_u) + (0, M p_u) */
+        if (E) { /* q = [S; E^T] A (p + E p_y) + (0, M p_y) */
             memcpy(t, p, N * sizeof *t);
-            bodies_expand(P, B->p, t);
+            E->expand(E->ctx, P, E->p, t);
             bsr_mul_sym(A, t, q);
-            bodies_reduce(P, q, B->p, 1.0, B->q);
+            E->reduce(E->ctx, P, q, E->p, 1.0, E->q);
         } else if (!fused) {
             bsr_mul_sym(A, p, q);
         }
         double pq;
         if (fused) {
-            pq = mul_filter_dot(P, p, q) + 0.0; /* + 0.0: as DOT adds the (absent) bodies' part */
+            pq = mul_filter_dot(P, p, q) + 0.0; /* + 0.0: as DOT adds the (absent) extra part */
         } else {
             filter_inplace(P, q);
             pq = DOT(p, q);
@@ -324,9 +324,9 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
                 x[k] += alpha * p[k];
                 r[k] -= alpha * q[k];
             }
-            for (size_t k = 0; k < NB; k++) {
-                B->u[k] += alpha * B->p[k];
-                B->r[k] -= alpha * B->q[k];
+            for (size_t k = 0; k < NE; k++) {
+                E->y[k] += alpha * E->p[k];
+                E->r[k] -= alpha * E->q[k];
             }
             PRECONDITION();
             if (fused) {
@@ -338,17 +338,17 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
                 rr = P->pc ? NORM2() : dnew;
             }
         }
-        if (P->abs_err2 > 0.0 && !B && tail_within(P, p, alpha, &before)) {
+        if (P->abs_err2 > 0.0 && !E && tail_within(P, p, alpha, &before)) {
             it++;
             break;
         }
         double beta = dnew / delta;
         for (size_t k = 0; k < N; k++) p[k] = s[k] + beta * p[k];
-        for (size_t k = 0; k < NB; k++) B->p[k] = B->s[k] + beta * B->p[k];
+        for (size_t k = 0; k < NE; k++) E->p[k] = E->s[k] + beta * E->p[k];
         delta = dnew;
         it++;
     }
-    if (B) bodies_expand(P, B->u, x); /* the held vertices follow their bodies */
+    if (E) E->expand(E->ctx, P, E->y, x); /* the constrained components follow the extra unknowns */
     res.iterations = it;
     res.residual = sqrt(fmax(rr, 0.0) / ref);
     if (res.failure == CLOTH_FAIL_NONE && !isfinite(rr)) res.failure = CLOTH_FAIL_NAN;

@@ -21,20 +21,28 @@ mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const dou
  * directions; the solver filters s afterwards). */
 typedef void (*mpcg_precond_fn)(void *ctx, const double *r, double *s);
 
-/* Rigid bodies solved with the cloth (bodies.c): vertex i held by body g has dv_i = S_i w_i + z_i +
- * (I - S_i) J_i u_g, and the CG runs on (w, u) with the operator [S; J^T P] A [S, P J] + diag(0, M),
- * symmetric and definite when A is. */
-typedef struct mpcg_bodies {
-    int nb;
-    const int *vbody;      /* n: body of each vertex, -1 none (constrained only) */
-    const double *x;       /* 3n: positions at the step's start (lever arms) */
-    const double *com;     /* 3 nb */
-    const double *M;       /* 36 nb: 6x6 mass matrices, scaled as the cloth's rows */
-    const double *rhs;     /* 6 nb: impulse from everything but the cloth, likewise */
-    double *ginv;          /* 36 nb: out of bodies_precond */
-    double *u;             /* 6 nb: out, the velocity changes */
-    double *r, *p, *q, *s; /* 6 nb each: CG scratch */
-} mpcg_bodies;
+struct mpcg_problem;
+
+/* Extra unknowns solved with the cloth's (the rigid bodies', bodies.c): the cloth's unknowns gain E y
+ * in their constrained components, and the CG runs on (x, y) with the operator [S; E^T] A [S, E] +
+ * diag(0, M), symmetric and definite when A is. The operators get ctx and the problem. */
+typedef struct mpcg_extra {
+    int size;              /* the extra unknowns' count */
+    const double *rhs;     /* size: their right-hand side, besides E^T (b - A x) */
+    double *y;             /* size: out, the solution */
+    double *r, *p, *q, *s; /* size each: CG scratch */
+    const void *ctx;       /* the operators' own */
+    /* out += E y, on the constrained vertices */
+    void (*expand)(const void *ctx, const struct mpcg_problem *P, const double *y, double *out);
+    /* out = s_m M y + E^T t (y may be NULL: 0) */
+    void (*reduce)(const void *ctx, const struct mpcg_problem *P, const double *t, const double *y, double s_m,
+                   double *out);
+    /* make G = (M + diag blocks of E^T A E)^-1, the preconditioner and norm weight; -1 when a block is
+     * not positive definite (then neither is the system), else 0 */
+    int (*factor)(const void *ctx, const struct mpcg_problem *P);
+    /* out = G r */
+    void (*precondition)(const void *ctx, const double *r, double *out);
+} mpcg_extra;
 
 /* The general form used by the step. */
 typedef struct mpcg_problem {
@@ -51,7 +59,7 @@ typedef struct mpcg_problem {
     void *ctx;
     double tol;
     int max_iter;
-    const mpcg_bodies *bodies; /* NULL: none */
+    const mpcg_extra *bodies; /* extra unknowns: the rigid bodies solved with the cloth (NULL: none) */
     /* > 0: the reference is no more than |S b|_D^2 (the residual before the
      * constrained components move to z), nor less than this */
     double ref_floor;
@@ -66,17 +74,6 @@ typedef struct mpcg_problem {
     const double *mass;
     int sym_checked; /* 1: A->sym is current for A->val (bsr_check_sym done by the caller) */
 } mpcg_problem;
-
-/* bodies.c, the solver's body operations (P->bodies not NULL):
- * out += sum over held vertices of (I - S_i) J_i u */
-void bodies_expand(const mpcg_problem *P, const double *u, double *out);
-/* out (6 nb) = s_m M u + sum_i J_i^T (I - S_i) t_i (u may be NULL: 0) */
-void bodies_reduce(const mpcg_problem *P, const double *t, const double *u, double s_m, double *out);
-/* ginv = (M + sum J^T (I - S) A_ii (I - S) J)^-1 per body; -1 when a block
- * is not positive definite (then neither is the system), else 0. */
-int bodies_precond(const mpcg_problem *P);
-/* out = ginv r (6 nb) */
-void bodies_apply_ginv(const mpcg_bodies *B, const double *r, double *out);
 
 /* The start of a solve: r = S (b - A z) and *ref its Dinv-weighted squared norm (u: 3n scratch).
  * Returns 1 when the solve ends here (NaN, A not definite, or nothing to solve: x = z); res says which. */
