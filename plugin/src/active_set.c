@@ -26,14 +26,13 @@ static int by_triangle_rule(dClothID c, int i)
     return nw->from_triangle || (old->from_triangle && old->geom == nw->geom);
 }
 
-/* Whether vertex i carries a share of a triangle's contact that Newton
- * judges as one, by its own force (mark_pulled_shares): its point weighs
- * the vertex, and it may let go (neither anchored, pinched nor forced) */
-static int shared(dClothID c, int i, int newton)
+/* Whether vertex i carries a share of a triangle's contact judged as one, by
+ * its own force (mark_pulled_shares): its point weighs the vertex, and it may
+ * let go (neither anchored, pinched nor forced) */
+static int shared(dClothID c, int i)
 {
     const vcontact *nw = &c->vc_new[i];
-    return newton && nw->from_triangle && nw->tri >= 0 && nw->weight > 0.0 && !nw->anchored && !nw->pinched &&
-           !nw->forced;
+    return nw->from_triangle && nw->tri >= 0 && nw->weight > 0.0 && !nw->anchored && !nw->pinched && !nw->forced;
 }
 
 /* Vertex i, near its geom but left free, as a contact candidate: the core's
@@ -104,7 +103,7 @@ void dcloth_constrain(dClothID c, double h, dClothStepStats *st)
             /* Newton lets a vertex's own contact that follows a triangle's
              * go within the step at the pull the peel below judges after
              * it; a triangle's own goes by its force (share_pulled) */
-            if (by_triangle_rule(c, i) && !shared(c, i, newton)) cloth_set_contact_pull(core, i, LETGO_PULL * letgo_t);
+            if (by_triangle_rule(c, i) && !shared(c, i)) cloth_set_contact_pull(core, i, LETGO_PULL * letgo_t);
         }
         second_candidate(c, i, h, nw, newton);
         for (int r = 0; r < 3; r++) c->fext[3 * i + r] += nw->friction[r];
@@ -141,7 +140,7 @@ static void took_candidates(dClothID c, dClothStepStats *st)
 /* a vertex left free (released, or predicted apart) that ended the step inside its shell and that
  * the step did not decide itself (a candidate): hold it and solve the step again from its start
  * (at most DCLOTH_RESOLVE_PASSES solves) */
-static int hold_inside(dClothID c, double h, int newton)
+static int hold_inside(dClothID c, double h)
 {
     cloth *core = c->core;
     int more = 0;
@@ -150,7 +149,7 @@ static int hold_inside(dClothID c, double h, int newton)
         vcontact *nw = &c->vc_new[i];
         cloth_constraint k;
         /* a shared contact the step let go counts as left free */
-        int gone = shared(c, i, newton) && nw->active && cloth_get_constraint(core, i, &k) == CLOTH_OK && !k.ndof;
+        int gone = shared(c, i) && nw->active && cloth_get_constraint(core, i, &k) == CLOTH_OK && !k.ndof;
         if (!nw->geom || (nw->active && !gone) || nw->candidate || c->pin[i].active) continue;
         double d[3] = {x1[3 * i] - c->x0[3 * i] - h * nw->vbody[0], x1[3 * i + 1] - c->x0[3 * i + 1] - h * nw->vbody[1],
                        x1[3 * i + 2] - c->x0[3 * i + 2] - h * nw->vbody[2]};
@@ -162,16 +161,16 @@ static int hold_inside(dClothID c, double h, int newton)
     return more;
 }
 
-/* a triangle's contact that pulled its vertex onto the body, by
+/* a vertex contact by the triangle rule, not a share of one, that pulled its vertex onto the body, by
  * more than LETGO_PULL of a link's tension at the limit: let go,
  * and solve again */
-static int let_go_pulling(dClothID c, int newton, double letgo_t)
+static int let_go_pulling(dClothID c, double letgo_t)
 {
     cloth *core = c->core;
     int peel = 0;
     for (int i = 0; i < c->n; i++) {
         vcontact *nw = &c->vc_new[i];
-        if (!nw->active || !by_triangle_rule(c, i) || shared(c, i, newton) || nw->forced || nw->pinched) continue;
+        if (!nw->active || !by_triangle_rule(c, i) || shared(c, i) || nw->forced || nw->pinched) continue;
         double f[3];
         dcloth_first_force(core, i, f);
         if (dcloth_dot3(f, nw->normal) < -LETGO_PULL * letgo_t) {
@@ -246,15 +245,14 @@ int dcloth_revise(dClothID c, double h, int passes, dClothStepStats *st)
 {
     cloth *core = c->core;
     cloth_desc cd = cloth_get_desc(core);
-    int newton = cd.solver.nonlinear == CLOTH_NEWTON;
     took_candidates(c, st);
     /* vertices the search did not reach at the step's start (a step can
      * carry them farther than their start velocity says) that ended
      * inside a shell: contacts from now on, and the step solved again */
     int more = dcloth_find_late_contacts(c, c->x0, cloth_positions(core), RESOLVE_DEPTH);
     st->late_contacts += more;
-    more += hold_inside(c, h, newton);
-    int peel = let_go_pulling(c, newton, letgo_tension(&cd));
+    more += hold_inside(c, h);
+    int peel = let_go_pulling(c, letgo_tension(&cd));
     more += peel;
     /* From the step's third solve on (a peel under way), the triangle contacts on the same geom that pull,
      * reached along sequential links, let go together: the strip a lift peels off, which one vertex per
@@ -276,7 +274,7 @@ void dcloth_mark_pulled_shares(dClothID c)
     for (int pass = 0; pass < 2; pass++)
         for (int i = 0; i < c->n; i++) {
             vcontact *o = &c->vc_new[i];
-            if (!o->active || !shared(c, i, 1)) continue;
+            if (!o->active || !shared(c, i)) continue;
             const int *p = c->tri + 3 * (size_t)o->tri;
             int lead = i;
             for (int a = 0; a < 3; a++)

@@ -10,7 +10,7 @@ void dcloth_constrain(dClothID c, double h, dClothStepStats *st);
 /* After the step's solve number `passes`: the contacts its result shows wrong changed for the next
  * solve; how many (0: settled) */
 int dcloth_revise(dClothID c, double h, int passes, dClothStepStats *st);
-/* After the step (Newton): marks (let_go) each carrier of a triangle contact that, as a whole, pulled;
+/* After the step: marks (let_go) each carrier of a triangle contact that, as a whole, pulled;
  * the next step lets it go */
 void dcloth_mark_pulled_shares(dClothID c);
 

@@ -134,7 +134,7 @@ void dClothDestroy(dClothID c)
     for (int k = 0; k < c->ncvx; k++) free(c->cvx[k].p);
     free(c->cvx);
     free(c->tri_off.g);
-    free(c->tri_exact.g);
+    free(c->tri_epa.g);
     free(c->mesh.v);
     free(c->mesh.convex);
     free(c->mesh.edges);

@@ -95,8 +95,8 @@ struct dxCloth {
     int ncvx;
     /* geoms whose triangle tests are off (dClothSetTriangleTests) */
     dcloth_geom_list tri_off;
-    /* boxes whose triangle tests are decided by the geometry (dClothSetExactTriangleTests) */
-    dcloth_geom_list tri_exact;
+    /* boxes whose triangle tests are left to EPA (dClothSetExactTriangleTests off) */
+    dcloth_geom_list tri_epa;
     dcloth_geom_list edge_off; /* geoms whose link tests are off (dClothSetEdgeTests) */
     /* carried from one step to the next (dClothSave copies these, and surf_tmax) */
     vcontact *vc, *vc_new; /* n: committed and candidate contact states      */

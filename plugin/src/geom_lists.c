@@ -46,10 +46,13 @@ cloth_status dClothSetExactTriangleTests(dClothID c, dGeomID g, int enable)
     if (dGeomGetClass(g) != dBoxClass)
         return dcloth_fail(c, CLOTH_EINVAL, "dClothSetExactTriangleTests: the geom is not a box (class %d)",
                            dGeomGetClass(g));
-    return dcloth_geom_list_set(c, &c->tri_exact, g, enable != 0, "dClothSetExactTriangleTests");
+    return dcloth_geom_list_set(c, &c->tri_epa, g, enable == 0, "dClothSetExactTriangleTests");
 }
 
-int dClothGetExactTriangleTests(dClothID c, dGeomID g) { return c && g && dcloth_geom_list_has(&c->tri_exact, g); }
+int dClothGetExactTriangleTests(dClothID c, dGeomID g)
+{
+    return c && g && dGeomGetClass(g) == dBoxClass && !dcloth_geom_list_has(&c->tri_epa, g);
+}
 
 cloth_status dClothSetEdgeTests(dClothID c, dGeomID g, int enable)
 {

@@ -99,7 +99,7 @@ cloth_status dClothStep(dClothID c, dReal h)
     cloth_set_external_forces(core, c->fuser); /* the user's again: friction is this step's alone */
     if (s != CLOTH_OK) return failed_step(c, s, &st, t0);
     dcloth_reactions(c, h, &st);
-    if (cloth_get_desc(core).solver.nonlinear == CLOTH_NEWTON) dcloth_mark_pulled_shares(c);
+    dcloth_mark_pulled_shares(c);
     vcontact *t = c->vc;
     c->vc = c->vc_new;
     c->vc_new = t;

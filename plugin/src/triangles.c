@@ -38,7 +38,7 @@ int dcloth_triangle_contacts(dClothID c, const struct dcloth_surf *sf, double h)
     q.moving = dcloth_geom_speed(g) * h > SWEEP_NEGLIGIBLE * t; /* not ODE's jitter of a body at rest */
     q.cls = gs.cls;
     dcloth_polytope box;
-    if (gs.cls == dBoxClass && dcloth_geom_list_has(&c->tri_exact, g)) {
+    if (gs.cls == dBoxClass && !dcloth_geom_list_has(&c->tri_epa, g)) {
         const dReal *o = dGeomGetPosition(g);
         double oc[3] = {o[0], o[1], o[2]};
         dcloth_polytope_box(&box, oc, dGeomGetRotation(g), gs.half);

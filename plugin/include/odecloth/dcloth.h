@@ -253,10 +253,10 @@ ODECLOTH_API cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dRe
 ODECLOTH_API cloth_status dClothSetTriangleTests(dClothID c, dGeomID g, int enable);
 ODECLOTH_API int dClothGetTriangleTests(dClothID c, dGeomID g);
 
-/* A box g's triangle tests decided by its geometry (enable nonzero) instead of libccd's EPA (0, the
- * default): the contact's plane and point from the box's or the triangle's face where one decides them,
- * the nearest points elsewhere, and contacts that tie at a vertex merged, so a scene that is its own mirror
- * image stays one to rounding (docs/contacts.md). Other classes are refused. Disable it before destroying g. */
+/* A box g's triangle tests decided by its geometry (enable nonzero, the default) or by libccd's EPA (0): the
+ * contact's plane and point from the box's or the triangle's face where one decides them, the nearest points
+ * elsewhere, and contacts that tie at a vertex merged, so a scene that is its own mirror image stays one to
+ * rounding (docs/contacts.md). Other classes are refused. Enable it again before destroying g. */
 ODECLOTH_API cloth_status dClothSetExactTriangleTests(dClothID c, dGeomID g, int enable);
 ODECLOTH_API int dClothGetExactTriangleTests(dClothID c, dGeomID g);
 
