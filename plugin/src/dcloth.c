@@ -129,8 +129,8 @@ void dClothDestroy(dClothID c)
     free(c->bdesc);
     free(c->journal.rec);
     dClothStateDestroy(c->undo);
-    free(c->sleep_geoms);
-    free(c->sleep_ids);
+    free(c->sleep.geoms);
+    free(c->sleep.ids);
     for (int k = 0; k < c->ncvx; k++) free(c->cvx[k].p);
     free(c->cvx);
     free(c->tri_off.g);

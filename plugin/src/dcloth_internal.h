@@ -4,6 +4,8 @@
 #define ODECLOTH_DCLOTH_INTERNAL_H
 
 #include "odecloth/dcloth.h"
+#include "journal.h"
+#include "sleep.h"
 #include "tuning.h"
 
 /* dReal is double at the boundary: positions are handed out without copies. */
@@ -99,24 +101,14 @@ struct dxCloth {
     dcloth_geom_list tri_exact;
     dcloth_geom_list edge_off; /* geoms whose link tests are off (dClothSetEdgeTests) */
     /* carried from one step to the next (dClothSave copies these, and surf_tmax) */
-    vcontact *vc, *vc_new; /* n: committed and candidate contact states      */
-    vpin *pin;             /* n                                               */
-    double *fadd;          /* 3n: dClothAddVertexForce's, for the next step    */
-    int held_run;          /* steps held in a row: each retries the next in one
+    vcontact *vc, *vc_new;     /* n: committed and candidate contact states      */
+    vpin *pin;                 /* n                                               */
+    double *fadd;              /* 3n: dClothAddVertexForce's, for the next step    */
+    int held_run;              /* steps held in a row: each retries the next in one
                             more substep halving (body_coupling.c)          */
-    /* sleeping (sleep.c): the settings and state, and the geoms near it
-     * when it fell asleep (sleep.n of them) */
-    struct sleep_state {
-        int on, steps, still, asleep, n;
-        double speed;
-        double gravity[3]; /* the world's gravity when it fell asleep     */
-    } sleep;
-    double *sleep_geoms; /* per candidate then: position (3), and the
-                                 geom itself in sleep_ids                   */
-    dGeomID *sleep_ids;
-    int sleep_cap;
-    dClothStepStats stats; /* the last step's                                 */
-    char err[256];         /* the last failed call's message                  */
+    struct dcloth_sleep sleep; /* sleep.c's settings and state */
+    dClothStepStats stats;     /* the last step's                                 */
+    char err[256];             /* the last failed call's message                  */
     /* the cloth's whole state before a step, for dClothWorldStep's undo (world_step.c) */
     struct dClothState *undo;
     /* the step's (step.c): its start, to solve it again from */
@@ -180,18 +172,11 @@ struct dxCloth {
     cloth_body *bdesc;
     int nbodies, bodies_cap;
     /* the reactions' (reactions.c, momentum.c) */
-    double *vfix;         /* 3n: velocities after the step's contact fix-up  */
-    dBodyID *holder;      /* n: the body that takes each vertex's force, or 0 */
-    dBodyID *turn_bodies; /* n: the moving bodies the turn moves (workspace) */
-    double *turn_dv;      /* 3n: the turn's velocity change (workspace)      */
-    /* journal.c's: the bodies this step touched, each saved from before the step */
-    struct body_journal {
-        struct body_rec {
-            dBodyID b;
-            dReal f[3], t[3], lv[3], av[3];
-        } * rec;
-        int n, cap;
-    } journal;
+    double *vfix;                /* 3n: velocities after the step's contact fix-up  */
+    dBodyID *holder;             /* n: the body that takes each vertex's force, or 0 */
+    dBodyID *turn_bodies;        /* n: the moving bodies the turn moves (workspace) */
+    double *turn_dv;             /* 3n: the turn's velocity change (workspace)      */
+    struct body_journal journal; /* journal.c: the bodies the step touched */
 };
 
 /* save.c: a snapshot of a cloth (dClothSave); statefile.c reads and writes
