@@ -76,12 +76,12 @@ cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *d, d
     c->turn_bodies = calloc((size_t)c->n, sizeof *c->turn_bodies);
     c->turn_dv = calloc(3 * (size_t)c->n, sizeof *c->turn_dv);
     c->save = cloth_state_create(c->core);
-    c->box = dCreateBox(0, 1, 1, 1);
-    c->sphere = dCreateSphere(0, c->thickness);
-    c->ray = dCreateRay(0, 1.0);
+    c->broad.box = dCreateBox(0, 1, 1, 1);
+    c->vertex.sphere = dCreateSphere(0, c->thickness);
+    c->vertex.ray = dCreateRay(0, 1.0);
     if (!c->tri || !c->vc || !c->vc_new || !c->pin || !c->fext || !c->fuser || !c->fadd || !c->x0 || !c->v0 ||
-        !c->vfix || !c->share_sum || !c->holder || !c->turn_bodies || !c->turn_dv || !c->save || !c->box ||
-        !c->sphere || !c->ray) {
+        !c->vfix || !c->share_sum || !c->holder || !c->turn_bodies || !c->turn_dv || !c->save || !c->broad.box ||
+        !c->vertex.sphere || !c->vertex.ray) {
         dClothDestroy(c);
         return create_fail(err, CLOTH_ENOMEM, "out of memory");
     }
@@ -103,9 +103,9 @@ cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *d, d
 void dClothDestroy(dClothID c)
 {
     if (!c) return;
-    if (c->box) dGeomDestroy(c->box);
-    if (c->sphere) dGeomDestroy(c->sphere);
-    if (c->ray) dGeomDestroy(c->ray);
+    if (c->broad.box) dGeomDestroy(c->broad.box);
+    if (c->vertex.sphere) dGeomDestroy(c->vertex.sphere);
+    if (c->vertex.ray) dGeomDestroy(c->vertex.ray);
     cloth_destroy(c->core);
     free(c->tri);
     free(c->vc);
@@ -122,9 +122,9 @@ void dClothDestroy(dClothID c)
     free(c->turn_bodies);
     free(c->turn_dv);
     cloth_state_destroy(c->save);
-    free(c->cand);
-    free(c->surf);
-    free(c->surf_old);
+    free(c->broad.cand);
+    free(c->broad.surf);
+    free(c->broad.surf_old);
     free(c->bodies);
     free(c->bdesc);
     free(c->journal.rec);

@@ -4,9 +4,14 @@
 #define ODECLOTH_DCLOTH_INTERNAL_H
 
 #include "odecloth/dcloth.h"
+#include "broadphase.h"
+#include "edges.h"
 #include "journal.h"
+#include "mesh_contacts.h"
 #include "sleep.h"
+#include "triangles.h"
 #include "tuning.h"
+#include "vertex_contacts.h"
 
 /* dReal is double at the boundary: positions are handed out without copies. */
 typedef char dcloth_dreal_must_be_double[sizeof(dReal) == sizeof(double) ? 1 : -1];
@@ -27,7 +32,7 @@ typedef struct vcontact {
     int from_triangle;  /* 1: set by a triangle test (triangles.c)         */
     int tri;            /* that cloth triangle's index (-1: a link's edge
                             contact, edges.c), and the query that            */
-    unsigned query;     /* set it (dxCloth's tri_query): one contact        */
+    unsigned query;     /* set it (dxCloth's triangles.query): one contact */
     double weight;      /* the contact point's barycentric weight on the
                             vertex (triangle contacts; 1 for a vertex's own)  */
     int active;         /* 1: a constraint in this step's solve            */
@@ -100,71 +105,35 @@ struct dxCloth {
     /* boxes whose triangle tests are decided by the geometry (dClothSetExactTriangleTests) */
     dcloth_geom_list tri_exact;
     dcloth_geom_list edge_off; /* geoms whose link tests are off (dClothSetEdgeTests) */
-    /* carried from one step to the next (dClothSave copies these, and surf_tmax) */
-    vcontact *vc, *vc_new;     /* n: committed and candidate contact states      */
-    vpin *pin;                 /* n                                               */
-    double *fadd;              /* 3n: dClothAddVertexForce's, for the next step    */
-    int held_run;              /* steps held in a row: each retries the next in one
+    /* carried from one step to the next (dClothSave copies all but vc_new and err) */
+    vcontact *vc, *vc_new; /* n: committed and candidate contact states      */
+    vpin *pin;             /* n                                               */
+    double *fadd;          /* 3n: dClothAddVertexForce's, for the next step    */
+    int held_run;          /* steps held in a row: each retries the next in one
                             more substep halving (body_coupling.c)          */
+    /* the largest thickness the surface callback has given since it was set: the broadphase's reach */
+    double surf_tmax;
     struct dcloth_sleep sleep; /* sleep.c's settings and state */
     dClothStepStats stats;     /* the last step's                                 */
     char err[256];             /* the last failed call's message                  */
     /* the cloth's whole state before a step, for dClothWorldStep's undo (world_step.c) */
     struct dClothState *undo;
     /* the step's (step.c): its start, to solve it again from */
-    double *fext;      /* 3n: the user's forces plus sliding friction, handed
+    double *fext;                    /* 3n: the user's forces plus sliding friction, handed
                             to the core for the step                        */
-    double *fuser;     /* 3n: the core's own external forces (the user's),
+    double *fuser;                   /* 3n: the core's own external forces (the user's),
                             put back after each step                        */
-    double *x0;        /* 3n: positions at the step's start               */
-    double *v0;        /* 3n: velocities at the step's start              */
-    cloth_state *save; /* the core's state at the step's start (re-solves) */
-    /* the broadphase's (broadphase.c) */
-    dGeomID box;   /* broadphase proxy: the cloth's swept AABB        */
-    dGeomID *cand; /* candidate geoms of the step                     */
-    int ncand, cand_cap;
-    /* each candidate's mu and thickness this step (surf[a] for cand[a]), a scratch copy for a wider
-     * broadphase, and the largest thickness the surface callback has given since it was set */
-    struct dcloth_surf {
-        dGeomID g;
-        double mu, thickness;
-    } * surf, *surf_old;
-    int surf_cap;
-    double surf_tmax;
-    /* the vertex tests' (vertex_contacts.c) */
-    dGeomID sphere; /* narrowphase proxy: one vertex                    */
-    dGeomID ray;    /* narrowphase proxy over heightfields              */
+    double *x0;                      /* 3n: positions at the step's start               */
+    double *v0;                      /* 3n: velocities at the step's start              */
+    cloth_state *save;               /* the core's state at the step's start (re-solves) */
+    struct broadphase_scratch broad; /* broadphase.c */
+    struct vertex_proxies vertex;    /* vertex_contacts.c */
     /* the triangle tests' (triangles.c, triangle_query.c) */
-    unsigned tri_query; /* triangle queries so far (vcontact's query)       */
-    int tri_hits;       /* vertex contacts set by triangle tests this step  */
-    /* mesh_contacts.c's scratch: a trimesh's triangles this step (9 world coordinates and 3 edge flags
-     * each: 1 where the surface turns convexly or ends), edges for matching neighbours, and the cloth's
-     * triangles in a hash grid */
-    struct mesh_scratch {
-        double *v;
-        unsigned char *convex;
-        struct mesh_edge {
-            double a[3], b[3]; /* the ends, a before b (lexicographic)         */
-            int tri, e;        /* triangle j, edge e (from corner e to e + 1)  */
-        } * edges;
-        int cap;
-        double *grid_box; /* 6 per cloth triangle: its box, grown          */
-        int *grid_stamp;  /* per cloth triangle: the last mesh triangle + 1 */
-        int *grid_head;   /* per bucket: its first entry, -1 if none       */
-        int *grid_next, *grid_tri;
-        long long *grid_key;
-        int grid_nbuck, grid_cap;
-    } mesh;
-    /* edges.c's scratch: a box's or trimesh's triangles for the link tests,
-     * 9 world coordinates each, then 6 box bounds each; their grid and a
-     * stamp each */
-    struct edge_scratch {
-        double *tri;
-        int cap;
-        int *start, *ent, *stamp;
-        int start_cap, ent_cap, stamp_cap;
-    } edge;
-    int edge_hits; /* vertex contacts set by link tests this step     */
+    struct triangle_tests triangles;
+    int tri_hits;             /* vertex contacts set by triangle tests this step  */
+    struct mesh_scratch mesh; /* mesh_contacts.c */
+    struct edge_scratch edge; /* edges.c */
+    int edge_hits;            /* vertex contacts set by link tests this step     */
     /* the active set's (active_set.c) */
     double *share_sum; /* n: per lead, a triangle contact's force (workspace) */
     /* the moving bodies solved with the cloth this step (body_coupling.c) */

@@ -28,12 +28,12 @@ static int body_moves(dClothID c, dBodyID b, dGeomID g)
     return !(sv <= c->sleep.state.speed);
 }
 
-/* Anything moving near the cloth or holding it (candidates of c->cand and
+/* Anything moving near the cloth or holding it (candidates of c->broad.cand and
  * the pins' bodies)? */
 static int anything_moves(dClothID c)
 {
-    for (int a = 0; a < c->ncand; a++)
-        if (body_moves(c, dGeomGetBody(c->cand[a]), c->cand[a])) return 1;
+    for (int a = 0; a < c->broad.ncand; a++)
+        if (body_moves(c, dGeomGetBody(c->broad.cand[a]), c->broad.cand[a])) return 1;
     for (int i = 0; i < c->n; i++)
         if (c->pin[i].active && body_moves(c, c->pin[i].body, 0)) return 1;
     return 0;
@@ -46,9 +46,9 @@ static int scene_changed(dClothID c)
     dWorldGetGravity(c->world, g);
     if (g[0] != c->sleep.state.gravity[0] || g[1] != c->sleep.state.gravity[1] || g[2] != c->sleep.state.gravity[2])
         return 1;
-    if (c->ncand != c->sleep.state.n) return 1;
-    for (int a = 0; a < c->ncand; a++) {
-        dGeomID gg = c->cand[a];
+    if (c->broad.ncand != c->sleep.state.n) return 1;
+    for (int a = 0; a < c->broad.ncand; a++) {
+        dGeomID gg = c->broad.cand[a];
         int k = 0;
         while (k < c->sleep.state.n && c->sleep.ids[k] != gg) k++;
         if (k == c->sleep.state.n) return 1;
@@ -134,20 +134,20 @@ void dcloth_sleep_after(dClothID c)
     if (++c->sleep.state.still < c->sleep.state.steps) return;
     /* fall asleep: remember the scene as far as a sleeping cloth watches */
     if (dcloth_find_candidates(c, 0.0, DCLOTH_WAKE_REACH) < 0 || anything_moves(c)) return;
-    if (c->ncand > c->sleep.cap) {
-        double *gp = realloc(c->sleep.geoms, 3 * (size_t)c->ncand * sizeof *gp);
+    if (c->broad.ncand > c->sleep.cap) {
+        double *gp = realloc(c->sleep.geoms, 3 * (size_t)c->broad.ncand * sizeof *gp);
         if (gp) c->sleep.geoms = gp;
-        dGeomID *id = gp ? realloc(c->sleep.ids, (size_t)c->ncand * sizeof *id) : NULL;
+        dGeomID *id = gp ? realloc(c->sleep.ids, (size_t)c->broad.ncand * sizeof *id) : NULL;
         if (id) c->sleep.ids = id;
         if (!gp || !id) return; /* no memory: stay awake */
-        c->sleep.cap = c->ncand;
+        c->sleep.cap = c->broad.ncand;
     }
-    for (int a = 0; a < c->ncand; a++) {
-        c->sleep.ids[a] = c->cand[a];
-        const dReal *p = dGeomGetClass(c->cand[a]) == dPlaneClass ? NULL : dGeomGetPosition(c->cand[a]);
+    for (int a = 0; a < c->broad.ncand; a++) {
+        c->sleep.ids[a] = c->broad.cand[a];
+        const dReal *p = dGeomGetClass(c->broad.cand[a]) == dPlaneClass ? NULL : dGeomGetPosition(c->broad.cand[a]);
         for (int k = 0; k < 3; k++) c->sleep.geoms[3 * a + k] = p ? p[k] : 0.0;
     }
-    c->sleep.state.n = c->ncand;
+    c->sleep.state.n = c->broad.ncand;
     dVector3 g;
     dWorldGetGravity(c->world, g);
     for (int k = 0; k < 3; k++) c->sleep.state.gravity[k] = g[k];

@@ -31,15 +31,15 @@ static int find_contacts(dClothID c, double h)
     if (dcloth_find_surfaces(c, h, extra) < 0) return -1;
     dcloth_vertex_contacts(c, h, extra);
     c->tri_hits = 0;
-    for (int a = 0; a < c->ncand; a++) c->tri_hits += dcloth_triangle_contacts(c, &c->surf[a], h);
+    for (int a = 0; a < c->broad.ncand; a++) c->tri_hits += dcloth_triangle_contacts(c, &c->broad.surf[a], h);
     c->edge_hits = 0;
-    for (int a = 0; a < c->ncand; a++) {
-        int e = dcloth_edge_contacts(c, &c->surf[a], h, extra);
+    for (int a = 0; a < c->broad.ncand; a++) {
+        int e = dcloth_edge_contacts(c, &c->broad.surf[a], h, extra);
         if (e < 0) return -1;
         c->edge_hits += e;
     }
     dcloth_drop_unfit_seconds(c);
-    return c->ncand;
+    return c->broad.ncand;
 }
 
 /* A failed step (s): the cloth put back to the step's start and, held, stopped there */
