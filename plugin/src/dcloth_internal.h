@@ -4,11 +4,16 @@
 #define ODECLOTH_DCLOTH_INTERNAL_H
 
 #include "odecloth/dcloth.h"
+#include "active_set.h"
+#include "body_coupling.h"
 #include "broadphase.h"
 #include "edges.h"
 #include "journal.h"
 #include "mesh_contacts.h"
+#include "momentum.h"
+#include "reactions.h"
 #include "sleep.h"
+#include "step.h"
 #include "triangles.h"
 #include "tuning.h"
 #include "vertex_contacts.h"
@@ -78,6 +83,8 @@ typedef struct vpin {
     double force[3]; /* N, on the vertex, last step                     */
 } vpin;
 
+/* The cloth: the user's configuration, the state carried from one step to the next, and one member per
+ * stage of the step, that stage's scratch (defined in its own header) */
 struct dxCloth {
     cloth *core;
     int n, ntri;
@@ -106,46 +113,30 @@ struct dxCloth {
     dcloth_geom_list tri_exact;
     dcloth_geom_list edge_off; /* geoms whose link tests are off (dClothSetEdgeTests) */
     /* carried from one step to the next (dClothSave copies all but vc_new and err) */
-    vcontact *vc, *vc_new; /* n: committed and candidate contact states      */
-    vpin *pin;             /* n                                               */
-    double *fadd;          /* 3n: dClothAddVertexForce's, for the next step    */
-    int held_run;          /* steps held in a row: each retries the next in one
-                            more substep halving (body_coupling.c)          */
+    vcontact *vc, *vc_new; /* n: committed and candidate contact states     */
+    vpin *pin;             /* n                                              */
+    double *fadd;          /* 3n: dClothAddVertexForce's, for the next step   */
+    /* steps held in a row: each retries the next in one more substep halving (body_coupling.c) */
+    int held_run;
     /* the largest thickness the surface callback has given since it was set: the broadphase's reach */
     double surf_tmax;
-    struct dcloth_sleep sleep; /* sleep.c's settings and state */
-    dClothStepStats stats;     /* the last step's                                 */
-    char err[256];             /* the last failed call's message                  */
+    struct dcloth_sleep sleep; /* sleep.c's settings and state                  */
+    dClothStepStats stats;     /* the last step's                                */
+    char err[256];             /* the last failed call's message                 */
     /* the cloth's whole state before a step, for dClothWorldStep's undo (world_step.c) */
     struct dClothState *undo;
-    /* the step's (step.c): its start, to solve it again from */
-    double *fext;                    /* 3n: the user's forces plus sliding friction, handed
-                            to the core for the step                        */
-    double *fuser;                   /* 3n: the core's own external forces (the user's),
-                            put back after each step                        */
-    double *x0;                      /* 3n: positions at the step's start               */
-    double *v0;                      /* 3n: velocities at the step's start              */
-    cloth_state *save;               /* the core's state at the step's start (re-solves) */
-    struct broadphase_scratch broad; /* broadphase.c */
-    struct vertex_proxies vertex;    /* vertex_contacts.c */
-    /* the triangle tests' (triangles.c, triangle_query.c) */
-    struct triangle_tests triangles;
-    int tri_hits;             /* vertex contacts set by triangle tests this step  */
-    struct mesh_scratch mesh; /* mesh_contacts.c */
-    struct edge_scratch edge; /* edges.c */
-    int edge_hits;            /* vertex contacts set by link tests this step     */
-    /* the active set's (active_set.c) */
-    double *share_sum; /* n: per lead, a triangle contact's force (workspace) */
-    /* the moving bodies solved with the cloth this step (body_coupling.c) */
-    dBodyID *bodies;
-    cloth_body *bdesc;
-    int nbodies, bodies_cap;
-    /* the reactions' (reactions.c, momentum.c) */
-    double *vfix;                /* 3n: velocities after the step's contact fix-up  */
-    dBodyID *holder;             /* n: the body that takes each vertex's force, or 0 */
-    dBodyID *turn_bodies;        /* n: the moving bodies the turn moves (workspace) */
-    double *turn_dv;             /* 3n: the turn's velocity change (workspace)      */
-    struct body_journal journal; /* journal.c: the bodies the step touched */
+    /* each stage's scratch, in the step's order */
+    struct step_scratch step;             /* step.c: the step's start, to solve it again from */
+    struct broadphase_scratch broad;      /* broadphase.c                                     */
+    struct vertex_proxies vertex;         /* vertex_contacts.c                                */
+    struct triangle_tests triangles;      /* triangles.c, triangle_query.c                    */
+    struct mesh_scratch mesh;             /* mesh_contacts.c                                  */
+    struct edge_scratch edge;             /* edges.c                                          */
+    struct active_set_scratch active_set; /* active_set.c                                     */
+    struct coupled_bodies coupled;        /* body_coupling.c                                  */
+    struct reactions_scratch reactions;   /* reactions.c                                      */
+    struct turn_scratch turn;             /* momentum.c                                       */
+    struct body_journal journal;          /* journal.c: the bodies the step touched           */
 };
 
 /* save.c: a snapshot of a cloth (dClothSave); statefile.c reads and writes

@@ -65,8 +65,8 @@ static int scene_changed(dClothID c)
 /* Was b solved with the cloth in its last step (and still free of joints)? */
 static int held_coupled(dClothID c, dBodyID b)
 {
-    for (int k = 0; k < c->nbodies; k++)
-        if (c->bodies[k] == b) return dBodyGetNumJoints(b) == 0;
+    for (int k = 0; k < c->coupled.n; k++)
+        if (c->coupled.bodies[k] == b) return dBodyGetNumJoints(b) == 0;
     return 0;
 }
 
@@ -88,8 +88,8 @@ int dcloth_sleep_before(dClothID c, double h, double t0)
     /* The bodies it holds stay held: one solved with the cloth alone (no joints) as by a rigid support,
      * ODE's forces on it cancelled and its velocity waking the cloth if something else moves it; a body
      * in joints keeps the cloth's last forces at their points. */
-    for (int k = 0; k < c->nbodies; k++) {
-        dBodyID b = c->bodies[k];
+    for (int k = 0; k < c->coupled.n; k++) {
+        dBodyID b = c->coupled.bodies[k];
         if (!dBodyIsEnabled(b) || dBodyGetNumJoints(b) > 0) continue;
         dVector3 g = {0, 0, 0};
         if (dBodyGetGravityMode(b)) dWorldGetGravity(c->world, g);
@@ -151,13 +151,13 @@ void dcloth_sleep_after(dClothID c)
     dVector3 g;
     dWorldGetGravity(c->world, g);
     for (int k = 0; k < 3; k++) c->sleep.state.gravity[k] = g[k];
-    memset(c->v0, 0, 3 * (size_t)c->n * sizeof *c->v0); /* the step is over: scratch */
-    cloth_set_velocities(c->core, c->v0);
+    memset(c->step.v0, 0, 3 * (size_t)c->n * sizeof *c->step.v0); /* the step is over: scratch */
+    cloth_set_velocities(c->core, c->step.v0);
     /* the bodies it alone holds come to rest with it (they are slower than
      * the threshold: else it would not sleep) */
-    for (int k = 0; k < c->nbodies; k++)
-        if (held_coupled(c, c->bodies[k]) && dBodyIsEnabled(c->bodies[k])) {
-            dBodyID b = c->bodies[k];
+    for (int k = 0; k < c->coupled.n; k++)
+        if (held_coupled(c, c->coupled.bodies[k]) && dBodyIsEnabled(c->coupled.bodies[k])) {
+            dBodyID b = c->coupled.bodies[k];
             dVector3 g = {0, 0, 0};
             if (dBodyGetGravityMode(b)) dWorldGetGravity(c->world, g);
             dMass m;
