@@ -6,7 +6,7 @@
 
 /* The active set's workspace */
 struct active_set_scratch {
-    double *share_sum; /* n: per lead, a triangle contact's force         */
+    double *share_sum; /* n: per lead, a triangle contact's force */
 };
 
 /* This pass's constraints for the step of h seconds: pins, contacts by the contact rule, candidates,

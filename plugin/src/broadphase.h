@@ -13,8 +13,8 @@ struct dcloth_surf {
 /* The broadphase's scratch: the step's candidate geoms, each one's surface (surf[a] for cand[a]) and
  * a copy of them for a wider run */
 struct broadphase_scratch {
-    dGeomID box;   /* proxy: the cloth's swept AABB                    */
-    dGeomID *cand; /* candidate geoms of the step                     */
+    dGeomID box;   /* proxy: the cloth's swept AABB */
+    dGeomID *cand; /* candidate geoms of the step */
     int ncand, cand_cap;
     struct dcloth_surf *surf, *surf_old;
     int surf_cap;

@@ -113,30 +113,30 @@ struct dxCloth {
     dcloth_geom_list tri_exact;
     dcloth_geom_list edge_off; /* geoms whose link tests are off (dClothSetEdgeTests) */
     /* carried from one step to the next (dClothSave copies all but vc_new and err) */
-    vcontact *vc, *vc_new; /* n: committed and candidate contact states     */
-    vpin *pin;             /* n                                              */
-    double *fadd;          /* 3n: dClothAddVertexForce's, for the next step   */
+    vcontact *vc, *vc_new; /* n: committed and candidate contact states */
+    vpin *pin;             /* n */
+    double *fadd;          /* 3n: dClothAddVertexForce's, for the next step */
     /* steps held in a row: each retries the next in one more substep halving (body_coupling.c) */
     int held_run;
     /* the largest thickness the surface callback has given since it was set: the broadphase's reach */
     double surf_tmax;
-    struct dcloth_sleep sleep; /* sleep.c's settings and state                  */
-    dClothStepStats stats;     /* the last step's                                */
-    char err[256];             /* the last failed call's message                 */
+    struct dcloth_sleep sleep; /* sleep.c's settings and state */
+    dClothStepStats stats;     /* the last step's */
+    char err[256];             /* the last failed call's message */
     /* the cloth's whole state before a step, for dClothWorldStep's undo (world_step.c) */
     struct dClothState *undo;
     /* each stage's scratch, in the step's order */
     struct step_scratch step;             /* step.c: the step's start, to solve it again from */
-    struct broadphase_scratch broad;      /* broadphase.c                                     */
-    struct vertex_proxies vertex;         /* vertex_contacts.c                                */
-    struct triangle_tests triangles;      /* triangles.c, triangle_query.c                    */
-    struct mesh_scratch mesh;             /* mesh_contacts.c                                  */
-    struct edge_scratch edge;             /* edges.c                                          */
-    struct active_set_scratch active_set; /* active_set.c                                     */
-    struct coupled_bodies coupled;        /* body_coupling.c                                  */
-    struct reactions_scratch reactions;   /* reactions.c                                      */
-    struct turn_scratch turn;             /* momentum.c                                       */
-    struct body_journal journal;          /* journal.c: the bodies the step touched           */
+    struct broadphase_scratch broad;      /* broadphase.c */
+    struct vertex_proxies vertex;         /* vertex_contacts.c */
+    struct triangle_tests triangles;      /* triangles.c, triangle_query.c */
+    struct mesh_scratch mesh;             /* mesh_contacts.c */
+    struct edge_scratch edge;             /* edges.c */
+    struct active_set_scratch active_set; /* active_set.c */
+    struct coupled_bodies coupled;        /* body_coupling.c */
+    struct reactions_scratch reactions;   /* reactions.c */
+    struct turn_scratch turn;             /* momentum.c */
+    struct body_journal journal;          /* journal.c: the bodies the step touched */
 };
 
 /* save.c: a snapshot of a cloth (dClothSave); statefile.c reads and writes

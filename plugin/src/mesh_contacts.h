@@ -14,13 +14,13 @@ struct mesh_scratch {
     double *v;
     unsigned char *convex;
     struct mesh_edge {
-        double a[3], b[3]; /* the ends, a before b (lexicographic)         */
-        int tri, e;        /* triangle j, edge e (from corner e to e + 1)  */
+        double a[3], b[3]; /* the ends, a before b (lexicographic) */
+        int tri, e;        /* triangle j, edge e (from corner e to e + 1) */
     } * edges;
     int cap;
-    double *grid_box; /* 6 per cloth triangle: its box, grown          */
+    double *grid_box; /* 6 per cloth triangle: its box, grown */
     int *grid_stamp;  /* per cloth triangle: the last mesh triangle + 1 */
-    int *grid_head;   /* per bucket: its first entry, -1 if none       */
+    int *grid_head;   /* per bucket: its first entry, -1 if none */
     int *grid_next, *grid_tri;
     long long *grid_key;
     int grid_nbuck, grid_cap;

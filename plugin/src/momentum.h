@@ -6,8 +6,8 @@
 
 /* The turn's workspace */
 struct turn_scratch {
-    dBodyID *bodies; /* n: the moving bodies the turn moves            */
-    double *dv;      /* 3n: the turn's velocity change                  */
+    dBodyID *bodies; /* n: the moving bodies the turn moves */
+    double *dv;      /* 3n: the turn's velocity change */
 };
 
 /* after a solved step, the torque (N m) the cloth's angular momentum change calls for

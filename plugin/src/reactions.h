@@ -6,7 +6,7 @@
 
 /* The reactions' scratch (reactions.c, read by momentum.c) */
 struct reactions_scratch {
-    double *vfix;    /* 3n: velocities after the step's contact fix-up  */
+    double *vfix;    /* 3n: velocities after the step's contact fix-up */
     dBodyID *holder; /* n: the body that takes each vertex's force, or 0 */
 };
 

@@ -9,7 +9,7 @@
 struct sleep_state {
     int on, steps, still, asleep, n;
     double speed;
-    double gravity[3]; /* the world's gravity when it fell asleep     */
+    double gravity[3]; /* the world's gravity when it fell asleep */
 };
 
 /* The sleep stage's state, carried between steps: the above, and the geoms near the cloth when it fell

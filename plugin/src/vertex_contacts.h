@@ -6,8 +6,8 @@
 
 /* The vertex tests' narrowphase proxies */
 struct vertex_proxies {
-    dGeomID sphere; /* one vertex                                      */
-    dGeomID ray;    /* one vertex over heightfields                    */
+    dGeomID sphere; /* one vertex */
+    dGeomID ray;    /* one vertex over heightfields */
 };
 
 /* every vertex's nearest surface among the candidates (c->broad.cand, c->broad.surf) within its reach over the step
