@@ -95,24 +95,13 @@
  * computed otherwise, has rounding of its own. */
 #define PAIR_APART_MARGIN (1.0 + 1e-6)
 
-/* ------------------------------------ the self-collision pass (selfcollision.c, self_ccd.c) */
+/* ---------------------------------------------- the self-collision pass (selfcollision.c) */
 
 /* Proximity passes after a step (SC_PASSES); barycentric slack (1) for a point over an edge or
  * corner (SC_EDGE_SLACK) and for "over the triangle" before a crossing (SC_OVER_MARGIN). */
 #define SC_PASSES 3
 #define SC_EDGE_SLACK 0.02
 #define SC_OVER_MARGIN 0.25
-
-/* Continuous collision (self_ccd.h): impulse passes per round, rigid-zone sweeps, the most an impulse
- * may move a corner (times the closing it undoes), unstretch sweeps, an edge's slack over its limit
- * (1), a held vertex's zone-fit weight (mean masses), and rounds at most. */
-#define SELF_CCD_PASSES 4
-#define SELF_CCD_ZONE_ROUNDS 500
-#define SELF_CCD_THROW 2.0
-#define SELF_CCD_UNSTRETCH 10
-#define SELF_CCD_SLACK 1e-6
-#define SELF_CCD_HELD_MASS 1e6
-#define SELF_CCD_ROUNDS 8
 
 /* ------------------------------------------------------------ continuous tests (ccd.c) */
 

@@ -1,4 +1,4 @@
-/* 3-vector helpers of the core (ccd.c, self_ccd.c, selfcollision.c, cloth.c). */
+/* 3-vector helpers of the core (ccd.c, selfcollision.c, cloth.c). */
 #ifndef ODECLOTH_VEC3_H
 #define ODECLOTH_VEC3_H
 

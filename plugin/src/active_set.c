@@ -66,7 +66,7 @@ void dcloth_constrain(dClothID c, double h, dClothStepStats *st)
     double letgo_t = letgo_tension(&cd);
     int newton = cd.solver.nonlinear == CLOTH_NEWTON;
     cloth_release_all(core);
-    for (size_t q = 0; q < 3 * (size_t)c->n; q++) c->fext[q] = c->fuser[q] + c->fadd[q];
+    for (size_t q = 0; q < 3 * (size_t)c->n; q++) c->step.fext[q] = c->step.fuser[q] + c->fadd[q];
     st->pins = st->contacts = st->sticking = st->released = 0;
     st->max_penetration = 0.0;
     for (int i = 0; i < c->n; i++) {
@@ -106,12 +106,12 @@ void dcloth_constrain(dClothID c, double h, dClothStepStats *st)
             if (by_triangle_rule(c, i) && !shared(c, i)) cloth_set_contact_pull(core, i, LETGO_PULL * letgo_t);
         }
         second_candidate(c, i, h, nw, newton);
-        for (int r = 0; r < 3; r++) c->fext[3 * i + r] += nw->friction[r];
+        for (int r = 0; r < 3; r++) c->step.fext[3 * i + r] += nw->friction[r];
         st->contacts++;
         st->sticking += nw->sticking;
         if (!nw->from_triangle && -nw->gap > st->max_penetration) st->max_penetration = -nw->gap;
     }
-    cloth_set_external_forces(core, c->fext);
+    cloth_set_external_forces(core, c->step.fext);
 }
 
 /* What the step decided (cloth_set_contact): sticking contacts it let
@@ -151,8 +151,9 @@ static int hold_inside(dClothID c, double h)
         /* a shared contact the step let go counts as left free */
         int gone = shared(c, i) && nw->active && cloth_get_constraint(core, i, &k) == CLOTH_OK && !k.ndof;
         if (!nw->geom || (nw->active && !gone) || nw->candidate || c->pin[i].active) continue;
-        double d[3] = {x1[3 * i] - c->x0[3 * i] - h * nw->vbody[0], x1[3 * i + 1] - c->x0[3 * i + 1] - h * nw->vbody[1],
-                       x1[3 * i + 2] - c->x0[3 * i + 2] - h * nw->vbody[2]};
+        double d[3] = {x1[3 * i] - c->step.x0[3 * i] - h * nw->vbody[0],
+                       x1[3 * i + 1] - c->step.x0[3 * i + 1] - h * nw->vbody[1],
+                       x1[3 * i + 2] - c->step.x0[3 * i + 2] - h * nw->vbody[2]};
         if (nw->gap + dcloth_dot3(d, nw->normal) < -RESOLVE_DEPTH * nw->thickness) {
             nw->forced = 1;
             more++;
@@ -249,7 +250,7 @@ int dcloth_revise(dClothID c, double h, int passes, dClothStepStats *st)
     /* vertices the search did not reach at the step's start (a step can
      * carry them farther than their start velocity says) that ended
      * inside a shell: contacts from now on, and the step solved again */
-    int more = dcloth_find_late_contacts(c, c->x0, cloth_positions(core), RESOLVE_DEPTH);
+    int more = dcloth_find_late_contacts(c, c->step.x0, cloth_positions(core), RESOLVE_DEPTH);
     st->late_contacts += more;
     more += hold_inside(c, h);
     int peel = let_go_pulling(c, letgo_tension(&cd));
@@ -269,7 +270,7 @@ int dcloth_revise(dClothID c, double h, int passes, dClothStepStats *st)
  * force that puts w lambda on each; the next step lets it go. */
 void dcloth_mark_pulled_shares(dClothID c)
 {
-    double *sum = c->share_sum;
+    double *sum = c->active_set.share_sum;
     for (int i = 0; i < c->n; i++) sum[i] = 0.0;
     for (int pass = 0; pass < 2; pass++)
         for (int i = 0; i < c->n; i++) {

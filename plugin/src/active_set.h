@@ -2,7 +2,12 @@
 #ifndef ODECLOTH_ACTIVE_SET_H
 #define ODECLOTH_ACTIVE_SET_H
 
-#include "dcloth_internal.h"
+#include "odecloth/dcloth.h"
+
+/* The active set's workspace */
+struct active_set_scratch {
+    double *share_sum; /* n: per lead, a triangle contact's force */
+};
 
 /* This pass's constraints for the step of h seconds: pins, contacts by the contact rule, candidates,
  * and the external forces with sliding friction; counted in st */

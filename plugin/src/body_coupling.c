@@ -11,16 +11,16 @@
 static int coupled_body(dClothID c, dBodyID b)
 {
     if (!b || !c->implicit || dBodyIsKinematic(b) || !dBodyIsEnabled(b) || dBodyGetNumJoints(b) > 0) return -1;
-    for (int k = 0; k < c->nbodies; k++)
-        if (c->bodies[k] == b) return k;
-    if (c->nbodies == c->bodies_cap) {
-        int cap = c->bodies_cap ? 2 * c->bodies_cap : 8;
-        dBodyID *nb = realloc(c->bodies, (size_t)cap * sizeof *nb);
-        if (nb) c->bodies = nb;
-        cloth_body *nd = nb ? realloc(c->bdesc, (size_t)cap * sizeof *nd) : NULL;
-        if (nd) c->bdesc = nd;
+    for (int k = 0; k < c->coupled.n; k++)
+        if (c->coupled.bodies[k] == b) return k;
+    if (c->coupled.n == c->coupled.cap) {
+        int cap = c->coupled.cap ? 2 * c->coupled.cap : 8;
+        dBodyID *nb = realloc(c->coupled.bodies, (size_t)cap * sizeof *nb);
+        if (nb) c->coupled.bodies = nb;
+        cloth_body *nd = nb ? realloc(c->coupled.bdesc, (size_t)cap * sizeof *nd) : NULL;
+        if (nd) c->coupled.bdesc = nd;
         if (!nb || !nd) return -1;
-        c->bodies_cap = cap;
+        c->coupled.cap = cap;
     }
     dMass m;
     dBodyGetMass(b, &m);
@@ -28,7 +28,7 @@ static int coupled_body(dClothID c, dBodyID b)
     const dReal *F = dBodyGetForce(b), *T = dBodyGetTorque(b);
     dVector3 g = {0, 0, 0};
     if (dBodyGetGravityMode(b)) dWorldGetGravity(c->world, g);
-    cloth_body *d = &c->bdesc[c->nbodies];
+    cloth_body *d = &c->coupled.bdesc[c->coupled.n];
     d->mass = m.mass;
     /* I_world = R I R^T (ODE's 3x3 matrices have rows of 4) */
     for (int r = 0; r < 3; r++)
@@ -47,8 +47,8 @@ static int coupled_body(dClothID c, dBodyID b)
         d->velocity[r] = dBodyGetLinearVel(b)[r];
         d->velocity[3 + r] = dBodyGetAngularVel(b)[r];
     }
-    c->bodies[c->nbodies] = b;
-    return c->nbodies++;
+    c->coupled.bodies[c->coupled.n] = b;
+    return c->coupled.n++;
 }
 
 /* The body vertex i is pinned to, in contact with, or a contact candidate
@@ -65,13 +65,13 @@ static dBodyID holder(dClothID c, int i)
 void dcloth_couple_bodies(dClothID c)
 {
     cloth *core = c->core;
-    c->nbodies = 0;
+    c->coupled.n = 0;
     for (int i = 0; i < c->n; i++) {
         dBodyID b = holder(c, i);
         if (b) coupled_body(c, b);
     }
-    if (cloth_set_bodies(core, c->bdesc, c->nbodies) != CLOTH_OK) return; /* invalid mass: explicit */
-    for (int i = 0; i < c->n && c->nbodies > 0; i++) {
+    if (cloth_set_bodies(core, c->coupled.bdesc, c->coupled.n) != CLOTH_OK) return; /* invalid mass: explicit */
+    for (int i = 0; i < c->n && c->coupled.n > 0; i++) {
         dBodyID b = holder(c, i);
         int k = b ? coupled_body(c, b) : -1;
         if (k >= 0) cloth_hold_by_body(core, i, k);

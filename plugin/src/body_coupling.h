@@ -2,7 +2,14 @@
 #ifndef ODECLOTH_BODY_COUPLING_H
 #define ODECLOTH_BODY_COUPLING_H
 
-#include "dcloth_internal.h"
+#include "odecloth/dcloth.h"
+
+/* The moving bodies solved with the cloth this step, and the core's view of them */
+struct coupled_bodies {
+    dBodyID *bodies;
+    cloth_body *bdesc;
+    int n, cap;
+};
 
 /* Hand this pass's moving bodies to the core: an enabled dynamic body a vertex is pinned to, touches or
  * may touch is solved with the cloth (cloth_body), so neither overshoots the other. */

@@ -16,24 +16,24 @@ static int bits_meet(dClothID c, dGeomID g)
 static void near_cb(void *data, dGeomID o1, dGeomID o2)
 {
     dClothID c = data;
-    dGeomID g = o1 == c->box ? o2 : o1;
-    if (g == c->box || g == c->sphere) return;
+    dGeomID g = o1 == c->broad.box ? o2 : o1;
+    if (g == c->broad.box || g == c->vertex.sphere) return;
     if (dGeomIsSpace(g)) {
-        dSpaceCollide2(c->box, g, c, near_cb);
+        dSpaceCollide2(c->broad.box, g, c, near_cb);
         return;
     }
     if (!dGeomIsEnabled(g) || !bits_meet(c, g)) return;
-    if (c->ncand == c->cand_cap) {
-        int cap = c->cand_cap ? 2 * c->cand_cap : 16;
-        dGeomID *p = realloc(c->cand, (size_t)cap * sizeof *p);
+    if (c->broad.ncand == c->broad.cand_cap) {
+        int cap = c->broad.cand_cap ? 2 * c->broad.cand_cap : 16;
+        dGeomID *p = realloc(c->broad.cand, (size_t)cap * sizeof *p);
         if (!p) {
-            c->cand_cap = -1; /* out of memory: reported by the caller */
+            c->broad.cand_cap = -1; /* out of memory: reported by the caller */
             return;
         }
-        c->cand = p;
-        c->cand_cap = cap;
+        c->broad.cand = p;
+        c->broad.cand_cap = cap;
     }
-    if (c->cand_cap > 0) c->cand[c->ncand++] = g;
+    if (c->broad.cand_cap > 0) c->broad.cand[c->broad.ncand++] = g;
 }
 
 /* the fastest geom of a space (nested spaces entered), by dcloth_geom_speed. A quadtree space
@@ -57,7 +57,7 @@ int dcloth_find_candidates(dClothID c, double h, double reach)
     const double *x = cloth_positions(c->core), *v = cloth_velocities(c->core);
     int n = c->n;
     memset(c->vc_new, 0, (size_t)n * sizeof *c->vc_new);
-    c->ncand = 0;
+    c->broad.ncand = 0;
     if (!c->space) return 0;
 
     /* the cloth's swept bounds */
@@ -77,19 +77,19 @@ int dcloth_find_candidates(dClothID c, double h, double reach)
         lo[k] -= grow;
         hi[k] += grow;
     }
-    dGeomBoxSetLengths(c->box, hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
-    dGeomSetPosition(c->box, 0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]));
-    dGeomSetCategoryBits(c->box, c->category);
-    dGeomSetCollideBits(c->box, c->collide);
-    dSpaceCollide2(c->box, (dGeomID)c->space, c, near_cb);
-    if (c->cand_cap < 0) {
-        c->cand_cap = 0;
-        free(c->cand);
-        c->cand = NULL;
-        c->ncand = 0;
+    dGeomBoxSetLengths(c->broad.box, hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+    dGeomSetPosition(c->broad.box, 0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]));
+    dGeomSetCategoryBits(c->broad.box, c->category);
+    dGeomSetCollideBits(c->broad.box, c->collide);
+    dSpaceCollide2(c->broad.box, (dGeomID)c->space, c, near_cb);
+    if (c->broad.cand_cap < 0) {
+        c->broad.cand_cap = 0;
+        free(c->broad.cand);
+        c->broad.cand = NULL;
+        c->broad.ncand = 0;
         return -1;
     }
-    return c->ncand;
+    return c->broad.ncand;
 }
 
 /* What any vertex may cover in a Newton step beyond its own start
@@ -104,7 +104,7 @@ double dcloth_newton_reach(dClothID c, double h)
     return h * sqrt(vmax);
 }
 
-/* Each candidate's surface (dcloth_surface) into c->surf, asking for each
+/* Each candidate's surface (dcloth_surface) into c->broad.surf, asking for each
  * geom once a step. When a geom is thicker than the broadphase reached, it
  * is run again that much wider, the geoms already asked keeping their answers. */
 int dcloth_find_surfaces(dClothID c, double h, double extra)
@@ -113,28 +113,28 @@ int dcloth_find_surfaces(dClothID c, double h, double extra)
     for (;;) {
         double reached = fmax(c->thickness, c->surf_tmax);
         if (dcloth_find_candidates(c, h, extra) < 0) return -1;
-        if (c->ncand > c->surf_cap) {
-            int cap = c->cand_cap;
-            struct dcloth_surf *p = realloc(c->surf, (size_t)cap * sizeof *p);
-            if (p) c->surf = p;
-            struct dcloth_surf *q = p ? realloc(c->surf_old, (size_t)cap * sizeof *q) : NULL;
-            if (q) c->surf_old = q;
+        if (c->broad.ncand > c->broad.surf_cap) {
+            int cap = c->broad.cand_cap;
+            struct dcloth_surf *p = realloc(c->broad.surf, (size_t)cap * sizeof *p);
+            if (p) c->broad.surf = p;
+            struct dcloth_surf *q = p ? realloc(c->broad.surf_old, (size_t)cap * sizeof *q) : NULL;
+            if (q) c->broad.surf_old = q;
             if (!q) return -1;
-            c->surf_cap = cap;
+            c->broad.surf_cap = cap;
         }
-        for (int a = 0; a < c->ncand; a++) {
-            struct dcloth_surf *sf = &c->surf[a];
+        for (int a = 0; a < c->broad.ncand; a++) {
+            struct dcloth_surf *sf = &c->broad.surf[a];
             int k = 0;
-            while (k < nold && c->surf_old[k].g != c->cand[a]) k++;
+            while (k < nold && c->broad.surf_old[k].g != c->broad.cand[a]) k++;
             if (k < nold) {
-                *sf = c->surf_old[k];
+                *sf = c->broad.surf_old[k];
                 continue;
             }
-            sf->g = c->cand[a];
+            sf->g = c->broad.cand[a];
             dcloth_surface(c, sf->g, &sf->mu, &sf->thickness);
         }
-        if (!(c->surf_tmax > reached)) return c->ncand;
-        nold = c->ncand;
-        memcpy(c->surf_old, c->surf, (size_t)nold * sizeof *c->surf_old);
+        if (!(c->surf_tmax > reached)) return c->broad.ncand;
+        nold = c->broad.ncand;
+        memcpy(c->broad.surf_old, c->broad.surf, (size_t)nold * sizeof *c->broad.surf_old);
     }
 }

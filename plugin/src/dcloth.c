@@ -65,23 +65,23 @@ cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *d, d
     c->vc = calloc((size_t)c->n, sizeof *c->vc);
     c->vc_new = calloc((size_t)c->n, sizeof *c->vc_new);
     c->pin = calloc((size_t)c->n, sizeof *c->pin);
-    c->fext = calloc(3 * (size_t)c->n, sizeof *c->fext);
-    c->fuser = calloc(3 * (size_t)c->n, sizeof *c->fuser);
+    c->step.fext = calloc(3 * (size_t)c->n, sizeof *c->step.fext);
+    c->step.fuser = calloc(3 * (size_t)c->n, sizeof *c->step.fuser);
     c->fadd = calloc(3 * (size_t)c->n, sizeof *c->fadd);
-    c->x0 = calloc(3 * (size_t)c->n, sizeof *c->x0);
-    c->v0 = calloc(3 * (size_t)c->n, sizeof *c->v0);
-    c->vfix = calloc(3 * (size_t)c->n, sizeof *c->vfix);
-    c->share_sum = calloc((size_t)c->n, sizeof *c->share_sum);
-    c->holder = calloc((size_t)c->n, sizeof *c->holder);
-    c->turn_bodies = calloc((size_t)c->n, sizeof *c->turn_bodies);
-    c->turn_dv = calloc(3 * (size_t)c->n, sizeof *c->turn_dv);
-    c->save = cloth_state_create(c->core);
-    c->box = dCreateBox(0, 1, 1, 1);
-    c->sphere = dCreateSphere(0, c->thickness);
-    c->ray = dCreateRay(0, 1.0);
-    if (!c->tri || !c->vc || !c->vc_new || !c->pin || !c->fext || !c->fuser || !c->fadd || !c->x0 || !c->v0 ||
-        !c->vfix || !c->share_sum || !c->holder || !c->turn_bodies || !c->turn_dv || !c->save || !c->box ||
-        !c->sphere || !c->ray) {
+    c->step.x0 = calloc(3 * (size_t)c->n, sizeof *c->step.x0);
+    c->step.v0 = calloc(3 * (size_t)c->n, sizeof *c->step.v0);
+    c->reactions.vfix = calloc(3 * (size_t)c->n, sizeof *c->reactions.vfix);
+    c->active_set.share_sum = calloc((size_t)c->n, sizeof *c->active_set.share_sum);
+    c->reactions.holder = calloc((size_t)c->n, sizeof *c->reactions.holder);
+    c->turn.bodies = calloc((size_t)c->n, sizeof *c->turn.bodies);
+    c->turn.dv = calloc(3 * (size_t)c->n, sizeof *c->turn.dv);
+    c->step.save = cloth_state_create(c->core);
+    c->broad.box = dCreateBox(0, 1, 1, 1);
+    c->vertex.sphere = dCreateSphere(0, c->thickness);
+    c->vertex.ray = dCreateRay(0, 1.0);
+    if (!c->tri || !c->vc || !c->vc_new || !c->pin || !c->step.fext || !c->step.fuser || !c->fadd || !c->step.x0 ||
+        !c->step.v0 || !c->reactions.vfix || !c->active_set.share_sum || !c->reactions.holder || !c->turn.bodies ||
+        !c->turn.dv || !c->step.save || !c->broad.box || !c->vertex.sphere || !c->vertex.ray) {
         dClothDestroy(c);
         return create_fail(err, CLOTH_ENOMEM, "out of memory");
     }
@@ -103,34 +103,34 @@ cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *d, d
 void dClothDestroy(dClothID c)
 {
     if (!c) return;
-    if (c->box) dGeomDestroy(c->box);
-    if (c->sphere) dGeomDestroy(c->sphere);
-    if (c->ray) dGeomDestroy(c->ray);
+    if (c->broad.box) dGeomDestroy(c->broad.box);
+    if (c->vertex.sphere) dGeomDestroy(c->vertex.sphere);
+    if (c->vertex.ray) dGeomDestroy(c->vertex.ray);
     cloth_destroy(c->core);
     free(c->tri);
     free(c->vc);
     free(c->vc_new);
     free(c->pin);
-    free(c->fext);
-    free(c->fuser);
+    free(c->step.fext);
+    free(c->step.fuser);
     free(c->fadd);
-    free(c->x0);
-    free(c->v0);
-    free(c->vfix);
-    free(c->share_sum);
-    free(c->holder);
-    free(c->turn_bodies);
-    free(c->turn_dv);
-    cloth_state_destroy(c->save);
-    free(c->cand);
-    free(c->surf);
-    free(c->surf_old);
-    free(c->bodies);
-    free(c->bdesc);
+    free(c->step.x0);
+    free(c->step.v0);
+    free(c->reactions.vfix);
+    free(c->active_set.share_sum);
+    free(c->reactions.holder);
+    free(c->turn.bodies);
+    free(c->turn.dv);
+    cloth_state_destroy(c->step.save);
+    free(c->broad.cand);
+    free(c->broad.surf);
+    free(c->broad.surf_old);
+    free(c->coupled.bodies);
+    free(c->coupled.bdesc);
     free(c->journal.rec);
     dClothStateDestroy(c->undo);
-    free(c->sleep_geoms);
-    free(c->sleep_ids);
+    free(c->sleep.geoms);
+    free(c->sleep.ids);
     for (int k = 0; k < c->ncvx; k++) free(c->cvx[k].p);
     free(c->cvx);
     free(c->tri_off.g);

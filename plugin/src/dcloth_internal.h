@@ -4,7 +4,19 @@
 #define ODECLOTH_DCLOTH_INTERNAL_H
 
 #include "odecloth/dcloth.h"
+#include "active_set.h"
+#include "body_coupling.h"
+#include "broadphase.h"
+#include "edges.h"
+#include "journal.h"
+#include "mesh_contacts.h"
+#include "momentum.h"
+#include "reactions.h"
+#include "sleep.h"
+#include "step.h"
+#include "triangles.h"
 #include "tuning.h"
+#include "vertex_contacts.h"
 
 /* dReal is double at the boundary: positions are handed out without copies. */
 typedef char dcloth_dreal_must_be_double[sizeof(dReal) == sizeof(double) ? 1 : -1];
@@ -25,7 +37,7 @@ typedef struct vcontact {
     int from_triangle;  /* 1: set by a triangle test (triangles.c)         */
     int tri;            /* that cloth triangle's index (-1: a link's edge
                             contact, edges.c), and the query that            */
-    unsigned query;     /* set it (dxCloth's tri_query): one contact        */
+    unsigned query;     /* set it (dxCloth's triangles.query): one contact */
     double weight;      /* the contact point's barycentric weight on the
                             vertex (triangle contacts; 1 for a vertex's own)  */
     int active;         /* 1: a constraint in this step's solve            */
@@ -71,6 +83,8 @@ typedef struct vpin {
     double force[3]; /* N, on the vertex, last step                     */
 } vpin;
 
+/* The cloth: the user's configuration, the state carried from one step to the next, and one member per
+ * stage of the step, that stage's scratch (defined in its own header) */
 struct dxCloth {
     cloth *core;
     int n, ntri;
@@ -98,100 +112,31 @@ struct dxCloth {
     /* boxes whose triangle tests are left to EPA (dClothSetExactTriangleTests off) */
     dcloth_geom_list tri_epa;
     dcloth_geom_list edge_off; /* geoms whose link tests are off (dClothSetEdgeTests) */
-    /* carried from one step to the next (dClothSave copies these, and surf_tmax) */
-    vcontact *vc, *vc_new; /* n: committed and candidate contact states      */
-    vpin *pin;             /* n                                               */
-    double *fadd;          /* 3n: dClothAddVertexForce's, for the next step    */
-    int held_run;          /* steps held in a row: each retries the next in one
-                            more substep halving (body_coupling.c)          */
-    /* sleeping (sleep.c): the settings and state, and the geoms near it
-     * when it fell asleep (sleep.n of them) */
-    struct sleep_state {
-        int on, steps, still, asleep, n;
-        double speed;
-        double gravity[3]; /* the world's gravity when it fell asleep     */
-    } sleep;
-    double *sleep_geoms; /* per candidate then: position (3), and the
-                                 geom itself in sleep_ids                   */
-    dGeomID *sleep_ids;
-    int sleep_cap;
-    dClothStepStats stats; /* the last step's                                 */
-    char err[256];         /* the last failed call's message                  */
+    /* carried from one step to the next (dClothSave copies all but vc_new and err) */
+    vcontact *vc, *vc_new; /* n: committed and candidate contact states */
+    vpin *pin;             /* n */
+    double *fadd;          /* 3n: dClothAddVertexForce's, for the next step */
+    /* steps held in a row: each retries the next in one more substep halving (body_coupling.c) */
+    int held_run;
+    /* the largest thickness the surface callback has given since it was set: the broadphase's reach */
+    double surf_tmax;
+    struct dcloth_sleep sleep; /* sleep.c's settings and state */
+    dClothStepStats stats;     /* the last step's */
+    char err[256];             /* the last failed call's message */
     /* the cloth's whole state before a step, for dClothWorldStep's undo (world_step.c) */
     struct dClothState *undo;
-    /* the step's (step.c): its start, to solve it again from */
-    double *fext;      /* 3n: the user's forces plus sliding friction, handed
-                            to the core for the step                        */
-    double *fuser;     /* 3n: the core's own external forces (the user's),
-                            put back after each step                        */
-    double *x0;        /* 3n: positions at the step's start               */
-    double *v0;        /* 3n: velocities at the step's start              */
-    cloth_state *save; /* the core's state at the step's start (re-solves) */
-    /* the broadphase's (broadphase.c) */
-    dGeomID box;   /* broadphase proxy: the cloth's swept AABB        */
-    dGeomID *cand; /* candidate geoms of the step                     */
-    int ncand, cand_cap;
-    /* each candidate's mu and thickness this step (surf[a] for cand[a]), a scratch copy for a wider
-     * broadphase, and the largest thickness the surface callback has given since it was set */
-    struct dcloth_surf {
-        dGeomID g;
-        double mu, thickness;
-    } * surf, *surf_old;
-    int surf_cap;
-    double surf_tmax;
-    /* the vertex tests' (vertex_contacts.c) */
-    dGeomID sphere; /* narrowphase proxy: one vertex                    */
-    dGeomID ray;    /* narrowphase proxy over heightfields              */
-    /* the triangle tests' (triangles.c, triangle_query.c) */
-    unsigned tri_query; /* triangle queries so far (vcontact's query)       */
-    int tri_hits;       /* vertex contacts set by triangle tests this step  */
-    /* mesh_contacts.c's scratch: a trimesh's triangles this step (9 world coordinates and 3 edge flags
-     * each: 1 where the surface turns convexly or ends), edges for matching neighbours, and the cloth's
-     * triangles in a hash grid */
-    struct mesh_scratch {
-        double *v;
-        unsigned char *convex;
-        struct mesh_edge {
-            double a[3], b[3]; /* the ends, a before b (lexicographic)         */
-            int tri, e;        /* triangle j, edge e (from corner e to e + 1)  */
-        } * edges;
-        int cap;
-        double *grid_box; /* 6 per cloth triangle: its box, grown          */
-        int *grid_stamp;  /* per cloth triangle: the last mesh triangle + 1 */
-        int *grid_head;   /* per bucket: its first entry, -1 if none       */
-        int *grid_next, *grid_tri;
-        long long *grid_key;
-        int grid_nbuck, grid_cap;
-    } mesh;
-    /* edges.c's scratch: a box's or trimesh's triangles for the link tests,
-     * 9 world coordinates each, then 6 box bounds each; their grid and a
-     * stamp each */
-    struct edge_scratch {
-        double *tri;
-        int cap;
-        int *start, *ent, *stamp;
-        int start_cap, ent_cap, stamp_cap;
-    } edge;
-    int edge_hits; /* vertex contacts set by link tests this step     */
-    /* the active set's (active_set.c) */
-    double *share_sum; /* n: per lead, a triangle contact's force (workspace) */
-    /* the moving bodies solved with the cloth this step (body_coupling.c) */
-    dBodyID *bodies;
-    cloth_body *bdesc;
-    int nbodies, bodies_cap;
-    /* the reactions' (reactions.c, momentum.c) */
-    double *vfix;         /* 3n: velocities after the step's contact fix-up  */
-    dBodyID *holder;      /* n: the body that takes each vertex's force, or 0 */
-    dBodyID *turn_bodies; /* n: the moving bodies the turn moves (workspace) */
-    double *turn_dv;      /* 3n: the turn's velocity change (workspace)      */
-    /* journal.c's: the bodies this step touched, each saved from before the step */
-    struct body_journal {
-        struct body_rec {
-            dBodyID b;
-            dReal f[3], t[3], lv[3], av[3];
-        } * rec;
-        int n, cap;
-    } journal;
+    /* each stage's scratch, in the step's order */
+    struct step_scratch step;             /* step.c: the step's start, to solve it again from */
+    struct broadphase_scratch broad;      /* broadphase.c */
+    struct vertex_proxies vertex;         /* vertex_contacts.c */
+    struct triangle_tests triangles;      /* triangles.c, triangle_query.c */
+    struct mesh_scratch mesh;             /* mesh_contacts.c */
+    struct edge_scratch edge;             /* edges.c */
+    struct active_set_scratch active_set; /* active_set.c */
+    struct coupled_bodies coupled;        /* body_coupling.c */
+    struct reactions_scratch reactions;   /* reactions.c */
+    struct turn_scratch turn;             /* momentum.c */
+    struct body_journal journal;          /* journal.c: the bodies the step touched */
 };
 
 /* save.c: a snapshot of a cloth (dClothSave); statefile.c reads and writes

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "dcloth_internal.h"
 #include "body_motion.h"
 #include "contact_offers.h"
 #include "edges.h"

@@ -4,7 +4,17 @@
 #ifndef ODECLOTH_EDGES_H
 #define ODECLOTH_EDGES_H
 
-#include "dcloth_internal.h"
+#include "odecloth/dcloth.h"
+#include "broadphase.h"
+
+/* The link tests' scratch: a box's or trimesh's triangles, 9 world coordinates each, then 6 box bounds
+ * each; their grid and a stamp each */
+struct edge_scratch {
+    double *tri;
+    int cap;
+    int *start, *ent, *stamp;
+    int start_cap, ent_cap, stamp_cap;
+};
 
 /* Each sequential link whose middle comes nearer geom s->g than its ends, within the shell and the
  * step's approach (at least `extra` m), holds both ends on the plane through the nearest point (c->vc_new).

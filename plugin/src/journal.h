@@ -2,7 +2,16 @@
 #ifndef ODECLOTH_JOURNAL_H
 #define ODECLOTH_JOURNAL_H
 
-#include "dcloth_internal.h"
+#include "odecloth/dcloth.h"
+
+/* The bodies this step touched, each saved from before the step */
+struct body_journal {
+    struct body_rec {
+        dBodyID b;
+        dReal f[3], t[3], lv[3], av[3];
+    } * rec;
+    int n, cap;
+};
 
 /* Note body b's force, torque and velocities before this step
  * first changes them (0, or -1 on no memory: then the step must not change

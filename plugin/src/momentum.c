@@ -24,17 +24,17 @@ void dcloth_leftover_torque(dClothID c, double h, const double F[3], double wsum
     double ref[3] = {0.0, 0.0, 0.0}, air[3], tair[3];
     /* about the start's centroid, a fixed point near the cloth, for rounding */
     for (int i = 0; i < c->n; i++)
-        for (int r = 0; r < 3; r++) ref[r] += c->x0[3 * i + r] / c->n;
+        for (int r = 0; r < 3; r++) ref[r] += c->step.x0[3 * i + r] / c->n;
     T[0] = T[1] = T[2] = 0.0;
     for (int i = 0; i < c->n; i++) {
         double r0[3], r1[3], f[3], cf[3];
         for (int r = 0; r < 3; r++) {
-            r0[r] = c->x0[3 * i + r] - ref[r];
+            r0[r] = c->step.x0[3 * i + r] - ref[r];
             r1[r] = x1[3 * i + r] - ref[r];
-            f[r] = m[i] * g[r] + c->fext[3 * i + r];
+            f[r] = m[i] * g[r] + c->step.fext[3 * i + r];
         }
         cross_add(r1, v1 + 3 * i, m[i] / h, T);
-        cross_add(r0, c->v0 + 3 * i, -m[i] / h, T);
+        cross_add(r0, c->step.v0 + 3 * i, -m[i] / h, T);
         cross_add(r1, f, -1.0, T);
         if (!c->pin[i].active && !c->vc_new[i].active) continue;
         cloth_constraint_force(core, i, cf);
@@ -50,11 +50,11 @@ void dcloth_leftover_torque(dClothID c, double h, const double F[3], double wsum
 }
 
 /* The moving body (dynamic, not kinematic) that takes vertex i's force
- * (c->holder) by a pin or a contact the step kept, or 0 */
+ * (c->reactions.holder) by a pin or a contact the step kept, or 0 */
 static dBodyID mover(dClothID c, int i)
 {
     cloth_constraint k;
-    dBodyID b = c->holder[i];
+    dBodyID b = c->reactions.holder[i];
     if (!c->pin[i].active && !(cloth_get_constraint(c->core, i, &k) == CLOTH_OK && k.ndof)) b = 0;
     return b && !dBodyIsKinematic(b) ? b : 0;
 }
@@ -232,8 +232,8 @@ static int allowed(double A[6][6], double N[6][6])
 int dcloth_turn(dClothID c, const double dL[3], double done[3])
 {
     const double *x = cloth_positions(c->core), *m = cloth_masses(c->core);
-    dBodyID *bs = c->turn_bodies;
-    double *dv = c->turn_dv;
+    dBodyID *bs = c->turn.bodies;
+    double *dv = c->turn.dv;
     done[0] = done[1] = done[2] = 0.0;
     int nb = 0;
     double ref[3] = {0.0, 0.0, 0.0}, mt = 0.0, L = 0.0;

@@ -2,7 +2,13 @@
 #ifndef ODECLOTH_MOMENTUM_H
 #define ODECLOTH_MOMENTUM_H
 
-#include "dcloth_internal.h"
+#include "odecloth/dcloth.h"
+
+/* The turn's workspace */
+struct turn_scratch {
+    dBodyID *bodies; /* n: the moving bodies the turn moves */
+    double *dv;      /* 3n: the turn's velocity change */
+};
 
 /* after a solved step, the torque (N m) the cloth's angular momentum change calls for
  * beyond its forces and the constraints' shares of the leftover force F */

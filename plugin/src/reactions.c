@@ -22,11 +22,11 @@ static void fix_velocities(dClothID c, double h)
         double moved = nw->gap - nw->pinch_shift; /* minus how far the target moved it out */
         if (!nw->active || moved == 0.0) continue;
         if (cloth_get_contact_planes(core, i, &k, NULL, NULL, NULL) == CLOTH_OK && k.ndof == 0) continue; /* let go */
-        if (!fixed) memcpy(c->vfix, cloth_velocities(core), 3 * (size_t)c->n * sizeof *c->vfix);
+        if (!fixed) memcpy(c->reactions.vfix, cloth_velocities(core), 3 * (size_t)c->n * sizeof *c->reactions.vfix);
         fixed = 1;
-        for (int r = 0; r < 3; r++) c->vfix[3 * i + r] += moved / h * nw->normal[r];
+        for (int r = 0; r < 3; r++) c->reactions.vfix[3 * i + r] += moved / h * nw->normal[r];
     }
-    if (fixed) cloth_set_velocities(core, c->vfix);
+    if (fixed) cloth_set_velocities(core, c->reactions.vfix);
 }
 
 /* Each body takes, at each of its vertices, the force the cloth felt there
@@ -39,12 +39,12 @@ static double leftover_force(dClothID c, double h, double F[3])
     cloth_desc cd = cloth_get_desc(core);
     double wsum = 0.0;
     F[0] = F[1] = F[2] = 0.0;
-    const double *v1 = cloth_velocities(core), *fe = c->fext;
+    const double *v1 = cloth_velocities(core), *fe = c->step.fext;
     cloth_air_force(core, F); /* the air's push is explained: no body's share */
     for (int r = 0; r < 3; r++) F[r] = -F[r];
     for (int i = 0; i < c->n; i++)
         for (int r = 0; r < 3; r++)
-            F[r] += mass[i] * (v1[3 * i + r] - c->v0[3 * i + r]) / h - mass[i] * cd.gravity[r] - fe[3 * i + r];
+            F[r] += mass[i] * (v1[3 * i + r] - c->step.v0[3 * i + r]) / h - mass[i] * cd.gravity[r] - fe[3 * i + r];
     for (int i = 0; i < c->n; i++) {
         if (!c->pin[i].active && !c->vc_new[i].active) continue;
         double f[3];
@@ -55,16 +55,16 @@ static double leftover_force(dClothID c, double h, double F[3])
     return wsum;
 }
 
-/* The moving bodies' share of the leftover torque taken out by the turn (momentum.c): sets c->holder, R
+/* The moving bodies' share of the leftover torque taken out by the turn (momentum.c): sets c->reactions.holder, R
  * (each body gets -w R, w its vertices' shares) and st's turned and couple */
 static void leftover(dClothID c, double h, const double F[3], double wsum, double R[3], dClothStepStats *st)
 {
     double T[3], W = 0.0, f[3];
     for (int i = 0; i < c->n; i++) {
-        c->holder[i] = 0;
+        c->reactions.holder[i] = 0;
         if (!c->pin[i].active && !c->vc_new[i].active) continue;
         W += dcloth_vertex_force(c, i, F, wsum, f);
-        c->holder[i] = dcloth_force_body(c, i, f);
+        c->reactions.holder[i] = dcloth_force_body(c, i, f);
     }
     dcloth_leftover_torque(c, h, F, wsum, T);
     double dL[3] = {-h * W * T[0], -h * W * T[1], -h * W * T[2]}, done[3] = {0.0, 0.0, 0.0};
@@ -91,7 +91,7 @@ void dcloth_reactions(dClothID c, double h, dClothStepStats *st)
         vpin *p = &c->pin[i];
         vcontact *nw = &c->vc_new[i];
         double f[3] = {0.0, 0.0, 0.0}, w = 0.0; /* w: the vertex's share of the leftovers */
-        dBodyID b = c->holder[i];               /* the body the turn moved with the vertex */
+        dBodyID b = c->reactions.holder[i];     /* the body the turn moved with the vertex */
         /* where the cloth felt the force: a body takes it there too, so no
          * angular momentum is made between them */
         const double *at = cloth_positions(core) + 3 * i;

@@ -55,7 +55,7 @@ cloth_status dClothSave(dClothID c, dClothState *s)
     if (!s) return dcloth_fail(c, CLOTH_EINVAL, "dClothSave: state is NULL");
     if (s->n != c->n)
         return dcloth_fail(c, CLOTH_EINVAL, "dClothSave: the state is for %d vertices, the cloth has %d", s->n, c->n);
-    if (copy_snapshot(c->sleep.n, c->sleep_ids, c->sleep_geoms, &s->sleep_ids, &s->sleep_geoms))
+    if (copy_snapshot(c->sleep.state.n, c->sleep.ids, c->sleep.geoms, &s->sleep_ids, &s->sleep_geoms))
         return dcloth_fail(c, CLOTH_ENOMEM, "dClothSave: out of memory");
     cloth_status r = cloth_save(c->core, s->core);
     if (r != CLOTH_OK) return dcloth_fail(c, r, "dClothSave: %s", cloth_last_error(c->core));
@@ -64,7 +64,7 @@ cloth_status dClothSave(dClothID c, dClothState *s)
     memcpy(s->fadd, c->fadd, 3 * (size_t)c->n * sizeof *s->fadd);
     s->held_run = c->held_run;
     s->stats = c->stats;
-    s->sleep = c->sleep;
+    s->sleep = c->sleep.state;
     s->surf_tmax = c->surf_tmax;
     return CLOTH_OK;
 }
@@ -77,13 +77,13 @@ cloth_status dClothRestore(dClothID c, const dClothState *s)
         return dcloth_fail(c, CLOTH_EINVAL, "dClothRestore: the state is for %d vertices, the cloth has %d", s->n,
                            c->n);
     /* the snapshot first (the only step that can fail), into the cloth's own arrays */
-    if (s->sleep.n > c->sleep_cap) {
-        if (copy_snapshot(s->sleep.n, s->sleep_ids, s->sleep_geoms, &c->sleep_ids, &c->sleep_geoms))
+    if (s->sleep.n > c->sleep.cap) {
+        if (copy_snapshot(s->sleep.n, s->sleep_ids, s->sleep_geoms, &c->sleep.ids, &c->sleep.geoms))
             return dcloth_fail(c, CLOTH_ENOMEM, "dClothRestore: out of memory");
-        c->sleep_cap = s->sleep.n;
+        c->sleep.cap = s->sleep.n;
     } else if (s->sleep.n > 0) {
-        memcpy(c->sleep_ids, s->sleep_ids, (size_t)s->sleep.n * sizeof *c->sleep_ids);
-        memcpy(c->sleep_geoms, s->sleep_geoms, 3 * (size_t)s->sleep.n * sizeof *c->sleep_geoms);
+        memcpy(c->sleep.ids, s->sleep_ids, (size_t)s->sleep.n * sizeof *c->sleep.ids);
+        memcpy(c->sleep.geoms, s->sleep_geoms, 3 * (size_t)s->sleep.n * sizeof *c->sleep.geoms);
     }
     cloth_status r = cloth_restore(c->core, s->core);
     if (r != CLOTH_OK) return dcloth_fail(c, r, "dClothRestore: %s", cloth_last_error(c->core));
@@ -92,7 +92,7 @@ cloth_status dClothRestore(dClothID c, const dClothState *s)
     memcpy(c->fadd, s->fadd, 3 * (size_t)c->n * sizeof *c->fadd);
     c->held_run = s->held_run;
     c->stats = s->stats;
-    c->sleep = s->sleep;
+    c->sleep.state = s->sleep;
     c->surf_tmax = s->surf_tmax;
     return CLOTH_OK;
 }

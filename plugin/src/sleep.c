@@ -25,15 +25,15 @@ static int body_moves(dClothID c, dBodyID b, dGeomID g)
         if (!isfinite(r)) r = 0.0; /* planes: unbounded; their bodies, if any, count by velocity */
     }
     double sv = sqrt(dcloth_dot3(v, v)) + r * sqrt(dcloth_dot3(w, w));
-    return !(sv <= c->sleep.speed);
+    return !(sv <= c->sleep.state.speed);
 }
 
-/* Anything moving near the cloth or holding it (candidates of c->cand and
+/* Anything moving near the cloth or holding it (candidates of c->broad.cand and
  * the pins' bodies)? */
 static int anything_moves(dClothID c)
 {
-    for (int a = 0; a < c->ncand; a++)
-        if (body_moves(c, dGeomGetBody(c->cand[a]), c->cand[a])) return 1;
+    for (int a = 0; a < c->broad.ncand; a++)
+        if (body_moves(c, dGeomGetBody(c->broad.cand[a]), c->broad.cand[a])) return 1;
     for (int i = 0; i < c->n; i++)
         if (c->pin[i].active && body_moves(c, c->pin[i].body, 0)) return 1;
     return 0;
@@ -44,18 +44,19 @@ static int scene_changed(dClothID c)
 {
     dVector3 g;
     dWorldGetGravity(c->world, g);
-    if (g[0] != c->sleep.gravity[0] || g[1] != c->sleep.gravity[1] || g[2] != c->sleep.gravity[2]) return 1;
-    if (c->ncand != c->sleep.n) return 1;
-    for (int a = 0; a < c->ncand; a++) {
-        dGeomID gg = c->cand[a];
+    if (g[0] != c->sleep.state.gravity[0] || g[1] != c->sleep.state.gravity[1] || g[2] != c->sleep.state.gravity[2])
+        return 1;
+    if (c->broad.ncand != c->sleep.state.n) return 1;
+    for (int a = 0; a < c->broad.ncand; a++) {
+        dGeomID gg = c->broad.cand[a];
         int k = 0;
-        while (k < c->sleep.n && c->sleep_ids[k] != gg) k++;
-        if (k == c->sleep.n) return 1;
+        while (k < c->sleep.state.n && c->sleep.ids[k] != gg) k++;
+        if (k == c->sleep.state.n) return 1;
         /* a static geom moved by hand (a body's motion is judged by its
          * velocity: a resting body's position drifts by rounding) */
         const dReal *p = dGeomGetClass(gg) == dPlaneClass || dGeomGetBody(gg) ? NULL : dGeomGetPosition(gg);
         if (p &&
-            (p[0] != c->sleep_geoms[3 * k] || p[1] != c->sleep_geoms[3 * k + 1] || p[2] != c->sleep_geoms[3 * k + 2]))
+            (p[0] != c->sleep.geoms[3 * k] || p[1] != c->sleep.geoms[3 * k + 1] || p[2] != c->sleep.geoms[3 * k + 2]))
             return 1;
     }
     return 0;
@@ -64,8 +65,8 @@ static int scene_changed(dClothID c)
 /* Was b solved with the cloth in its last step (and still free of joints)? */
 static int held_coupled(dClothID c, dBodyID b)
 {
-    for (int k = 0; k < c->nbodies; k++)
-        if (c->bodies[k] == b) return dBodyGetNumJoints(b) == 0;
+    for (int k = 0; k < c->coupled.n; k++)
+        if (c->coupled.bodies[k] == b) return dBodyGetNumJoints(b) == 0;
     return 0;
 }
 
@@ -78,17 +79,17 @@ static double wall(void)
 
 int dcloth_sleep_before(dClothID c, double h, double t0)
 {
-    if (!c->sleep.asleep) return 0;
+    if (!c->sleep.state.asleep) return 0;
     if (dcloth_find_candidates(c, h, DCLOTH_WAKE_REACH) < 0) return -1;
-    if (!c->sleep.on || anything_moves(c) || scene_changed(c)) {
+    if (!c->sleep.state.on || anything_moves(c) || scene_changed(c)) {
         dClothWake(c);
         return 0;
     }
     /* The bodies it holds stay held: one solved with the cloth alone (no joints) as by a rigid support,
      * ODE's forces on it cancelled and its velocity waking the cloth if something else moves it; a body
      * in joints keeps the cloth's last forces at their points. */
-    for (int k = 0; k < c->nbodies; k++) {
-        dBodyID b = c->bodies[k];
+    for (int k = 0; k < c->coupled.n; k++) {
+        dBodyID b = c->coupled.bodies[k];
         if (!dBodyIsEnabled(b) || dBodyGetNumJoints(b) > 0) continue;
         dVector3 g = {0, 0, 0};
         if (dBodyGetGravityMode(b)) dWorldGetGravity(c->world, g);
@@ -116,7 +117,7 @@ int dcloth_sleep_before(dClothID c, double h, double t0)
 
 void dcloth_sleep_after(dClothID c)
 {
-    if (!c->sleep.on) return;
+    if (!c->sleep.state.on) return;
     /* at rest judged by the RMS speed sqrt(2 KE / M), not the fastest vertex: a single flap or corner
      * may sway for seconds while the cloth as a whole is settled (docs/contacts.md) */
     const double *v = cloth_velocities(c->core), *m = cloth_masses(c->core);
@@ -125,38 +126,38 @@ void dcloth_sleep_after(dClothID c)
         e += m[i] * dcloth_dot3(v + 3 * i, v + 3 * i);
         M += m[i];
     }
-    int slow = e <= c->sleep.speed * c->sleep.speed * M;
+    int slow = e <= c->sleep.state.speed * c->sleep.state.speed * M;
     if (!slow || anything_moves(c)) {
-        c->sleep.still = 0;
+        c->sleep.state.still = 0;
         return;
     }
-    if (++c->sleep.still < c->sleep.steps) return;
+    if (++c->sleep.state.still < c->sleep.state.steps) return;
     /* fall asleep: remember the scene as far as a sleeping cloth watches */
     if (dcloth_find_candidates(c, 0.0, DCLOTH_WAKE_REACH) < 0 || anything_moves(c)) return;
-    if (c->ncand > c->sleep_cap) {
-        double *gp = realloc(c->sleep_geoms, 3 * (size_t)c->ncand * sizeof *gp);
-        if (gp) c->sleep_geoms = gp;
-        dGeomID *id = gp ? realloc(c->sleep_ids, (size_t)c->ncand * sizeof *id) : NULL;
-        if (id) c->sleep_ids = id;
+    if (c->broad.ncand > c->sleep.cap) {
+        double *gp = realloc(c->sleep.geoms, 3 * (size_t)c->broad.ncand * sizeof *gp);
+        if (gp) c->sleep.geoms = gp;
+        dGeomID *id = gp ? realloc(c->sleep.ids, (size_t)c->broad.ncand * sizeof *id) : NULL;
+        if (id) c->sleep.ids = id;
         if (!gp || !id) return; /* no memory: stay awake */
-        c->sleep_cap = c->ncand;
+        c->sleep.cap = c->broad.ncand;
     }
-    for (int a = 0; a < c->ncand; a++) {
-        c->sleep_ids[a] = c->cand[a];
-        const dReal *p = dGeomGetClass(c->cand[a]) == dPlaneClass ? NULL : dGeomGetPosition(c->cand[a]);
-        for (int k = 0; k < 3; k++) c->sleep_geoms[3 * a + k] = p ? p[k] : 0.0;
+    for (int a = 0; a < c->broad.ncand; a++) {
+        c->sleep.ids[a] = c->broad.cand[a];
+        const dReal *p = dGeomGetClass(c->broad.cand[a]) == dPlaneClass ? NULL : dGeomGetPosition(c->broad.cand[a]);
+        for (int k = 0; k < 3; k++) c->sleep.geoms[3 * a + k] = p ? p[k] : 0.0;
     }
-    c->sleep.n = c->ncand;
+    c->sleep.state.n = c->broad.ncand;
     dVector3 g;
     dWorldGetGravity(c->world, g);
-    for (int k = 0; k < 3; k++) c->sleep.gravity[k] = g[k];
-    memset(c->v0, 0, 3 * (size_t)c->n * sizeof *c->v0); /* the step is over: scratch */
-    cloth_set_velocities(c->core, c->v0);
+    for (int k = 0; k < 3; k++) c->sleep.state.gravity[k] = g[k];
+    memset(c->step.v0, 0, 3 * (size_t)c->n * sizeof *c->step.v0); /* the step is over: scratch */
+    cloth_set_velocities(c->core, c->step.v0);
     /* the bodies it alone holds come to rest with it (they are slower than
      * the threshold: else it would not sleep) */
-    for (int k = 0; k < c->nbodies; k++)
-        if (held_coupled(c, c->bodies[k]) && dBodyIsEnabled(c->bodies[k])) {
-            dBodyID b = c->bodies[k];
+    for (int k = 0; k < c->coupled.n; k++)
+        if (held_coupled(c, c->coupled.bodies[k]) && dBodyIsEnabled(c->coupled.bodies[k])) {
+            dBodyID b = c->coupled.bodies[k];
             dVector3 g = {0, 0, 0};
             if (dBodyGetGravityMode(b)) dWorldGetGravity(c->world, g);
             dMass m;
@@ -169,5 +170,5 @@ void dcloth_sleep_after(dClothID c)
             dBodySetForce(b, -m.mass * g[0], -m.mass * g[1], -m.mass * g[2]);
             dBodySetTorque(b, 0, 0, 0);
         }
-    c->sleep.asleep = 1;
+    c->sleep.state.asleep = 1;
 }

@@ -30,28 +30,28 @@ static int find_contacts(dClothID c, double h)
     double extra = dcloth_newton_reach(c, h);
     if (dcloth_find_surfaces(c, h, extra) < 0) return -1;
     dcloth_vertex_contacts(c, h, extra);
-    c->tri_hits = 0;
-    for (int a = 0; a < c->ncand; a++) c->tri_hits += dcloth_triangle_contacts(c, &c->surf[a], h);
-    c->edge_hits = 0;
-    for (int a = 0; a < c->ncand; a++) {
-        int e = dcloth_edge_contacts(c, &c->surf[a], h, extra);
+    c->step.tri_hits = 0;
+    for (int a = 0; a < c->broad.ncand; a++) c->step.tri_hits += dcloth_triangle_contacts(c, &c->broad.surf[a], h);
+    c->step.edge_hits = 0;
+    for (int a = 0; a < c->broad.ncand; a++) {
+        int e = dcloth_edge_contacts(c, &c->broad.surf[a], h, extra);
         if (e < 0) return -1;
-        c->edge_hits += e;
+        c->step.edge_hits += e;
     }
     dcloth_drop_unfit_seconds(c);
-    return c->ncand;
+    return c->broad.ncand;
 }
 
 /* A failed step (s): the cloth put back to the step's start and, held, stopped there */
 static cloth_status failed_step(dClothID c, cloth_status s, dClothStepStats *st, double t0)
 {
-    cloth_restore(c->core, c->save);
+    cloth_restore(c->core, c->step.save);
     st->contacts = st->sticking = 0;
     st->held = s == CLOTH_ESTEP && c->on_failure == DCLOTH_FAILURE_HOLD;
     if (st->held && c->held_run < DCLOTH_HOLD_MAX_HALVINGS) c->held_run++;
     if (st->held) { /* stopped where it is: the failed step's motion dropped, no energy added */
-        memset(c->v0, 0, 3 * (size_t)c->n * sizeof *c->v0);
-        cloth_set_velocities(c->core, c->v0);
+        memset(c->step.v0, 0, 3 * (size_t)c->n * sizeof *c->step.v0);
+        cloth_set_velocities(c->core, c->step.v0);
     }
     st->seconds_total = wall() - t0;
     c->stats = *st;
@@ -74,13 +74,13 @@ cloth_status dClothStep(dClothID c, dReal h)
     st.seconds_contacts = wall() - t0;
     if (cand < 0) return dcloth_fail(c, CLOTH_ENOMEM, "dClothStep: out of memory for the candidate geoms");
     st.candidates = cand;
-    st.triangle_contacts = c->tri_hits;
-    st.edge_contacts = c->edge_hits;
+    st.triangle_contacts = c->step.tri_hits;
+    st.edge_contacts = c->step.edge_hits;
     cloth *core = c->core;
-    memcpy(c->x0, cloth_positions(core), 3 * (size_t)c->n * sizeof *c->x0);
-    memcpy(c->v0, cloth_velocities(core), 3 * (size_t)c->n * sizeof *c->v0);
-    memcpy(c->fuser, cloth_external_forces(core), 3 * (size_t)c->n * sizeof *c->fuser);
-    cloth_save(core, c->save);
+    memcpy(c->step.x0, cloth_positions(core), 3 * (size_t)c->n * sizeof *c->step.x0);
+    memcpy(c->step.v0, cloth_velocities(core), 3 * (size_t)c->n * sizeof *c->step.v0);
+    memcpy(c->step.fuser, cloth_external_forces(core), 3 * (size_t)c->n * sizeof *c->step.fuser);
+    cloth_save(core, c->step.save);
     cloth_status s = CLOTH_OK;
     int passes = 0;
     for (;;) {
@@ -93,10 +93,10 @@ cloth_status dClothStep(dClothID c, dReal h)
         st.self_contact_seconds_all += st.core.self_contact_seconds;
         if (s != CLOTH_OK) break;
         if (!dcloth_revise(c, h, passes, &st) || passes >= DCLOTH_RESOLVE_PASSES) break;
-        cloth_restore(core, c->save);
+        cloth_restore(core, c->step.save);
     }
     st.resolves = passes - 1;
-    cloth_set_external_forces(core, c->fuser); /* the user's again: friction is this step's alone */
+    cloth_set_external_forces(core, c->step.fuser); /* the user's again: friction is this step's alone */
     if (s != CLOTH_OK) return failed_step(c, s, &st, t0);
     dcloth_reactions(c, h, &st);
     dcloth_mark_pulled_shares(c);

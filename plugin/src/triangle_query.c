@@ -207,12 +207,12 @@ static int merge_tie(dClothID c, const convex_query *q, vcontact *vc, int k, con
     if (w > vc->weight + TRI_TIE) { /* the triangle whose point weighs the vertex most carries it */
         vc->weight = w;
         vc->tri = k;
-        vc->query = c->tri_query;
+        vc->query = c->triangles.query;
     }
     return 1;
 }
 
-/* Offers vertex i of cloth triangle k, in this query (c->tri_query), the
+/* Offers vertex i of cloth triangle k, in this query (c->triangles.query), the
  * contact along n with gap, on the plane n . x = plane, kept where deeper than
  * what it has. pos: the contact point; w: its barycentric weight on i. */
 static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, const double n[3], double gap,
@@ -236,7 +236,7 @@ static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, 
     memcpy(vc->vbody, vb, sizeof vc->vbody); /* the body's point under the contact, not under the vertex */
     vc->from_triangle = 1;
     vc->tri = k;
-    vc->query = c->tri_query;
+    vc->query = c->triangles.query;
     vc->weight = w;
 }
 
@@ -355,7 +355,7 @@ int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, cc
     double fsup = 0.0;
     int fl = clear && face_plane(q, n, face, &fsup);
     int hits = 0;
-    c->tri_query++;
+    c->triangles.query++;
     for (int a = 0; a < 3; a++) {
         double gap;
         if (w[a] > 0.0) {
@@ -375,7 +375,7 @@ int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, cc
         double plane = (clear || ahead) ? support : dcloth_dot3(n, pos.v);
         if (fh >= above[a]) tri_vertex_contact(c, q, k, p[a], face, fmax(gap, fh), fsup, &pos, w[a], 1);
         else tri_vertex_contact(c, q, k, p[a], n, gap, plane, &pos, w[a], 0);
-        hits += c->vc_new[p[a]].query == c->tri_query;
+        hits += c->vc_new[p[a]].query == c->triangles.query;
     }
     return hits;
 }

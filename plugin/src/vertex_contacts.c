@@ -116,10 +116,10 @@ static int heightfield_query(dClothID c, dGeomID g, const double *x, double reac
     const dReal *R = dGeomGetRotation(g);
     double up[3] = {R[1], R[5], R[9]}; /* world image of local y */
     double L = 2.0 * reach + 1.0;      /* start well above any bump the vertex sits in */
-    dGeomRaySet(c->ray, x[0] + L * up[0], x[1] + L * up[1], x[2] + L * up[2], -up[0], -up[1], -up[2]);
-    dGeomRaySetLength(c->ray, L + reach);
+    dGeomRaySet(c->vertex.ray, x[0] + L * up[0], x[1] + L * up[1], x[2] + L * up[2], -up[0], -up[1], -up[2]);
+    dGeomRaySetLength(c->vertex.ray, L + reach);
     dContactGeom cg;
-    if (dCollide(c->ray, g, 1, &cg, sizeof cg) < 1) return 0;
+    if (dCollide(c->vertex.ray, g, 1, &cg, sizeof cg) < 1) return 0;
     double nn = dcloth_dot3(cg.normal, cg.normal);
     if (!(nn > 0.0)) return 0;
     nn = 1.0 / sqrt(nn);
@@ -141,14 +141,14 @@ static int mesh_inside(dClothID c, dGeomID g, const double *x, double *dist, dou
     const dReal *R = dGeomGetRotation(g);
     double L = 1.0, best = INFINITY;
     for (int k = 0; k < 3; k++) L += aabb[2 * k + 1] - aabb[2 * k];
-    int closest = dGeomRayGetClosestHit(c->ray);
-    dGeomRaySetClosestHit(c->ray, 1);
-    dGeomRaySetLength(c->ray, L);
+    int closest = dGeomRayGetClosestHit(c->vertex.ray);
+    dGeomRaySetClosestHit(c->vertex.ray, 1);
+    dGeomRaySetLength(c->vertex.ray, L);
     for (int a = 0; a < 6; a++) {
         double s = a & 1 ? -1.0 : 1.0, d[3] = {s * R[a / 2], s * R[4 + a / 2], s * R[8 + a / 2]};
-        dGeomRaySet(c->ray, x[0] + L * d[0], x[1] + L * d[1], x[2] + L * d[2], -d[0], -d[1], -d[2]);
+        dGeomRaySet(c->vertex.ray, x[0] + L * d[0], x[1] + L * d[1], x[2] + L * d[2], -d[0], -d[1], -d[2]);
         dContactGeom cg;
-        if (dCollide(c->ray, g, 1, &cg, sizeof cg) < 1 || !(cg.depth < L)) {
+        if (dCollide(c->vertex.ray, g, 1, &cg, sizeof cg) < 1 || !(cg.depth < L)) {
             best = INFINITY;
             break;
         }
@@ -157,7 +157,7 @@ static int mesh_inside(dClothID c, dGeomID g, const double *x, double *dist, dou
             for (int k = 0; k < 3; k++) nrm[k] = d[k];
         }
     }
-    dGeomRaySetClosestHit(c->ray, closest);
+    dGeomRaySetClosestHit(c->vertex.ray, closest);
     if (!isfinite(best)) return 0;
     *dist = -best;
     return 1;
@@ -171,9 +171,9 @@ static int vertex_query(dClothID c, dGeomID g, const double *x, double reach, do
         if (!heightfield_query(c, g, x, reach, dist, nrm)) return 0;
     } else if (!closed_form(g, x, dist, nrm)) {
         dContactGeom cg[8];
-        dGeomSphereSetRadius(c->sphere, reach);
-        dGeomSetPosition(c->sphere, x[0], x[1], x[2]);
-        int m = dCollide(c->sphere, g, 8, cg, sizeof cg[0]);
+        dGeomSphereSetRadius(c->vertex.sphere, reach);
+        dGeomSetPosition(c->vertex.sphere, x[0], x[1], x[2]);
+        int m = dCollide(c->vertex.sphere, g, 8, cg, sizeof cg[0]);
         int best = -1;
         for (int k = 0; k < m; k++)
             if (best < 0 || cg[k].depth > cg[best].depth) best = k;
@@ -190,10 +190,10 @@ static int vertex_query(dClothID c, dGeomID g, const double *x, double reach, do
 int dcloth_find_late_contacts(dClothID c, const double *x0, const double *x1, double depth)
 {
     int found = 0;
-    for (int a = 0; a < c->ncand; a++) {
-        dGeomID g = c->cand[a];
+    for (int a = 0; a < c->broad.ncand; a++) {
+        dGeomID g = c->broad.cand[a];
         dBodyID body = dGeomGetBody(g);
-        double t = c->surf[a].thickness;
+        double t = c->broad.surf[a].thickness;
         for (int i = 0; i < c->n; i++) {
             vcontact *vc = &c->vc_new[i];
             double dist, nrm[3];
@@ -204,7 +204,7 @@ int dcloth_find_late_contacts(dClothID c, const double *x0, const double *x1, do
             for (int k = 0; k < 3; k++) point[k] = x1[3 * i + k] - nrm[k] * dist;
             double gap = nrm[0] * (x0[3 * i] - point[0]) + nrm[1] * (x0[3 * i + 1] - point[1]) +
                          nrm[2] * (x0[3 * i + 2] - point[2]) - t;
-            dcloth_set_contact(vc, &c->surf[a], body, nrm, point, gap);
+            dcloth_set_contact(vc, &c->broad.surf[a], body, nrm, point, gap);
             found++;
         }
     }
@@ -215,12 +215,12 @@ void dcloth_vertex_contacts(dClothID c, double h, double extra)
 {
     const double *x = cloth_positions(c->core), *v = cloth_velocities(c->core);
     int n = c->n;
-    for (int a = 0; a < c->ncand; a++) {
-        dGeomID g = c->cand[a];
+    for (int a = 0; a < c->broad.ncand; a++) {
+        dGeomID g = c->broad.cand[a];
         dReal aabb[6];
         dGeomGetAABB(g, aabb);
         dBodyID body = dGeomGetBody(g);
-        double t = c->surf[a].thickness;
+        double t = c->broad.surf[a].thickness;
         /* a vertex's reach: the thickness with its margin plus what vertex and geom can close in the step at
          * their relative speed, neither the vertex's speed alone nor it plus the geom's fastest point
          * (docs/contacts.md, "Design notes from the code") */
@@ -241,7 +241,7 @@ void dcloth_vertex_contacts(dClothID c, double h, double extra)
                 continue;
             }
             vcontact was = *vc;
-            dcloth_set_contact(vc, &c->surf[a], body, nrm, point, gap);
+            dcloth_set_contact(vc, &c->broad.surf[a], body, nrm, point, gap);
             if (was.geom && was.geom != g) /* the one replaced, the second */
                 dcloth_offer_second(vc, was.geom, was.thickness, was.body, was.normal, was.point, was.gap);
         }

@@ -2,9 +2,15 @@
 #ifndef ODECLOTH_VERTEX_CONTACTS_H
 #define ODECLOTH_VERTEX_CONTACTS_H
 
-#include "dcloth_internal.h"
+#include "odecloth/dcloth.h"
 
-/* every vertex's nearest surface among the candidates (c->cand, c->surf) within its reach over the step
+/* The vertex tests' narrowphase proxies */
+struct vertex_proxies {
+    dGeomID sphere; /* one vertex */
+    dGeomID ray;    /* one vertex over heightfields */
+};
+
+/* every vertex's nearest surface among the candidates (c->broad.cand, c->broad.surf) within its reach over the step
  * of h seconds (at least `extra` m), into c->vc_new */
 void dcloth_vertex_contacts(dClothID c, double h, double extra);
 /* vertices with no contact this step whose end positions x1 lie deeper in a candidate's shell than `depth`

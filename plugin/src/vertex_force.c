@@ -12,7 +12,7 @@ int dcloth_held_by_coupled(dClothID c, int i)
     dBodyID b = c->pin[i].active ? c->pin[i].body : c->vc_new[i].active ? c->vc_new[i].body : 0;
     if (!b) return 0;
     for (int k = 0; k < cloth_body_count(c->core); k++)
-        if (c->bodies[k] == b) return k + 1;
+        if (c->coupled.bodies[k] == b) return k + 1;
     return 0;
 }
 

@@ -1,0 +1,18 @@
+/* The cloth's step (step.c): its start, to solve it again from, and its counts. */
+#ifndef ODECLOTH_STEP_H
+#define ODECLOTH_STEP_H
+
+#include "odecloth/dcloth.h"
+
+/* The step's scratch */
+struct step_scratch {
+    double *fext;      /* 3n: the user's forces plus sliding friction, handed to the core */
+    double *fuser;     /* 3n: the core's own external forces (the user's), put back after each step */
+    double *x0;        /* 3n: positions at the step's start */
+    double *v0;        /* 3n: velocities at the step's start */
+    cloth_state *save; /* the core's state at the step's start (re-solves) */
+    int tri_hits;      /* vertex contacts set by triangle tests this step */
+    int edge_hits;     /* vertex contacts set by link tests this step */
+};
+
+#endif
