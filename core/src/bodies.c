@@ -593,7 +593,7 @@ static void body_residual(const mpcg_bodies *B, int g, double r[6])
 
 double bodies_residual_work(const cloth *c, const mpcg_problem *P, const double *b)
 {
-    const mpcg_bodies *B = P->bodies->ctx;
+    const mpcg_bodies *B = P->extra->ctx;
     bodies_reduce(B, P, b, B->ex.y, -1.0, B->ex.r);
     double w = 0.0;
     for (int g = 0; g < B->nb; g++) {
@@ -606,7 +606,7 @@ double bodies_residual_work(const cloth *c, const mpcg_problem *P, const double 
 
 double bodies_residual_energy(const mpcg_problem *P, const double *b)
 {
-    const mpcg_bodies *B = P->bodies->ctx;
+    const mpcg_bodies *B = P->extra->ctx;
     bodies_reduce(B, P, b, B->ex.y, -1.0, B->ex.r);
     double s = 0.0;
     for (int g = 0; g < B->nb; g++) {

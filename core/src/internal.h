@@ -252,7 +252,7 @@ typedef struct mpcg_bodies {
 } mpcg_bodies;
 
 /* bodies.c: fill B for this step's solve (h the step, cfac the method's dx/dv_new) and return its
- * operators for mpcg_problem.bodies; NULL when no constrained vertex is held by a body. */
+ * operators for mpcg_problem.extra; NULL when no constrained vertex is held by a body. */
 const mpcg_extra *bodies_prepare(cloth *c, double h, double cfac, mpcg_bodies *B);
 
 /* bodies.c, for the elongation limit: whether a body holds vertex i's constrained components; u^T W u's

@@ -156,7 +156,7 @@ cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, do
         {&c->A, b,   c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL, sv->cg_tolerance, sv->cg_max_iterations,
          NULL,  0.0, 0,    0.0,  NULL,   0};
     mpcg_bodies bodies;
-    P.bodies = bodies_prepare(c, h, cfac, &bodies);
+    P.extra = bodies_prepare(c, h, cfac, &bodies);
     mpcg_result r = linsolve_run(c, &P, c->dv);
     st->iterations += r.iterations;
     if (!(st->residual >= r.residual)) st->residual = r.residual;
@@ -171,7 +171,7 @@ cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, do
     /* Newton corrections with rigid bodies: a step linearised about x0 misses the k_delta stiffening of
      * links it carries past the limit, so a body's momentum stretches the cloth; relinearise and correct,
      * holding the limit by its multipliers (limit_multipliers.c) until they settle (docs/solver.md). */
-    int newton = P.bodies && sv->newton_iterations > 0 && crossed_limit(c, x0, c->x_new);
+    int newton = P.extra && sv->newton_iterations > 0 && crossed_limit(c, x0, c->x_new);
     double ref = 0.0;
     int saved = 0, pending = 0; /* a converged step saved; corrected since its multipliers changed */
     for (int it = 0; newton; it++) {

@@ -168,7 +168,7 @@ static int con_sorted(const mpcg_problem *P)
 int mpcg_reference(const mpcg_problem *P, double *x, double *r, double *u, double *ref, mpcg_result *res)
 {
     size_t N = 3 * (size_t)P->A->n;
-    const mpcg_extra *E = P->bodies;
+    const mpcg_extra *E = P->extra;
     double free_ref = INFINITY;
     if (P->ref_floor > 0.0) {
         memcpy(r, P->b, N * sizeof *r);
@@ -237,9 +237,9 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
     mpcg_result res = {0, 0.0, CLOTH_FAIL_NONE};
     double tol = P->tol;
     int max_iter = P->max_iter;
-    /* Extra unknowns (P->bodies): the vectors' tails E->y, r, p, q, s of
+    /* Extra unknowns (P->extra): the vectors' tails E->y, r, p, q, s of
      * length NE; their preconditioner and norm weight is E's G. */
-    const mpcg_extra *E = P->bodies;
+    const mpcg_extra *E = P->extra;
     size_t NE = E ? (size_t)E->size : 0;
     /* s = S M r (the filtered preconditioned residual). With block Jacobi
      * (pc NULL) M = Dinv, and the norm r^T Dinv r is r^T s: no second product. */

@@ -59,7 +59,7 @@ typedef struct mpcg_problem {
     void *ctx;
     double tol;
     int max_iter;
-    const mpcg_extra *bodies; /* extra unknowns: the rigid bodies solved with the cloth (NULL: none) */
+    const mpcg_extra *extra; /* extra unknowns: the rigid bodies solved with the cloth (NULL: none) */
     /* > 0: the reference is no more than |S b|_D^2 (the residual before the
      * constrained components move to z), nor less than this */
     double ref_floor;
@@ -67,7 +67,7 @@ typedef struct mpcg_problem {
      * non-positive curvature or residual weight is a stalled recurrence's
      * rounding: the solve stops there, cut short (CLOTH_FAIL_CG_MAX_ITER) */
     int definite;
-    /* > 0 (no bodies): also stop once the error's estimate from the last two
+    /* > 0 (no extra unknowns): also stop once the error's estimate from the last two
      * updates, in the norm weighted by mass (n values), is within abs_err2's
      * root (Newton's share of its goal) */
     double abs_err2;

@@ -16,7 +16,7 @@
 static mpcg_result linear_solve(cloth *c, mpcg_problem *P, double *ddv)
 {
     memset(ddv, 0, 3 * (size_t)c->n * sizeof *ddv);
-    if (P->bodies) bodies_newton_begin(c);
+    if (P->extra) bodies_newton_begin(c);
     return linsolve_run(c, P, ddv);
 }
 
@@ -38,7 +38,7 @@ static double residual_norm(const cloth *c, const mpcg_problem *P, const double 
         free_part(c, i, b, e);
         s += (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) / c->mass[i];
     }
-    if (P->bodies) s += bodies_residual_energy(P, b);
+    if (P->extra) s += bodies_residual_energy(P, b);
     return sqrt(s / mt);
 }
 
@@ -176,7 +176,7 @@ static double step_norm(const cloth *c, const mpcg_problem *P, const double *ddv
         mt += c->mass[i];
         s += c->mass[i] * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     }
-    if (P->bodies) s += bodies_step_energy(c);
+    if (P->extra) s += bodies_step_energy(c);
     return sqrt(s / mt);
 }
 
@@ -217,7 +217,7 @@ static int energy_bounded(cloth *c, const step_eq *q, const mpcg_problem *P, con
         work += vi[0] * e[0] + vi[1] * e[1] + vi[2] * e[2];
         diss += 0.5 * c->mass[i] * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     }
-    if (P->bodies) {
+    if (P->extra) {
         work += bodies_residual_work(c, P, b);
         diss += 0.5 * bodies_step_energy(c);
     }
@@ -252,7 +252,7 @@ static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *
     st->iterations += r.iterations;
     if (!(st->residual >= r.residual)) st->residual = r.residual;
     if (r.failure == CLOTH_FAIL_NAN || r.failure == CLOTH_FAIL_CG_INDEFINITE || !all_finite(ddv, n3)) {
-        if (P->bodies) bodies_newton_take(c, 0.0);
+        if (P->extra) bodies_newton_take(c, 0.0);
         return r.failure == CLOTH_FAIL_NONE ? CLOTH_FAIL_NAN : r.failure;
     }
     *size = step_norm(c, P, ddv);
@@ -260,15 +260,15 @@ static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *
     if (!first) {
         double slope = 0.0, phi1;
         for (size_t k = 0; k < n3; k++) slope -= c->b[k] * ddv[k];
-        if (P->bodies) slope += bodies_newton_slope(c);
-        t = line_search(c, q, dv, ddv, P->bodies != NULL, t, *phi, slope, &phi1, ready);
+        if (P->extra) slope += bodies_newton_slope(c);
+        t = line_search(c, q, dv, ddv, P->extra != NULL, t, *phi, slope, &phi1, ready);
         if (t < 1.0) st->line_search_cuts++;
         *phi = phi1;
     } else {
         *phi = NAN;
     }
     for (size_t k = 0; k < n3; k++) dv[k] += t * ddv[k];
-    if (P->bodies) bodies_newton_take(c, t);
+    if (P->extra) bodies_newton_take(c, t);
     *taken = t;
     return r.failure;
 }
@@ -322,7 +322,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
         {&c->A, b,   c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL, sv->newton_cg_tolerance, sv->cg_max_iterations,
          NULL,  0.0, 1,    0.0,  NULL,   0};
     mpcg_bodies bodies;
-    P.bodies = bodies_prepare(c, h, q.cfac, &bodies);
+    P.extra = bodies_prepare(c, h, q.cfac, &bodies);
     double mt = 0.0;
     for (int i = 0; i < c->n; i++) mt += c->mass[i];
     /* a landing's solve is judged against the residual before it where that is smaller (inexact
@@ -343,7 +343,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
                 matrix = pending && since < sv->newton_iterations;
                 potential_state(c, &q, dv);
                 double at = matrix ? potential_assemble(c, &q, dv, b, 1) : potential_residual(c, &q, dv, b);
-                if (phi != phi) phi = at + (P.bodies ? bodies_energy(c) : 0.0);
+                if (phi != phi) phi = at + (P.extra ? bodies_energy(c) : 0.0);
             }
             ready = 0;
             assembled = 1;
@@ -390,7 +390,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
             phi = NAN;
             since = 0;
         }
-        if (phi != phi && it > 0) phi = potential_value(c, &q, dv, c->xt, c->vt) + (P.bodies ? bodies_energy(c) : 0.0);
+        if (phi != phi && it > 0) phi = potential_value(c, &q, dv, c->xt, c->vt) + (P.extra ? bodies_energy(c) : 0.0);
         double taken = 1.0;
         /* the share serves the size test; iterations after it is met are
          * for the energy bound, whose residual only a full solve reduces */

@@ -152,7 +152,7 @@ MAT3_INLINE mpcg_result ssor_run_k(int avx, const mpcg_problem *P, const unsigne
     mpcg_result res = {0, 0.0, CLOTH_FAIL_NONE};
     /* bodies solved with the cloth: the plain modified CG (block Jacobi)
      * carries their unknowns; this one does not */
-    if (P->bodies) return mpcg_run(P, x, w);
+    if (P->extra) return mpcg_run(P, x, w);
     build_filtered(A, P->S, cflag, Dinv, Ah);
     /* u = rh0 = S (b - A z); ref, the stopping norm's reference */
     double ref;
