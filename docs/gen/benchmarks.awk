@@ -107,15 +107,123 @@ function stability_table(    n, r, m, i, out, title, names, k, cells, count, hel
 
 # a figure of the stability map's start state (the same in every row of bench_stability.csv): w (the top
 # mode's frequency, rad/s), zeta (its damping ratio), line (symplectic Euler's bound, ms), budget (J) or
-# tenth (a tenth of the budget, J)
-function stab(name,    n) {
+# tenth (a tenth of the budget, J), bending or compression (c_b / k_b, c_t / k_c, s); past: the
+# smallest h of the map past the line
+function stab(name,    n, r, x) {
     reset(); n = load("bench_stability", 0)
     if (name == "w") return sprintf("%.0f", cell[1, 15])
     if (name == "zeta") return sprintf("%.3g", cell[1, 16])
     if (name == "line") return sprintf("%.3g", 1000 * cell[1, 14])
     if (name == "budget") return sprintf("%.2f", cell[1, 17])
     if (name == "tenth") return sprintf("%.2f", cell[1, 17] / 10)
+    if (name == "bending") return sci(cell[1, 12])
+    if (name == "compression") return sci(cell[1, 13])
+    if (name == "past") {  # the smallest h of the map past the line
+        for (r = 1; r <= n; r++) if (cell[r, 3] + 0 > cell[1, 14] + 0 && (x == "" || cell[r, 3] + 0 < x)) x = cell[r, 3] + 0
+        return per_h(x)
+    }
     print "benchmarks.awk: no stability figure " name > "/dev/stderr"; exit 1
+}
+
+# "a, b and c" of the n words w[1..n]
+function join_and(w, n,    i, out) {
+    for (i = 1; i <= n; i++) out = out (i == 1 ? "" : i == n ? " and " : ", ") w[i]
+    return out
+}
+# x as 4e-4 or 2.5e-4
+function sci(x,    s) { s = sprintf("%.1e", x); sub(/\.0e/, "e", s); sub(/e-0/, "e-", s); return s }
+function per_h(h) { return "1/" sprintf("%.0f", 1 / h) }
+# the stability map's cells of the methods ms ("be_rule+bdf2"): nk k_t values sk[j] (as they come), per k_t
+# the h values sh[j, i] (ascending) and whether every method's cell there is stable (sok) or fails (sbad)
+function smap_load(ms,    n, r, want, m, i, j, key, kj, hi, nh) {
+    reset(); n = load("bench_stability", 0)
+    split("", sk); split("", sh); split("", sok); split("", sbad); split("", sheld); split("", snh); nk = 0
+    split(ms, m, "+"); for (i in m) want[m[i]] = 1
+    for (r = 1; r <= n; r++) {
+        if (!(cell[r, 1] in want)) continue
+        key = sprintf("%.0f", cell[r, 2])
+        if (!(key in kj)) { kj[key] = ++nk; sk[nk] = key }
+        j = kj[key]
+        if (!((j, cell[r, 3]) in hi)) { hi[j, cell[r, 3]] = ++snh[j]; sh[j, snh[j]] = cell[r, 3] + 0
+                                        sok[j, snh[j]] = 1; sbad[j, snh[j]] = 1 }
+        i = hi[j, cell[r, 3]]
+        if (cell[r, 5] == "stable") sbad[j, i] = 0; else sok[j, i] = 0
+        if (cell[r, 9] == 1) sheld[j, i] = 1
+    }
+    if (nk == 0) { print "benchmarks.awk: no method " ms " in bench_stability" > "/dev/stderr"; exit 1 }
+}
+# one k_t's figure (an h, or "" when it has none): kind stable_to (the largest h up to which every cell is
+# stable), fail_from (the smallest h from which every cell fails), stable_max (the largest stable h) or
+# held_min (the smallest h of a cell stable only with the elongation limit)
+function smap_k(j, kind,    i, x) {
+    if (kind == "stable_to") { for (i = 1; i <= snh[j] && sok[j, i]; i++) x = sh[j, i]; return x }
+    if (kind == "fail_from") { for (i = snh[j]; i >= 1 && sbad[j, i]; i--) x = sh[j, i]; return x }
+    if (kind == "stable_max") { for (i = 1; i <= snh[j]; i++) if (!sbad[j, i]) x = sh[j, i]; return x }
+    if (kind == "held_min") { for (i = snh[j]; i >= 1; i--) if (sheld[j, i]) x = sh[j, i]; return x }
+    print "benchmarks.awk: no stability kind " kind > "/dev/stderr"; exit 1
+}
+# @smap(methods,kind,how)@: kind's h over the k_t values, how = min, max or by ("1/1286 at k_t 20;
+# 1/827 at 63, 200 and 632": each value with the k_t values that have it, in the map's order)
+function smap(ms, kind, how,    j, x, best, v, nv, seen, ks, nks, w, out, g) {
+    smap_load(ms)
+    for (j = 1; j <= nk; j++) {
+        x = smap_k(j, kind); if (x == "") continue
+        if (how == "min" && (best == "" || x < best)) best = x
+        if (how == "max" && (best == "" || x > best)) best = x
+        if (!(x in seen)) { seen[x] = ++nv; v[nv] = x }
+        ks[seen[x], ++nks[seen[x]]] = sk[j]
+    }
+    if (how != "by") {
+        if (best == "") { print "benchmarks.awk: no " kind " in " ms > "/dev/stderr"; exit 1 }
+        return per_h(best)
+    }
+    for (g = 1; g <= nv; g++) {
+        split("", w); for (j = 1; j <= nks[g]; j++) w[j] = ks[g, j]
+        out = out (g == 1 ? "" : "; ") per_h(v[g]) (g == 1 ? " at k_t " : " at ") join_and(w, nks[g])
+    }
+    return out
+}
+# @sfails(methods,k_t)@: the h values at which a cell fails at that k_t, "1/24, 1/16 and 1/10"
+function sfails(ms, k,    j, i, w, n) {
+    smap_load(ms)
+    for (j = 1; j <= nk; j++) if (sk[j] == k) for (i = 1; i <= snh[j]; i++) if (!sok[j, i]) w[++n] = per_h(sh[j, i])
+    if (n == 0) { print "benchmarks.awk: no failure of " ms " at k_t " k > "/dev/stderr"; exit 1 }
+    return join_and(w, n)
+}
+# @sgrid(h)@ or @sgrid(k)@: the map's step sizes ("1/2000 .. 1/10 s (13 steps)") or stiffnesses
+function sgrid(what,    n, r, lo, hi, x, seen, count, col) {
+    reset(); n = load("bench_stability", 0); col = what == "h" ? 3 : 2
+    for (r = 1; r <= n; r++) {
+        x = cell[r, col] + 0
+        if (!(x in seen)) { seen[x] = 1; count++ }
+        if (lo == "" || x < lo) lo = x
+        if (hi == "" || x > hi) hi = x
+    }
+    if (what == "h") return per_h(lo) " .. " per_h(hi) " s (" count " steps)"
+    return sprintf("%.0f .. %.0f N/m (%d)", lo, hi, count)
+}
+# @stwin(methods)@: when the twins without the limit failed, the range in ms ("1.2-7")
+function stwin(ms,    n, r, m, want, i, lo, hi, x) {
+    reset(); n = load("bench_stability", 0)
+    split(ms, m, "+"); for (i in m) want[m[i]] = 1
+    for (r = 1; r <= n; r++) {
+        if (!(cell[r, 1] in want) || cell[r, 9] != 1) continue
+        x = 1000 * cell[r, 11]
+        if (lo == "" || x < lo) lo = x
+        if (hi == "" || x > hi) hi = x
+    }
+    if (lo == "") { print "benchmarks.awk: no twin of " ms " failed" > "/dev/stderr"; exit 1 }
+    return sprintf("%.2g-%.2g", lo, hi)
+}
+# @senergy(methods)@: the cells that failed by energy growth, "1.98 J at k_t 2000, h = 1/1286"
+function senergy(ms,    n, r, m, want, i, w, nw) {
+    reset(); n = load("bench_stability", 0)
+    split(ms, m, "+"); for (i in m) want[m[i]] = 1
+    for (r = 1; r <= n; r++)
+        if ((cell[r, 1] in want) && cell[r, 5] == "energy growth")
+            w[++nw] = sprintf("%.3g J at k_t %.0f, h = %s", cell[r, 18], cell[r, 2], per_h(cell[r, 3]))
+    if (nw == 0) { print "benchmarks.awk: no energy growth in " ms > "/dev/stderr"; exit 1 }
+    return join_and(w, nw)
 }
 
 # scaling: time, iterations and memory per grid
@@ -239,6 +347,14 @@ function expand(key,    a, f) {
         if (f == "wpref") return wpref(a[1], a[2])
         if (f == "wpo") return wpo(a[1], a[2], a[3], a[4])
     }
+    if (key ~ /^s(map|fails|grid|twin|energy)\(/) {
+        f = key; sub(/\(.*/, "", f); sub(/^[a-z_]+\(/, "", key); sub(/\)$/, "", key); split(key, a, ",")
+        if (f == "smap") return smap(a[1], a[2], a[3])
+        if (f == "sfails") return sfails(a[1], a[2])
+        if (f == "sgrid") return sgrid(a[1])
+        if (f == "stwin") return stwin(a[1])
+        return senergy(a[1])
+    }
     if (key ~ /^stab\(/) { sub(/^[a-z_]+\(/, "", key); sub(/\)$/, "", key); return stab(key) }
     if (key ~ /^step_best\(/) {
         sub(/^[a-z_]+\(/, "", key); sub(/\)$/, "", key); split(key, a, ",")
@@ -252,7 +368,7 @@ function expand(key,    a, f) {
 }
 {
     line = $0
-    while (match(line, /@[a-z_]+(\([a-z_0-9,.-]*\))?@/)) {
+    while (match(line, /@[a-z_]+(\([a-z_0-9,.+-]*\))?@/)) {
         f = expand(substr(line, RSTART + 1, RLENGTH - 2))
         if (line == substr(line, RSTART, RLENGTH)) sub(/\n$/, "", f)  # a table on its own line
         line = substr(line, 1, RSTART - 1) f substr(line, RSTART + RLENGTH)
