@@ -262,6 +262,26 @@ function controller_table(    n, r, sc, t, i, out, method, seen, tols, nt, fig) 
     return out
 }
 
+# @ctl(scene,tol,field)@: a figure of the controller's run at tolerance tol on scene (tol min: its run with
+# the smallest error) in bench_workprecision.csv: ratio (error / requested), requested_mm, error_mm,
+# frames (60 per simulated s), refshare or referr (the reference's change against requested or error, %)
+function ctl(scene, tol, field,    n, r, x, ref) {
+    reset(); n = load("bench_workprecision", 0)
+    for (r = 1; r <= n; r++) {
+        if (cell[r, 1] == scene && cell[r, 2] == "reference_change") ref = cell[r, 6]
+        if (cell[r, 1] != scene || cell[r, 2] != "controller") continue
+        if (tol == "min" ? x == "" || cell[r, 6] + 0 < cell[x, 6] : cell[r, 4] + 0 == tol + 0) x = r
+    }
+    if (x == "" || ref == "") { print "benchmarks.awk: no controller at " tol " on " scene > "/dev/stderr"; exit 1 }
+    if (field == "ratio") return sprintf("%.2f", cell[x, 6] / cell[x, 5])
+    if (field == "requested_mm") return sprintf("%.3g", 1000 * cell[x, 5])
+    if (field == "error_mm") return sprintf("%.2f", 1000 * cell[x, 6])
+    if (field == "frames") return sprintf("%.0f", 60 * cell[x, 10])
+    if (field == "refshare") return sprintf("%.0f%%", 100 * ref / cell[x, 5])
+    if (field == "referr") return sprintf("%.0f%%", 100 * ref / cell[x, 6])
+    print "benchmarks.awk: no controller figure " field > "/dev/stderr"; exit 1
+}
+
 # the contacts' cost per step, per grid and collider
 function contact_table(    n, r, out, tri, what) {
     reset(); n = load("bench_contact", 1)
@@ -297,6 +317,19 @@ function wp(scene, grid, series, hz, field,    n, r) {
         return field == "mm" ? sprintf("%.2g", 1000 * cell[r, 6]) : sprintf("%.2g", cell[r, 6])
     }
     print "benchmarks.awk: no " series " at 1/" hz " on " scene ", " grid " in " wp_file > "/dev/stderr"; exit 1
+}
+# the range of a series' errors over the rates lo..hi Hz, mm ("0.18-0.24")
+function wprange(scene, grid, series, lo, hi,    n, r, a, b, x) {
+    reset(); n = load(wp_file, 0)
+    for (r = 1; r <= n; r++) {
+        if (cell[r, 1] != scene || cell[r, 17] != grid || cell[r, 2] != series) continue
+        if (cell[r, 3] + 0 < lo + 0 || cell[r, 3] + 0 > hi + 0 || cell[r, 9] == 1) continue
+        x = 1000 * cell[r, 6]
+        if (a == "" || x < a) a = x
+        if (b == "" || x > b) b = x
+    }
+    if (a == "") { print "benchmarks.awk: no " series " over 1/" lo "..1/" hi " in " wp_file > "/dev/stderr"; exit 1 }
+    return sprintf("%.2g-%.2g", a, b)
 }
 # how far a work-precision run's reference moves when its h is halved, m
 function wpref(scene, grid,    n, r) {
@@ -346,6 +379,7 @@ function expand(key,    a, f) {
         if (f == "wp") return wp(a[1], a[2], a[3], a[4], a[5])
         if (f == "wpref") return wpref(a[1], a[2])
         if (f == "wpo") return wpo(a[1], a[2], a[3], a[4])
+        if (f == "wprange") return wprange(a[1], a[2], a[3], a[4], a[5])
     }
     if (key ~ /^s(map|fails|grid|twin|energy)\(/) {
         f = key; sub(/\(.*/, "", f); sub(/^[a-z_]+\(/, "", key); sub(/\)$/, "", key); split(key, a, ",")
@@ -354,6 +388,10 @@ function expand(key,    a, f) {
         if (f == "sgrid") return sgrid(a[1])
         if (f == "stwin") return stwin(a[1])
         return senergy(a[1])
+    }
+    if (key ~ /^ctl\(/) {
+        sub(/^[a-z_]+\(/, "", key); sub(/\)$/, "", key); split(key, a, ",")
+        return ctl(a[1], a[2], a[3])
     }
     if (key ~ /^stab\(/) { sub(/^[a-z_]+\(/, "", key); sub(/\)$/, "", key); return stab(key) }
     if (key ~ /^step_best\(/) {
