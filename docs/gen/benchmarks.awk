@@ -60,6 +60,31 @@ function step_best(N, hz,    n, r, best) {
     return fmt(best)
 }
 
+# @step_cg(a,b,hz)@: preconditioner a's CG iterations per step over b's, their range over the grids at
+# rate hz (all: every rate), "1.9-3.1"
+function step_cg(pa, pb, hz,    n, r, key, it, lo, hi, x, k, s) {
+    reset(); n = load("bench_step", 1)
+    for (r = 1; r <= n; r++) it[c(r, "grid") " " c(r, "hz"), c(r, "precond")] = c(r, "cg_iterations") + 0
+    for (k in it) {
+        split(k, s, SUBSEP); key = s[1]
+        if (s[2] != pb || !((key, pa) in it) || (hz != "all" && key !~ (" " hz "$"))) continue
+        x = it[key, pa] / it[k]
+        if (lo == "" || x < lo) lo = x
+        if (hi == "" || x > hi) hi = x
+    }
+    if (lo == "") { print "benchmarks.awk: no " pa " against " pb " at " hz > "/dev/stderr"; exit 1 }
+    return sprintf("%.2g-%.2g", lo, hi)
+}
+# @step_wall@: the least steps per wall second of any bench_step row as a share of its per CPU second
+function step_wall(    n, r, x, lo) {
+    reset(); n = load("bench_step", 1)
+    for (r = 1; r <= n; r++) {
+        x = c(r, "steps_per_s") / c(r, "cpu_steps_per_s")
+        if (lo == "" || x < lo) lo = x
+    }
+    return sprintf("%.2f", lo)
+}
+
 # the drape benchmark's rows: time, failures, iterations, strain, the slowest step
 function drape_table(    n, r, out, gain) {
     reset(); n = load("bench_drape_newton", 1)
@@ -80,6 +105,16 @@ function drape(scene, N, name,    n, r) {
     reset(); n = load("bench_drape_newton", 1)
     for (r = 1; r <= n; r++) if (c(r, "scene") == scene && c(r, "N") == N) return fmt(c(r, name) + 0)
     print "benchmarks.awk: no " scene " row at N = " N > "/dev/stderr"; exit 1
+}
+
+# @drape_wall@: the most wall time of a drape benchmark row as a multiple of its CPU time
+function drape_wall(    n, r, x, hi) {
+    reset(); n = load("bench_drape_newton", 1)
+    for (r = 1; r <= n; r++) {
+        x = c(r, "wall_s") / c(r, "cpu_s")
+        if (hi == "" || x > hi) hi = x
+    }
+    return sprintf("%.1f", hi)
 }
 
 # the stability map counted: per method, stable cells and the failures by kind
@@ -371,6 +406,8 @@ function expand(key,    a, f) {
     if (key == "scaling_table") return scaling_table()
     if (key == "controller_table") return controller_table()
     if (key == "contact_table") return contact_table()
+    if (key == "step_wall") return step_wall()
+    if (key == "drape_wall") return drape_wall()
     if (key ~ /^include\(/) { sub(/^[a-z_]+\(/, "", key); sub(/\)$/, "", key); return include(key) }
     if (key ~ /^scaling_exponent\(/) { sub(/^[a-z_]+\(/, "", key); sub(/\)$/, "", key); return scaling_exponent(key) }
     if (key ~ /^wp[a-z]*\(/) {
@@ -394,6 +431,10 @@ function expand(key,    a, f) {
         return ctl(a[1], a[2], a[3])
     }
     if (key ~ /^stab\(/) { sub(/^[a-z_]+\(/, "", key); sub(/\)$/, "", key); return stab(key) }
+    if (key ~ /^step_cg\(/) {
+        sub(/^[a-z_]+\(/, "", key); sub(/\)$/, "", key); split(key, a, ",")
+        return step_cg(a[1], a[2], a[3])
+    }
     if (key ~ /^step_best\(/) {
         sub(/^[a-z_]+\(/, "", key); sub(/\)$/, "", key); split(key, a, ",")
         return step_best(a[1], a[2])
