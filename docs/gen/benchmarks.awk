@@ -366,6 +366,41 @@ function wprange(scene, grid, series, lo, hi,    n, r, a, b, x) {
     if (a == "") { print "benchmarks.awk: no " series " over 1/" lo "..1/" hi " in " wp_file > "/dev/stderr"; exit 1 }
     return sprintf("%.2g-%.2g", a, b)
 }
+# the smallest step from which a series never blows up, "1/1536"
+function wpstable(scene, grid, series,    n, r, lo, bad, hz) {
+    reset(); n = load(wp_file, 0)
+    for (r = 1; r <= n; r++)
+        if (cell[r, 1] == scene && cell[r, 17] == grid && cell[r, 2] == series && cell[r, 9] == 1 &&
+            cell[r, 3] + 0 > bad + 0) bad = cell[r, 3] + 0
+    for (r = 1; r <= n; r++) {
+        hz = cell[r, 3] + 0
+        if (cell[r, 1] == scene && cell[r, 17] == grid && cell[r, 2] == series && hz > bad + 0 &&
+            (lo == "" || hz < lo)) lo = hz
+    }
+    if (lo == "") { print "benchmarks.awk: " series " never stable in " wp_file > "/dev/stderr"; exit 1 }
+    return "1/" lo
+}
+# the implicit series' blown-up runs on scene and grid, per step: "at 1/24 for BE and BDF2; at 1/60 ..."
+# (BE backward Euler; linearised at CG 1e-5 with block Jacobi unless named)
+function wpblown(scene, grid,    n, r, title, hz, nh, w, nw, out, i, j, t, by) {
+    split("bdf2_1e-5:BDF2,be_1e-2:BE at CG 1e-2,be_1e-3:BE at CG 1e-3,be_1e-5:BE,be_1e-5_jacobi:BE with Jacobi," \
+          "be_1e-5_multigrid:BE with multigrid,be_1e-5_ssor:BE with SSOR,newton1_be:one-iteration Newton BE," \
+          "newton1_bdf2:one-iteration Newton BDF2,newton_be:Newton BE,newton_bdf2:Newton BDF2", w, ",")
+    for (i in w) { split(w[i], t, ":"); title[t[1]] = t[2] }
+    reset(); n = load(wp_file, 0)
+    for (r = 1; r <= n; r++) {
+        if (cell[r, 1] != scene || cell[r, 17] != grid || cell[r, 9] != 1 || !(cell[r, 2] in title)) continue
+        if (!((cell[r, 3] + 0) in nw)) hz[++nh] = cell[r, 3] + 0
+        by[cell[r, 3] + 0, ++nw[cell[r, 3] + 0]] = title[cell[r, 2]]
+    }
+    for (i = 1; i <= nh; i++) for (j = i + 1; j <= nh; j++) if (hz[j] < hz[i]) { t[0] = hz[i]; hz[i] = hz[j]; hz[j] = t[0] }
+    for (i = 1; i <= nh; i++) {
+        split("", w); for (j = 1; j <= nw[hz[i]]; j++) w[j] = by[hz[i], j]
+        out = out (i == 1 ? "" : "; ") "at 1/" hz[i] " for " join_and(w, nw[hz[i]])
+    }
+    if (out == "") out = "nowhere"
+    return out
+}
 # how far a work-precision run's reference moves when its h is halved, m
 function wpref(scene, grid,    n, r) {
     reset(); n = load(wp_file, 0)
@@ -417,6 +452,8 @@ function expand(key,    a, f) {
         if (f == "wpref") return wpref(a[1], a[2])
         if (f == "wpo") return wpo(a[1], a[2], a[3], a[4])
         if (f == "wprange") return wprange(a[1], a[2], a[3], a[4], a[5])
+        if (f == "wpstable") return wpstable(a[1], a[2], a[3])
+        if (f == "wpblown") return wpblown(a[1], a[2])
     }
     if (key ~ /^s(map|fails|grid|twin|energy)\(/) {
         f = key; sub(/\(.*/, "", f); sub(/^[a-z_]+\(/, "", key); sub(/\)$/, "", key); split(key, a, ",")
