@@ -401,6 +401,50 @@ function wpblown(scene, grid,    n, r, title, hz, nh, w, nw, out, i, j, t, by) {
     if (out == "") out = "nowhere"
     return out
 }
+# log CPU s per s at which series s (in the arrays wpe, wpc of wp_points) reaches error e: log-log
+# interpolated between its runs, its cheapest run's above its largest error, "" below its smallest
+function wp_cost(s, e,    i, lo, hi, t) {
+    for (i = 1; i <= wpn[s]; i++) {
+        if (wpe[s, i] >= e && (hi == "" || wpe[s, i] < wpe[s, hi])) hi = i
+        if (wpe[s, i] <= e && (lo == "" || wpe[s, i] > wpe[s, lo])) lo = i
+    }
+    if (hi == "") { for (i = 1; i <= wpn[s]; i++) if (t == "" || wpc[s, i] < t) t = wpc[s, i]; return t }
+    if (lo == "") return ""
+    if (wpe[s, hi] == wpe[s, lo]) return wpc[s, lo]
+    t = (e - wpe[s, lo]) / (wpe[s, hi] - wpe[s, lo])
+    return wpc[s, lo] + t * (wpc[s, hi] - wpc[s, lo])
+}
+# the cheapest of the series in list at error e ("" where none reaches it)
+function wp_front(list, e,    i, n, s, x, best) {
+    n = split(list, s, " ")
+    for (i = 1; i <= n; i++) { x = wp_cost(s[i], e); if (x != "" && (best == "" || x < best)) best = x }
+    return best
+}
+# @wpcross(scene,grid,a,b)@: the error (mm) at which series a's cost crosses b's (b: one series, or
+# others: the cheapest of every other fixed-step series), scanning down from the largest error; a
+# series reaches an error above its runs' at its cheapest run's cost
+function wpcross(scene, grid, a, b,    n, r, s, others, seen, es, ne, i, j, t, d, dp, ep, x) {
+    reset(); n = load(wp_file, 0); split("", wpn); split("", wpe); split("", wpc)
+    for (r = 1; r <= n; r++) {
+        s = cell[r, 2]
+        if (cell[r, 1] != scene || cell[r, 17] != grid || cell[r, 9] == 1) continue
+        if (s == "controller" || s == "reference_change" || !(cell[r, 6] + 0 > 0)) continue
+        i = ++wpn[s]; wpe[s, i] = log(cell[r, 6]); wpc[s, i] = log(cell[r, 7])
+        if (s != a && (b == "others" || s == b) && !(s in seen)) { seen[s] = 1; others = others " " s }
+        if (s == a || (b == "others" || s == b)) es[++ne] = wpe[s, i]
+    }
+    if (!wpn[a] || others == "") { print "benchmarks.awk: no " a " or " b " in " wp_file > "/dev/stderr"; exit 1 }
+    for (i = 1; i <= ne; i++) for (j = i + 1; j <= ne; j++) if (es[j] > es[i]) { t = es[i]; es[i] = es[j]; es[j] = t }
+    for (i = 1; i <= ne; i++) {
+        t = wp_cost(a, es[i]); x = wp_front(others, es[i])
+        if (t == "" || x == "") break
+        d = t - x
+        if (dp != "" && (d > 0) != (dp > 0) && es[i] != ep)
+            return sprintf("%.2g", 1000 * exp(ep + (es[i] - ep) * dp / (dp - d)))
+        dp = d; ep = es[i]
+    }
+    print "benchmarks.awk: " a " does not cross " b " on " scene ", " grid " in " wp_file > "/dev/stderr"; exit 1
+}
 # how far a work-precision run's reference moves when its h is halved, m
 function wpref(scene, grid,    n, r) {
     reset(); n = load(wp_file, 0)
@@ -454,6 +498,7 @@ function expand(key,    a, f) {
         if (f == "wprange") return wprange(a[1], a[2], a[3], a[4], a[5])
         if (f == "wpstable") return wpstable(a[1], a[2], a[3])
         if (f == "wpblown") return wpblown(a[1], a[2])
+        if (f == "wpcross") return wpcross(a[1], a[2], a[3], a[4])
     }
     if (key ~ /^s(map|fails|grid|twin|energy)\(/) {
         f = key; sub(/\(.*/, "", f); sub(/^[a-z_]+\(/, "", key); sub(/\)$/, "", key); split(key, a, ",")
