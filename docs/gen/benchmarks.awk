@@ -154,7 +154,8 @@ function stab(name,    n, r, x) {
     if (name == "bending") return sci(cell[1, 12])
     if (name == "compression") return sci(cell[1, 13])
     if (name == "past") {  # the smallest h of the map past the line
-        for (r = 1; r <= n; r++) if (cell[r, 3] + 0 > cell[1, 14] + 0 && (x == "" || cell[r, 3] + 0 < x)) x = cell[r, 3] + 0
+        for (r = 1; r <= n; r++)
+            if (cell[r, 3] + 0 > cell[1, 14] + 0 && (x == "" || cell[r, 3] + 0 < x)) x = cell[r, 3] + 0
         return per_h(x)
     }
     print "benchmarks.awk: no stability figure " name > "/dev/stderr"; exit 1
@@ -393,7 +394,8 @@ function wpblown(scene, grid,    n, r, title, hz, nh, w, nw, out, i, j, t, by) {
         if (!((cell[r, 3] + 0) in nw)) hz[++nh] = cell[r, 3] + 0
         by[cell[r, 3] + 0, ++nw[cell[r, 3] + 0]] = title[cell[r, 2]]
     }
-    for (i = 1; i <= nh; i++) for (j = i + 1; j <= nh; j++) if (hz[j] < hz[i]) { t[0] = hz[i]; hz[i] = hz[j]; hz[j] = t[0] }
+    for (i = 1; i <= nh; i++)
+        for (j = i + 1; j <= nh; j++) if (hz[j] < hz[i]) { t[0] = hz[i]; hz[i] = hz[j]; hz[j] = t[0] }
     for (i = 1; i <= nh; i++) {
         split("", w); for (j = 1; j <= nw[hz[i]]; j++) w[j] = by[hz[i], j]
         out = out (i == 1 ? "" : "; ") "at 1/" hz[i] " for " join_and(w, nw[hz[i]])
