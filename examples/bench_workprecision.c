@@ -12,8 +12,8 @@
  * Two families of them: the default, 21x21 at k_t 200 N/m with 2.5x cotton's
  * damping (c_t / k_t = 2.5e-4 s); --cotton, the preset itself (k_t 2000 N/m,
  * c_t / k_t = 1e-5 s) at 21x21 and 41x41, the swing 1 s (later the swing
- * amplifies every error about 8x per 0.25 s, and no reference within reach
- * converges, docs/benchmarks.md), with more series: the Newton step
+ * amplifies every error, and no reference within reach converges,
+ * docs/benchmarks.md), with more series: the Newton step
  * (CLOTH_NEWTON) converged to 1e-4 m/s and cut to one iteration (the
  * iterate kept unconverged), and backward Euler with each preconditioner.
  * Reference: BDF2 (the swing) or backward Euler (the sphere: BDF2 does not
