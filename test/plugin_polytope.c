@@ -10,12 +10,18 @@
  *     1e-15 m, n to 1e-12;
  *   - the same box turned and moved (a random rotation R and offset o) answers R v + o alike: the same
  *     depth and R n, to 1e-12 m and 1e-9.
- * And the queries that leave the answer to EPA (0) are fewer than a tenth. */
+ * And the queries that leave the answer to EPA (0) are fewer than a tenth. The tie merging of the exact tests
+ * (dcloth_merge_tie): three triangles' contacts tying at a vertex weigh alike (the mean of their normals,
+ * points, gaps and body velocities), the heaviest point's triangle carries it; a tie on another geom, a
+ * vertex's own contact or a query left to EPA are not merged. */
 #include <math.h>
 #include <stdlib.h>
 
-#include "../plugin/src/polytope.h"
+#include <string.h>
+
 #include "check.h"
+#include "polytope.h"
+#include "triangle_query.h"
 
 #define M 120
 
@@ -81,6 +87,49 @@ static void moved(double v[3][3], const double n[3], double s, double o[3][3])
 {
     for (int a = 0; a < 3; a++)
         for (int k = 0; k < 3; k++) o[a][k] = v[a][k] + s * n[k];
+}
+
+/* Three contacts tying at one vertex, from triangles 4, 5, 6 (queries 11, 12, 13) on one exact box */
+static void check_merge_tie(const dcloth_polytope *box)
+{
+    struct dxCloth cl;
+    memset(&cl, 0, sizeof cl);
+    int g1, g2; /* two geoms: only their addresses are compared */
+    struct dcloth_surf surf = {(dGeomID)&g1, 0.5, 0.01};
+    convex_query q = {.g = (dGeomID)&g1, .surf = &surf, .poly = box}, other = q;
+    other.g = (dGeomID)&g2;
+    const double n[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, gap[3] = {-1e-3, -1e-3 + 3e-9, -1e-3 - 3e-9};
+    const double pt[3][3] = {{3, 0, 0}, {0, 3, 0}, {0, 0, 3}}, vb[3][3] = {{0, 0, 6}, {0, 6, 0}, {6, 0, 0}};
+    const double w[3] = {0.3, 0.5, 0.4};
+    vcontact vc =
+        {.geom = (dGeomID)&g1, .gap = gap[0], .from_triangle = 1, .tri = 4, .query = 11, .weight = w[0], .ties = 1};
+    memcpy(vc.normal, n[0], sizeof vc.normal);
+    memcpy(vc.tie_sum, n[0], sizeof vc.tie_sum);
+    memcpy(vc.point, pt[0], sizeof vc.point);
+    memcpy(vc.vbody, vb[0], sizeof vc.vbody);
+    vcontact before = vc;
+    cl.triangles.query = 12;
+    CHECK(!dcloth_merge_tie(&cl, &other, &vc, 5, n[1], gap[1], pt[1], vb[1], w[1]) && !memcmp(&vc, &before, sizeof vc),
+          "a tie on another geom merged");
+    q.poly = NULL;
+    CHECK(!dcloth_merge_tie(&cl, &q, &vc, 5, n[1], gap[1], pt[1], vb[1], w[1]), "a tie left to EPA merged");
+    q.poly = box;
+    vc.from_triangle = 0;
+    CHECK(!dcloth_merge_tie(&cl, &q, &vc, 5, n[1], gap[1], pt[1], vb[1], w[1]), "a vertex's own contact merged");
+    vc.from_triangle = 1;
+    for (int k = 1; k < 3; k++) {
+        cl.triangles.query = 11 + k;
+        CHECK(dcloth_merge_tie(&cl, &q, &vc, 4 + k, n[k], gap[k], pt[k], vb[k], w[k]), "tie %d not merged", k);
+    }
+    double e = 0.0, s = 1.0 / sqrt(3.0);
+    for (int r = 0; r < 3; r++)
+        e = fmax(e, fmax(fabs(vc.normal[r] - s), fmax(fabs(vc.point[r] - 1.0), fabs(vc.vbody[r] - 2.0))));
+    printf("three tied contacts merged: the mean's normal, point and velocity to %.2e, gap %.17g\n", e, vc.gap);
+    CHECK(e <= 1e-15, "three ties merged unevenly: normal (%.6f %.6f %.6f), point (%.6f %.6f %.6f)", vc.normal[0],
+          vc.normal[1], vc.normal[2], vc.point[0], vc.point[1], vc.point[2]);
+    CHECK(fabs(vc.gap + 1e-3) <= 1e-18, "the merged gap %.17g, not the ties' mean -1e-3", vc.gap);
+    CHECK(vc.tri == 5 && vc.query == 12 && vc.weight == w[1], "carried by triangle %d (query %u), not 5 (12)", vc.tri,
+          vc.query);
 }
 
 int main(void)
@@ -160,6 +209,7 @@ int main(void)
            "- 1e-6 m the overlap is 1e-6 m to %.2e; mirror normals to %.2e\n",
            answered, distances, apart, undecided, worst_touch, worst_mirror);
     printf("turned box: normals to %.2e\n", worst_turned);
+    check_merge_tie(&box);
     CHECK(worst_touch <= 1e-12, "the overlap after moving by depth - 1e-6 m is off by %.3g", worst_touch);
     CHECK(undecided * 10 < answered, "%d of %d left to EPA", undecided, answered + undecided);
     CHECK(distances > 100, "only %d distances checked", distances);

@@ -40,6 +40,8 @@ typedef struct vcontact {
     unsigned query;     /* set it (dxCloth's triangles.query): one contact */
     double weight;      /* the contact point's barycentric weight on the
                             vertex (triangle contacts; 1 for a vertex's own)  */
+    int ties;           /* the triangles' contacts merged into it (tied)   */
+    double tie_sum[3];  /* the sum of their unit normals                   */
     int active;         /* 1: a constraint in this step's solve            */
     int forced;         /* 1: a re-solve found the vertex inside its shell  */
     int candidate;      /* 1: left free, a contact candidate the Newton

@@ -188,22 +188,26 @@ static int face_plane(const convex_query *q, const double n[3], double face[3], 
 }
 
 /* A contact tying to rounding with another triangle's on the same geom (mirror images at a vertex on the
- * cloth's line of symmetry) is merged with it, not chosen by the tests' order: held along the normals'
- * bisector by that gap (never past either plane), by the triangle whose point weighs the vertex most. */
-static int merge_tie(dClothID c, const convex_query *q, vcontact *vc, int k, const double n[3], double gap,
+ * cloth's line of symmetry) is merged with it, not chosen by the tests' order: each tie weighs alike, held
+ * along their normals' mean by their mean gap, by the triangle whose point weighs the vertex most. */
+int dcloth_merge_tie(dClothID c, const convex_query *q, vcontact *vc, int k, const double n[3], double gap,
                      const double pt[3], const double vb[3], double w)
 {
     if (!q->poly || !vc->geom || vc->geom != q->g || !vc->from_triangle || vc->tri < 0) return 0;
     if (!(fabs(vc->gap - gap) <= MERGE_TIE * q->surf->thickness)) return 0;
-    double m[3] = {vc->normal[0] + n[0], vc->normal[1] + n[1], vc->normal[2] + n[2]}, ml = sqrt(dcloth_dot3(m, m));
+    double ties = vc->ties > 1 ? vc->ties : 1.0, *sum = vc->tie_sum;
+    if (vc->ties < 1) memcpy(sum, vc->normal, sizeof vc->tie_sum);
+    double m[3] = {sum[0] + n[0], sum[1] + n[1], sum[2] + n[2]}, ml = sqrt(dcloth_dot3(m, m));
     double cs = ml > 0.0 ? dcloth_dot3(m, n) / ml : 0.0;
     if (!(cs > 0.5)) return 0; /* normals apart by more than 120 degrees: no corner to hold at */
     for (int r = 0; r < 3; r++) {
+        sum[r] = m[r];
         vc->normal[r] = m[r] / ml;
-        vc->point[r] = 0.5 * (vc->point[r] + pt[r]);
-        vc->vbody[r] = 0.5 * (vc->vbody[r] + vb[r]);
+        vc->point[r] = (ties * vc->point[r] + pt[r]) / (ties + 1.0);
+        vc->vbody[r] = (ties * vc->vbody[r] + vb[r]) / (ties + 1.0);
     }
-    vc->gap = 0.5 * (vc->gap + gap);
+    vc->gap = (ties * vc->gap + gap) / (ties + 1.0);
+    vc->ties = (int)ties + 1;
     if (w > vc->weight + TRI_TIE) { /* the triangle whose point weighs the vertex most carries it */
         vc->weight = w;
         vc->tri = k;
@@ -225,7 +229,7 @@ static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, 
     double height = dcloth_dot3(n, xv) - plane, pt[3], vb[3];
     for (int r = 0; r < 3; r++) pt[r] = xv[r] - height * n[r];
     dcloth_point_velocity(q->body, pos->v, vb);
-    if (merge_tie(c, q, vc, k, n, gap, pt, vb, w)) return;
+    if (dcloth_merge_tie(c, q, vc, k, n, gap, pt, vb, w)) return;
     if (vc->geom && vc->gap <= gap) return;
     /* on a face's own plane, a vertex's own contact with the geom is the
      * same plane: kept where they tie to rounding */
@@ -238,6 +242,8 @@ static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, 
     vc->tri = k;
     vc->query = c->triangles.query;
     vc->weight = w;
+    vc->ties = 1;
+    memcpy(vc->tie_sum, n, sizeof vc->tie_sum);
 }
 
 /* A moving triangle's contact (from its swept shape ts and the loose EPA) taken from its shell (ts grown

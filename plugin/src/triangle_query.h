@@ -31,6 +31,10 @@ void dcloth_tri_center(const void *obj, ccd_vec3_t *out);
 /* Cloth triangle k against q's shape over the step of h seconds (ccd: libccd's loose query, fine: its tight
  * one): sets its vertices' contacts where deeper than what they have; returns how many it set. */
 int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, ccd_t *ccd, ccd_t *fine);
+/* Merges the contact along n with gap (point pt, the body's velocity vb there, weight w on the vertex) from cloth
+ * triangle k into vc where it ties with vc's, from another triangle on q's geom (exact tests): 1 if merged */
+int dcloth_merge_tie(dClothID c, const convex_query *q, vcontact *vc, int k, const double n[3], double gap,
+                     const double pt[3], const double vb[3], double w);
 /* the diagonal of a box (6 bounds: x lo, x hi, y lo, ...) */
 double dcloth_diagonal(const double aabb[6]);
 
