@@ -183,7 +183,8 @@ typedef struct cloth_solver {
      * velocity correction), or the residual R's sqrt(R^T M^-1 R / cloth
      * mass), is within newton_tolerance, and the energy the iterate can
      * have gained, v_new . R (+ each held body's, at its new velocity), is within
-     * a quarter of what the exact step dissipates, |dv|_M^2 / 2 (but not
+     * a quarter of what the exact step dissipates (|dv|_M^2 / 2, the dampers'
+     * work and the links' Bregman gaps; docs/newton.md) (but not
      * below the kinetic energy at 1e-4 newton_tolerance), so an inexact
      * step adds no energy that shows (the warm start is kept without a
      * solve only when its residual is within newton_tolerance and
