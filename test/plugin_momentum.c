@@ -27,8 +27,8 @@
  * vertex contacts only, the landing keeps its symmetry: the torque is
  * asserted within 1e-9 of the cloth's weight times the box's size. With
  * the box's triangle tests too, decided by its geometry (the default), within
- * 1e-6 of it: the default multigrid's iterates are not mirror images, so the
- * solves' tolerance bounds it, not rounding. By Newton with block-Jacobi CG,
+ * 1e-6 of it at these tolerances: the default multigrid's iterates are not
+ * mirror images, so the solves' tolerance bounds it, not rounding. By Newton with block-Jacobi CG,
  * whose iterates are mirror images as the scene is, the scene is
  * mirror-symmetric about the plane x = y (the grid's diagonals too), so the
  * torque about z is zero up to rounding: asserted each step s within (s + 1)
@@ -38,7 +38,6 @@
 #include <float.h>
 #include <math.h>
 #include <string.h>
-#include <stdlib.h>
 
 #include "odecloth/dcloth.h"
 #include "check.h"
@@ -89,14 +88,13 @@ static void imbalance(dClothID c, dBodyID b, double *ef, double *et, double *sca
 static dClothID make_cloth(dWorldID w, dSpaceID sp, double cx, double cy, double z, int gravity, int newton)
 {
     dClothDesc d = dClothDefaultDesc();
-    d.cloth.rows = d.cloth.cols = getenv("GRID") ? atoi(getenv("GRID")) : 11;
+    d.cloth.rows = d.cloth.cols = 11;
     d.cloth.width = d.cloth.height = 0.4;
     d.cloth.origin[0] = cx - 0.2;
     d.cloth.origin[1] = cy - 0.2;
     d.cloth.origin[2] = z;
-    if (!getenv("DEFTOL")) d.cloth.solver.cg_tolerance = 1e-10;
-    if (newton && getenv("DEFTOL")) d.cloth.solver.nonlinear = CLOTH_NEWTON;
-    else if (newton) {
+    d.cloth.solver.cg_tolerance = 1e-10;
+    if (newton) {
         d.cloth.solver.nonlinear = CLOTH_NEWTON;
         d.cloth.solver.newton_tolerance = 1e-9;
         d.cloth.solver.newton_cg_tolerance = 1e-10;
@@ -232,8 +230,7 @@ static double landing(double cx, double cy, int newton, int tri)
     }
     dClothSetTriangleTests(c, g, tri);
     dClothSetEdgeTests(c, g, tri); /* vertex contacts only, or triangle tests */
-    if (getenv("EPA")) dClothSetExactTriangleTests(c, g, 0);
-    if (newton == 2) { /* the box's contacts decided by its geometry, CG by block Jacobi */
+    if (newton == 2) {             /* the box's contacts decided by its geometry, CG by block Jacobi */
         CHECK(dClothSetExactTriangleTests(c, g, 1) == CLOTH_OK, "exact triangle tests: %s", dClothGetLastError(c));
         cloth_solver sv = cloth_get_desc(dClothGetCore(c)).solver;
         sv.precond = CLOTH_PRECOND_BLOCK_JACOBI;

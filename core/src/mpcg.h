@@ -37,8 +37,8 @@ typedef struct mpcg_extra {
     /* out = s_m M y + E^T t (y may be NULL: 0) */
     void (*reduce)(const void *ctx, const struct mpcg_problem *P, const double *t, const double *y, double s_m,
                    double *out);
-    /* make G = (M + diag blocks of E^T A E)^-1, the preconditioner and norm weight; -1 when a block is
-     * not positive definite (then neither is the system), else 0 */
+    /* make G = (M + E^T diag(A) E)^-1 per body (diag(A): A's vertex blocks), the preconditioner and norm
+     * weight; -1 when a block is not positive definite (then neither is the system), else 0 */
     int (*factor)(const void *ctx, const struct mpcg_problem *P);
     /* out = G r */
     void (*precondition)(const void *ctx, const double *r, double *out);

@@ -102,7 +102,7 @@ void dcloth_constrain(dClothID c, double h, dClothStepStats *st)
             cloth_set_contact(core, i, nw->normal, k.target);
             /* Newton lets a vertex's own contact that follows a triangle's
              * go within the step at the pull the peel below judges after
-             * it; a triangle's own goes by its force (share_pulled) */
+             * it; a triangle's own goes by its force (dcloth_mark_pulled_shares) */
             if (by_triangle_rule(c, i) && !shared(c, i)) cloth_set_contact_pull(core, i, LETGO_PULL * letgo_t);
         }
         second_candidate(c, i, h, nw, newton);

@@ -114,7 +114,7 @@ struct dxCloth {
     /* boxes whose triangle tests are left to EPA (dClothSetExactTriangleTests off) */
     dcloth_geom_list tri_epa;
     dcloth_geom_list edge_off; /* geoms whose link tests are off (dClothSetEdgeTests) */
-    /* carried from one step to the next (dClothSave copies all but vc_new and err) */
+    /* carried from one step to the next (dClothSave copies all but vc_new, err and undo) */
     vcontact *vc, *vc_new; /* n: committed and candidate contact states */
     vpin *pin;             /* n */
     double *fadd;          /* 3n: dClothAddVertexForce's, for the next step */

@@ -11,7 +11,7 @@ struct triangle_tests {
     unsigned query;
 };
 
-/* cloth triangles against a box, capsule, cylinder, convex or trimesh (libccd) over a step of h
+/* cloth triangles against a box (by its geometry, polytope.c), capsule, cylinder, convex or trimesh (libccd) over a step of h
  * seconds with the geom's surface s, setting deeper contacts of their vertices in c->vc_new.
  * Returns the number of vertex contacts set (0 for other classes). */
 int dcloth_triangle_contacts(dClothID c, const struct dcloth_surf *s, double h);

@@ -15,11 +15,11 @@ if [ ${#files[@]} -eq 0 ]; then
     echo "function_length: no C sources under $1"
     exit 1
 fi
-# clang-format (Linux braces) puts a function's "{" and "}" alone at column 0;
+# clang-format (Linux braces) puts a function's "{" (maybe with a comment) and "}" alone at column 0;
 # the signature is the run of lines above the "{" since a blank, "#", ";" or "}" line
 awk -v limit="$limit" '
 FNR == 1 { nsig = 0; start = 0; nfiles++ }
-start == 0 && /^\{[[:space:]]*$/ {
+start == 0 && /^\{[[:space:]]*(\/[*\/].*)?$/ {
     start = FNR
     sig = ""
     for (k = 1; k <= nsig; k++) sig = sig " " siglines[k]

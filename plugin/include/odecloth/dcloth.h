@@ -15,8 +15,8 @@
  *   2. each vertex inside a candidate geom's AABB gets its distance and
  *      normal to the geom (closed forms for sphere, box, capsule, cylinder
  *      and plane, a ray for heightfields, a sphere proxy through dCollide
- *      for the other classes), and cloth triangles near a box, capsule or
- *      cylinder are tested against it with libccd; a vertex that is, or
+ *      for the other classes), and cloth triangles near a box (by its
+ *      geometry), capsule or cylinder (libccd) are tested against it; a vertex that is, or
  *      would end the step, closer than the thickness gets a velocity
  *      constraint (paper eq. 22): its normal velocity is the body's point
  *      velocity (dBodyGetPointVel) plus what closes the gap within the step;
@@ -126,7 +126,7 @@ typedef struct dClothStepStats {
                                 one of the resolves)                          */
     int candidates;                  /* geoms whose AABB met the cloth's              */
     int triangle_contacts;           /* vertex contacts set by cloth-triangle tests
-                                (box, capsule, cylinder, via libccd)          */
+                                (box by its geometry; capsule, cylinder, libccd) */
     dReal max_penetration;           /* m, deepest vertex inside its thickness shell,
                                 by its own distance, before the step (0 if
                                 none)                                         */
@@ -237,13 +237,13 @@ ODECLOTH_API cloth_status dClothSetSpace(dClothID c, dSpaceID space);
 
 /* Hand the cloth a convex geom's points (the array given to
  * dGeomSetConvex, `count` points of 3 dReals in the geom's frame), copied,
- * so that its triangles are tested against the geom like a box's (libccd):
+ * so that its triangles are tested against the geom (libccd's EPA):
  * ODE 0.16 gives no access to a convex's points. Without it a convex gets
  * vertex contacts only. points NULL (or count 0) forgets the geom: do so
  * before destroying it. */
 ODECLOTH_API cloth_status dClothSetConvexPoints(dClothID c, dGeomID g, const dReal *points, int count);
 
-/* Triangle tests (libccd) for geom g on (enable nonzero, the default) or
+/* Triangle tests (a box's by its geometry, the others' by libccd) for geom g on (enable nonzero, the default) or
  * off. They keep a box's, capsule's, cylinder's, convex's or trimesh's edges
  * and corners from passing between the cloth's vertices; off, g gets vertex
  * contacts, and a box, trimesh or convex the link tests below, cheaper (a
@@ -256,7 +256,8 @@ ODECLOTH_API int dClothGetTriangleTests(dClothID c, dGeomID g);
 /* A box g's triangle tests decided by its geometry (enable nonzero, the default) or by libccd's EPA (0): the
  * contact's plane and point from the box's or the triangle's face where one decides them, the nearest points
  * elsewhere, and contacts that tie at a vertex merged, so a scene that is its own mirror image stays one to
- * rounding (docs/contacts.md). Other classes are refused. Enable it again before destroying g. */
+ * rounding (docs/contacts.md). Other classes are refused. Off, the box is listed (CLOTH_ENOMEM if the list
+ * cannot grow): enable it again before destroying g, or a geom later made at its address gets EPA. */
 ODECLOTH_API cloth_status dClothSetExactTriangleTests(dClothID c, dGeomID g, int enable);
 ODECLOTH_API int dClothGetExactTriangleTests(dClothID c, dGeomID g);
 
