@@ -172,11 +172,14 @@ static void case_fold(cloth *c)
         memcpy(x, y, sizeof x);
     }
     /* back and forth between the last position and one within the regions but more than the close
-     * pairs' slack from it: one close list made, then both kept and used again; energy as brute force */
+     * pairs' slack from it (whatever common translation): one close list made, then both kept and used
+     * again; then the last moved rigidly by more than the slack, its list kept; energy as brute force */
+    static double z[3 * NV];
     memcpy(y, x, sizeof y);
-    for (int i = N * (N / 2 + 1); i < NV; i++) y[3 * i + 2] += 0.4 * D;
-    for (int k = 0; k < 4; k++) {
-        const double *at = k % 2 ? y : x;
+    for (int i = N * (N / 2 + 1); i < NV; i++) y[3 * i + 2] += 0.6 * D;
+    for (int i = 0; i < 3 * NV; i++) z[i] = x[i] + 0.5 * D;
+    for (int k = 0; k < 5; k++) {
+        const double *at = k == 4 ? z : k % 2 ? y : x;
         long before = self_contact_get_work(s).relisted;
         double E = self_contact_eval(s, at, CFAC, NULL, NULL), Eb = brute_energy(edges, ne, at, kappa, &active);
         self_contact_work w = self_contact_get_work(s);

@@ -555,23 +555,34 @@ static double pairs_at(self_contact *s, int ee, const double *x, double cfac, do
     return E;
 }
 
-/* The largest distance of a vertex of x from its reference position in r */
+/* The largest distance of a vertex of x from its reference position in r shifted by a common
+ * translation (the middle of the displacements' box): pair distances do not change under one */
 static double moved(const self_contact *s, const ref_set *r, const double *x)
 {
-    double m = 0.0;
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}, t[3], m = 0.0;
+    for (int k = 0; k < 3 * s->n; k++) {
+        double d = x[k] - r->xref[k];
+        lo[k % 3] = d < lo[k % 3] ? d : lo[k % 3];
+        hi[k % 3] = d > hi[k % 3] ? d : hi[k % 3];
+    }
+    for (int a = 0; a < 3; a++) t[a] = 0.5 * (lo[a] + hi[a]);
     for (int i = 0; i < s->n; i++) {
         double d[3];
         vec3_sub(x + 3 * i, r->xref + 3 * i, d);
+        vec3_sub(d, t, d);
         double d2 = vec3_dot(d, d);
         if (!(d2 <= m)) m = d2 == d2 ? d2 : INFINITY; /* a NaN position: moved past any slack */
     }
     return sqrt(m);
 }
 
-/* Whether r's close pairs hold every candidate that can come within D at x (and x1 unless NULL) */
+/* Whether r's close pairs hold every candidate that can come within D at x, or with x1 (not NULL) every
+ * one that can touch on the path x -> x1: a pair's distance shrinks by at most twice the most a vertex
+ * moved from the shifted reference, and a touch needs it under eta, not D */
 static int holds(const self_contact *s, const ref_set *r, const double *x, const double *x1)
 {
     double slack = SELF_CONTACT_SLACK * s->D;
+    if (x1) slack += 0.5 * s->D * (1.0 - 2.0 * SELF_CONTACT_TOUCH);
     return r->close_at == s->version && moved(s, r, x) <= slack && (!x1 || moved(s, r, x1) <= slack);
 }
 
