@@ -300,12 +300,18 @@ static int in_region(const self_contact *s, const double *x, int i)
     return 1;
 }
 
-/* Whether every vertex of x is in its region */
+/* Whether every vertex of x is in its region, the regions shifted by one translation (found per axis as
+ * the meet of the vertices' intervals): pairs' distances and touches do not change under it */
 static int in_regions(const self_contact *s, const double *x)
 {
-    for (int i = 0; i < s->n; i++)
-        if (!in_region(s, x, i)) return 0;
-    return 1;
+    double lo[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}, hi[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL};
+    for (int k = 0; k < 3 * s->n; k++) {
+        double a = x[k] - s->hi[k], b = x[k] - s->lo[k];
+        if (!(a <= b)) return 0; /* not finite */
+        lo[k % 3] = a > lo[k % 3] ? a : lo[k % 3];
+        hi[k % 3] = b < hi[k % 3] ? b : hi[k % 3];
+    }
+    return lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2];
 }
 
 /* Merges the pairs of add (any order, repeats allowed) into l (ascending, each once), keeping it so */
