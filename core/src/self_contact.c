@@ -527,6 +527,34 @@ static double pair_gap(const self_contact *s, int ee, int i, const double *x, do
     return sep > g ? sep : g;
 }
 
+/* Primitive f's box over x0 and x1 (x1 NULL: x0 only; a triangle, or with ee an edge), with frame
+ * the triangle's frame at x0 too */
+static void prim_box(self_contact *s, int ee, int f, const double *x0, const double *x1, int frame)
+{
+    const int *idx = ee ? s->edges + 2 * f : s->tri + 3 * f;
+    corners_box(idx, ee ? 2 : 3, x0, x1, 0.0, s->box + 6 * (size_t)f);
+    if (frame) pair_apart_frame(x0 + 3 * idx[0], x0 + 3 * idx[1], x0 + 3 * idx[2], s->frame + 12 * (size_t)f);
+}
+
+/* What pair_gap (x1 NULL) or first_touch reads for the vertex-triangle (ee 0) or edge-edge pairs: the
+ * boxes (and frames, vertex boxes) of every primitive, or with close only of the close pairs' */
+static void boxes_for(self_contact *s, int ee, int close, const double *x0, const double *x1)
+{
+    const pair_list *cl = &s->ref.close, *l = ee ? &s->ee : &s->vt;
+    if (!close) {
+        for (int f = 0; f < (ee ? s->nedge : s->ntri); f++) prim_box(s, ee, f, x0, x1, !ee && !x1);
+        for (int i = 0; !ee && x1 && i < s->n; i++) corners_box(&i, 1, x0, x1, 0.0, s->vbox + 6 * (size_t)i);
+        return;
+    }
+    for (int j = 0; j < cl->n; j++) {
+        if (cl->v[2 * j] != ee) continue;
+        int i = cl->v[2 * j + 1], a = l->v[2 * i], f = l->v[2 * i + 1];
+        prim_box(s, ee, f, x0, x1, !ee && !x1);
+        if (ee) prim_box(s, 1, a, x0, x1, 0);
+        else if (x1) corners_box(&a, 1, x0, x1, 0.0, s->vbox + 6 * (size_t)a);
+    }
+}
+
 /* Appends (kind, i) to l, or marks *ok 0 when out of memory */
 static void note(pair_list *l, int *ok, int kind, int i)
 {
@@ -660,13 +688,9 @@ static double eval_untimed(self_contact *s, const double *x, double cfac, double
         s->ref.close.n = 0;
         s->ref.close_at = -1;
     }
-    for (int t = 0; t < s->ntri; t++) {
-        const int *tv = s->tri + 3 * t;
-        corners_box(tv, 3, x, NULL, 0.0, s->box + 6 * (size_t)t);
-        pair_apart_frame(x + 3 * tv[0], x + 3 * tv[1], x + 3 * tv[2], s->frame + 12 * (size_t)t);
-    }
+    boxes_for(s, 0, !listing, x, NULL);
     double E = pairs_at(s, 0, x, cfac, b, A, listing, &ok);
-    for (int e = 0; e < s->nedge; e++) corners_box(s->edges + 2 * e, 2, x, NULL, 0.0, s->box + 6 * (size_t)e);
+    boxes_for(s, 1, !listing, x, NULL);
     E += pairs_at(s, 1, x, cfac, b, A, listing, &ok);
     if (listing && ok) {
         memcpy(s->ref.xref, x, n3 * sizeof *x);
@@ -740,10 +764,9 @@ static double max_step_untimed(self_contact *s, const double *x0, const double *
     } else {
         /* a path between two points within the slack of the references stays within it */
         int close = close_holds(s, x0, x1);
-        for (int i = 0; i < s->n; i++) corners_box(&i, 1, x0, x1, 0.0, s->vbox + 6 * (size_t)i);
-        for (int t = 0; t < s->ntri; t++) corners_box(s->tri + 3 * t, 3, x0, x1, 0.0, s->box + 6 * (size_t)t);
+        boxes_for(s, 0, close, x0, x1);
         first = first_touch(s, 0, close, x0, x1, eta);
-        for (int e = 0; e < s->nedge; e++) corners_box(s->edges + 2 * e, 2, x0, x1, 0.0, s->box + 6 * (size_t)e);
+        boxes_for(s, 1, close, x0, x1);
         first = fmin(first, first_touch(s, 1, close, x0, x1, eta));
     }
     return first <= 1.0 ? SELF_CONTACT_STOP * first : 1.0;
