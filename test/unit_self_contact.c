@@ -172,11 +172,14 @@ static void case_fold(cloth *c)
         memcpy(x, y, sizeof x);
     }
     /* back and forth between the last position and one within the regions but more than the close
-     * pairs' slack from it: one close list made, then both kept and used again; energy as brute force */
+     * pairs' slack from it (whatever common translation): one close list made, then both kept and used
+     * again; then the last moved rigidly by more than the slack, its list kept; energy as brute force */
+    static double z[3 * NV];
     memcpy(y, x, sizeof y);
-    for (int i = N * (N / 2 + 1); i < NV; i++) y[3 * i + 2] += 0.4 * D;
-    for (int k = 0; k < 4; k++) {
-        const double *at = k % 2 ? y : x;
+    for (int i = N * (N / 2 + 1); i < NV; i++) y[3 * i + 2] += 0.6 * D;
+    for (int i = 0; i < 3 * NV; i++) z[i] = x[i] + 0.5 * D;
+    for (int k = 0; k < 5; k++) {
+        const double *at = k == 4 ? z : k % 2 ? y : x;
         long before = self_contact_get_work(s).relisted;
         double E = self_contact_eval(s, at, CFAC, NULL, NULL), Eb = brute_energy(edges, ne, at, kappa, &active);
         self_contact_work w = self_contact_get_work(s);
@@ -203,16 +206,19 @@ static void case_fold(cloth *c)
         CHECK_REL(E, Eb, 1e-12, 0.0);
         memcpy(x, y, sizeof x);
     }
-    /* the top layer pushed through the bottom: swept through a list, and far (swept
-     * directly, no list); then a rigid lift */
-    for (int far = 0; far < 2; far++) {
+    /* the top layer pushed through the bottom: swept through the list (its regions hold the path shifted
+     * by a common translation: kept), through a list made again, and far (swept directly, no list); then
+     * a rigid lift */
+    const char *how[3] = {"within the regions", "near", "far"};
+    const double push[3] = {-1.5, -2.5, -40.0};
+    for (int k = 0; k < 3; k++) {
         memcpy(y, x, sizeof y);
-        for (int i = 0; i < NV; i++) y[3 * i + 2] += i / N > N / 2 ? (far ? -40.0 : -1.5) * D : 0.0;
+        for (int i = 0; i < NV; i++) y[3 * i + 2] += i / N > N / 2 ? push[k] * D : 0.0;
         long before = self_contact_get_work(s).rebuilds;
         double first = brute_touch(edges, ne, x, y), share = self_contact_max_step(s, x, y);
-        CHECK(first < 1.0 && share == 0.5 * first, "pushed %s: share %.17g, brute force's first touch %.17g",
-              far ? "far" : "near", share, first);
-        CHECK(self_contact_get_work(s).rebuilds - before == !far, "pushed %s: %ld rebuilds", far ? "far" : "near",
+        CHECK(first < 1.0 && share == 0.5 * first, "pushed %s: share %.17g, brute force's first touch %.17g", how[k],
+              share, first);
+        CHECK(self_contact_get_work(s).rebuilds - before == (k == 1), "pushed %s: %ld rebuilds", how[k],
               self_contact_get_work(s).rebuilds - before);
     }
     for (int i = 0; i < NV; i++) y[3 * i + 2] = x[3 * i + 2] + 0.5;

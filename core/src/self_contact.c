@@ -300,12 +300,18 @@ static int in_region(const self_contact *s, const double *x, int i)
     return 1;
 }
 
-/* Whether every vertex of x is in its region */
+/* Whether every vertex of x is in its region, the regions shifted by one translation (found per axis as
+ * the meet of the vertices' intervals): pairs' distances and touches do not change under it */
 static int in_regions(const self_contact *s, const double *x)
 {
-    for (int i = 0; i < s->n; i++)
-        if (!in_region(s, x, i)) return 0;
-    return 1;
+    double lo[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}, hi[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL};
+    for (int k = 0; k < 3 * s->n; k++) {
+        double a = x[k] - s->hi[k], b = x[k] - s->lo[k];
+        if (!(a <= b)) return 0; /* not finite */
+        lo[k % 3] = a > lo[k % 3] ? a : lo[k % 3];
+        hi[k % 3] = b < hi[k % 3] ? b : hi[k % 3];
+    }
+    return lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2];
 }
 
 /* Merges the pairs of add (any order, repeats allowed) into l (ascending, each once), keeping it so */
@@ -521,6 +527,34 @@ static double pair_gap(const self_contact *s, int ee, int i, const double *x, do
     return sep > g ? sep : g;
 }
 
+/* Primitive f's box over x0 and x1 (x1 NULL: x0 only; a triangle, or with ee an edge), with frame
+ * the triangle's frame at x0 too */
+static void prim_box(self_contact *s, int ee, int f, const double *x0, const double *x1, int frame)
+{
+    const int *idx = ee ? s->edges + 2 * f : s->tri + 3 * f;
+    corners_box(idx, ee ? 2 : 3, x0, x1, 0.0, s->box + 6 * (size_t)f);
+    if (frame) pair_apart_frame(x0 + 3 * idx[0], x0 + 3 * idx[1], x0 + 3 * idx[2], s->frame + 12 * (size_t)f);
+}
+
+/* What pair_gap (x1 NULL) or first_touch reads for the vertex-triangle (ee 0) or edge-edge pairs: the
+ * boxes (and frames, vertex boxes) of every primitive, or with close only of the close pairs' */
+static void boxes_for(self_contact *s, int ee, int close, const double *x0, const double *x1)
+{
+    const pair_list *cl = &s->ref.close, *l = ee ? &s->ee : &s->vt;
+    if (!close) {
+        for (int f = 0; f < (ee ? s->nedge : s->ntri); f++) prim_box(s, ee, f, x0, x1, !ee && !x1);
+        for (int i = 0; !ee && x1 && i < s->n; i++) corners_box(&i, 1, x0, x1, 0.0, s->vbox + 6 * (size_t)i);
+        return;
+    }
+    for (int j = 0; j < cl->n; j++) {
+        if (cl->v[2 * j] != ee) continue;
+        int i = cl->v[2 * j + 1], a = l->v[2 * i], f = l->v[2 * i + 1];
+        prim_box(s, ee, f, x0, x1, !ee && !x1);
+        if (ee) prim_box(s, 1, a, x0, x1, 0);
+        else if (x1) corners_box(&a, 1, x0, x1, 0.0, s->vbox + 6 * (size_t)a);
+    }
+}
+
 /* Appends (kind, i) to l, or marks *ok 0 when out of memory */
 static void note(pair_list *l, int *ok, int kind, int i)
 {
@@ -555,23 +589,34 @@ static double pairs_at(self_contact *s, int ee, const double *x, double cfac, do
     return E;
 }
 
-/* The largest distance of a vertex of x from its reference position in r */
+/* The largest distance of a vertex of x from its reference position in r shifted by a common
+ * translation (the middle of the displacements' box): pair distances do not change under one */
 static double moved(const self_contact *s, const ref_set *r, const double *x)
 {
-    double m = 0.0;
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}, t[3], m = 0.0;
+    for (int k = 0; k < 3 * s->n; k++) {
+        double d = x[k] - r->xref[k];
+        lo[k % 3] = d < lo[k % 3] ? d : lo[k % 3];
+        hi[k % 3] = d > hi[k % 3] ? d : hi[k % 3];
+    }
+    for (int a = 0; a < 3; a++) t[a] = 0.5 * (lo[a] + hi[a]);
     for (int i = 0; i < s->n; i++) {
         double d[3];
         vec3_sub(x + 3 * i, r->xref + 3 * i, d);
+        vec3_sub(d, t, d);
         double d2 = vec3_dot(d, d);
         if (!(d2 <= m)) m = d2 == d2 ? d2 : INFINITY; /* a NaN position: moved past any slack */
     }
     return sqrt(m);
 }
 
-/* Whether r's close pairs hold every candidate that can come within D at x (and x1 unless NULL) */
+/* Whether r's close pairs hold every candidate that can come within D at x, or with x1 (not NULL) every
+ * one that can touch on the path x -> x1: a pair's distance shrinks by at most twice the most a vertex
+ * moved from the shifted reference, and a touch needs it under eta, not D */
 static int holds(const self_contact *s, const ref_set *r, const double *x, const double *x1)
 {
     double slack = SELF_CONTACT_SLACK * s->D;
+    if (x1) slack += 0.5 * s->D * (1.0 - 2.0 * SELF_CONTACT_TOUCH);
     return r->close_at == s->version && moved(s, r, x) <= slack && (!x1 || moved(s, r, x1) <= slack);
 }
 
@@ -643,13 +688,9 @@ static double eval_untimed(self_contact *s, const double *x, double cfac, double
         s->ref.close.n = 0;
         s->ref.close_at = -1;
     }
-    for (int t = 0; t < s->ntri; t++) {
-        const int *tv = s->tri + 3 * t;
-        corners_box(tv, 3, x, NULL, 0.0, s->box + 6 * (size_t)t);
-        pair_apart_frame(x + 3 * tv[0], x + 3 * tv[1], x + 3 * tv[2], s->frame + 12 * (size_t)t);
-    }
+    boxes_for(s, 0, !listing, x, NULL);
     double E = pairs_at(s, 0, x, cfac, b, A, listing, &ok);
-    for (int e = 0; e < s->nedge; e++) corners_box(s->edges + 2 * e, 2, x, NULL, 0.0, s->box + 6 * (size_t)e);
+    boxes_for(s, 1, !listing, x, NULL);
     E += pairs_at(s, 1, x, cfac, b, A, listing, &ok);
     if (listing && ok) {
         memcpy(s->ref.xref, x, n3 * sizeof *x);
@@ -723,10 +764,9 @@ static double max_step_untimed(self_contact *s, const double *x0, const double *
     } else {
         /* a path between two points within the slack of the references stays within it */
         int close = close_holds(s, x0, x1);
-        for (int i = 0; i < s->n; i++) corners_box(&i, 1, x0, x1, 0.0, s->vbox + 6 * (size_t)i);
-        for (int t = 0; t < s->ntri; t++) corners_box(s->tri + 3 * t, 3, x0, x1, 0.0, s->box + 6 * (size_t)t);
+        boxes_for(s, 0, close, x0, x1);
         first = first_touch(s, 0, close, x0, x1, eta);
-        for (int e = 0; e < s->nedge; e++) corners_box(s->edges + 2 * e, 2, x0, x1, 0.0, s->box + 6 * (size_t)e);
+        boxes_for(s, 1, close, x0, x1);
         first = fmin(first, first_touch(s, 1, close, x0, x1, eta));
     }
     return first <= 1.0 ? SELF_CONTACT_STOP * first : 1.0;

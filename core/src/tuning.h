@@ -86,7 +86,8 @@
 #define SELF_CONTACT_FEW_MAX 16
 
 /* Close pairs: candidates possibly within the thickness plus 2 SELF_CONTACT_SLACK thicknesses at the
- * reference (none other comes within it while no vertex moves farther); SELF_CONTACT_SPARE earlier
+ * reference (none other comes within it while no vertex moves farther, the whole cloth's common
+ * translation taken out; a sweep, touches only, half a thickness farther); SELF_CONTACT_SPARE earlier
  * lists kept, as Newton's start tries several positions. */
 #define SELF_CONTACT_SLACK 0.25
 #define SELF_CONTACT_SPARE 3
