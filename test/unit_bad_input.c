@@ -126,6 +126,19 @@ static void check_create_default(const cloth_desc *d0)
     cloth_destroy(NULL); /* documented as fine */
 }
 
+/* Each of n sizes (rows, cols) refused; overflow: the ones too large (ENOMEM allowed) */
+static void expect_sizes_rejected(const cloth_desc *d0, const int (*sizes)[2], size_t n, int overflow)
+{
+    char what[128];
+    for (size_t k = 0; k < n; k++) {
+        cloth_desc d = *d0;
+        d.rows = sizes[k][0];
+        d.cols = sizes[k][1];
+        snprintf(what, sizeof what, overflow ? "rows %d cols %d (overflow)" : "rows %d cols %d", d.rows, d.cols);
+        expect_desc_rejected(&d, what, overflow);
+    }
+}
+
 /* Every double field NaN / inf / -inf, and sizes too small or overflowing. */
 static void check_create_nonfinite_and_sizes(const cloth_desc *d0)
 {
@@ -139,21 +152,9 @@ static void check_create_nonfinite_and_sizes(const cloth_desc *d0)
             expect_desc_rejected(&d, what, 0);
         }
     static const int bad[][2] = {{2, 5}, {5, 2}, {0, 0}, {-1, 5}, {5, -3}, {1, 1}, {2, 2}, {INT_MIN, 5}};
-    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
-        d = *d0;
-        d.rows = bad[k][0];
-        d.cols = bad[k][1];
-        snprintf(what, sizeof what, "rows %d cols %d", d.rows, d.cols);
-        expect_desc_rejected(&d, what, 0);
-    }
     static const int huge[][2] = {{100000, 100000}, {46341, 46341}, {INT_MAX, 3}, {3, INT_MAX}, {INT_MAX, INT_MAX}};
-    for (size_t k = 0; k < sizeof huge / sizeof huge[0]; k++) {
-        d = *d0;
-        d.rows = huge[k][0];
-        d.cols = huge[k][1];
-        snprintf(what, sizeof what, "rows %d cols %d (overflow)", d.rows, d.cols);
-        expect_desc_rejected(&d, what, 1);
-    }
+    expect_sizes_rejected(d0, bad, sizeof bad / sizeof bad[0], 0);
+    expect_sizes_rejected(d0, huge, sizeof huge / sizeof huge[0], 1);
 }
 
 /* Out-of-range values, one field at a time. */
