@@ -410,6 +410,17 @@ cloth_status cloth_add_velocities(cloth *c, const double *dv)
     return CLOTH_OK;
 }
 
+cloth_status cloth_set_warm_start(cloth *c, const double *dv)
+{
+    if (!c) return CLOTH_EINVAL;
+    if (!dv) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_warm_start: dv is NULL");
+    size_t n3 = 3 * (size_t)c->n;
+    for (size_t k = 0; k < n3; k++)
+        if (!isfinite(dv[k])) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_warm_start: dv[%zu] = %g", k, dv[k]);
+    memcpy(c->st.dv_prev, dv, n3 * sizeof *dv);
+    return CLOTH_OK;
+}
+
 cloth_status cloth_set_vertex(cloth *c, int vertex, const double x[3], const double v[3])
 {
     if (!c) return CLOTH_EINVAL;

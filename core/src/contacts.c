@@ -216,11 +216,11 @@ int contacts_slide(cloth *c, const double *x)
 }
 
 /* cand_on of vertex i's released contact by its code (internal.h: cand_on); a plane the step made,
- * or a set sliding one on a vertex with a second candidate, is a candidate again, held at most once */
+ * or a set sliding one, is a candidate again, held at most once */
 static unsigned char released_as(const cloth *c, int i)
 {
     unsigned char on = c->cand_on[i];
-    return on == 1 ? (c->cand2_on[i] ? 10 : 6) : on == 11 ? 6 : on == 2 ? 8 : on == 9 ? 4 : 5;
+    return on == 1 ? 10 : on == 11 ? 6 : on == 2 ? 8 : on == 9 ? 4 : 5;
 }
 
 /* whether vertex i's contact is a plane the step made */

@@ -70,6 +70,7 @@ cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *d, d
     c->fadd = calloc(3 * (size_t)c->n, sizeof *c->fadd);
     c->step.x0 = calloc(3 * (size_t)c->n, sizeof *c->step.x0);
     c->step.v0 = calloc(3 * (size_t)c->n, sizeof *c->step.v0);
+    c->step.dv = calloc(3 * (size_t)c->n, sizeof *c->step.dv);
     c->reactions.vfix = calloc(3 * (size_t)c->n, sizeof *c->reactions.vfix);
     c->active_set.share_sum = calloc((size_t)c->n, sizeof *c->active_set.share_sum);
     c->reactions.holder = calloc((size_t)c->n, sizeof *c->reactions.holder);
@@ -80,8 +81,8 @@ cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *d, d
     c->vertex.sphere = dCreateSphere(0, c->thickness);
     c->vertex.ray = dCreateRay(0, 1.0);
     if (!c->tri || !c->vc || !c->vc_new || !c->pin || !c->step.fext || !c->step.fuser || !c->fadd || !c->step.x0 ||
-        !c->step.v0 || !c->reactions.vfix || !c->active_set.share_sum || !c->reactions.holder || !c->turn.bodies ||
-        !c->turn.dv || !c->step.save || !c->broad.box || !c->vertex.sphere || !c->vertex.ray) {
+        !c->step.v0 || !c->step.dv || !c->reactions.vfix || !c->active_set.share_sum || !c->reactions.holder ||
+        !c->turn.bodies || !c->turn.dv || !c->step.save || !c->broad.box || !c->vertex.sphere || !c->vertex.ray) {
         dClothDestroy(c);
         return create_fail(err, CLOTH_ENOMEM, "out of memory");
     }
@@ -116,6 +117,7 @@ void dClothDestroy(dClothID c)
     free(c->fadd);
     free(c->step.x0);
     free(c->step.v0);
+    free(c->step.dv);
     free(c->reactions.vfix);
     free(c->active_set.share_sum);
     free(c->reactions.holder);

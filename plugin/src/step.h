@@ -10,6 +10,7 @@ struct step_scratch {
     double *fuser;     /* 3n: the core's own external forces (the user's), put back after each step */
     double *x0;        /* 3n: positions at the step's start */
     double *v0;        /* 3n: velocities at the step's start */
+    double *dv;        /* 3n: the last solve's velocity change, the next solve's start */
     cloth_state *save; /* the core's state at the step's start (re-solves) */
     int tri_hits;      /* vertex contacts set by triangle tests this step */
     int edge_hits;     /* vertex contacts set by link tests this step */

@@ -277,6 +277,11 @@ ODECLOTH_API cloth_status cloth_set_velocities(cloth *c, const double *v);
  * correction within a step's accuracy, such as the ODE plugin's turn that
  * keeps angular momentum. Non-finite input or result: refused, unchanged. */
 ODECLOTH_API cloth_status cloth_add_velocities(cloth *c, const double *dv);
+/* The next step's warm start (solver.warm_start): a velocity change dv
+ * (3 * vertex_count doubles, finite) the Newton step weighs against its
+ * other starts, as the last step's dv is; for solving a step again after
+ * cloth_restore from where the last solve ended. */
+ODECLOTH_API cloth_status cloth_set_warm_start(cloth *c, const double *dv);
 /* One vertex's position x and velocity v; either may be NULL to keep it
  * (both NULL: CLOTH_EINVAL). */
 ODECLOTH_API cloth_status cloth_set_vertex(cloth *c, int vertex, const double x[3], const double v[3]);
