@@ -283,7 +283,11 @@ static cloth_status call_setter(call *cl, int op)
         break;
     case 1:
         p = vec(g, cl->w, n, NULL, 2.0, &isnull);
-        s = rng_u64(g) % 2 ? cloth_set_velocities(c, p) : cloth_add_velocities(c, p);
+        switch (rng_u64(g) % 3) {
+        case 0: s = cloth_set_velocities(c, p); break;
+        case 1: s = cloth_add_velocities(c, p); break;
+        default: s = cloth_set_warm_start(c, p);
+        }
         break;
     case 2: {
         const double *x = cloth_positions(c);
@@ -714,7 +718,8 @@ static void null_cloth(void)
     CHECK(cloth_rows(NULL) == 0 && cloth_cols(NULL) == 0 && cloth_vertex_count(NULL) == 0, "sizes of NULL");
     CHECK(!cloth_positions(NULL) && !cloth_velocities(NULL) && !cloth_masses(NULL), "arrays of NULL");
     CHECK(cloth_set_positions(NULL, v) == CLOTH_EINVAL && cloth_set_velocities(NULL, v) == CLOTH_EINVAL, "set x/v");
-    CHECK(cloth_add_velocities(NULL, v) == CLOTH_EINVAL, "add v");
+    CHECK(cloth_add_velocities(NULL, v) == CLOTH_EINVAL && cloth_set_warm_start(NULL, v) == CLOTH_EINVAL,
+          "add v, warm start");
     CHECK(cloth_set_vertex(NULL, 0, v, v) == CLOTH_EINVAL, "set_vertex");
     cloth_desc d = cloth_default_desc();
     CHECK(cloth_set_material(NULL, &d.material) == CLOTH_EINVAL && cloth_set_solver(NULL, &d.solver) == CLOTH_EINVAL,
