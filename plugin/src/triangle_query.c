@@ -63,14 +63,68 @@ static void barycentric(const double *const v[3], const double *p, double w[3])
     for (int k = 0; k < 3; k++) w[k] = sum > 0.0 ? w[k] / sum : 1.0 / 3.0;
 }
 
+void dcloth_triangle_ccd(double t, ccd_t *loose, ccd_t *fine)
+{
+    CCD_INIT(loose);
+    loose->support1 = dcloth_geom_support;
+    loose->support2 = dcloth_tri_support;
+    loose->center1 = dcloth_geom_center;
+    loose->center2 = dcloth_tri_center;
+    loose->max_iterations = 40;
+    loose->epa_tolerance = 1e-3 * t;
+    *fine = *loose;
+    fine->epa_tolerance = EPA_FINE * t;
+}
+
+/* The overlap of q's shape and the grown triangle ts along unit u (from the shape toward ts): how far ts
+ * must move along u to be apart, by their supports */
+static double overlap_along(const convex_query *q, const tri_shape *ts, const double u[3])
+{
+    ccd_vec3_t d = {{u[0], u[1], u[2]}}, m = {{-u[0], -u[1], -u[2]}}, sp, st;
+    q->support(q->shape, &d, &sp);
+    dcloth_tri_support(ts, &m, &st);
+    return dcloth_dot3(u, sp.v) - dcloth_dot3(u, st.v);
+}
+
+/* Where the origin lies within rounding of the Minkowski difference's face, EPA's direction can point
+ * through the far side of the shape (the overlap along it its whole extent): the reversed one, of less
+ * overlap by more than tol, is taken, no deeper than that overlap; none left is apart (-1) */
+static int nearer_side(const convex_query *q, const tri_shape *ts, double tol, ccd_real_t *depth, ccd_vec3_t *dir)
+{
+    double l = sqrt(dcloth_dot3(dir->v, dir->v));
+    if (!(l > 0.0) || !isfinite(l)) return 0;
+    double u[3] = {dir->v[0] / l, dir->v[1] / l, dir->v[2] / l}, m[3] = {-u[0], -u[1], -u[2]};
+    double back = overlap_along(q, ts, m);
+    if (!(back < overlap_along(q, ts, u) - tol)) return 0;
+    if (!(back > 0.0)) return -1;
+    for (int k = 0; k < 3; k++) dir->v[k] = m[k];
+    if (*depth > back) *depth = back;
+    return 0;
+}
+
 /* Triangle ts into q's shape, as ccdGJKPenetration answers (0: they overlap): by separating axes on a
- * polytope where a face decides it (polytope.c), else by libccd with ccd's tolerance */
+ * polytope where a face decides it (polytope.c), else by libccd with ccd's tolerance, its direction
+ * taken toward the nearer side of the shape */
 static int penetration(const convex_query *q, const tri_shape *ts, const ccd_t *ccd, ccd_real_t *depth, ccd_vec3_t *dir,
                        ccd_vec3_t *pos)
 {
     int r = q->poly ? dcloth_polytope_query(q->poly, ts->v, ts->radius, depth, dir->v, pos->v) : 0;
     if (r) return r > 0 ? 0 : -1;
-    return ccdGJKPenetration(q->shape, ts, ccd, depth, dir, pos);
+    if (ccdGJKPenetration(q->shape, ts, ccd, depth, dir, pos) != 0) return -1;
+    return nearer_side(q, ts, ccd->epa_tolerance, depth, dir);
+}
+
+int dcloth_triangle_penetration(const convex_query *q, const double *const v[3], double radius, const ccd_t *ccd,
+                                double *depth, double dir[3], double pos[3])
+{
+    tri_shape ts = {{v[0], v[1], v[2]}, radius};
+    ccd_real_t d;
+    ccd_vec3_t n, p;
+    int r = penetration(q, &ts, ccd, &d, &n, &p);
+    *depth = d;
+    memcpy(dir, n.v, sizeof n.v);
+    memcpy(pos, p.v, sizeof p.v);
+    return r;
 }
 
 /* Whether direction n, found against a mesh triangle's prism, is one the

@@ -28,9 +28,17 @@ typedef struct convex_query {
 /* libccd's support and centre of a cloth triangle grown by a radius (the query's second shape) */
 void dcloth_tri_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out);
 void dcloth_tri_center(const void *obj, ccd_vec3_t *out);
+/* libccd set up for a geom (obj1, a dcloth_geom_shape) against a grown triangle (obj2) at thickness t:
+ * the loose query's and the tight one's */
+void dcloth_triangle_ccd(double t, ccd_t *loose, ccd_t *fine);
 /* Cloth triangle k against q's shape over the step of h seconds (ccd: libccd's loose query, fine: its tight
  * one): sets its vertices' contacts where deeper than what they have; returns how many it set. */
 int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, ccd_t *ccd, ccd_t *fine);
+/* Triangle v[] grown by radius into q's shape, as the triangle queries see it (ccd: libccd's settings
+ * where EPA answers): 0 when they overlap, with the depth, the unit direction from the shape toward the
+ * triangle and a point between them; -1 apart */
+int dcloth_triangle_penetration(const convex_query *q, const double *const v[3], double radius, const ccd_t *ccd,
+                                double *depth, double dir[3], double pos[3]);
 /* Merges the contact along n with gap (point pt, the body's velocity vb there, weight w on the vertex) from cloth
  * triangle k into vc where it ties with vc's, from another triangle on q's geom (exact tests): 1 if merged */
 int dcloth_merge_tie(dClothID c, const convex_query *q, vcontact *vc, int k, const double n[3], double gap,

@@ -19,16 +19,8 @@ int dcloth_triangle_contacts(dClothID c, const struct dcloth_surf *sf, double h)
     /* a convex without points handed over: vertex contacts only */
     if (!dcloth_geom_shape_of(c, g, &gs) && gs.cls != dTriMeshClass) return 0;
     double t = sf->thickness;
-    ccd_t ccd;
-    CCD_INIT(&ccd);
-    ccd.support1 = dcloth_geom_support;
-    ccd.support2 = dcloth_tri_support;
-    ccd.center1 = dcloth_geom_center;
-    ccd.center2 = dcloth_tri_center;
-    ccd.max_iterations = 40;
-    ccd.epa_tolerance = 1e-3 * t;
-    ccd_t fine = ccd;
-    fine.epa_tolerance = EPA_FINE * t;
+    ccd_t ccd, fine;
+    dcloth_triangle_ccd(t, &ccd, &fine);
     convex_query q = {.shape = &gs,
                       .support = dcloth_geom_support,
                       .center = dcloth_geom_center,
