@@ -9,6 +9,7 @@
 #include "body_motion.h"
 #include "contact_offers.h"
 #include "edges.h"
+#include "epa_side.h"
 #include "geom_support.h"
 #include "geom_triangles.h"
 
@@ -282,7 +283,10 @@ static double convex_distance(const dcloth_geom_shape *cv, const double *a, cons
     seg_shape sg = {a, b, r};
     ccd_real_t depth;
     ccd_vec3_t dir, pos;
-    if (ccdGJKPenetration(cv, &sg, ccd, &depth, &dir, &pos) != 0 || !(depth > 0.0) || !isfinite(depth)) return INFINITY;
+    if (ccdGJKPenetration(cv, &sg, ccd, &depth, &dir, &pos) != 0 ||
+        dcloth_epa_near_side(dcloth_geom_support, cv, seg_support, &sg, ccd->epa_tolerance, &depth, &dir) != 0 ||
+        !(depth > 0.0) || !isfinite(depth))
+        return INFINITY;
     double l = sqrt(dcloth_dot3(dir.v, dir.v));
     if (!(l > 0.0)) return INFINITY;
     for (int k = 0; k < 3; k++) n[k] = dir.v[k] / l;

@@ -8,6 +8,7 @@
 #include "dcloth_internal.h"
 #include "body_motion.h"
 #include "contact_offers.h"
+#include "epa_side.h"
 #include "geom_support.h"
 #include "polytope.h"
 #include "triangle_query.h"
@@ -76,32 +77,6 @@ void dcloth_triangle_ccd(double t, ccd_t *loose, ccd_t *fine)
     fine->epa_tolerance = EPA_FINE * t;
 }
 
-/* The overlap of q's shape and the grown triangle ts along unit u (from the shape toward ts): how far ts
- * must move along u to be apart, by their supports */
-static double overlap_along(const convex_query *q, const tri_shape *ts, const double u[3])
-{
-    ccd_vec3_t d = {{u[0], u[1], u[2]}}, m = {{-u[0], -u[1], -u[2]}}, sp, st;
-    q->support(q->shape, &d, &sp);
-    dcloth_tri_support(ts, &m, &st);
-    return dcloth_dot3(u, sp.v) - dcloth_dot3(u, st.v);
-}
-
-/* Where the origin lies within rounding of the Minkowski difference's face, EPA's direction can point
- * through the far side of the shape (the overlap along it its whole extent): the reversed one, of less
- * overlap by more than tol, is taken, no deeper than that overlap; none left is apart (-1) */
-static int nearer_side(const convex_query *q, const tri_shape *ts, double tol, ccd_real_t *depth, ccd_vec3_t *dir)
-{
-    double l = sqrt(dcloth_dot3(dir->v, dir->v));
-    if (!(l > 0.0) || !isfinite(l)) return 0;
-    double u[3] = {dir->v[0] / l, dir->v[1] / l, dir->v[2] / l}, m[3] = {-u[0], -u[1], -u[2]};
-    double back = overlap_along(q, ts, m);
-    if (!(back < overlap_along(q, ts, u) - tol)) return 0;
-    if (!(back > 0.0)) return -1;
-    for (int k = 0; k < 3; k++) dir->v[k] = m[k];
-    if (*depth > back) *depth = back;
-    return 0;
-}
-
 /* Triangle ts into q's shape, as ccdGJKPenetration answers (0: they overlap): by separating axes on a
  * polytope where a face decides it (polytope.c), else by libccd with ccd's tolerance, its direction
  * taken toward the nearer side of the shape */
@@ -111,7 +86,7 @@ static int penetration(const convex_query *q, const tri_shape *ts, const ccd_t *
     int r = q->poly ? dcloth_polytope_query(q->poly, ts->v, ts->radius, depth, dir->v, pos->v) : 0;
     if (r) return r > 0 ? 0 : -1;
     if (ccdGJKPenetration(q->shape, ts, ccd, depth, dir, pos) != 0) return -1;
-    return nearer_side(q, ts, ccd->epa_tolerance, depth, dir);
+    return dcloth_epa_near_side(q->support, q->shape, dcloth_tri_support, ts, ccd->epa_tolerance, depth, dir);
 }
 
 int dcloth_triangle_penetration(const convex_query *q, const double *const v[3], double radius, const ccd_t *ccd,
