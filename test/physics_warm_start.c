@@ -8,7 +8,8 @@
  * velocity change as the warm start. Asserted: the second solve takes fewer
  * Newton iterations than the first, and ends within newton_tolerance of it
  * (mass-weighted RMS of the velocities). cloth_set_warm_start refuses a NULL
- * cloth, a NULL dv and a non-finite one. */
+ * cloth, a NULL dv and a non-finite one, leaving none set; a warm start acts
+ * for one step, and not on the linearised step. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -63,10 +64,28 @@ static void solved_again(void)
            again.newton, diff);
     CHECK(again.newton < first.newton, "solved again: %d Newton iterations against %d", again.newton, first.newton);
     CHECK(diff <= d.solver.newton_tolerance, "solved again: %g m/s from the first solve", diff);
+    /* refused, and the warm start used for one step only: the next steps as the first did */
     dv[7] = NAN;
     CHECK(cloth_set_warm_start(c, dv) == CLOTH_EINVAL, "a non-finite dv refused");
     CHECK(cloth_set_warm_start(c, NULL) == CLOTH_EINVAL, "a NULL dv refused");
     CHECK(cloth_set_warm_start(NULL, v0) == CLOTH_EINVAL, "a NULL cloth refused");
+    cloth_restore(c, s0);
+    cloth_step_stats plain;
+    CHECK(cloth_step(c, H, &plain) == CLOTH_OK, "the step after the refusals");
+    CHECK(plain.newton == first.newton && rms_diff(cloth_masses(c), v1, cloth_velocities(c), n) == 0.0,
+          "after the refusals the step is the first's: %d Newton iterations against %d", plain.newton, first.newton);
+    /* the linearised step ignores it: a huge warm start changes nothing */
+    cloth_solver sv = cloth_get_desc(c).solver;
+    sv.nonlinear = CLOTH_LINEARIZED;
+    CHECK(cloth_set_solver(c, &sv) == CLOTH_OK, "the linearised step");
+    cloth_restore(c, s0);
+    CHECK(cloth_step(c, H, &plain) == CLOTH_OK, "a linearised step");
+    memcpy(v1, cloth_velocities(c), 3 * (size_t)n * sizeof *v1);
+    for (size_t q = 0; q < 3 * (size_t)n; q++) dv[q] = 1e300;
+    cloth_restore(c, s0);
+    CHECK(cloth_set_warm_start(c, dv) == CLOTH_OK, "a huge warm start");
+    CHECK(cloth_step(c, H, &again) == CLOTH_OK, "a linearised step after a huge warm start: %s", cloth_last_error(c));
+    CHECK(rms_diff(cloth_masses(c), v1, cloth_velocities(c), n) == 0.0, "the linearised step took the warm start");
     free(v0);
     free(v1);
     free(dv);

@@ -353,7 +353,7 @@ int main(void)
      * contacts made before the cloth's step (as dClothWorldStep has them):
      * the box is held, and its torque about its axis stays at rounding */
     landing(0.0, 0.0, 1, 0, 1);
-    landing(0.0, 0.0, 1, 1, 1);
+    double held = landing(0.0, 0.0, 1, 1, 1);
     landing(0.0, 0.0, 2, 1, 1);
     /* the floor's contacts made after the cloth's step: to the plugin the
      * box is free and takes the momentum turn's share, at the solves' tolerance */
@@ -361,6 +361,8 @@ int main(void)
     CHECK(tz <= 1e-9, "symmetric landing: the box's torque about z reached %.3g of weight x size", tz);
     tz = landing(0.0, 0.0, 1, 1, 0);
     CHECK(tz <= 1e-6, "symmetric landing, triangle tests: the box's torque about z reached %.3g of weight x size", tz);
+    CHECK(held <= 1e-2 * tz, "symmetric landing: the held box's torque %.3g, the free one's %.3g (weight x size)", held,
+          tz);
     /* and with block-Jacobi CG, whose iterates are mirror images: at rounding */
     landing(0.0, 0.0, 2, 1, 0);
     windy();

@@ -208,6 +208,7 @@ void cloth_destroy(cloth *c)
     free(c->lim_rho);
     free(c->lim_viol);
     free(c->slack_age);
+    free(c->warm_dv);
     free(c->K_seq);
     free(c->K_int);
     free(c->work);
@@ -302,10 +303,11 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
     c->lim_rho = calloc((size_t)c->n_seq + 1, sizeof *c->lim_rho);
     c->lim_viol = calloc((size_t)c->n_seq + 1, sizeof *c->lim_viol);
     c->slack_age = calloc((size_t)c->n_seq + 1, sizeof *c->slack_age);
+    c->warm_dv = calloc(n3, sizeof *c->warm_dv);
     c->K_seq = malloc(9 * (size_t)c->n_seq * sizeof *c->K_seq);
     c->K_int = malloc(9 * (size_t)c->n_int * sizeof *c->K_int);
     if (!c->con || !c->con_force || !c->seq_blk || !c->int_blk || !c->lim_shift || !c->lim_rho || !c->lim_viol ||
-        !c->slack_age || !c->K_seq || !c->K_int)
+        !c->slack_age || !c->warm_dv || !c->K_seq || !c->K_int)
         goto nomem;
     if (links_to_blocks(&c->A, n, c->seq, c->n_seq, c->lint, c->n_int, c->seq_blk, c->int_blk, &c->links_own_blocks) !=
         0)
@@ -417,7 +419,8 @@ cloth_status cloth_set_warm_start(cloth *c, const double *dv)
     size_t n3 = 3 * (size_t)c->n;
     for (size_t k = 0; k < n3; k++)
         if (!isfinite(dv[k])) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_warm_start: dv[%zu] = %g", k, dv[k]);
-    memcpy(c->st.dv_prev, dv, n3 * sizeof *dv);
+    memcpy(c->warm_dv, dv, n3 * sizeof *dv);
+    c->warm_set = 1;
     return CLOTH_OK;
 }
 

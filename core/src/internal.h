@@ -186,6 +186,8 @@ struct cloth {
     double *work;                               /* one allocation behind the vectors below */
     double *f, *b, *dv, *z, *y, *x_new, *v_new; /* 3n each */
     double *ddv;                                /* 3n: a Newton correction of dv */
+    double *warm_dv;                            /* 3n: the next step's start (cloth_set_warm_start) */
+    int warm_set;                               /* 1: warm_dv is set, for the next step only */
     double *na;                                 /* 3n: x_new = na + cfac v_new (potential.c) */
     double *dvt, *xt, *vt;                      /* 3n each: the line search's trial point */
     double *ut;                                 /* 3 per link (sequential, then interlaced): the

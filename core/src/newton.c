@@ -122,10 +122,11 @@ static int newton_start(cloth *c, const step_eq *q, double *dv)
         for (size_t j = 0; j < n3; j++) c->vt[j] = q->a[j] + q->cfac * c->st.v[j];
         share = self_contact_max_step(c->self_contact, c->st.x, c->vt);
     }
+    const double *warm = c->warm_set ? c->warm_dv : c->st.dv_prev;
     for (int k = -1; k < 3; k++) {
         if ((k == 0 && !c->desc.solver.warm_start) || (k == 2 && !c->self_contact)) continue;
         for (size_t j = 0; j < n3; j++)
-            c->dvt[j] = k < 0 ? 0.0 : k == 0 ? c->st.dv_prev[j] : k == 1 ? -c->st.v[j] : start_share(c, q, j, share);
+            c->dvt[j] = k < 0 ? 0.0 : k == 0 ? warm[j] : k == 1 ? -c->st.v[j] : start_share(c, q, j, share);
         double phi = potential_value(c, q, c->dvt, c->xt, c->vt);
         if (c->self_contact && self_contact_max_step(c->self_contact, c->st.x, c->xt) < 1.0) continue;
         if (phi < best || k < 0) {

@@ -97,6 +97,7 @@ static cloth_status finish(cloth *c, cloth_step_stats *st, cloth_step_stats *out
 {
     st->self_contact_seconds = self_contact_clock(c) - sc0;
     c->stats = *st;
+    c->warm_set = 0; /* a warm start set for this step only */
     if (out) *out = *st;
     return s;
 }

@@ -277,10 +277,10 @@ ODECLOTH_API cloth_status cloth_set_velocities(cloth *c, const double *v);
  * correction within a step's accuracy, such as the ODE plugin's turn that
  * keeps angular momentum. Non-finite input or result: refused, unchanged. */
 ODECLOTH_API cloth_status cloth_add_velocities(cloth *c, const double *dv);
-/* The next step's warm start (solver.warm_start): a velocity change dv
- * (3 * vertex_count doubles, finite) the Newton step weighs against its
- * other starts, as the last step's dv is; for solving a step again after
- * cloth_restore from where the last solve ended. */
+/* The next step's warm start (solver.warm_start), for that step only: a
+ * velocity change dv (3 * vertex_count doubles, finite) the Newton step weighs
+ * against its other starts in place of the last step's dv (the linearised step
+ * ignores it); for solving a step again after cloth_restore. */
 ODECLOTH_API cloth_status cloth_set_warm_start(cloth *c, const double *dv);
 /* One vertex's position x and velocity v; either may be NULL to keep it
  * (both NULL: CLOTH_EINVAL). */
