@@ -368,13 +368,14 @@ cloth_desc cloth_get_desc(const cloth *c)
     return c->desc;
 }
 
-/* Setting positions or velocities by hand breaks the BDF2 history and the
- * warm start: they restart from this state. */
-static void forget_history(cloth *c)
+/* Setting positions or velocities by hand breaks the BDF2 history and the warm start: they restart
+ * from this state. The limit's multipliers are forces at the links' lengths: only new positions
+ * (positions set) make them stale. */
+static void forget_history(cloth *c, int positions)
 {
     c->st.has_prev = 0;
     memset(c->st.dv_prev, 0, 3 * (size_t)c->n * sizeof *c->st.dv_prev);
-    memset(c->st.lim_shift, 0, (size_t)c->n_seq * sizeof *c->st.lim_shift);
+    if (positions) memset(c->st.lim_shift, 0, (size_t)c->n_seq * sizeof *c->st.lim_shift);
 }
 
 cloth_status cloth_set_positions(cloth *c, const double *x)
@@ -384,7 +385,7 @@ cloth_status cloth_set_positions(cloth *c, const double *x)
     if (!all_finite(x, 3 * (size_t)c->n))
         return cloth_fail(c, CLOTH_EINVAL, "cloth_set_positions: positions must be finite");
     memcpy(c->st.x, x, 3 * (size_t)c->n * sizeof *x);
-    forget_history(c);
+    forget_history(c, 1);
     return CLOTH_OK;
 }
 
@@ -395,7 +396,7 @@ cloth_status cloth_set_velocities(cloth *c, const double *v)
     if (!all_finite(v, 3 * (size_t)c->n))
         return cloth_fail(c, CLOTH_EINVAL, "cloth_set_velocities: velocities must be finite");
     memcpy(c->st.v, v, 3 * (size_t)c->n * sizeof *v);
-    forget_history(c);
+    forget_history(c, 0);
     return CLOTH_OK;
 }
 
@@ -436,7 +437,7 @@ cloth_status cloth_set_vertex(cloth *c, int vertex, const double x[3], const dou
         if (x) c->st.x[3 * vertex + k] = x[k];
         if (v) c->st.v[3 * vertex + k] = v[k];
     }
-    forget_history(c);
+    forget_history(c, x != NULL);
     return CLOTH_OK;
 }
 

@@ -269,11 +269,12 @@ ODECLOTH_API const double *cloth_positions(const cloth *c);  /* m   */
 ODECLOTH_API const double *cloth_velocities(const cloth *c); /* m/s */
 ODECLOTH_API const double *cloth_masses(const cloth *c);     /* kg, one per vertex */
 
-/* Set all positions / velocities (3 * vertex_count doubles, all finite). */
+/* Set all positions / velocities (3 * vertex_count doubles, all finite). Either restarts the step's
+ * history (warm start, BDF2's last step); new positions also drop the limit's multipliers. */
 ODECLOTH_API cloth_status cloth_set_positions(cloth *c, const double *x);
 ODECLOTH_API cloth_status cloth_set_velocities(cloth *c, const double *v);
 /* Add dv (3 * vertex_count doubles) to the velocities, keeping the step's
- * history (warm start, limit multipliers), unlike cloth_set_velocities: a
+ * history (warm start, BDF2's last step), unlike cloth_set_velocities: a
  * correction within a step's accuracy, such as the ODE plugin's turn that
  * keeps angular momentum. Non-finite input or result: refused, unchanged. */
 ODECLOTH_API cloth_status cloth_add_velocities(cloth *c, const double *dv);
