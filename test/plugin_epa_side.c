@@ -1,14 +1,14 @@
 /* Plugin: a cloth triangle grown by its radius just touching a geom (the origin within rounding of the
- * Minkowski difference's face), where EPA's direction can point through the far side of the geom (depth
- * ~1e-9 m along -z for a triangle lying on a cylinder's top cap). dcloth_triangle_penetration must answer
+ * Minkowski difference's face), where EPA's direction can point through the far side of the geom (a
+ * triangle lying on a cylinder's top cap answered along -z). dcloth_triangle_penetration must answer
  * the near side or apart, asserted:
- *   - the triangle of the drop onto the pile at 161x161 (bench_drape) lying on the cylinder's cap, as
- *     recorded: apart, or a direction within 8 degrees of +z no deeper than 1e-6 m;
+ *   - a triangle lying on a turned cylinder's cap (bench_drape's pile scene): apart, or a direction
+ *     within 8 degrees of +z no deeper than 1e-6 m;
  *   - triangles at random (fixed seed) over a cylinder's and a box's top (EPA's), grown to touch it within
  *     1e-9 m: every answer apart, or within 8 degrees of +z no deeper than 1e-6 m, where libccd alone
  *     answers some along -z, through the far side (counted, more than none, lest the test test nothing);
- *   - links (segments grown by a radius, as the edge tests query them) over the cylinder's top, the same
- *     through dcloth_epa_near_side after libccd's answer. */
+ *   - links (segments grown by a radius, as the edge tests query them) over a cylinder's and a convex
+ *     box's top, the same through dcloth_epa_near_side after libccd's answer. */
 #include <math.h>
 #include <string.h>
 
@@ -127,10 +127,15 @@ static void seg_center(const void *obj, ccd_vec3_t *out)
 }
 
 /* Random links over the top of g (at height top, within reach of its axis), grown to touch it */
-static void links_touching(dGeomID g, const double half[3], double top, double reach, int trials, uint64_t seed)
+static void links_touching(dGeomID g, const double half[3], const double *pts, double top, double reach, int trials,
+                           uint64_t seed)
 {
     dcloth_geom_shape gs;
     convex_query q = query_of(&gs, g, half);
+    if (pts) {
+        gs.pts = pts;
+        gs.npts = 8;
+    }
     ccd_t ccd = tight(0.005);
     ccd.support2 = seg_support;
     ccd.center2 = seg_center;
@@ -169,7 +174,22 @@ int main(void)
     dGeomSetPosition(box, 0.0, 0.0, 0.075);
     touching(cyl, (const double[3]){0.08, 0.125, 0.0}, 0.25, 0.05, 20000, 7);
     touching(box, (const double[3]){0.15, 0.1, 0.075}, 0.15, 0.08, 20000, 11);
-    links_touching(cyl, (const double[3]){0.08, 0.125, 0.0}, 0.25, 0.05, 20000, 13);
+    links_touching(cyl, (const double[3]){0.08, 0.125, 0.0}, NULL, 0.25, 0.05, 20000, 13);
+    /* the edge tests' own libccd path: a convex, the box's corners (ODE keeps the arrays) */
+    static const dReal planes[24] = {1, 0,  0, 0.15, -1, 0, 0, 0.15,  0, 1, 0,  0.1,
+                                     0, -1, 0, 0.1,  0,  0, 1, 0.075, 0, 0, -1, 0.075};
+    static dReal pts[24];
+    static const unsigned polys[30] = {4, 0, 2, 6, 4, 4, 1, 5, 7, 3, 4, 0, 4, 5, 1,
+                                       4, 2, 3, 7, 6, 4, 0, 1, 3, 2, 4, 4, 6, 7, 5};
+    for (int k = 0; k < 8; k++) {
+        pts[3 * k] = k & 4 ? 0.15 : -0.15;
+        pts[3 * k + 1] = k & 2 ? 0.1 : -0.1;
+        pts[3 * k + 2] = k & 1 ? 0.075 : -0.075;
+    }
+    dGeomID cvx = dCreateConvex(0, planes, 6, pts, 8, polys);
+    dGeomSetPosition(cvx, 0.0, 0.0, 0.075);
+    links_touching(cvx, (const double[3]){0, 0, 0}, pts, 0.15, 0.08, 20000, 17);
+    dGeomDestroy(cvx);
     dGeomDestroy(cyl);
     dGeomDestroy(box);
     dCloseODE();

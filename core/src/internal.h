@@ -151,10 +151,9 @@ struct cloth {
     double *cand;            /* 6n: contact candidates (cloth_set_contact): normal, point */
     double *cand_pull;       /* n: N, a plane contact pulling beyond this lets
                                   go within the step (cloth_set_contact_pull) */
-    unsigned char *cand_on;  /* n: 1 candidate, 2 made a plane, 3 let slide, 8 plane released
-                                * (candidate again), 9 made again, 4/5 released for good, 6/7 sliding/
-                                * sticking candidate released for good; 10 sliding released (a candidate
-                                * again), 11 made again */
+    unsigned char *cand_on;  /* n: 1 candidate, 2 made a plane, 3 let slide, 8 plane released (a candidate
+                                * again), 9 made again, 4/5 released for good, 6/7 sliding/sticking candidate
+                                * released for good, 10 sliding released (a candidate again), 11 made again */
     double *cand2;           /* 6n: second candidates (cloth_set_contact_second): normal, point */
     unsigned char *cand2_on; /* n: 1 a candidate, 2 held, 8 let go (a candidate again), 9 held
                                   again, 4 let go for good (contacts.c) */

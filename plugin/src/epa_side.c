@@ -17,8 +17,9 @@ int dcloth_epa_near_side(ccd_support_fn s1, const void *o1, ccd_support_fn s2, c
     double l = sqrt(dir->v[0] * dir->v[0] + dir->v[1] * dir->v[1] + dir->v[2] * dir->v[2]);
     if (!(l > 0.0) || !isfinite(l)) return 0;
     double u[3] = {dir->v[0] / l, dir->v[1] / l, dir->v[2] / l}, m[3] = {-u[0], -u[1], -u[2]};
-    double back = overlap_along(s1, o1, s2, o2, m);
-    if (!(back < overlap_along(s1, o1, s2, o2, u) - tol)) return 0;
+    /* only where EPA contradicts its own supports: their overlap along its direction far past its depth */
+    double fwd = overlap_along(s1, o1, s2, o2, u), back = overlap_along(s1, o1, s2, o2, m);
+    if (!(fwd - *depth > fmax(10.0 * tol, 0.5 * fwd)) || !(back < fwd - tol)) return 0;
     if (!(back > 0.0)) return -1;
     for (int k = 0; k < 3; k++) dir->v[k] = m[k];
     if (*depth > back) *depth = back;
