@@ -145,7 +145,8 @@ typedef struct cloth_solver {
     int definiteness_rule;       /* 1: compressed links keep only k uu^T (paper
                                      sec. 3.2); CLOTH_LINEARIZED only (Newton's
                                      matrix is its potential's Hessian) */
-    int warm_start;              /* 1: start CG from last step's dv in free directions */
+    int warm_start;              /* 1: start from the last step's dv (or
+                                     cloth_set_warm_start's) in free directions */
     int strain_limit_iterations; /* elongation-limit projection (Newton)
                                      steps after a step: the explicit
                                      methods' limit, and the implicit
