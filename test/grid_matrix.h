@@ -40,7 +40,7 @@ static inline void random_symmetric(bsr *A, rng *g, int sym)
                     for (int s = 0; s < r; s++) B[3 * r + s] = B[3 * s + r];
                 if (j == i) continue;
             }
-            double *T = A->val + 9 * (size_t)bsr_find(A, j, i);
+            double *T = A->val + 9 * (size_t)oc_bsr_find(A, j, i);
             for (int r = 0; r < 3; r++)
                 for (int s = 0; s < 3; s++) T[3 * r + s] = B[3 * s + r];
         }
@@ -52,7 +52,7 @@ static inline int grid_matrix(int R, int C, bsr *A)
     int n = R * C, ne_max = 8 * n;
     int *ei = malloc(sizeof *ei * (size_t)ne_max), *ej = malloc(sizeof *ej * (size_t)ne_max);
     int *blk = malloc(2 * sizeof *blk * (size_t)ne_max);
-    int ok = ei && ej && blk && bsr_build(A, n, grid_links(R, C, ei, ej), ei, ej, blk) == 0;
+    int ok = ei && ej && blk && oc_bsr_build(A, n, grid_links(R, C, ei, ej), ei, ej, blk) == 0;
     free(ei);
     free(ej);
     free(blk);

@@ -1,13 +1,13 @@
 /* Unit: the air drag's derivatives (air.c) on a random state (5 x 7 grid,
  * positions and velocities perturbed, wind, unequal drags):
- *   - air_eval's force is -grad of its potential wrt the velocities, and
+ *   - oc_air_eval's force is -grad of its potential wrt the velocities, and
  *     its blocks are -dF/dv (central differences; F is linear in v, so
  *     only rounding remains: 1e-7 relative);
  *   - its blocks are bitwise symmetric (the matvec's fast path needs it);
  *   - in the Newton step (potential.c) with air on and soft links (so the
  *     air's terms are a fair share of Phi's), b = -grad Phi and the matrix
  *     is Phi's Hessian (central differences, 1e-6 relative);
- *   - both drags 0: air_eval adds nothing and air_on is 0.
+ *   - both drags 0: oc_air_eval adds nothing and oc_air_on is 0.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -61,17 +61,17 @@ static void kernel(cloth *c, rng *g)
     double *Aw = vec(n3), eps = 1e-4, sc;
     memcpy(v, c->st.v, (size_t)n3 * sizeof *v);
     for (int k = 0; k < n3; k++) w[k] = rng_range(g, -1.0, 1.0);
-    bsr_zero(&c->A);
-    air_eval(c, c->st.x, NULL, 0.0, v, 1.0, F, &c->A, 1.0);
+    oc_bsr_zero(&c->A);
+    oc_air_eval(c, c->st.x, NULL, 0.0, v, 1.0, F, &c->A, 1.0);
     unsigned char *flag = malloc((size_t)c->n);
-    CHECK(bsr_check_sym(&c->A, c->A.val, flag) == c->n, "every row's blocks bitwise symmetric");
+    CHECK(oc_bsr_check_sym(&c->A, c->A.val, flag) == c->n, "every row's blocks bitwise symmetric");
     free(flag);
     for (int k = 0; k < n3; k++) {
         double vk = v[k];
         v[k] = vk + eps;
-        double Pp = air_eval(c, c->st.x, NULL, 0.0, v, 0.0, NULL, NULL, 0.0);
+        double Pp = oc_air_eval(c, c->st.x, NULL, 0.0, v, 0.0, NULL, NULL, 0.0);
         v[k] = vk - eps;
-        double Pm = air_eval(c, c->st.x, NULL, 0.0, v, 0.0, NULL, NULL, 0.0);
+        double Pm = oc_air_eval(c, c->st.x, NULL, 0.0, v, 0.0, NULL, NULL, 0.0);
         v[k] = vk;
         fd[k] = -(Pp - Pm) / (2.0 * eps);
     }
@@ -82,10 +82,10 @@ static void kernel(cloth *c, rng *g)
         v[k] = c->st.v[k] + eps * w[k];
         fd[k] = c->st.v[k] - eps * w[k];
     }
-    air_eval(c, c->st.x, NULL, 0.0, v, 1.0, Fp, NULL, 0.0);
-    air_eval(c, c->st.x, NULL, 0.0, fd, 1.0, Fm, NULL, 0.0);
+    oc_air_eval(c, c->st.x, NULL, 0.0, v, 1.0, Fp, NULL, 0.0);
+    oc_air_eval(c, c->st.x, NULL, 0.0, fd, 1.0, Fm, NULL, 0.0);
     for (int k = 0; k < n3; k++) fd[k] = -(Fp[k] - Fm[k]) / (2.0 * eps);
-    bsr_mul(&c->A, w, Aw);
+    oc_bsr_mul(&c->A, w, Aw);
     e = maxdiff(Aw, fd, n3, &sc);
     printf("air blocks vs -dF/dv: %.3g of %.3g\n", e, sc);
     CHECK(e <= 1e-7 * sc, "air blocks are not -dF/dv");
@@ -107,7 +107,7 @@ static void newton(cloth *c, rng *g)
     double *x = vec(n3), *v = vec(n3), *fd = vec(n3);
     double *Aw = vec(n3), eps = 1e-6, sc;
     step_eq q;
-    potential_begin(c, 0.01, 0, &q);
+    oc_potential_begin(c, 0.01, 0, &q);
     for (int k = 0; k < n3; k++) {
         dv[k] = rng_range(g, -0.05, 0.05);
         w[k] = rng_range(g, -1.0, 1.0);
@@ -115,22 +115,22 @@ static void newton(cloth *c, rng *g)
     for (int k = 0; k < n3; k++) {
         double d = dv[k];
         dv[k] = d + eps;
-        double Pp = potential_value(c, &q, dv, x, v);
+        double Pp = oc_potential_value(c, &q, dv, x, v);
         dv[k] = d - eps;
-        double Pm = potential_value(c, &q, dv, x, v);
+        double Pm = oc_potential_value(c, &q, dv, x, v);
         dv[k] = d;
         fd[k] = -(Pp - Pm) / (2.0 * eps);
     }
-    potential_state(c, &q, dv);
-    potential_assemble(c, &q, dv, b, 0);
+    oc_potential_state(c, &q, dv);
+    oc_potential_assemble(c, &q, dv, b, 0);
     double e = maxdiff(b, fd, n3, &sc);
     printf("Newton: b vs -dPhi/ddv: %.3g of %.3g\n", e, sc);
     CHECK(e <= 1e-6 * sc, "b is not -grad Phi with air");
-    bsr_mul(&c->A, w, Aw);
+    oc_bsr_mul(&c->A, w, Aw);
     for (int s = 0; s < 2; s++) {
         for (int k = 0; k < n3; k++) x[k] = dv[k] + (s ? -eps : eps) * w[k];
-        potential_state(c, &q, x);
-        potential_assemble(c, &q, x, s ? bm : bp, 0);
+        oc_potential_state(c, &q, x);
+        oc_potential_assemble(c, &q, x, s ? bm : bp, 0);
     }
     for (int k = 0; k < n3; k++) fd[k] = -(bp[k] - bm[k]) / (2.0 * eps);
     e = maxdiff(Aw, fd, n3, &sc);
@@ -153,9 +153,9 @@ static void off(cloth *c)
     cloth_set_air(c, &none);
     int n3 = 3 * c->n;
     double *f = vec(n3), sc;
-    air_eval(c, c->st.x, NULL, 0.0, c->st.v, 1.0, f, NULL, 0.0);
+    oc_air_eval(c, c->st.x, NULL, 0.0, c->st.v, 1.0, f, NULL, 0.0);
     double *z = vec(n3);
-    CHECK(!air_on(c) && maxdiff(f, z, n3, &sc) == 0.0, "no drag: no force");
+    CHECK(!oc_air_on(c) && maxdiff(f, z, n3, &sc) == 0.0, "no drag: no force");
     free(f);
     free(z);
 }

@@ -1,7 +1,7 @@
 /* Unit: the step's matrix assembly writes each link's off-diagonal blocks
  * instead of zeroing the matrix and adding them (core/src/assembly.h).
  *
- * 1. bsr_edges_own_offdiag: a grid's links (sequential and interlaced) own
+ * 1. oc_bsr_edges_own_offdiag: a grid's links (sequential and interlaced) own
  *    every off-diagonal block; a duplicated edge or an extra block in the
  *    pattern does not.
  * 2. A cloth on the written path steps bitwise like its twin forced onto the
@@ -21,14 +21,14 @@ static void ownership(void)
     /* a path 0-1-2 and the chord 0-2 */
     int ei[4] = {0, 1, 0, 0}, ej[4] = {1, 2, 2, 1}, blk[8];
     bsr A;
-    CHECK(bsr_build(&A, 3, 3, ei, ej, blk) == 0, "bsr_build");
-    CHECK(bsr_edges_own_offdiag(&A, 3, blk) == 1, "distinct edges own their blocks");
-    bsr_free(&A);
-    CHECK(bsr_build(&A, 3, 4, ei, ej, blk) == 0, "bsr_build with a duplicate");
-    CHECK(bsr_edges_own_offdiag(&A, 4, blk) == 0, "a duplicated edge shares its block");
+    CHECK(oc_bsr_build(&A, 3, 3, ei, ej, blk) == 0, "oc_bsr_build");
+    CHECK(oc_bsr_edges_own_offdiag(&A, 3, blk) == 1, "distinct edges own their blocks");
+    oc_bsr_free(&A);
+    CHECK(oc_bsr_build(&A, 3, 4, ei, ej, blk) == 0, "oc_bsr_build with a duplicate");
+    CHECK(oc_bsr_edges_own_offdiag(&A, 4, blk) == 0, "a duplicated edge shares its block");
     /* the pattern holds the chord, the edge list handed over does not */
-    CHECK(bsr_edges_own_offdiag(&A, 2, blk) == 0, "a block no edge writes");
-    bsr_free(&A);
+    CHECK(oc_bsr_edges_own_offdiag(&A, 2, blk) == 0, "a block no edge writes");
+    oc_bsr_free(&A);
 }
 
 static cloth *make(cloth_nonlinear nl, int own, rng *g)

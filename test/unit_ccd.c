@@ -45,7 +45,7 @@ static void case_point_triangle(void)
     /* falling through a fixed triangle at (0.2, 0.3) */
     set4(x0, (double[]){0.2, 0.3, 1.0}, a, b, c);
     set4(x1, (double[]){0.2, 0.3, -1.0}, a, b, c);
-    CHECK(ccd_point_triangle(x0, x1, ETA, &h), "point through a triangle: hit");
+    CHECK(oc_ccd_point_triangle(x0, x1, ETA, &h), "point through a triangle: hit");
     CHECK_NEAR(h.t, 0.5, 1e-14);
     CHECK_NEAR(h.w[0], 1.0, 1e-14);
     CHECK_NEAR(h.w[1], -0.5, 1e-14);
@@ -57,24 +57,24 @@ static void case_point_triangle(void)
     double r0[3][3] = {{0, 0, -0.2}, {1, 0, -0.2}, {0, 1, -0.2}}, r1[3][3] = {{0, 0, 0.4}, {1, 0, 0.4}, {0, 1, 0.4}};
     set4(x0, (double[]){0.2, 0.3, 1.0}, r0[0], r0[1], r0[2]);
     set4(x1, (double[]){0.2, 0.3, -1.0}, r1[0], r1[1], r1[2]);
-    CHECK(ccd_point_triangle(x0, x1, ETA, &h), "point through a rising triangle: hit");
+    CHECK(oc_ccd_point_triangle(x0, x1, ETA, &h), "point through a rising triangle: hit");
     CHECK_NEAR(h.t, 6.0 / 13.0, 1e-14);
     /* beside: crossing the plane at x = 1.2 */
     set4(x0, (double[]){1.2, 0.3, 1.0}, a, b, c);
     set4(x1, (double[]){1.2, 0.3, -1.0}, a, b, c);
-    CHECK(!ccd_point_triangle(x0, x1, ETA, &h), "point beside a triangle: no hit");
+    CHECK(!oc_ccd_point_triangle(x0, x1, ETA, &h), "point beside a triangle: no hit");
     /* stopping 2 eta above */
     set4(x0, (double[]){0.2, 0.3, 1.0}, a, b, c);
     set4(x1, (double[]){0.2, 0.3, 2.0 * ETA}, a, b, c);
-    CHECK(!ccd_point_triangle(x0, x1, ETA, &h), "point stopping short: no hit");
+    CHECK(!oc_ccd_point_triangle(x0, x1, ETA, &h), "point stopping short: no hit");
     /* sliding in the triangle's plane, over it: touching, never closing */
     set4(x0, (double[]){0.1, 0.2, 0.0}, a, b, c);
     set4(x1, (double[]){0.5, 0.2, 0.0}, a, b, c);
-    CHECK(!ccd_point_triangle(x0, x1, ETA, &h), "point sliding in the plane: no hit");
+    CHECK(!oc_ccd_point_triangle(x0, x1, ETA, &h), "point sliding in the plane: no hit");
     /* sliding along edge ab in the plane, eta / 2 outside it */
     set4(x0, (double[]){0.1, -0.5 * ETA, 0.0}, a, b, c);
     set4(x1, (double[]){0.9, -0.5 * ETA, 0.0}, a, b, c);
-    CHECK(!ccd_point_triangle(x0, x1, ETA, &h), "point sliding along an edge within eta: no hit");
+    CHECK(!oc_ccd_point_triangle(x0, x1, ETA, &h), "point sliding along an edge within eta: no hit");
 }
 
 /* A graze that parts at t = 0.2 (in the plane just outside edge ab, moving
@@ -87,7 +87,7 @@ static void case_graze_then_cross(void)
     double x0[12] = {0.25, y0, z0, 0, 0, 0, 1, 0, 0, 0, 1, c0};
     double x1[12] = {0.25, y0 + vy, z0 + vz, 0, 0, 0, 1, 0, 0, 0, 1, c0 + k};
     ccd_hit h;
-    CHECK(ccd_point_triangle(x0, x1, ETA, &h), "graze then crossing: hit");
+    CHECK(oc_ccd_point_triangle(x0, x1, ETA, &h), "graze then crossing: hit");
     CHECK_NEAR(h.t, 0.7, 1e-12);
     /* the same crossing with the triangle's motion ending at t = 0.5: the
      * graze alone (the point passes the plane outside ab, parting) */
@@ -96,7 +96,7 @@ static void case_graze_then_cross(void)
     x1g[1] = y0 + 0.3 * vy; /* stays outside (y < 0) after the graze */
     x1g[2] = z0 + 0.3 * vz;
     x1g[11] = c0 + 0.3 * k;
-    CHECK(!ccd_point_triangle(x0, x1g, ETA, &h) || h.t > 0.25, "the parting graze alone is no hit (t %g)", h.t);
+    CHECK(!oc_ccd_point_triangle(x0, x1g, ETA, &h) || h.t > 0.25, "the parting graze alone is no hit (t %g)", h.t);
 }
 
 static void case_edge_edge(void)
@@ -106,7 +106,7 @@ static void case_edge_edge(void)
     const double b0[3] = {0.25, 0, 0}, b1[3] = {0.25, 1, 0};
     set4(x0, (double[]){0, 0.5, 1}, (double[]){1, 0.5, 1}, b0, b1);
     set4(x1, (double[]){0, 0.5, -1}, (double[]){1, 0.5, -1}, b0, b1);
-    CHECK(ccd_edge_edge(x0, x1, ETA, &h), "edge through an edge: hit");
+    CHECK(oc_ccd_edge_edge(x0, x1, ETA, &h), "edge through an edge: hit");
     CHECK_NEAR(h.t, 0.5, 1e-14);
     CHECK_NEAR(h.w[0], 0.75, 1e-14);
     CHECK_NEAR(h.w[1], 0.25, 1e-14);
@@ -117,12 +117,12 @@ static void case_edge_edge(void)
     const double c0[3] = {1.1, 0, 0}, c1[3] = {1.1, 1, 0};
     set4(x0, (double[]){0, 0.5, 1}, (double[]){1, 0.5, 1}, c0, c1);
     set4(x1, (double[]){0, 0.5, -1}, (double[]){1, 0.5, -1}, c0, c1);
-    CHECK(!ccd_edge_edge(x0, x1, ETA, &h), "edge past another's end: no hit");
+    CHECK(!oc_ccd_edge_edge(x0, x1, ETA, &h), "edge past another's end: no hit");
     /* parallel, eta / 2 apart, sliding along each other */
     const double p0[3] = {0, 0, 0}, p1[3] = {1, 0, 0};
     set4(x0, (double[]){-0.5, 0, 0.5 * ETA}, (double[]){0.5, 0, 0.5 * ETA}, p0, p1);
     set4(x1, (double[]){0.5, 0, 0.5 * ETA}, (double[]){1.5, 0, 0.5 * ETA}, p0, p1);
-    CHECK(!ccd_edge_edge(x0, x1, ETA, &h), "parallel slide within eta: no hit");
+    CHECK(!oc_ccd_edge_edge(x0, x1, ETA, &h), "parallel slide within eta: no hit");
 }
 
 static void case_cubic(void)
@@ -130,7 +130,7 @@ static void case_cubic(void)
     double t[3];
     /* (t - 0.2)(t - 0.5)(t - 0.9) */
     double c3[4] = {-0.09, 0.1 + 0.18 + 0.45, -1.6, 1.0};
-    int n = ccd_cubic_roots(c3, 1e-15, t);
+    int n = oc_ccd_cubic_roots(c3, 1e-15, t);
     CHECK(n == 3, "three roots: %d", n);
     if (n == 3) {
         CHECK_NEAR(t[0], 0.2, 1e-14);
@@ -139,12 +139,12 @@ static void case_cubic(void)
     }
     /* (t - 0.5)^2 (t - 2): a double root in [0, 1] */
     double cd[4] = {-0.5, 0.25 + 2.0, -3.0, 1.0};
-    n = ccd_cubic_roots(cd, 1e-14, t);
+    n = oc_ccd_cubic_roots(cd, 1e-14, t);
     CHECK(n == 1 && fabs(t[0] - 0.5) < 1e-7, "double root: %d, %g", n, n ? t[0] : -1.0);
     double cn[4] = {1.0, 0.0, 1.0, 0.0};
-    CHECK(ccd_cubic_roots(cn, 1e-14, t) == 0, "no root");
+    CHECK(oc_ccd_cubic_roots(cn, 1e-14, t) == 0, "no root");
     double cz[4] = {0.0, 0.0, 0.0, 0.0};
-    CHECK(ccd_cubic_roots(cz, 1e-14, t) == -1, "vanishing cubic");
+    CHECK(oc_ccd_cubic_roots(cz, 1e-14, t) == -1, "vanishing cubic");
 }
 
 /* --------------------------------------------------------- 2. grid */
@@ -164,10 +164,10 @@ static void case_grid(void)
         }
     box[6 * 7 + 3] = 1e6; /* blown up */
     box[6 * 9 + 1] = NAN;
-    sweep_grid *g = sweep_grid_create();
-    CHECK(g && sweep_grid_build(g, box, N) == 0, "grid built");
+    sweep_grid *g = oc_sweep_grid_create();
+    CHECK(g && oc_sweep_grid_build(g, box, N) == 0, "grid built");
     if (!g) return;
-    CHECK(sweep_grid_big(g) == 2, "big list: %d boxes (the blown-up and the NaN one)", sweep_grid_big(g));
+    CHECK(oc_sweep_grid_big(g) == 2, "big list: %d boxes (the blown-up and the NaN one)", oc_sweep_grid_big(g));
     int bad = 0, found7 = 0;
     for (int q = 0; q < Q; q++) {
         double qb[6];
@@ -177,7 +177,7 @@ static void case_grid(void)
             qb[3 + k] = lo + s;
         }
         const int *items;
-        int m = sweep_grid_query(g, qb, &items), want[N], nw = 0, got[N];
+        int m = oc_sweep_grid_query(g, qb, &items), want[N], nw = 0, got[N];
         memcpy(got, items, (size_t)m * sizeof *got);
         for (int i = 0; i < N; i++) {
             const double *b = box + 6 * i;
@@ -190,7 +190,7 @@ static void case_grid(void)
     }
     CHECK(bad == 0, "grid queries differing from brute force: %d of %d", bad, Q);
     CHECK(found7 > 0, "the blown-up box is found");
-    sweep_grid_destroy(g);
+    oc_sweep_grid_destroy(g);
 }
 
 int main(void)

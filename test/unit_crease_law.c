@@ -46,9 +46,9 @@ static void check_rule(void)
         int plastic = 0;
         for (int k = 0; k < 500; k++) {
             double phi = rng_range(&g, 0.0, PI), d = l0 * cos(0.5 * phi), before = l1;
-            double phid = crease_fold_angle(l0, d); /* the angle the rule reads, phi to rounding */
+            double phid = oc_crease_fold_angle(l0, d); /* the angle the rule reads, phi to rounding */
             double s_new = clampd(clampd(s, phid - y, phid + y), 0.0, PI);
-            crease_rule(alphas[a], l0, d, &plastic, &l1);
+            oc_crease_rule(alphas[a], l0, d, &plastic, &l1);
             double want = l0 * cos(0.5 * s_new);
             if (s_new == s && plastic) bitwise &= l1 == before;
             s = s_new;
@@ -65,13 +65,13 @@ static void check_rule(void)
     /* one history in figures: folded 150 degrees at alpha 0.8, flattened, folded 100 degrees */
     int p = 0;
     double l1 = l0, y = 2.0 * acos(0.8);
-    crease_rule(0.8, l0, l0 * cos(75.0 * DEG), &p, &l1);
+    oc_crease_rule(0.8, l0, l0 * cos(75.0 * DEG), &p, &l1);
     CHECK(p && fabs(l1 - l0 * cos(0.5 * (150.0 * DEG - y))) <= 1e-14, "150 deg: l1 %.17g", l1);
-    crease_rule(0.8, l0, l0, &p, &l1);
+    oc_crease_rule(0.8, l0, l0, &p, &l1);
     CHECK(p && fabs(l1 - l0 * cos(0.5 * y)) <= 1e-14, "flattened: set %g deg, want the yield %g deg",
           2.0 * acos(l1 / l0) / DEG, y / DEG);
     double kept = l1;
-    crease_rule(0.8, l0, l0 * cos(50.0 * DEG), &p, &l1);
+    oc_crease_rule(0.8, l0, l0 * cos(50.0 * DEG), &p, &l1);
     CHECK(p && l1 == kept, "folded 100 deg within the yield of the set: l1 moved");
 }
 
@@ -112,7 +112,7 @@ static double interior_energy(const cloth *c, int n, const double *x)
     double E = 0.0;
     for (int e = 0; e < c->n_int; e++) {
         int m = (c->lint[e].i + c->lint[e].j) / 2, row = m / n;
-        if (c->st.plastic[e] && row > 0 && row < n - 1) E += crease_hinge(c, e, x, x, NULL, NULL);
+        if (c->st.plastic[e] && row > 0 && row < n - 1) E += oc_crease_hinge(c, e, x, x, NULL, NULL);
     }
     return E;
 }
@@ -147,7 +147,7 @@ static void check_single_hinge(void)
     const double phi = 30.0 * DEG, dphi = 1e-5;
     fold(n, phi, x);
     cloth_set_positions(c, x);
-    forces_eval(c, x, x, 0, f);
+    oc_forces_eval(c, x, x, 0, f);
     int node = 4 * n + (n - 1) / 2;
     double s_len = h * sin(0.5 * phi), want = K * (sp - s_len), dir[3] = {sin(0.5 * phi), 0.0, -cos(0.5 * phi)};
     double ferr = 0.0; /* along the sagitta x_m - (x_i + x_j) / 2, deepening the fold */
@@ -172,7 +172,7 @@ static void check_single_hinge(void)
     int e_node = -1;
     for (int e = 0; e < c->n_int && e_node < 0; e++)
         if ((c->lint[e].i + c->lint[e].j) / 2 == node && c->lint[e].j - c->lint[e].i == 2) e_node = e;
-    crease_hinge(c, e_node, x, x0, fm, NULL);
+    oc_crease_hinge(c, e_node, x, x0, fm, NULL);
     double fmn = sqrt(fm[0] * fm[0] + fm[1] * fm[1] + fm[2] * fm[2]);
     CHECK(fabs(fmn - K * sp) <= 1e-9 * K * sp && fm[2] > 0.0,
           "flat: hinge force %.12g N (z %.3g), want k s_p = %.12g N, the ends up as the fold began", fmn, fm[2],
@@ -237,14 +237,14 @@ static void check_derivatives(void)
         x0[k] = x[k] + 0.01 * rng_range(&g, -1.0, 1.0); /* the step's start: the hinges' directions */
         w[k] = rng_range(&g, -1.0, 1.0);
     }
-    crease_forces(c, x, x0, 1.0, f);
+    oc_crease_forces(c, x, x0, 1.0, f);
     double eps = 1e-6, gerr = 0.0, gmax = 0.0;
     for (size_t k = 0; k < n3; k++) {
         double keep = x[k];
         x[k] = keep + eps;
-        double Ep = crease_energy(c, x, x0);
+        double Ep = oc_crease_energy(c, x, x0);
         x[k] = keep - eps;
-        double Em = crease_energy(c, x, x0);
+        double Em = oc_crease_energy(c, x, x0);
         x[k] = keep;
         gerr = fmax(gerr, fabs(-(Ep - Em) / (2.0 * eps) - f[k]));
         gmax = fmax(gmax, fabs(f[k]));
@@ -253,10 +253,10 @@ static void check_derivatives(void)
           sets);
     /* K w: the forces' derivative along w, the hinge's direction that of x itself */
     for (size_t k = 0; k < n3; k++) aw[k] = x[k] + eps * w[k];
-    crease_forces(c, aw, x, 1.0, fp);
+    oc_crease_forces(c, aw, x, 1.0, fp);
     for (size_t k = 0; k < n3; k++) aw[k] = x[k] - eps * w[k];
-    crease_forces(c, aw, x, 1.0, fm);
-    crease_Kw(c, x, w, kw);
+    oc_crease_forces(c, aw, x, 1.0, fm);
+    oc_crease_Kw(c, x, w, kw);
     double kerr = 0.0, kmax = 0.0;
     for (size_t k = 0; k < n3; k++) {
         kerr = fmax(kerr, fabs((fp[k] - fm[k]) / (2.0 * eps) - kw[k]));
@@ -264,9 +264,9 @@ static void check_derivatives(void)
     }
     CHECK(kmax > 0.0 && kerr <= 1e-6 * kmax, "K w against the forces' differences: %.3g of %.3g", kerr, kmax);
     /* the Newton matrix's hinge blocks: A w = -(df/dx) w */
-    bsr_zero(&c->A);
-    crease_matrix(c, x, x, 1.0);
-    bsr_mul(&c->A, w, aw);
+    oc_bsr_zero(&c->A);
+    oc_crease_matrix(c, x, x, 1.0);
+    oc_bsr_mul(&c->A, w, aw);
     double aerr = 0.0;
     for (size_t k = 0; k < n3; k++) aerr = fmax(aerr, fabs(aw[k] + kw[k]));
     CHECK(aerr <= 1e-12 * kmax, "the matrix's hinge blocks against K w: %.3g of %.3g", aerr, kmax);

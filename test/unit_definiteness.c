@@ -28,7 +28,7 @@
  *     step's system (|b - A dv| <= 1e-2 |b|), or it returned a wrong answer;
  *   - rule off: the assembled matrix (c->A after the failing step; the step
  *     assembles before it solves) has a negative eigenvalue, computed here
- *     by a cyclic Jacobi eigen-solver on bsr_to_dense;
+ *     by a cyclic Jacobi eigen-solver on oc_bsr_to_dense;
  *   - rule on, same scene: CLOTH_OK, failure NONE, |b - A dv| <= 1e-2 |b|
  *     (tolerance 1e-3 in the solver's block-diagonal norm), and the
  *     assembled matrix is positive definite with smallest eigenvalue >= the
@@ -117,7 +117,7 @@ static spectrum analyse(const cloth *c, double **dense_out)
     int N = 3 * c->n;
     double *A = malloc(sizeof(double) * (size_t)N * N), *a = malloc(sizeof(double) * (size_t)N * N);
     double *ev = malloc(sizeof(double) * N);
-    bsr_to_dense(&c->A, A);
+    oc_bsr_to_dense(&c->A, A);
     spectrum sp = {INFINITY, -INFINITY, 0, 0, INFINITY, -INFINITY, 0};
     for (int i = 0; i < N; i++) {
         double r = 0;
@@ -181,7 +181,7 @@ static double step_residual(const cloth *c)
 {
     int N = 3 * c->n;
     double *r = malloc(sizeof(double) * N), num = 0, den = 0;
-    bsr_mul(&c->A, c->dv, r);
+    oc_bsr_mul(&c->A, c->dv, r);
     for (int k = 0; k < N; k++) {
         num += (c->b[k] - r[k]) * (c->b[k] - r[k]);
         den += c->b[k] * c->b[k];

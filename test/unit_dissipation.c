@@ -1,4 +1,4 @@
-/* Unit: what backward Euler's step dissipates (potential_dissipation,
+/* Unit: what backward Euler's step dissipates (oc_potential_dissipation,
  * core/src/potential.h), against the energy the step's end state holds.
  *
  * For any velocity change dv, with v = v0 + dv, x = x0 + h v and R the step's
@@ -12,9 +12,9 @@
  *    potential exceeds the springs' energy off x0; the limit's piece, left out
  *    of D, only dissipates more), and D >= 0;
  * 3. BDF2: D is 0 (its bound keeps to the kinetic part).
- * In every trial the potential the assembly returns is potential_value's bit
+ * In every trial the potential the assembly returns is oc_potential_value's bit
  * for bit (Newton's line search compares the two), and the D its sums give
- * (potential_step_dissipation) is potential_dissipation's within 1e-12 of the
+ * (oc_potential_step_dissipation) is oc_potential_dissipation's within 1e-12 of the
  * links' energy.
  */
 #include <math.h>
@@ -29,7 +29,7 @@
 /* Kinetic + elastic + gravitational energy at (x, v). */
 static double energy(const cloth *c, const double *x, const double *v)
 {
-    double E = elastic_energy(c, x);
+    double E = oc_elastic_energy(c, x);
     const double *g = c->desc.gravity;
     for (int i = 0; i < c->n; i++) {
         const double *vi = v + 3 * i, *xi = x + 3 * i;
@@ -64,8 +64,8 @@ static cloth *make(double scale, rng *s)
     return c;
 }
 
-static int phi_differs;   /* trials whose assembly and potential_value disagree */
-static double diss_apart; /* the largest relative gap between the assembly's D and potential_dissipation's */
+static int phi_differs;   /* trials whose assembly and oc_potential_value disagree */
+static double diss_apart; /* the largest relative gap between the assembly's D and oc_potential_dissipation's */
 
 /* dE - (v . R - 1/2 |dv|_M^2 - D) for a random dv of size `dvs`, and D. */
 static double mismatch(cloth *c, int bdf2, double dvs, rng *s, double *D, double *size)
@@ -73,15 +73,15 @@ static double mismatch(cloth *c, int bdf2, double dvs, rng *s, double *D, double
     step_eq q;
     size_t n3 = 3 * (size_t)c->n;
     double h = 1.0 / 60, *dv = malloc(n3 * sizeof *dv), *b = malloc(n3 * sizeof *b);
-    potential_begin(c, h, bdf2, &q);
+    oc_potential_begin(c, h, bdf2, &q);
     memcpy(c->lim_shift, c->st.lim_shift, (size_t)c->n_seq * sizeof *c->lim_shift);
-    limit_multipliers_begin(c);
+    oc_limit_multipliers_begin(c);
     for (size_t k = 0; k < n3; k++) dv[k] = dvs * rng_range(s, -1.0, 1.0);
-    potential_state(c, &q, dv);
-    double phi = potential_assemble(c, &q, dv, b, 0);
-    phi_differs += phi != potential_value(c, &q, dv, c->xt, c->vt);
-    *D = potential_dissipation(c, &q);
-    double Ds = potential_step_dissipation(c, &q);
+    oc_potential_state(c, &q, dv);
+    double phi = oc_potential_assemble(c, &q, dv, b, 0);
+    phi_differs += phi != oc_potential_value(c, &q, dv, c->xt, c->vt);
+    *D = oc_potential_dissipation(c, &q);
+    double Ds = oc_potential_step_dissipation(c, &q);
     diss_apart = fmax(diss_apart, fabs(Ds - *D) / (bdf2 ? 1.0 : fabs(c->diss_e0) + fabs(*D)));
     double work = 0.0, kin = 0.0;
     for (size_t k = 0; k < n3; k++) {
@@ -123,8 +123,8 @@ int main(void)
         CHECK(D == 0.0, "BDF2: D = %.3e", D);
         cloth_destroy(c);
     }
-    CHECK(phi_differs == 0, "%d trials' assembly Phi differs from potential_value's", phi_differs);
-    CHECK(diss_apart <= 1e-12, "the assembly's D differs from potential_dissipation's by %.3e of the energy",
+    CHECK(phi_differs == 0, "%d trials' assembly Phi differs from oc_potential_value's", phi_differs);
+    CHECK(diss_apart <= 1e-12, "the assembly's D differs from oc_potential_dissipation's by %.3e of the energy",
           diss_apart);
     return check_summary();
 }

@@ -1,5 +1,5 @@
 /* The multigrid's Galerkin coarse operators (core/src/galerkin.c, through
- * mg_setup) against dense products formed here: on grids of the cloth's link
+ * oc_mg_setup) against dense products formed here: on grids of the cloth's link
  * pattern (sequential and interlaced links, odd and even sides) with random
  * symmetric blocks and random constraint filters, every level's matrix must
  * equal W^T F W, with F the level above (level 0: S A S) and W bilinear
@@ -133,8 +133,8 @@ static void run(int R, int C, int sym, rng *g)
             for (int s = 0; s < 3; s++) S[9 * i + 3 * r + s] = kind == 2 ? 0.0 : (r == s) - (kind ? u[r] * u[s] : 0.0);
         Dinv[9 * i] = Dinv[9 * i + 4] = Dinv[9 * i + 8] = 1.0;
     }
-    CHECK(mg_create(&mg, R, C, &A) == 0, "%dx%d: mg_create", R, C);
-    mg_setup(&mg, &A, S, con, Dinv);
+    CHECK(oc_mg_create(&mg, R, C, &A) == 0, "%dx%d: oc_mg_create", R, C);
+    oc_mg_setup(&mg, &A, S, con, Dinv);
     /* the fine operator coarsened is S A S; then each level's own */
     double *F = malloc(sizeof *F * 9 * (size_t)n * n);
     filtered(&A, S, con, F);
@@ -159,8 +159,8 @@ static void run(int R, int C, int sym, rng *g)
     }
     CHECK(mg.nlev >= 2, "%dx%d: %d levels", R, C, mg.nlev);
     free(F);
-    mg_free(&mg);
-    bsr_free(&A);
+    oc_mg_free(&mg);
+    oc_bsr_free(&A);
     free(S);
     free(Dinv);
     free(con);

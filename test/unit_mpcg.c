@@ -1,4 +1,4 @@
-/* Unit: the modified PCG (mpcg_solve) against a dense direct solve.
+/* Unit: the modified PCG (oc_mpcg_solve) against a dense direct solve.
  *
  * The constrained problem MPCG solves (Baraff-Witkin 1998 sec. 5.3) is:
  * find x with (I - S) x = z and S (A x - b) = 0, S the per-vertex filter
@@ -15,8 +15,8 @@
  * the preconditioner matters), with each constraint kind: free (S = I),
  * pin (S = 0), plane (S = I - n n^T), line (S = d d^T), and a mix; each with
  * both preconditioners (3x3 blocks: inverse of S A_ii S + (I - S); scalar
- * Jacobi) through mpcg_solve, and scalar Jacobi as a function through
- * mpcg_solve_pc with the block-weighted stopping norm, and through mpcg_run
+ * Jacobi) through oc_mpcg_solve, and scalar Jacobi as a function through
+ * oc_mpcg_solve_pc with the block-weighted stopping norm, and through oc_mpcg_run
  * with the list of constrained vertices (only those filtered; block Jacobi
  * and scalar Jacobi), which is how the step calls it; each with and without
  * a warm-start guess. Asserted:
@@ -227,7 +227,7 @@ static void make_precond(const bsr *A, const double *S, int block, double *P)
     }
 }
 
-/* A preconditioner function for mpcg_solve_pc: s = P r blockwise. */
+/* A preconditioner function for oc_mpcg_solve_pc: s = P r blockwise. */
 typedef struct jac_ctx {
     int n;
     const double *P;
@@ -236,7 +236,7 @@ typedef struct jac_ctx {
 static void jac_apply(void *ctx, const double *r, double *s)
 {
     const jac_ctx *j = ctx;
-    filter_apply(j->n, j->P, r, s);
+    oc_filter_apply(j->n, j->P, r, s);
 }
 
 /* |S v|_P^2 with P the preconditioner blocks */
@@ -286,7 +286,7 @@ static void make_system(sys *s, int R, int C, rng *g)
             }
         }
     int *blk = malloc(sizeof(int) * 2 * ne);
-    CHECK(bsr_build(&s->A, n, ne, ei, ej, blk) == 0, "bsr_build failed");
+    CHECK(oc_bsr_build(&s->A, n, ne, ei, ej, blk) == 0, "oc_bsr_build failed");
     s->n = n;
     s->N = 3 * n;
     double *rowabs = calloc(3 * (size_t)n, sizeof *rowabs);
@@ -322,19 +322,19 @@ static void make_system(sys *s, int R, int C, rng *g)
                 for (int b = 0; b < 3; b++) s->A.val[9 * (size_t)k + 3 * a + b] *= sc[3 * i + a] * sc[3 * j + b];
         }
     s->dense = malloc(sizeof(double) * (size_t)s->N * s->N);
-    bsr_to_dense(&s->A, s->dense);
-    /* bsr_to_dense must agree with bsr_mul (used by the reference) */
+    oc_bsr_to_dense(&s->A, s->dense);
+    /* oc_bsr_to_dense must agree with oc_bsr_mul (used by the reference) */
     {
         double *v = malloc(sizeof(double) * s->N), *y1 = malloc(sizeof(double) * s->N), e = 0, m = 0;
         for (int k = 0; k < s->N; k++) v[k] = rng_range(g, -1, 1);
-        bsr_mul(&s->A, v, y1);
+        oc_bsr_mul(&s->A, v, y1);
         for (int i = 0; i < s->N; i++) {
             double t = 0;
             for (int j = 0; j < s->N; j++) t += s->dense[(size_t)i * s->N + j] * v[j];
             if (fabs(t - y1[i]) > e) e = fabs(t - y1[i]);
             if (fabs(t) > m) m = fabs(t);
         }
-        CHECK(e <= 1e-14 * m, "bsr_mul vs bsr_to_dense: max diff %.3g (scale %.3g)", e, m);
+        CHECK(e <= 1e-14 * m, "oc_bsr_mul vs oc_bsr_to_dense: max diff %.3g (scale %.3g)", e, m);
         free(v);
         free(y1);
     }
@@ -347,7 +347,7 @@ static void make_system(sys *s, int R, int C, rng *g)
 
 static void free_system(sys *s)
 {
-    bsr_free(&s->A);
+    oc_bsr_free(&s->A);
     free(s->dense);
 }
 
@@ -386,15 +386,15 @@ static void run_case(const sys *s, int mix, rng *g, int *iters_out)
     double xscale = 0;
     for (int k = 0; k < N; k++) xscale = fmax(xscale, fabs(xref[k]));
 
-    /* the constrained vertices, for mpcg_run's filter list */
+    /* the constrained vertices, for oc_mpcg_run's filter list */
     int *con = malloc(sizeof(int) * n), ncon = 0;
     for (int i = 0; i < n; i++)
         if (kinds[i] != FREE) con[ncon++] = i;
-    /* variant 0: mpcg_solve, block preconditioner (also the norm); 1: mpcg_solve, scalar Jacobi (also the norm);
-     * 2: mpcg_solve_pc, scalar Jacobi as a function, block-weighted norm; 3 and 4, as the step calls it: mpcg_run
+    /* variant 0: oc_mpcg_solve, block preconditioner (also the norm); 1: oc_mpcg_solve, scalar Jacobi (also the norm);
+     * 2: oc_mpcg_solve_pc, scalar Jacobi as a function, block-weighted norm; 3 and 4, as the step calls it: oc_mpcg_run
      * with the list of constrained vertices (filtering only those), block Jacobi (pc NULL) or scalar as a function */
     for (int var = 0; var < 5; var++) {
-        make_precond(&s->A, S, var != 1, P); /* the norm's blocks (and mpcg_solve's preconditioner) */
+        make_precond(&s->A, S, var != 1, P); /* the norm's blocks (and oc_mpcg_solve's preconditioner) */
         make_precond(&s->A, S, 0, Pjac);
         jac_ctx jc = {n, Pjac};
         const char *pcnames[] = {"block", "jacobi", "pc-jacobi", "run-block", "run-jacobi"}, *pc = pcnames[var];
@@ -422,9 +422,9 @@ static void run_case(const sys *s, int mix, rng *g, int *iters_out)
                     for (int a = 0; a < 3; a++) x[3 * i + a] += t[a] - dot3(S + 9 * i + 3 * a, t);
                 }
             memcpy(guess, x, sizeof(double) * N);
-            mpcg_result res = var < 2    ? mpcg_solve(&s->A, b, S, z, P, tol, 10 * N, x, w)
-                              : var == 2 ? mpcg_solve_pc(&s->A, b, S, z, P, jac_apply, &jc, tol, 10 * N, x, w)
-                                         : mpcg_run(&prob, x, w);
+            mpcg_result res = var < 2    ? oc_mpcg_solve(&s->A, b, S, z, P, tol, 10 * N, x, w)
+                              : var == 2 ? oc_mpcg_solve_pc(&s->A, b, S, z, P, jac_apply, &jc, tol, 10 * N, x, w)
+                                         : oc_mpcg_run(&prob, x, w);
             CHECK(res.failure == CLOTH_FAIL_NONE, "%s/%s/%s: failure %d", name, pc, warm ? "warm" : "cold",
                   (int)res.failure);
             double e = 0, xr = 0;
@@ -437,10 +437,10 @@ static void run_case(const sys *s, int mix, rng *g, int *iters_out)
             CHECK(e <= 1e-8 * xr, "%s/%s/%s: |x - x_dense|_max = %.3g, relative %.3g > 1e-8 (m = %d, %d it)", name, pc,
                   warm ? "warm" : "cold", e, e / xr, m, res.iterations);
             /* the true residual in the solver's norm, recomputed */
-            bsr_mul(&s->A, x, r);
+            oc_bsr_mul(&s->A, x, r);
             for (int k = 0; k < N; k++) r[k] = b[k] - r[k];
             double num = pnorm2(n, S, P, r);
-            bsr_mul(&s->A, z, r);
+            oc_bsr_mul(&s->A, z, r);
             for (int k = 0; k < N; k++) r[k] = b[k] - r[k];
             double den = pnorm2(n, S, P, r);
             double true_res = sqrt(num / den);
@@ -525,7 +525,7 @@ static void not_definite(const sys *s, rng *g)
         if (kind == 1)
             for (int i = 0; i < n; i++)
                 for (int a = 0; a < 3; a++) B.val[9 * (size_t)B.diag[i] + 4 * a] -= 0.999 * dmin;
-        bsr_to_dense(&B, dense);
+        oc_bsr_to_dense(&B, dense);
         int m;
         if (dense_reference(n, dense, b, z, kinds, axes, xref, &m) == 0) {
             printf("%s: positive definite after all (Cholesky succeeded); case skipped\n", name);
@@ -536,9 +536,9 @@ static void not_definite(const sys *s, rng *g)
         for (int pcv = 0; pcv < 2; pcv++) {
             make_precond(&B, S, pcv == 0, P);
             memset(x, 0, sizeof(double) * N);
-            mpcg_result res = mpcg_solve(&B, b, S, z, P, 1e-10, 10 * N, x, w);
+            mpcg_result res = oc_mpcg_solve(&B, b, S, z, P, 1e-10, 10 * N, x, w);
             double num = 0, den = 0;
-            bsr_mul(&B, x, w);
+            oc_bsr_mul(&B, x, w);
             for (int k = 0; k < N; k++) {
                 num += (b[k] - w[k]) * (b[k] - w[k]);
                 den += b[k] * b[k];
@@ -580,8 +580,8 @@ static void all_constrained(const sys *s, rng *g)
         for (int var = 0; var < 2; var++) {
             jac_ctx jc = {n, P};
             for (int k = 0; k < N; k++) x[k] = rng_range(g, -1, 1); /* a guess, to be ignored */
-            mpcg_result res = var == 0 ? mpcg_solve(&s->A, b, S, z, P, 1e-10, 100, x, w)
-                                       : mpcg_solve_pc(&s->A, b, S, z, P, jac_apply, &jc, 1e-10, 100, x, w);
+            mpcg_result res = var == 0 ? oc_mpcg_solve(&s->A, b, S, z, P, 1e-10, 100, x, w)
+                                       : oc_mpcg_solve_pc(&s->A, b, S, z, P, jac_apply, &jc, 1e-10, 100, x, w);
             CHECK(res.failure == CLOTH_FAIL_NONE, "all pinned: failure %d", (int)res.failure);
             CHECK(res.iterations == 0, "all pinned: %d iterations, expected 0", res.iterations);
             CHECK(memcmp(x, z, sizeof(double) * N) == 0, "all pinned: x differs from z");
@@ -613,7 +613,7 @@ static void landing_reference(const sys *s, rng *g)
     }
     for (int k = 0; k < N; k++) b[k] = rng_range(g, -1, 1);
     make_precond(&s->A, S, 1, P);
-    bsr_mul(&s->A, z, Az);
+    oc_bsr_mul(&s->A, z, Az);
     for (int k = 0; k < N; k++) r[k] = b[k] - Az[k];
     double before = pnorm2(n, S, P, b), landing = pnorm2(n, S, P, r);
     CHECK(landing > 1e4 * before, "the test's premise: the landing's residual %.3g against %.3g before", landing,
@@ -624,9 +624,9 @@ static void landing_reference(const sys *s, rng *g)
     for (int v = 0; v < 3; v++) {
         mpcg_problem pr = {&s->A, b, S, z, P, NULL, 0, NULL, NULL, tol, 10 * N, NULL, floors[v], 0, 0.0, NULL, 0};
         memset(x, 0, sizeof(double) * N);
-        mpcg_result res = mpcg_run(&pr, x, w);
+        mpcg_result res = oc_mpcg_run(&pr, x, w);
         CHECK(res.failure == CLOTH_FAIL_NONE, "landing (floor %g): failure %d", floors[v], (int)res.failure);
-        bsr_mul(&s->A, x, r);
+        oc_bsr_mul(&s->A, x, r);
         for (int k = 0; k < N; k++) r[k] = b[k] - r[k];
         left[v] = sqrt(pnorm2(n, S, P, r));
         iters[v] = res.iterations;
@@ -658,12 +658,12 @@ static void error_stop(const sys *s, rng *g)
     for (int k = 0; k < N; k++) b[k] = rng_range(g, -1, 1);
     make_precond(&s->A, S, 1, P);
     mpcg_problem pr = {&s->A, b, S, z, P, NULL, 0, NULL, NULL, 1e-10, 10 * N, NULL, 0.0, 0, 0.0, m, 0};
-    mpcg_result full = mpcg_run(&pr, x, w);
+    mpcg_result full = oc_mpcg_run(&pr, x, w);
     double size = 0.0, err = 0.0;
     for (int i = 0; i < n; i++)
         for (int a = 0; a < 3; a++) size += m[i] * x[3 * i + a] * x[3 * i + a];
     pr.abs_err2 = 0.01 * size;
-    mpcg_result part = mpcg_run(&pr, y, w);
+    mpcg_result part = oc_mpcg_run(&pr, y, w);
     for (int i = 0; i < n; i++)
         for (int a = 0; a < 3; a++) err += m[i] * (y[3 * i + a] - x[3 * i + a]) * (y[3 * i + a] - x[3 * i + a]);
     printf("error stop at a tenth of the size: %d iterations against %d, error %.3g of the size\n", part.iterations,
@@ -743,7 +743,7 @@ static void cloth_case(cloth_method method, cloth_precond precond, int R, rng *g
             kinds[verts[q]] = ndof[q] == 3 ? PIN : ndof[q] == 1 ? PLANE : LINE;
             memcpy(axes + 3 * verts[q], k[q].axis, 3 * sizeof(double));
         }
-        bsr_to_dense(&c->A, dense);
+        oc_bsr_to_dense(&c->A, dense);
         int m;
         CHECK(dense_reference(n, dense, c->b, c->z, kinds, axes, xr, &m) == 0, "%s: cloth's reduced A not SPD", mname);
         double e = 0, sc = 0;

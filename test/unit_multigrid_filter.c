@@ -60,14 +60,14 @@ static void run(int R, int C, double cond, rng *g)
     double *r = malloc(3 * sizeof *r * (size_t)n), *s = malloc(3 * sizeof *s * (size_t)n);
     unsigned char *con = malloc((size_t)n);
     int ok = CHECK(S && Dinv && r && s && con, "out of memory") && CHECK(grid_matrix(R, C, &A) == 0, "grid_matrix");
-    if (!ok || !CHECK(mg_create(&mg, R, C, &A) == 0, "%dx%d: mg_create", R, C)) {
-        if (ok) bsr_free(&A);
+    if (!ok || !CHECK(oc_mg_create(&mg, R, C, &A) == 0, "%dx%d: oc_mg_create", R, C)) {
+        if (ok) oc_bsr_free(&A);
         free(S), free(Dinv), free(r), free(s), free(con);
         return;
     }
     definite(&A, g, cond);
     constraints(&A, g, S, con, Dinv);
-    mg_setup(&mg, &A, S, con, Dinv);
+    oc_mg_setup(&mg, &A, S, con, Dinv);
     double worst = 0.0;
     for (int trial = 0; trial < 4; trial++) {
         for (int i = 0; i < n; i++) {
@@ -75,7 +75,7 @@ static void run(int R, int C, double cond, rng *g)
             for (int k = 0; k < 3; k++) v[k] = rng_range(g, -1.0, 1.0);
             mat3vec(S + 9 * (size_t)i, v, r + 3 * i);
         }
-        mg_apply(&mg, r, s);
+        oc_mg_apply(&mg, r, s);
         for (int i = 0; i < n; i++) {
             if (!con[i]) continue;
             const double *si = s + 3 * i, *Si = S + 9 * (size_t)i;
@@ -93,8 +93,8 @@ static void run(int R, int C, double cond, rng *g)
     /* S_i = I - n n^T in floating point is a projector to a few ulp (|S^2 - S| about 4 eps): 16 eps */
     CHECK(worst <= 16 * DBL_EPSILON, "%dx%d cond %g: the V-cycle's output leaks %.3g into constrained directions", R, C,
           cond, worst);
-    mg_free(&mg);
-    bsr_free(&A);
+    oc_mg_free(&mg);
+    oc_bsr_free(&A);
     free(S), free(Dinv), free(r), free(s), free(con);
 }
 

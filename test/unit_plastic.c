@@ -9,7 +9,7 @@
  *   - alpha = 0: never plastic, however compressed; alpha = 1: plastic for
  *     any d < l0, elastic for d > l0.
  *
- * Checked through plastic_rule() directly (scripted sequences, the exact
+ * Checked through oc_plastic_rule() directly (scripted sequences, the exact
  * boundary d = alpha l0, random walks against a reference written here), and
  * through a cloth: a grid folded along a row into a V of known angle, where
  * the interlaced links across the fold have lengths known in closed form
@@ -77,9 +77,9 @@ static void check_scripted(void)
     int plastic = 0;
     double l1 = 12345.0;
     for (size_t k = 0; k < sizeof s / sizeof s[0]; k++) {
-        plastic_rule(m.alpha, l0, s[k].d, &plastic, &l1);
+        oc_plastic_rule(m.alpha, l0, s[k].d, &plastic, &l1);
         CHECK(plastic == s[k].plastic && (!plastic || l1 == s[k].l1),
-              "plastic_rule step %zu (d = %g, %s): plastic %d l1 %g, want plastic %d l1 %g", k, s[k].d, s[k].what,
+              "oc_plastic_rule step %zu (d = %g, %s): plastic %d l1 %g, want plastic %d l1 %g", k, s[k].d, s[k].what,
               plastic, l1, s[k].plastic, s[k].l1);
         plastic = s[k].plastic; /* continue from the expected state */
         l1 = s[k].plastic ? s[k].l1 : 777.0;
@@ -93,14 +93,14 @@ static void check_scripted(void)
             CHECK(law.rest == rest && law.k_hi == (plastic ? m.k_s : m.k_b) && law.k_lo == m.k_b,
                   "int_law step %zu (%s): (k_hi %g, k_lo %g, rest %g), want (%g, %g, %g)", k, s[k].what, law.k_hi,
                   law.k_lo, law.rest, plastic ? m.k_s : m.k_b, m.k_b, rest);
-            spring_eval(xi, xj, law, 1, f, NULL);
+            oc_spring_eval(xi, xj, law, 1, f, NULL);
             /* u = +x: f_i . u = k (d - rest) */
             CHECK_REL(f[0], k_use * (s[k].d - rest), 1e-12, 1e-14);
         }
     }
     /* the exact boundary: d / l0 == alpha exactly (0.5 * 2 = 1 in binary) */
     plastic = 0;
-    plastic_rule(0.5, 2.0, 1.0, &plastic, &l1);
+    oc_plastic_rule(0.5, 2.0, 1.0, &plastic, &l1);
     CHECK(plastic == 1 && l1 == 1.0, "d / l0 == alpha exactly should be plastic (d/l0 <= alpha): plastic %d l1 %g",
           plastic, l1);
 }
@@ -117,23 +117,23 @@ static void check_alpha_extremes(void)
         double l1;
         /* alpha = 0, from either state */
         p = 0, l1 = 0.5 * l0;
-        plastic_rule(0.0, l0, d, &p, &l1);
+        oc_plastic_rule(0.0, l0, d, &p, &l1);
         if (p) bad0++;
         p = 1, l1 = 0.5 * d;
-        plastic_rule(0.0, l0, d, &p, &l1);
+        oc_plastic_rule(0.0, l0, d, &p, &l1);
         if (p) bad0++;
         /* alpha = 1: any compression is plastic, entering at l1 = d */
         p = 0, l1 = 0.0;
-        plastic_rule(1.0, l0, d, &p, &l1);
+        oc_plastic_rule(1.0, l0, d, &p, &l1);
         if (!p) bad1++;
         else if (l1 != d) badl1++;
         /* alpha = 1: any stretch is elastic, from either state */
         d = l0 * rng_range(&r, 1.001, 2.0);
         p = 0, l1 = 0.0;
-        plastic_rule(1.0, l0, d, &p, &l1);
+        oc_plastic_rule(1.0, l0, d, &p, &l1);
         if (p) bad1s++;
         p = 1, l1 = 0.5 * l0;
-        plastic_rule(1.0, l0, d, &p, &l1);
+        oc_plastic_rule(1.0, l0, d, &p, &l1);
         if (p) bad1s++;
     }
     CHECK(bad0 == 0, "alpha = 0: %d compressed links became or stayed plastic", bad0);
@@ -161,7 +161,7 @@ static void check_random_walks(void)
             if (ratio > 1.5) ratio = 1.5;
             if (fabs(ratio - alpha) < 1e-9) ratio += 1e-6; /* keep off the exact boundary */
             d = ratio * l0;
-            plastic_rule(alpha, l0, d, &p, &l1);
+            oc_plastic_rule(alpha, l0, d, &p, &l1);
             ref_rule(alpha, l0, d, &pr, &l1r);
             if (!was && pr) entries++;
             if (was && pr && l1r < l1was) ratchets++;
@@ -180,7 +180,7 @@ static void check_random_walks(void)
     CHECK(mismatches == 0, "%d random-walk steps disagree with the reference rule", mismatches);
     CHECK(entries > 100 && ratchets > 100 && exits > 100, "random walks too tame: %d entries %d ratchets %d exits",
           entries, ratchets, exits);
-    printf("plastic_rule random walks: 20000 steps, %d entries, %d ratchets, %d exits, %d mismatches\n", entries,
+    printf("oc_plastic_rule random walks: 20000 steps, %d entries, %d ratchets, %d exits, %d mismatches\n", entries,
            ratchets, exits, mismatches);
 }
 

@@ -1,16 +1,16 @@
 /* Unit: the opt-in plastic memory rule (material.plastic_memory = 1,
- * plastic_rule_memory in core/src/plastic.c) against the paper's per-step
+ * oc_plastic_rule_memory in core/src/plastic.c) against the paper's per-step
  * rule (the default) and closed forms.
  *
- *   - memory 0 is the paper's rule bit for bit: plastic_rule() and
- *     plastic_rule_memory(.., 0, ..) agree on random walks, and a link
+ *   - memory 0 is the paper's rule bit for bit: oc_plastic_rule() and
+ *     oc_plastic_rule_memory(.., 0, ..) agree on random walks, and a link
  *     opened above alpha l0 is elastic (int_law: rest l0, k_b both ways);
  *   - memory 1: entry at d <= alpha l0 sets l1 = d, a deeper bend ratchets
  *     l1 = min(l1, d), and opening the link above alpha l0 (even past l0)
  *     keeps it plastic with its l1; a link never plastic stays elastic
  *     above alpha l0; alpha 0 never enters;
  *   - the force of a remembered link at d = l0 is k_s (l0 - l1) toward l1
- *     (spring_eval on int_law), below l1 it is k_b (l1 - d) apart;
+ *     (oc_spring_eval on int_law), below l1 it is k_b (l1 - d) apart;
  *   - through a cloth: a grid folded so that the links straight across the
  *     crease sit at d/l0 = q (diagonals at sqrt((1 + q^2)/2)), then
  *     flattened: the default forgets every crease (0 plastic, elastic energy
@@ -39,9 +39,9 @@ static void check_direct(void)
     for (int mem = 0; mem <= 1; mem++) {
         int p = 0;
         double l1 = l0;
-        plastic_rule_memory(alpha, mem, l0, 1.4, &p, &l1);
+        oc_plastic_rule_memory(alpha, mem, l0, 1.4, &p, &l1);
         CHECK(p == 1 && l1 == 1.4, "memory %d: entry at 0.7 l0: plastic %d l1 %g, want 1, 1.4", mem, p, l1);
-        plastic_rule_memory(alpha, mem, l0, 1.8, &p, &l1); /* opened above alpha l0 */
+        oc_plastic_rule_memory(alpha, mem, l0, 1.8, &p, &l1); /* opened above alpha l0 */
         if (!mem) {
             spring_law s = int_law(&m, l0, p, l1);
             CHECK(p == 0, "paper rule: a link opened to 0.9 l0 is elastic (plastic %d)", p);
@@ -51,13 +51,13 @@ static void check_direct(void)
             continue;
         }
         CHECK(p == 1 && l1 == 1.4, "memory: opened to 0.9 l0 keeps plastic %d l1 %g (want 1, 1.4)", p, l1);
-        plastic_rule_memory(alpha, mem, l0, 2.1, &p, &l1); /* past l0 */
+        oc_plastic_rule_memory(alpha, mem, l0, 2.1, &p, &l1); /* past l0 */
         CHECK(p == 1 && l1 == 1.4, "memory: opened past l0 keeps plastic %d l1 %g (want 1, 1.4)", p, l1);
-        plastic_rule_memory(alpha, mem, l0, 1.0, &p, &l1); /* deeper than l1 */
+        oc_plastic_rule_memory(alpha, mem, l0, 1.0, &p, &l1); /* deeper than l1 */
         CHECK(p == 1 && l1 == 1.0, "memory: bent deeper to 0.5 l0: l1 %g, want 1.0", l1);
-        plastic_rule_memory(alpha, mem, l0, 1.2, &p, &l1); /* between l1 and alpha l0 */
+        oc_plastic_rule_memory(alpha, mem, l0, 1.2, &p, &l1); /* between l1 and alpha l0 */
         CHECK(p == 1 && l1 == 1.0, "memory: back to 0.6 l0 keeps l1 %g (want 1.0)", l1);
-        plastic_rule_memory(alpha, mem, l0, 1.9, &p, &l1);
+        oc_plastic_rule_memory(alpha, mem, l0, 1.9, &p, &l1);
         CHECK(p == 1 && l1 == 1.0, "memory: opened again keeps l1 %g (want 1.0, the minimum)", l1);
         {
             spring_law s = int_law(&m, l0, p, l1);
@@ -70,15 +70,15 @@ static void check_direct(void)
     {
         int p = 0;
         double l1 = l0;
-        plastic_rule_memory(alpha, 1, l0, 1.7, &p, &l1);
+        oc_plastic_rule_memory(alpha, 1, l0, 1.7, &p, &l1);
         CHECK(p == 0, "memory: a never-plastic link at 0.85 l0 is elastic (plastic %d)", p);
-        plastic_rule_memory(0.0, 1, l0, 0.01, &p, &l1);
+        oc_plastic_rule_memory(0.0, 1, l0, 0.01, &p, &l1);
         CHECK(p == 0, "memory, alpha 0: never plastic at d = 0.005 l0 (plastic %d)", p);
         p = 1, l1 = 0.5;
-        plastic_rule_memory(0.0, 1, l0, 0.4, &p, &l1);
+        oc_plastic_rule_memory(0.0, 1, l0, 0.4, &p, &l1);
         CHECK(p == 0, "memory, alpha 0: a link marked plastic is elastic again (plastic %d)", p);
     }
-    /* memory 0 is plastic_rule exactly, on random walks */
+    /* memory 0 is oc_plastic_rule exactly, on random walks */
     {
         rng seed = rng_seed(0x5eed5eedULL);
         int mism = 0;
@@ -87,12 +87,12 @@ static void check_direct(void)
             int pa = 0, pb = 0;
             for (int k = 0; k < 100; k++) {
                 double d = l0 * 1.1 * rng_unit(&seed);
-                plastic_rule(a, l0, d, &pa, &l1a);
-                plastic_rule_memory(a, 0, l0, d, &pb, &l1b);
+                oc_plastic_rule(a, l0, d, &pa, &l1a);
+                oc_plastic_rule_memory(a, 0, l0, d, &pb, &l1b);
                 if (pa != pb || (pa && memcmp(&l1a, &l1b, sizeof l1a))) mism++;
             }
         }
-        CHECK(mism == 0, "plastic_rule vs plastic_rule_memory(memory 0): %d mismatches in 20000 steps", mism);
+        CHECK(mism == 0, "oc_plastic_rule vs oc_plastic_rule_memory(memory 0): %d mismatches in 20000 steps", mism);
     }
 }
 
@@ -105,23 +105,23 @@ static void check_force(void)
     const double l0 = 0.1, l1 = 0.07;
     int p = 0;
     double L1 = l0;
-    plastic_rule_memory(0.8, 1, l0, l1, &p, &L1);
-    plastic_rule_memory(0.8, 1, l0, l0, &p, &L1); /* spread flat */
+    oc_plastic_rule_memory(0.8, 1, l0, l1, &p, &L1);
+    oc_plastic_rule_memory(0.8, 1, l0, l0, &p, &L1); /* spread flat */
     spring_law s = int_law(&m, l0, p, L1);
     double xi[3] = {0, 0, 0}, xj[3] = {l0, 0, 0}, f[3];
-    spring_eval(xi, xj, s, 1, f, NULL);
+    oc_spring_eval(xi, xj, s, 1, f, NULL);
     CHECK_NEAR(f[0], m.k_s * (l0 - l1), 1e-14);
     CHECK(fabs(f[1]) < 1e-15 && fabs(f[2]) < 1e-15, "remembered link at l0: force off-axis (%g, %g)", f[1], f[2]);
     CHECK(f[0] > 0, "remembered link at l0 pulls i toward j (toward l1): f_x %g", f[0]);
     xj[0] = 0.05; /* below l1: pushed apart with k_b */
-    spring_eval(xi, xj, s, 1, f, NULL);
+    oc_spring_eval(xi, xj, s, 1, f, NULL);
     CHECK_NEAR(f[0], -m.k_b * (l1 - 0.05), 1e-15);
     /* the paper's rule at d = l0: elastic at rest, no force */
     p = 0, L1 = l0;
-    plastic_rule_memory(0.8, 0, l0, l1, &p, &L1);
-    plastic_rule_memory(0.8, 0, l0, l0, &p, &L1);
+    oc_plastic_rule_memory(0.8, 0, l0, l1, &p, &L1);
+    oc_plastic_rule_memory(0.8, 0, l0, l0, &p, &L1);
     xj[0] = l0;
-    spring_eval(xi, xj, int_law(&m, l0, p, L1), 1, f, NULL);
+    oc_spring_eval(xi, xj, int_law(&m, l0, p, L1), 1, f, NULL);
     CHECK(f[0] == 0.0 && p == 0, "paper rule: spread link at l0 has force %g (want 0), plastic %d", f[0], p);
 }
 

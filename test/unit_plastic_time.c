@@ -1,5 +1,5 @@
 /* Unit: plasticity that depends on duration and repetition
- * (material.tau_set, tau_recover, set_hardening; plastic_rule_time in
+ * (material.tau_set, tau_recover, set_hardening; oc_plastic_rule_time in
  * core/src/viscoplastic.c) against the law's closed forms.
  *
  *   - held: a link bent to d <= alpha l0 and held has
@@ -12,8 +12,8 @@
  *     with instant recovery the permanent rest length is the geometric
  *     d + (1 - beta (1 - exp(-T / tau_set)))^n (l0 - d); five folds leave
  *     more set than one;
- *   - all three 0 is the paper's rule: plastic_rule_time agrees with
- *     plastic_rule_memory on random walks (memory 0 and 1);
+ *   - all three 0 is the paper's rule: oc_plastic_rule_time agrees with
+ *     oc_plastic_rule_memory on random walks (memory 0 and 1);
  *   - through a cloth: a 5 x 3 grid pinned folded (cloth_step, h and h/4),
  *     then pinned flat: each link across the fold follows the closed forms;
  *     state records taken during the hold (bent flags 1) and mid-recovery,
@@ -50,7 +50,7 @@ typedef struct link_state {
 /* steps of h at length d, n of them */
 static void run(const cloth_material *m, double l0, double d, double h, int n, link_state *s)
 {
-    for (int k = 0; k < n; k++) plastic_rule_time(m, l0, d, h, &s->plastic, &s->l1, &s->perm, &s->bent);
+    for (int k = 0; k < n; k++) oc_plastic_rule_time(m, l0, d, h, &s->plastic, &s->l1, &s->perm, &s->bent);
 }
 
 static void check_held_released(void)
@@ -147,13 +147,13 @@ static void check_paper(void)
             double la = l0, lb = l0, perm = 0;
             for (int k = 0; k < 200; k++) {
                 double d = l0 * rng_range(&g, 0.2, 1.1);
-                plastic_rule_memory(m.alpha, mem, l0, d, &pa, &la);
-                plastic_rule_time(&m, l0, d, 0.01, &pb, &lb, &perm, &b);
+                oc_plastic_rule_memory(m.alpha, mem, l0, d, &pa, &la);
+                oc_plastic_rule_time(&m, l0, d, 0.01, &pb, &lb, &perm, &b);
                 mism += pa != pb || (pa && la != lb) || perm != 0.0;
                 changes += pa;
             }
         }
-    CHECK(plastic_time_on(&(cloth_material){0}) == 0, "all zero asks for the time law");
+    CHECK(oc_plastic_time_on(&(cloth_material){0}) == 0, "all zero asks for the time law");
     CHECK(mism == 0 && changes > 0, "zero time constants vs the paper's rule: %d mismatches (%d plastic)", mism,
           changes);
 }
@@ -314,8 +314,8 @@ static void check_full_set(void)
     if (CHECK(c && c2, "no memory")) {
         int e = across(c);
         double l0 = c->lint[e].rest;
-        plastic_update_link(&m, &c->st, e, l0, 1e-20 * l0, 0.01);
-        plastic_update_link(&m, &c->st, e, l0, l0, 0.01);
+        oc_plastic_update_link(&m, &c->st, e, l0, 1e-20 * l0, 0.01);
+        oc_plastic_update_link(&m, &c->st, e, l0, l0, 0.01);
         /* the largest set: l1 down to the shortest length a link has (SPRING_MIN_LENGTH) */
         CHECK(c->st.perm[e] < 1.0 && c->st.perm[e] > 1.0 - 2.0 * SPRING_MIN_LENGTH / l0, "fully set: perm %.17g",
               c->st.perm[e]);
@@ -328,7 +328,7 @@ static void check_full_set(void)
     c = make_cloth(&p), c2 = make_cloth(&p);
     if (CHECK(c && c2, "no memory")) {
         int e = across(c);
-        plastic_update_link(&p, &c->st, e, c->lint[e].rest, 0.0, 0.01);
+        oc_plastic_update_link(&p, &c->st, e, c->lint[e].rest, 0.0, 0.01);
         CHECK(c->st.plastic[e] && c->st.l1[e] > 0.0, "collapsed link: plastic %d, l1 %g", c->st.plastic[e],
               c->st.l1[e]);
         record_reads(c, c2, "a collapsed link's record");

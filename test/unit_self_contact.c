@@ -72,7 +72,7 @@ static double brute_energy(const int *edges, int ne, const double *x, double kap
                 }
                 double y[12], c[4], n[3] = {0.0, 0.0, 0.0};
                 for (int k = 0; k < 4; k++) memcpy(y + 3 * k, x + 3 * v[k], 3 * sizeof *y);
-                ccd_pair_weights(kind, y, c);
+                oc_ccd_pair_weights(kind, y, c);
                 for (int k = 0; k < 4; k++)
                     for (int r = 0; r < 3; r++) n[r] += c[k] * y[3 * k + r];
                 double d = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
@@ -120,7 +120,7 @@ static double brute_touch(const int *edges, int ne, const double *x0, const doub
                     memcpy(y1 + 3 * k, x1 + 3 * v[k], 3 * sizeof *y1);
                 }
                 ccd_hit hit;
-                if (kind ? ccd_edge_edge(y0, y1, eta, &hit) : ccd_point_triangle(y0, y1, eta, &hit))
+                if (kind ? oc_ccd_edge_edge(y0, y1, eta, &hit) : oc_ccd_point_triangle(y0, y1, eta, &hit))
                     first = fmin(first, hit.t);
             }
     return first;
@@ -144,9 +144,9 @@ static void case_fold(cloth *c)
     static double x[3 * NV], y[3 * NV];
     static int edges[2 * 3 * NT];
     int ne = edge_list(edges), active;
-    self_contact *s = self_contact_create(NV, NT, tri, D);
-    if (!CHECK(s != NULL, "self_contact_create")) return;
-    self_contact_begin(s, c, CFAC);
+    self_contact *s = oc_self_contact_create(NV, NT, tri, D);
+    if (!CHECK(s != NULL, "oc_self_contact_create")) return;
+    oc_self_contact_begin(s, c, CFAC);
     double mt = 0.0;
     for (int i = 0; i < NV; i++) mt += c->mass[i];
     double kappa = mt / NV / (CFAC * CFAC * (2.0 * log(2.0) + 5.0));
@@ -160,9 +160,9 @@ static void case_fold(cloth *c)
                 double toward = m == 1 && r == 2 ? (i / N > N / 2 ? -0.45 * D : 0.45 * D) : 0.0;
                 y[3 * i + r] = x[3 * i + r] + toward + jitter(m == 0 ? 0.0 : m == 1 ? 0.04 * D : 3.0 * D);
             }
-        long before = self_contact_get_work(s).rebuilds;
-        double E = self_contact_eval(s, y, CFAC, NULL, NULL), Eb = brute_energy(edges, ne, y, kappa, &active);
-        self_contact_work w = self_contact_get_work(s);
+        long before = oc_self_contact_get_work(s).rebuilds;
+        double E = oc_self_contact_eval(s, y, CFAC, NULL, NULL), Eb = brute_energy(edges, ne, y, kappa, &active);
+        self_contact_work w = oc_self_contact_get_work(s);
         CHECK(m == 0 || active > 50, "move %d: the fold has %d pairs within D", m, active);
         CHECK(w.active == active, "move %d: %d pairs within D, brute force %d", m, w.active, active);
         CHECK_REL(E, Eb, 1e-12, 0.0);
@@ -180,9 +180,9 @@ static void case_fold(cloth *c)
     for (int i = 0; i < 3 * NV; i++) z[i] = x[i] + 0.5 * D;
     for (int k = 0; k < 5; k++) {
         const double *at = k == 4 ? z : k % 2 ? y : x;
-        long before = self_contact_get_work(s).relisted;
-        double E = self_contact_eval(s, at, CFAC, NULL, NULL), Eb = brute_energy(edges, ne, at, kappa, &active);
-        self_contact_work w = self_contact_get_work(s);
+        long before = oc_self_contact_get_work(s).relisted;
+        double E = oc_self_contact_eval(s, at, CFAC, NULL, NULL), Eb = brute_energy(edges, ne, at, kappa, &active);
+        self_contact_work w = oc_self_contact_get_work(s);
         CHECK(w.relisted - before == (k == 1), "back and forth %d: %ld close lists made", k, w.relisted - before);
         CHECK(w.active == active, "back and forth %d: %d pairs within D, brute force %d", k, w.active, active);
         CHECK_REL(E, Eb, 1e-12, 0.0);
@@ -194,9 +194,9 @@ static void case_fold(cloth *c)
         memcpy(y, x, sizeof y);
         for (int r = 0; r < 3; r++)
             y[3 * k + r] = (x[3 * t[0] + r] + x[3 * t[1] + r] + x[3 * t[2] + r]) / 3.0 + (r == 2 ? 0.3 * D : 0.0);
-        self_contact_work w0 = self_contact_get_work(s);
-        double E = self_contact_eval(s, y, CFAC, NULL, NULL), Eb = brute_energy(edges, ne, y, kappa, &active);
-        self_contact_work w = self_contact_get_work(s);
+        self_contact_work w0 = oc_self_contact_get_work(s);
+        double E = oc_self_contact_eval(s, y, CFAC, NULL, NULL), Eb = brute_energy(edges, ne, y, kappa, &active);
+        self_contact_work w = oc_self_contact_get_work(s);
         CHECK(w.rebuilds == w0.rebuilds && w.extended == w0.extended + 1, "one out: %ld rebuilds, %ld grown",
               w.rebuilds - w0.rebuilds, w.extended - w0.extended);
         CHECK(w.active == active && w.candidates > w0.candidates,
@@ -214,25 +214,25 @@ static void case_fold(cloth *c)
     for (int k = 0; k < 3; k++) {
         memcpy(y, x, sizeof y);
         for (int i = 0; i < NV; i++) y[3 * i + 2] += i / N > N / 2 ? push[k] * D : 0.0;
-        long before = self_contact_get_work(s).rebuilds;
-        double first = brute_touch(edges, ne, x, y), share = self_contact_max_step(s, x, y);
+        long before = oc_self_contact_get_work(s).rebuilds;
+        double first = brute_touch(edges, ne, x, y), share = oc_self_contact_max_step(s, x, y);
         CHECK(first < 1.0 && share == 0.5 * first, "pushed %s: share %.17g, brute force's first touch %.17g", how[k],
               share, first);
-        CHECK(self_contact_get_work(s).rebuilds - before == (k == 1), "pushed %s: %ld rebuilds", how[k],
-              self_contact_get_work(s).rebuilds - before);
+        CHECK(oc_self_contact_get_work(s).rebuilds - before == (k == 1), "pushed %s: %ld rebuilds", how[k],
+              oc_self_contact_get_work(s).rebuilds - before);
     }
     for (int i = 0; i < NV; i++) y[3 * i + 2] = x[3 * i + 2] + 0.5;
-    CHECK(self_contact_max_step(s, x, y) == 1.0 && brute_touch(edges, ne, x, y) == HUGE_VAL, "a rigid lift");
-    self_contact_destroy(s);
+    CHECK(oc_self_contact_max_step(s, x, y) == 1.0 && brute_touch(edges, ne, x, y) == HUGE_VAL, "a rigid lift");
+    oc_self_contact_destroy(s);
 }
 
 /* A flat sheet, tilted: nothing within D, and no pair's distance computed */
 static void case_flat(cloth *c)
 {
     static double x[3 * NV];
-    self_contact *s = self_contact_create(NV, NT, tri, D);
-    if (!CHECK(s != NULL, "self_contact_create")) return;
-    self_contact_begin(s, c, CFAC);
+    self_contact *s = oc_self_contact_create(NV, NT, tri, D);
+    if (!CHECK(s != NULL, "oc_self_contact_create")) return;
+    oc_self_contact_begin(s, c, CFAC);
     for (int r = 0; r < N; r++)
         for (int q = 0; q < N; q++) {
             double u = q * H, v = r * H, *p = x + 3 * (r * N + q);
@@ -240,12 +240,12 @@ static void case_flat(cloth *c)
             p[1] = 0.6 * u - 0.48 * v;
             p[2] = 0.8 * v;
         }
-    double E = self_contact_eval(s, x, CFAC, NULL, NULL);
-    self_contact_work w = self_contact_get_work(s);
+    double E = oc_self_contact_eval(s, x, CFAC, NULL, NULL);
+    self_contact_work w = oc_self_contact_get_work(s);
     CHECK(E == 0.0 && w.active == 0, "flat: energy %g, %d pairs within D", E, w.active);
     CHECK(w.tested == 0, "flat: %d pairs' distances computed", w.tested);
-    CHECK(self_contact_max_step(s, x, x) == 1.0, "flat, at rest: the whole update");
-    self_contact_destroy(s);
+    CHECK(oc_self_contact_max_step(s, x, x) == 1.0, "flat, at rest: the whole update");
+    oc_self_contact_destroy(s);
 }
 
 /* A flat square grid's nearest pairs sharing no vertex are parallel cell diagonals H / sqrt(2)
@@ -260,14 +260,14 @@ static void case_flat_gap(cloth *c)
     }
     for (int over = 0; over < 2; over++) {
         double t = (over ? 1.01 : 0.99) * H / sqrt(2.0);
-        self_contact *s = self_contact_create(NV, NT, tri, t);
-        if (!CHECK(s != NULL, "self_contact_create")) return;
-        self_contact_begin(s, c, CFAC);
-        double E = self_contact_eval(s, x, CFAC, NULL, NULL);
-        self_contact_work w = self_contact_get_work(s);
+        self_contact *s = oc_self_contact_create(NV, NT, tri, t);
+        if (!CHECK(s != NULL, "oc_self_contact_create")) return;
+        oc_self_contact_begin(s, c, CFAC);
+        double E = oc_self_contact_eval(s, x, CFAC, NULL, NULL);
+        self_contact_work w = oc_self_contact_get_work(s);
         if (over) CHECK(E > 0.0 && w.active > 0, "thickness 1.01 H / sqrt 2: energy %g, %d pairs at rest", E, w.active);
         else CHECK(E == 0.0 && w.active == 0, "thickness 0.99 H / sqrt 2: energy %g, %d pairs at rest", E, w.active);
-        self_contact_destroy(s);
+        oc_self_contact_destroy(s);
     }
 }
 

@@ -14,9 +14,9 @@
  *     distinct, so a swapped k is caught), and the limit term: seq_law has
  *     k_lim = k_delta k_t and lim = (1 + delta) l0, int_law k_lim = 0 and
  *     lim = HUGE_VAL (k_delta = 37 and delta = 0.07, not the presets');
- *   - spring_energy = 1/2 k (d - rest)^2 with that k, plus
+ *   - oc_spring_energy = 1/2 k (d - rest)^2 with that k, plus
  *     1/2 k_delta k_t (d - lim)^2 past the limit;
- *   - spring_eval's f_i = +k (d - rest) u, u = (x_j - x_i)/d, plus
+ *   - oc_spring_eval's f_i = +k (d - rest) u, u = (x_j - x_i)/d, plus
  *     k_delta k_t (d - lim) u past the limit;
  *   - f_i = -dE/dx_i and f_j = -f_i = -dE/dx_j by central differences
  *     (step 1e-6 d), norm-wise relative error < 1e-6;
@@ -24,10 +24,10 @@
  * The limit term is continuous: energy and force at lim (1 - 1e-9) and
  * lim (1 + 1e-9) differ by no more than their slopes allow over that gap
  * (a term that jumped, e.g. k_lim (d - rest), would differ by ~k_lim delta l0).
- * The damper: damper_eval's f_i = c ((v_j - v_i).u) u, D = df_i/dv_j by
+ * The damper: oc_damper_eval's f_i = c ((v_j - v_i).u) u, D = df_i/dv_j by
  * central differences, and df_i/dv_i = -D.
  * The cloth: with random velocities, cloth_internal_forces minus its value at
- * zero velocity equals the sum of damper_eval over every link with c_t on
+ * zero velocity equals the sum of oc_damper_eval over every link with c_t on
  * sequential links and c_b on interlaced links.
  */
 #include <math.h>
@@ -180,9 +180,9 @@ static void check_limit_continuity(const cloth_material *m)
             dlo = norm3(wl);
             dhi = norm3(wh);
         }
-        double elo = spring_energy(xi, xlo, s), ehi = spring_energy(xi, xhi, s);
-        spring_eval(xi, xlo, s, 0, flo, NULL);
-        spring_eval(xi, xhi, s, 0, fhi, NULL);
+        double elo = oc_spring_energy(xi, xlo, s), ehi = oc_spring_energy(xi, xhi, s);
+        oc_spring_eval(xi, xlo, s, 0, flo, NULL);
+        oc_spring_eval(xi, xhi, s, 0, fhi, NULL);
         /* closed forms on both sides */
         double elo_x = 0.5 * m->k_t * (dlo - l0) * (dlo - l0);
         double ehi_x = 0.5 * m->k_t * (dhi - l0) * (dhi - l0) + 0.5 * klim * (dhi - lim) * (dhi - lim);
@@ -234,7 +234,7 @@ static void check_link_forces(const cloth_material *m)
 
             /* energy, closed form: 1/2 k (d - rest)^2 [+ 1/2 k_delta k_t (d - lim)^2] */
             {
-                double e = spring_energy(lc.xi, lc.xj, lc.law);
+                double e = oc_spring_energy(lc.xi, lc.xj, lc.law);
                 double eexp = 0.5 * lc.k * (lc.d - lc.rest) * (lc.d - lc.rest);
                 if (lc.past) eexp += 0.5 * lc.klim * (lc.d - lc.lim) * (lc.d - lc.lim);
                 if (!CHECK(fabs(e - eexp) <= 1e-10 * eexp,
@@ -245,8 +245,8 @@ static void check_link_forces(const cloth_material *m)
             }
 
             /* force, closed form: f_i = +(k (d - rest) [+ k_delta k_t (d - lim)]) u */
-            spring_eval(lc.xi, lc.xj, lc.law, 0, f, NULL);
-            spring_eval(lc.xi, lc.xj, lc.law, 1, f_on, NULL);
+            oc_spring_eval(lc.xi, lc.xj, lc.law, 0, f, NULL);
+            oc_spring_eval(lc.xi, lc.xj, lc.law, 1, f_on, NULL);
             {
                 double fm = lc.k * (lc.d - lc.rest) + (lc.past ? lc.klim * (lc.d - lc.lim) : 0.0);
                 for (int a = 0; a < 3; a++) fexp[a] = fm * u[a];
@@ -272,12 +272,12 @@ static void check_link_forces(const cloth_material *m)
                     memcpy(q, lc.xi, sizeof q);
                     p[a] += h;
                     q[a] -= h;
-                    g_i[a] = (spring_energy(p, lc.xj, lc.law) - spring_energy(q, lc.xj, lc.law)) / (2 * h);
+                    g_i[a] = (oc_spring_energy(p, lc.xj, lc.law) - oc_spring_energy(q, lc.xj, lc.law)) / (2 * h);
                     memcpy(p, lc.xj, sizeof p);
                     memcpy(q, lc.xj, sizeof q);
                     p[a] += h;
                     q[a] -= h;
-                    g_j[a] = (spring_energy(lc.xi, p, lc.law) - spring_energy(lc.xi, q, lc.law)) / (2 * h);
+                    g_j[a] = (oc_spring_energy(lc.xi, p, lc.law) - oc_spring_energy(lc.xi, q, lc.law)) / (2 * h);
                 }
                 for (int a = 0; a < 3; a++) {
                     err_i[a] = f[a] + g_i[a];  /* f_i = -dE/dx_i */
@@ -320,7 +320,7 @@ static void check_damper(void)
         for (int a = 0; a < 3; a++) w += (vj[a] - vi[a]) * u[a];
         for (int a = 0; a < 3; a++) fexp[a] = c * w * u[a];
 
-        damper_eval(xi, xj, vi, vj, c, f, D);
+        oc_damper_eval(xi, xj, vi, vj, c, f, D);
         {
             double e[3] = {f[0] - fexp[0], f[1] - fexp[1], f[2] - fexp[2]};
             double rel = norm3(e) / (fabs(c) * norm3((double[3]){vj[0] - vi[0], vj[1] - vi[1], vj[2] - vi[2]}));
@@ -335,15 +335,15 @@ static void check_damper(void)
             memcpy(q, vj, sizeof q);
             p[b] += h;
             q[b] -= h;
-            damper_eval(xi, xj, vi, p, c, fp, NULL);
-            damper_eval(xi, xj, vi, q, c, fq, NULL);
+            oc_damper_eval(xi, xj, vi, p, c, fp, NULL);
+            oc_damper_eval(xi, xj, vi, q, c, fq, NULL);
             for (int a = 0; a < 3; a++) Dfd[3 * a + b] = (fp[a] - fq[a]) / (2 * h);
             memcpy(p, vi, sizeof p);
             memcpy(q, vi, sizeof q);
             p[b] += h;
             q[b] -= h;
-            damper_eval(xi, xj, p, vj, c, fp, NULL);
-            damper_eval(xi, xj, q, vj, c, fq, NULL);
+            oc_damper_eval(xi, xj, p, vj, c, fp, NULL);
+            oc_damper_eval(xi, xj, q, vj, c, fq, NULL);
             for (int a = 0; a < 3; a++) Dfdi[3 * a + b] = (fp[a] - fq[a]) / (2 * h);
         }
         {
@@ -399,7 +399,7 @@ static void check_cloth_damping(void)
                 cloth_link L;
                 double fi[3];
                 if (cloth_get_link(c, ty, e, &L) != CLOTH_OK) continue;
-                damper_eval(x + 3 * L.i, x + 3 * L.j, v + 3 * L.i, v + 3 * L.j, cc, fi, NULL);
+                oc_damper_eval(x + 3 * L.i, x + 3 * L.j, v + 3 * L.i, v + 3 * L.j, cc, fi, NULL);
                 for (int a = 0; a < 3; a++) {
                     fexp[3 * L.i + a] += fi[a];
                     fexp[3 * L.j + a] -= fi[a];

@@ -1,9 +1,9 @@
 /* Unit: the link stiffness blocks and the definiteness rule (paper eq. 5, 14,
  * section 3.2), and the whole cloth's forces against its energy.
  *
- * Single links (spring_eval), for each link type and region:
+ * Single links (oc_spring_eval), for each link type and region:
  *   - definiteness = 0: K = df_i/dx_j equals the central difference of
- *     spring_eval's f_i wrt x_j, and -K equals that wrt x_i (norm-wise
+ *     oc_spring_eval's f_i wrt x_j, and -K equals that wrt x_i (norm-wise
  *     relative error over the 3x3 block < 1e-6, floor 1e-3 k);
  *     K = k uu^T + k (1 - rest/d)(I - uu^T): eigenvalues k, k(1-rest/d) twice.
  *     Sequential links past the elongation limit lim = (1 + delta) l0 (test
@@ -18,16 +18,16 @@
  *     d = 0.05 rest.
  *   - the rule matters: a compressed link with the rule off has the negative
  *     eigenvalue k (1 - rest/d).
- * The Newton step's form (spring_eval_predicted), for each region, with u0
+ * The Newton step's form (oc_spring_eval_predicted), for each region, with u0
  * the link's direction turned by up to 0.2 rad: f_i = -dE/dx_i and
  * K = df_i/dx_j (-K wrt x_i) by central differences (rel. 1e-6), K
- * symmetric positive semidefinite; with u0 = u, f_i equals spring_eval's.
+ * symmetric positive semidefinite; with u0 = u, f_i equals oc_spring_eval's.
  * Whole cloth: on a random state with zero velocities, plastic links of
  * both kinds (d > l1 and d < l1; alpha = 1, plastic state frozen) and
  * sequential links past the elongation limit,
  * cloth_internal_forces = -grad cloth_energies().elastic by central
  * differences through cloth_set_positions; the elastic energy equals the sum
- * of spring_energy over the links with the laws of their current regions; and
+ * of oc_spring_energy over the links with the laws of their current regions; and
  * evaluating energies does not change the plastic state.
  */
 #include <math.h>
@@ -192,11 +192,11 @@ static void fd_block(const link_case *lc, int wrt, double J[9])
         xp[b] += h;
         xm[b] -= h;
         if (wrt) {
-            spring_eval(lc->xi, xp, lc->law, 0, fp, NULL);
-            spring_eval(lc->xi, xm, lc->law, 0, fm, NULL);
+            oc_spring_eval(lc->xi, xp, lc->law, 0, fp, NULL);
+            oc_spring_eval(lc->xi, xm, lc->law, 0, fm, NULL);
         } else {
-            spring_eval(xp, lc->xj, lc->law, 0, fp, NULL);
-            spring_eval(xm, lc->xj, lc->law, 0, fm, NULL);
+            oc_spring_eval(xp, lc->xj, lc->law, 0, fp, NULL);
+            oc_spring_eval(xm, lc->xj, lc->law, 0, fm, NULL);
         }
         for (int a = 0; a < 3; a++) J[3 * a + b] = (fp[a] - fm[a]) / (2 * h);
     }
@@ -216,8 +216,8 @@ static void check_link_jacobians(const cloth_material *m)
             double f[3], K[9], Kon[9], Jj[9], Ji[9], ev[3], evon[3], nK, e_j = 0, e_i = 0;
             /* half the compressed samples strongly compressed (down to 0.05) */
             make_case(&r, m, region, (t & 1) ? 0.05 : 0.5, &lc);
-            spring_eval(lc.xi, lc.xj, lc.law, 0, f, K);
-            spring_eval(lc.xi, lc.xj, lc.law, 1, f, Kon);
+            oc_spring_eval(lc.xi, lc.xj, lc.law, 0, f, K);
+            oc_spring_eval(lc.xi, lc.xj, lc.law, 1, f, Kon);
             fd_block(&lc, 1, Jj);
             fd_block(&lc, 0, Ji);
             nK = fro9(K);
@@ -390,7 +390,7 @@ static void check_cloth_gradient(void)
                 spring_law law;
                 cloth_get_link(c, ty, k, &L);
                 law = t ? int_law(&cd.material, L.rest, L.plastic, L.l1) : seq_law(&cd.material, L.rest, 0.0);
-                e_sum += spring_energy(x0 + 3 * L.i, x0 + 3 * L.j, law);
+                e_sum += oc_spring_energy(x0 + 3 * L.i, x0 + 3 * L.j, law);
                 if (!t) {
                     double dd[3] = {x0[3 * L.j] - x0[3 * L.i], x0[3 * L.j + 1] - x0[3 * L.i + 1],
                                     x0[3 * L.j + 2] - x0[3 * L.i + 2]};
@@ -460,7 +460,7 @@ static void check_cloth_gradient(void)
     cloth_destroy(c);
 }
 
-/* E (what = 0), f_i[a] (1) of spring_eval_predicted with x_i (wrt 0) or
+/* E (what = 0), f_i[a] (1) of oc_spring_eval_predicted with x_i (wrt 0) or
  * x_j (wrt 1) moved by e along axis b */
 static double predicted_at(const link_case *lc, const double *u0, int wrt, int b, double e, int what, int a)
 {
@@ -468,7 +468,7 @@ static double predicted_at(const link_case *lc, const double *u0, int wrt, int b
     memcpy(xi, lc->xi, sizeof xi);
     memcpy(xj, lc->xj, sizeof xj);
     (wrt ? xj : xi)[b] += e;
-    double E = spring_eval_predicted(xi, xj, u0, lc->law, 0.0, f, NULL, NULL);
+    double E = oc_spring_eval_predicted(xi, xj, u0, lc->law, 0.0, f, NULL, NULL);
     return what ? f[a] : E;
 }
 
@@ -485,7 +485,7 @@ static void check_predicted_links(const cloth_material *m)
             for (int a = 0; a < 3; a++) u0[a] = lc.u[a] + 0.2 * rng_unit(&r) * w[a];
             double n0 = norm3(u0);
             for (int a = 0; a < 3; a++) u0[a] /= n0;
-            spring_eval_predicted(lc.xi, lc.xj, u0, lc.law, 0.0, f, K, NULL);
+            oc_spring_eval_predicted(lc.xi, lc.xj, u0, lc.law, 0.0, f, K, NULL);
             double nK = fmax(fro9(K), 1e-3 * lc.k), nf = fmax(norm3(f), 1e-3 * lc.k * lc.d), eg = 0.0, ek = 0.0;
             for (int b = 0; b < 3; b++) {
                 double g = (predicted_at(&lc, u0, 0, b, h, 0, 0) - predicted_at(&lc, u0, 0, b, -h, 0, 0)) / (2 * h);
@@ -504,15 +504,15 @@ static void check_predicted_links(const cloth_material *m)
             sym3_eigenvalues(K, ev);
             CHECK(ev[0] >= -1e-12 * nK && fabs(K[1] - K[3]) + fabs(K[2] - K[6]) + fabs(K[5] - K[7]) <= 1e-12 * nK,
                   "%s, predicted: K not symmetric semidefinite (eigenvalue %g)", region_name[region], ev[0]);
-            spring_eval_predicted(lc.xi, lc.xj, lc.u, lc.law, 0.0, fp, Kp, NULL);
-            spring_eval(lc.xi, lc.xj, lc.law, 0, f, NULL);
+            oc_spring_eval_predicted(lc.xi, lc.xj, lc.u, lc.law, 0.0, fp, Kp, NULL);
+            oc_spring_eval(lc.xi, lc.xj, lc.law, 0, f, NULL);
             CHECK(norm3((double[3]){fp[0] - f[0], fp[1] - f[1], fp[2] - f[2]}) <= 1e-12 * nf,
-                  "%s, predicted along u: force differs from spring_eval's", region_name[region]);
+                  "%s, predicted along u: force differs from oc_spring_eval's", region_name[region]);
         }
     printf("predicted-direction form, %d regions: worst rel err of f, K vs FD %.2e\n", NREGION, worst);
 }
 
-/* spring_eval_predicted's slack weight w: a slack link's K gains exactly
+/* oc_spring_eval_predicted's slack weight w: a slack link's K gains exactly
  * w k_hi u u^T (so it stays symmetric semidefinite), a taut one's nothing;
  * the energy and force are unchanged */
 static void check_slack_stiffen(const cloth_material *m)
@@ -523,8 +523,8 @@ static void check_slack_stiffen(const cloth_material *m)
         double len = taut ? 0.1 : 0.097, xj[3], K0[9], K[9], f0[3], f[3], w = 0.1;
         for (int r = 0; r < 3; r++) xj[r] = xi[r] + len * dir[r];
         int slack = -1;
-        double E0 = spring_eval_predicted(xi, xj, u0, s, 0.0, f0, K0, NULL);
-        double E = spring_eval_predicted(xi, xj, u0, s, w, f, K, &slack);
+        double E0 = oc_spring_eval_predicted(xi, xj, u0, s, 0.0, f0, K0, NULL);
+        double E = oc_spring_eval_predicted(xi, xj, u0, s, w, f, K, &slack);
         double err = fabs(E - E0);
         for (int r = 0; r < 3; r++) err = fmax(err, fabs(f[r] - f0[r]));
         for (int a = 0; a < 3; a++)

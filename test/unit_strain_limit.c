@@ -130,12 +130,12 @@ static void check_common(const cloth *c, const char *what, const double *x0, con
     }
 }
 
-/* The scratch strain_limit keeps zeroed between calls. */
+/* The scratch oc_strain_limit keeps zeroed between calls. */
 static void check_scratch(const cloth *c, const char *what)
 {
     int nz = 0;
     for (int k = 0; k < 3 * c->n; k++) nz += c->sl_vtx[k] != 0.0;
-    CHECK(nz == 0, "%s: strain_limit left %d non-zero entries in its per-vertex scratch", what, nz);
+    CHECK(nz == 0, "%s: oc_strain_limit left %d non-zero entries in its per-vertex scratch", what, nz);
 }
 
 /* A 3 x 3 cloth at rest with vertex 0 moved so that link 0-1 (the first
@@ -222,8 +222,8 @@ static void case_free_pair(double cfac)
     for (int a = 0; a < 3; a++) u[a] = (s.x[3 + a] - s.x[a]) / d;
     CHECK(count_over(s.c, s.x, 0.0) == 1, "case 1 setup: %d links over, want 1", count_over(s.c, s.x, 0.0));
     build_S(s.c, s.S);
-    int first = strain_limit(s.c, s.x, s.v, s.S, cfac, 20);
-    CHECK(first == 1, "case 1: strain_limit reports %d links over, want 1", first);
+    int first = oc_strain_limit(s.c, s.x, s.v, s.S, cfac, 20);
+    CHECK(first == 1, "case 1: oc_strain_limit reports %d links over, want 1", first);
     double d1 = dist3(s.x, s.x + 3);
     CHECK(d1 <= lmax * (1 + 1e-8) && d1 >= lmax * (1 - 1e-8), "case 1: link at %.17g, want lmax %.17g", d1, lmax);
     CHECK(count_over(s.c, s.x, 1e-8) == 0, "case 1: %d links over after", count_over(s.c, s.x, 1e-8));
@@ -251,7 +251,7 @@ static void case_free_pair(double cfac)
         double *xs = malloc(27 * sizeof(double)), *vs = malloc(27 * sizeof(double));
         memcpy(xs, s.x, 27 * sizeof(double));
         memcpy(vs, s.v, 27 * sizeof(double));
-        int again = strain_limit(s.c, s.x, s.v, s.S, cfac, 20);
+        int again = oc_strain_limit(s.c, s.x, s.v, s.S, cfac, 20);
         CHECK(again == 0 && memcmp(xs, s.x, 27 * sizeof(double)) == 0 && memcmp(vs, s.v, 27 * sizeof(double)) == 0,
               "case 1: a second projection (nothing over) returned %d or changed the state", again);
         free(xs);
@@ -263,7 +263,7 @@ static void case_free_pair(double cfac)
     if (!scene_make(&s, m0, m1, 0x5EED0601u)) return;
     build_S(s.c, s.S);
     {
-        int k = strain_limit(s.c, s.x, s.v, s.S, cfac, 0);
+        int k = oc_strain_limit(s.c, s.x, s.v, s.S, cfac, 0);
         CHECK(k == 1 && memcmp(s.x, s.x0, 27 * sizeof(double)) == 0 && memcmp(s.v, s.v0, 27 * sizeof(double)) == 0,
               "0 iterations: returned %d (want 1) or changed the state", k);
     }
@@ -279,8 +279,8 @@ static void case_pinned(double cfac)
     double lmax = limit_of(s.c) * s.l0, d = dist3(s.x, s.x + 3), u[3];
     for (int a = 0; a < 3; a++) u[a] = (s.x[3 + a] - s.x[a]) / d;
     build_S(s.c, s.S);
-    int first = strain_limit(s.c, s.x, s.v, s.S, cfac, 20);
-    CHECK(first == 1, "case 2: strain_limit reports %d links over, want 1", first);
+    int first = oc_strain_limit(s.c, s.x, s.v, s.S, cfac, 20);
+    CHECK(first == 1, "case 2: oc_strain_limit reports %d links over, want 1", first);
     CHECK(memcmp(s.x, s.x0, 3 * sizeof(double)) == 0 && memcmp(s.v, s.v0, 3 * sizeof(double)) == 0,
           "case 2: the pinned vertex moved: dx (%.3g %.3g %.3g)", s.x[0] - s.x0[0], s.x[1] - s.x0[1], s.x[2] - s.x0[2]);
     double e = 0.0;
@@ -333,8 +333,8 @@ static void case_plane_line(double cfac, int ndof)
         for (int a = 0; a < 3; a++) want[a] = x1[a] + t * k.axis[a];
     }
     build_S(s.c, s.S);
-    int first = strain_limit(s.c, s.x, s.v, s.S, cfac, 50);
-    CHECK(first == 1, "%s: strain_limit reports %d links over, want 1", what, first);
+    int first = oc_strain_limit(s.c, s.x, s.v, s.S, cfac, 50);
+    CHECK(first == 1, "%s: oc_strain_limit reports %d links over, want 1", what, first);
     CHECK(memcmp(s.x, s.x0, 3 * sizeof(double)) == 0 && memcmp(s.v, s.v0, 3 * sizeof(double)) == 0,
           "%s: the pinned vertex moved", what);
     double dx[3] = {s.x[3] - x1[0], s.x[4] - x1[1], s.x[5] - x1[2]}, ndx = norm3(dx);
@@ -444,14 +444,14 @@ static void case_random(double cfac, int mode, double stretch, double conserve, 
     double ex0 = excess2(c, x);
     CHECK(over >= 20, "%s setup: only %d links over", what, over);
     build_S(c, S);
-    int first = strain_limit(c, x, v, S, cfac, 100);
-    CHECK(first == over, "%s: strain_limit reports %d links over, counted %d", what, first, over);
-    CHECK(all_finite(x, 3 * (size_t)n) && all_finite(v, 3 * (size_t)n), "%s: non-finite result", what);
+    int first = oc_strain_limit(c, x, v, S, cfac, 100);
+    CHECK(first == over, "%s: oc_strain_limit reports %d links over, counted %d", what, first, over);
+    CHECK(oc_all_finite(x, 3 * (size_t)n) && oc_all_finite(v, 3 * (size_t)n), "%s: non-finite result", what);
     double ex1 = excess2(c, x);
     if (mode != R_INFEASIBLE) {
         int after = count_over(c, x, 1e-8);
         CHECK(after == 0, "%s: %d links still over lmax (1 + 1e-8) after 100 steps (max strain %.9f)", what, after,
-              max_strain_of(c, x));
+              oc_max_strain_of(c, x));
     } else {
         CHECK(ex1 <= ex0, "%s: the summed squared excess rose from %.6g to %.6g", what, ex0, ex1);
     }
@@ -475,7 +475,7 @@ static void case_random(double cfac, int mode, double stretch, double conserve, 
     check_common(c, what, x0, x, v0, v, cfac, mode == R_FREE ? conserve : 0.0);
     check_scratch(c, what);
     printf("%-44s %d links over before, max strain after %.10f, sum excess^2 %.3g -> %.3g\n", what, over,
-           max_strain_of(c, x), ex0, ex1);
+           oc_max_strain_of(c, x), ex0, ex1);
     free(x);
     free(v);
     free(x0);

@@ -1,6 +1,6 @@
 /* Unit: the elongation-limit projection (strain_limit.c) with a rigid body
  * solved with the cloth holding two vertices in full, called directly
- * through internal.h as in unit_strain_limit.c (bodies_prepare as the step
+ * through internal.h as in unit_strain_limit.c (oc_bodies_prepare as the step
  * calls it).
  *
  * A 3 x 3 cloth (1 m, l0 0.5 m, delta 0.03) lies flat at the step's start;
@@ -61,7 +61,7 @@ int main(void)
         if (i >= 2) Si[0] = Si[4] = Si[8] = 1.0;
     }
     mpcg_bodies B;
-    CHECK(bodies_prepare(c, h, cfac, &B) != NULL, "bodies_prepare: no held vertex");
+    CHECK(oc_bodies_prepare(c, h, cfac, &B) != NULL, "oc_bodies_prepare: no held vertex");
     /* the step's end: vertex 1 at 1.05 l0 from vertex 0, 30 degrees up;
      * the centre 0.2 m up */
     double x[27], v[27], x0[27], v0[27], row[3], up[3] = {0, 0, 1};
@@ -73,7 +73,7 @@ int main(void)
     memcpy(x0, x, sizeof x);
     memcpy(v0, v, sizeof v);
     double pair0 = dist3(x, x + 3);
-    int over = strain_limit(c, x, v, c->S, cfac, 100);
+    int over = oc_strain_limit(c, x, v, c->S, cfac, 100);
     double pair1 = dist3(x, x + 3), du[6];
     cloth_body_velocity_change(c, 0, du);
     /* the body turned by theta = |dw| cfac; its held points move by the

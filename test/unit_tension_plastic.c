@@ -57,7 +57,7 @@ static void check_rule(void)
             double set = 0.0, dmax = 0.0;
             for (int k = 0; k < 400; k++) {
                 double d = l0 * rng_range(&g, 0.8, 1.2);
-                set = tension_set_rule(&m, l0, d, set);
+                set = oc_tension_set_rule(&m, l0, d, set);
                 dmax = fmax(dmax, d);
                 double lp = seq_law(&m, l0, set).rest, want = closed_rest(&m, l0, dmax);
                 int ulp = (int)ceil(fabs(lp - want) / (l0 * 0x1p-52));
@@ -75,9 +75,10 @@ static void check_rule(void)
     CHECK(past > 1000, "only %d of the walks' lengths carried a set: the walks do not test the rule", past);
     /* off: either field 0 */
     cloth_material off1 = tensile(0.0, 0.5), off2 = tensile(0.02, 0.0);
-    CHECK(tension_set_rule(&off1, l0, 1.09 * l0, 0.0) == 0.0 && tension_set_rule(&off2, l0, 1.09 * l0, 0.0) == 0.0,
+    CHECK(oc_tension_set_rule(&off1, l0, 1.09 * l0, 0.0) == 0.0 &&
+              oc_tension_set_rule(&off2, l0, 1.09 * l0, 0.0) == 0.0,
           "a rule that is off set a link");
-    CHECK(!tension_plastic_on(&off1) && !tension_plastic_on(&off2), "tension_plastic_on with a zero field");
+    CHECK(!oc_tension_plastic_on(&off1) && !oc_tension_plastic_on(&off2), "oc_tension_plastic_on with a zero field");
     /* a set beyond the limit (delta lowered after it formed) is held at the limit */
     cloth_material lowered = tensile(0.01, 0.5);
     lowered.delta = 0.02;

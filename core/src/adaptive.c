@@ -57,27 +57,27 @@ static int finite_pos(double x) { return isfinite(x) && x > 0.0; }
 cloth_status cloth_adaptive_create(const cloth *c, const cloth_adaptive_desc *d, cloth_adaptive **out, cloth_error *err)
 {
     if (out) *out = NULL;
-    if (!out) return error_set(err, CLOTH_EINVAL, "cloth_adaptive_create: out is NULL");
-    if (!c) return error_set(err, CLOTH_EINVAL, "cloth_adaptive_create: cloth is NULL");
-    if (!d) return error_set(err, CLOTH_EINVAL, "cloth_adaptive_create: descriptor is NULL");
+    if (!out) return oc_error_set(err, CLOTH_EINVAL, "cloth_adaptive_create: out is NULL");
+    if (!c) return oc_error_set(err, CLOTH_EINVAL, "cloth_adaptive_create: cloth is NULL");
+    if (!d) return oc_error_set(err, CLOTH_EINVAL, "cloth_adaptive_create: descriptor is NULL");
     if (!finite_pos(d->tolerance))
-        return error_set(err, CLOTH_EINVAL, "adaptive tolerance = %g m/s must be finite and > 0", d->tolerance);
+        return oc_error_set(err, CLOTH_EINVAL, "adaptive tolerance = %g m/s must be finite and > 0", d->tolerance);
     if (d->min_substeps < 1 || d->max_substeps < d->min_substeps)
-        return error_set(err, CLOTH_EINVAL, "adaptive substeps %d..%d: need 1 <= min_substeps <= max_substeps",
-                         d->min_substeps, d->max_substeps);
+        return oc_error_set(err, CLOTH_EINVAL, "adaptive substeps %d..%d: need 1 <= min_substeps <= max_substeps",
+                            d->min_substeps, d->max_substeps);
     if (!finite_pos(d->cg_tolerance_min) || !(d->cg_tolerance_max < 1.0) ||
         !(d->cg_tolerance_min <= d->cg_tolerance_max))
-        return error_set(err, CLOTH_EINVAL, "adaptive CG tolerance range %g..%g: need 0 < min <= max < 1",
-                         d->cg_tolerance_min, d->cg_tolerance_max);
+        return oc_error_set(err, CLOTH_EINVAL, "adaptive CG tolerance range %g..%g: need 0 < min <= max < 1",
+                            d->cg_tolerance_min, d->cg_tolerance_max);
     if (!finite_pos(d->velocity_weight))
-        return error_set(err, CLOTH_EINVAL, "adaptive velocity_weight = %g s must be finite and > 0",
-                         d->velocity_weight);
+        return oc_error_set(err, CLOTH_EINVAL, "adaptive velocity_weight = %g s must be finite and > 0",
+                            d->velocity_weight);
     if (d->global_estimate != 0 && d->global_estimate != 1)
-        return error_set(err, CLOTH_EINVAL, "adaptive global_estimate = %d must be 0 or 1", d->global_estimate);
+        return oc_error_set(err, CLOTH_EINVAL, "adaptive global_estimate = %d must be 0 or 1", d->global_estimate);
     if (d->allow_explicit != 0 && d->allow_explicit != 1)
-        return error_set(err, CLOTH_EINVAL, "adaptive allow_explicit = %d must be 0 or 1", d->allow_explicit);
+        return oc_error_set(err, CLOTH_EINVAL, "adaptive allow_explicit = %d must be 0 or 1", d->allow_explicit);
     cloth_adaptive *a = calloc(1, sizeof *a);
-    if (!a) return error_set(err, CLOTH_ENOMEM, "cloth_adaptive_create: out of memory");
+    if (!a) return oc_error_set(err, CLOTH_ENOMEM, "cloth_adaptive_create: out of memory");
     a->owner = c;
     a->n = cloth_vertex_count(c);
     a->d = *d;
@@ -99,7 +99,7 @@ cloth_status cloth_adaptive_create(const cloth *c, const cloth_adaptive_desc *d,
     if (!ok) {
         int nv = a->n;
         cloth_adaptive_destroy(a);
-        return error_set(err, CLOTH_ENOMEM, "cloth_adaptive_create: out of memory (%d vertices)", nv);
+        return oc_error_set(err, CLOTH_ENOMEM, "cloth_adaptive_create: out of memory (%d vertices)", nv);
     }
     a->acc = a->v0 + n3;
     a->acc_prev = a->acc + n3;
@@ -266,9 +266,9 @@ static double power_max(cloth_adaptive *a, const cloth *c, int which, double *u,
 {
     size_t n3 = 3 * (size_t)a->n;
     const double *x = cloth_positions(c), *v = cloth_velocities(c);
-    int air = which && air_on(c);
-    forces_eval(c, x, v, 0, a->pf0);
-    if (air) air_eval(c, x, NULL, 0.0, v, 1.0, a->pf0, NULL, 0.0);
+    int air = which && oc_air_on(c);
+    oc_forces_eval(c, x, v, 0, a->pf0);
+    if (air) oc_air_eval(c, x, NULL, 0.0, v, 1.0, a->pf0, NULL, 0.0);
     double lam = 0.0;
     for (int it = 0; it < iters; it++) {
         filter(c, u);
@@ -280,8 +280,8 @@ static double power_max(cloth_adaptive *a, const cloth *c, int which, double *u,
             u[k] *= sc;
             a->px[k] = (which ? v[k] : x[k]) + eps * u[k];
         }
-        forces_eval(c, which ? x : a->px, which ? a->px : v, 0, a->pf1);
-        if (air) air_eval(c, x, NULL, 0.0, a->px, 1.0, a->pf1, NULL, 0.0);
+        oc_forces_eval(c, which ? x : a->px, which ? a->px : v, 0, a->pf1);
+        if (air) oc_air_eval(c, x, NULL, 0.0, a->px, 1.0, a->pf1, NULL, 0.0);
         double num = 0.0, den = 0.0;
         for (size_t k = 0; k < n3; k++) {
             double m = c->mass[k / 3];
@@ -485,11 +485,11 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
     if (stats) *stats = st;
     if (!a || !c) return CLOTH_EINVAL;
     if (c != a->owner || cloth_vertex_count(c) != a->n)
-        return cloth_fail(c, CLOTH_EINVAL, "cloth_adaptive_frame: the controller was made for another cloth");
+        return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_adaptive_frame: the controller was made for another cloth");
     if (!finite_pos(frame_dt)) {
         st.failure = CLOTH_FAIL_BAD_STEP;
         if (stats) *stats = st;
-        return cloth_fail(c, CLOTH_EINVAL, "cloth_adaptive_frame: frame_dt = %g must be finite and > 0", frame_dt);
+        return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_adaptive_frame: frame_dt = %g must be finite and > 0", frame_dt);
     }
     const cloth_solver user = cloth_get_desc(c).solver;
     size_t n3 = 3 * (size_t)a->n;
@@ -587,9 +587,9 @@ cloth_status cloth_adaptive_frame(cloth_adaptive *a, cloth *c, double frame_dt, 
             st.failure = t.failure;
             if (stats) *stats = st;
             if (t.callback_failed)
-                return cloth_fail(c, CLOTH_ESTEP, "cloth_adaptive_frame: before_substep failed (state unchanged)");
-            return cloth_fail(c, CLOTH_ESTEP, "cloth_adaptive_frame: %s at %d substeps (state unchanged)",
-                              cloth_failure_string(t.failure), n);
+                return oc_cloth_fail(c, CLOTH_ESTEP, "cloth_adaptive_frame: before_substep failed (state unchanged)");
+            return oc_cloth_fail(c, CLOTH_ESTEP, "cloth_adaptive_frame: %s at %d substeps (state unchanged)",
+                                 cloth_failure_string(t.failure), n);
         }
         if (method == CLOTH_SYMPLECTIC_EULER && (!ok || shadow_failed)) {
             method = explicit_failed(a, frame_dt, &n);

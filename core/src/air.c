@@ -23,9 +23,9 @@ static void tri_vertices(const cloth *c, int t, int p[3])
 /* a triangle's vertex pairs; air_blk holds blocks (i, j), (j, i) of each */
 static const int pair[3][2] = {{0, 1}, {0, 2}, {1, 2}};
 
-int air_on(const cloth *c) { return c->air.drag_normal > 0.0 || c->air.drag_tangent > 0.0; }
+int oc_air_on(const cloth *c) { return c->air.drag_normal > 0.0 || c->air.drag_tangent > 0.0; }
 
-int air_blocks(cloth *c)
+int oc_air_blocks(cloth *c)
 {
     int nt = tri_count(c);
     c->air_blk = malloc(6 * (size_t)nt * sizeof *c->air_blk);
@@ -35,8 +35,8 @@ int air_blocks(cloth *c)
         tri_vertices(c, t, p);
         for (int k = 0; k < 3; k++) {
             int i = p[pair[k][0]], j = p[pair[k][1]];
-            b[2 * k] = bsr_find(&c->A, i, j);
-            b[2 * k + 1] = bsr_find(&c->A, j, i);
+            b[2 * k] = oc_bsr_find(&c->A, i, j);
+            b[2 * k + 1] = oc_bsr_find(&c->A, j, i);
             if (b[2 * k] < 0 || b[2 * k + 1] < 0) return -1; /* every triangle edge is a link */
         }
     }
@@ -94,8 +94,8 @@ static double tri_drag(const cloth *c, const double *xf, const double *vf, doubl
     return area;
 }
 
-double air_eval(const cloth *c, const double *xf, const double *vf, double hf, const double *v, double s, double *f,
-                bsr *A, double t)
+double oc_air_eval(const cloth *c, const double *xf, const double *vf, double hf, const double *v, double s, double *f,
+                   bsr *A, double t)
 {
     double P = 0.0;
     int nt = tri_count(c);
@@ -113,7 +113,7 @@ double air_eval(const cloth *c, const double *xf, const double *vf, double hf, c
     return P;
 }
 
-void air_step_force(const cloth *c, double h, double out[3], double tq[3])
+void oc_air_step_force(const cloth *c, double h, double out[3], double tq[3])
 {
     const cloth_solver *sv = &c->desc.solver;
     const double *x0 = c->st.x, *v0 = c->st.v;
@@ -124,7 +124,7 @@ void air_step_force(const cloth *c, double h, double out[3], double tq[3])
     const double *v = implicit ? c->v_new : v0;
     out[0] = out[1] = out[2] = 0.0;
     tq[0] = tq[1] = tq[2] = 0.0;
-    if (!air_on(c)) return;
+    if (!oc_air_on(c)) return;
     for (int k = 0, nt = tri_count(c); k < nt; k++) {
         int p[3];
         double n[3], r[3], Dr[3];
@@ -144,7 +144,7 @@ void air_step_force(const cloth *c, double h, double out[3], double tq[3])
 cloth_status cloth_air_force(const cloth *c, double f[3])
 {
     if (!c) return CLOTH_EINVAL;
-    if (!f) return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_air_force: f is NULL");
+    if (!f) return oc_cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_air_force: f is NULL");
     memcpy(f, c->air_force, sizeof c->air_force);
     return CLOTH_OK;
 }
@@ -152,7 +152,7 @@ cloth_status cloth_air_force(const cloth *c, double f[3])
 cloth_status cloth_air_torque(const cloth *c, double t[3])
 {
     if (!c) return CLOTH_EINVAL;
-    if (!t) return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_air_torque: t is NULL");
+    if (!t) return oc_cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_air_torque: t is NULL");
     memcpy(t, c->air_torque, sizeof c->air_torque);
     return CLOTH_OK;
 }
@@ -160,18 +160,18 @@ cloth_status cloth_air_torque(const cloth *c, double t[3])
 cloth_status cloth_set_air(cloth *c, const cloth_air *air)
 {
     if (!c) return CLOTH_EINVAL;
-    if (!air) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_air: air is NULL");
+    if (!air) return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_air: air is NULL");
     if (!finite3(air->wind))
-        return cloth_fail(c, CLOTH_EINVAL, "cloth_set_air: wind (%g, %g, %g) m/s must be finite", air->wind[0],
-                          air->wind[1], air->wind[2]);
+        return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_air: wind (%g, %g, %g) m/s must be finite", air->wind[0],
+                             air->wind[1], air->wind[2]);
     const struct {
         const char *name;
         double v;
     } drag[] = {{"drag_normal", air->drag_normal}, {"drag_tangent", air->drag_tangent}};
     for (int k = 0; k < 2; k++)
         if (!(drag[k].v >= 0.0) || !isfinite(drag[k].v))
-            return cloth_fail(c, CLOTH_EINVAL, "cloth_set_air: %s %g N s/m^3 must be finite and >= 0", drag[k].name,
-                              drag[k].v);
+            return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_air: %s %g N s/m^3 must be finite and >= 0", drag[k].name,
+                                 drag[k].v);
     c->air = *air;
     return CLOTH_OK;
 }

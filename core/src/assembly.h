@@ -10,8 +10,8 @@
 /* A's blocks that the assembly adds into set to zero */
 static inline void assemble_zero(cloth *c)
 {
-    if (c->links_own_blocks) bsr_zero_diag(&c->A);
-    else bsr_zero(&c->A);
+    if (c->links_own_blocks) oc_bsr_zero_diag(&c->A);
+    else oc_bsr_zero(&c->A);
 }
 
 /* link (i, j) with blocks bl[0] = (i, j), bl[1] = (j, i): +blk on both

@@ -72,19 +72,19 @@ static int body_valid(const cloth_body *b, char *why, size_t len, int k)
 cloth_status cloth_set_bodies(cloth *c, const cloth_body *bodies, int count)
 {
     if (!c) return CLOTH_EINVAL;
-    if (count < 0) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_bodies: count %d must be >= 0", count);
-    if (count > 0 && !bodies) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_bodies: bodies is NULL");
-    if (count > (1 << 20)) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_bodies: count %d is too large", count);
+    if (count < 0) return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_bodies: count %d must be >= 0", count);
+    if (count > 0 && !bodies) return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_bodies: bodies is NULL");
+    if (count > (1 << 20)) return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_bodies: count %d is too large", count);
     char why[160];
     for (int k = 0; k < count; k++)
         if (!body_valid(&bodies[k], why, sizeof why, k))
-            return cloth_fail(c, CLOTH_EINVAL, "cloth_set_bodies: %s", why);
+            return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_bodies: %s", why);
     if (c->vbody)
         for (int i = 0; i < c->n; i++)
             if (c->vbody[i] >= count)
-                return cloth_fail(c, CLOTH_EINVAL,
-                                  "cloth_set_bodies: vertex %d is held by body %d of %d; release it first", i,
-                                  c->vbody[i], count);
+                return oc_cloth_fail(c, CLOTH_EINVAL,
+                                     "cloth_set_bodies: vertex %d is held by body %d of %d; release it first", i,
+                                     c->vbody[i], count);
     if (count > c->nbody || !c->vbody) {
         cloth_body *nb = malloc((size_t)(count > 0 ? count : 1) * sizeof *nb);
         double *ws = calloc((size_t)(count > 0 ? count : 1) * WS_PER_BODY, sizeof *ws);
@@ -95,7 +95,7 @@ cloth_status cloth_set_bodies(cloth *c, const cloth_body *bodies, int count)
             free(ws);
             if (vb != c->vbody) free(vb);
             if (dev != c->body_dev) free(dev);
-            return cloth_fail(c, CLOTH_ENOMEM, "cloth_set_bodies: out of memory for %d bodies", count);
+            return oc_cloth_fail(c, CLOTH_ENOMEM, "cloth_set_bodies: out of memory for %d bodies", count);
         }
         c->body_dev = dev;
         if (vb != c->vbody)
@@ -119,13 +119,13 @@ cloth_status cloth_hold_by_body(cloth *c, int vertex, int index)
 {
     if (!c) return CLOTH_EINVAL;
     if (vertex < 0 || vertex >= c->n)
-        return cloth_fail(c, CLOTH_EINVAL, "cloth_hold_by_body: vertex %d out of range [0, %d)", vertex, c->n);
+        return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_hold_by_body: vertex %d out of range [0, %d)", vertex, c->n);
     if (index < -1 || index >= c->nbody)
-        return cloth_fail(c, CLOTH_EINVAL, "cloth_hold_by_body: body %d must be -1 (none) or in [0, %d)", index,
-                          c->nbody);
+        return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_hold_by_body: body %d must be -1 (none) or in [0, %d)", index,
+                             c->nbody);
     if (index >= 0 && !c->con[vertex].ndof && c->cand_on[vertex] != 1)
-        return cloth_fail(c, CLOTH_EINVAL, "cloth_hold_by_body: vertex %d has no constraint or contact to hold",
-                          vertex);
+        return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_hold_by_body: vertex %d has no constraint or contact to hold",
+                             vertex);
     if (c->vbody) c->vbody[vertex] = index;
     return CLOTH_OK;
 }
@@ -134,8 +134,8 @@ cloth_status cloth_body_velocity_change(const cloth *c, int index, double dv[6])
 {
     if (!c || !dv) return CLOTH_EINVAL;
     if (index < 0 || index >= c->nbody)
-        return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_body_velocity_change: body %d out of range [0, %d)", index,
-                          c->nbody);
+        return oc_cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_body_velocity_change: body %d out of range [0, %d)",
+                             index, c->nbody);
     memcpy(dv, c->body_ws + 2 * 36 * (size_t)c->nbody + 6 * ((size_t)c->nbody + index), 6 * sizeof *dv);
     return CLOTH_OK;
 }
@@ -146,7 +146,7 @@ static void bodies_reduce(const void *ctx, const mpcg_problem *P, const double *
 static int bodies_precond(const void *ctx, const mpcg_problem *P);
 static void bodies_apply_ginv(const void *ctx, const double *r, double *out);
 
-const mpcg_extra *bodies_prepare(cloth *c, double h, double cfac, mpcg_bodies *B)
+const mpcg_extra *oc_bodies_prepare(cloth *c, double h, double cfac, mpcg_bodies *B)
 {
     c->body_held = 0;
     if (c->nbody == 0) return NULL;
@@ -193,7 +193,7 @@ const mpcg_extra *bodies_prepare(cloth *c, double h, double cfac, mpcg_bodies *B
     }
     /* for the elongation limit (levers from the step's start; its
      * projection sets them again from the positions it works on) */
-    body_limit_begin(c);
+    oc_body_limit_begin(c);
     memset(com + 3 * nb + 36 * nb, 0, 12 * nb * sizeof *com);
     return &B->ex;
 }
@@ -216,11 +216,11 @@ static void lever_of(const cloth *c, int i, double r[3])
     for (int a = 0; a < 3; a++) r[a] = x[3 * i + a] - com[a];
 }
 
-int body_holds(const cloth *c, int i) { return c->body_held && c->vbody[i] >= 0 && c->con[i].ndof; }
+int oc_body_holds(const cloth *c, int i) { return c->body_held && c->vbody[i] >= 0 && c->con[i].ndof; }
 
 /* The inverse of each body's mass with its held vertices' (which move with
  * it), M + sum m_i J_i^T P_i J_i, at the levers lever_of gives. */
-void body_limit_begin(cloth *c)
+void oc_body_limit_begin(cloth *c)
 {
     size_t nb = (size_t)c->nbody;
     double *minv = bw(c, 1);
@@ -262,7 +262,7 @@ static void jtp(const cloth *c, const double *S, int i, const double f[3], doubl
     o[5] = r[0] * pf[1] - r[1] * pf[0];
 }
 
-double body_wnorm(const cloth *c, const double *S, int i, const double u[3])
+double oc_body_wnorm(const cloth *c, const double *S, int i, const double u[3])
 {
     double j[6], w = 0.0;
     jtp(c, S, i, u, j);
@@ -272,14 +272,14 @@ double body_wnorm(const cloth *c, const double *S, int i, const double u[3])
     return w;
 }
 
-void body_push(cloth *c, const double *S, int i, const double u[3], double s)
+void oc_body_push(cloth *c, const double *S, int i, const double u[3], double s)
 {
     double j[6], *F = bw(c, 2) + 6 * c->vbody[i];
     jtp(c, S, i, u, j);
     for (int a = 0; a < 6; a++) F[a] += s * j[a];
 }
 
-void body_solve(cloth *c)
+void oc_body_solve(cloth *c)
 {
     double *F = bw(c, 2), *D = bw(c, 3);
     const double *Mi = bw(c, 1);
@@ -301,7 +301,7 @@ static void rigid_vel(const double *U, const double r[3], double v[3])
     v[2] = U[2] + U[3] * r[1] - U[4] * r[0];
 }
 
-void body_move(const cloth *c, const double *S, int i, double s, double *q)
+void oc_body_move(const cloth *c, const double *S, int i, double s, double *q)
 {
     const double *D = bw(c, 3) + 6 * c->vbody[i];
     double r[3], v[3], pv[3];
@@ -311,7 +311,7 @@ void body_move(const cloth *c, const double *S, int i, double s, double *q)
     for (int a = 0; a < 3; a++) q[3 * i + a] += s * pv[a];
 }
 
-void body_kept(cloth *c, double s)
+void oc_body_kept(cloth *c, double s)
 {
     size_t nb = (size_t)c->nbody;
     double *u = c->body_ws + 72 * nb + 6 * nb;
@@ -457,7 +457,7 @@ static void bodies_apply_ginv(const void *ctx, const double *r, double *out)
  * substeps' sum of du so far (U), which moves vertex i by D_i. */
 static double *body_U(const cloth *c) { return bw(c, 0) + 51 * (size_t)c->nbody; }
 
-void bodies_retry_reset(cloth *c)
+void oc_bodies_retry_reset(cloth *c)
 {
     if (!c->nbody || !c->body_dev) return;
     memset(body_U(c), 0, 6 * (size_t)c->nbody * sizeof(double));
@@ -471,7 +471,7 @@ static void body_point_vel(const cloth *c, int i, const double *U, double v[3])
     rigid_vel(U, r, v);
 }
 
-void bodies_retry_target(const cloth *c, int i, double hs, double tg[3])
+void oc_bodies_retry_target(const cloth *c, int i, double hs, double tg[3])
 {
     if (!c->nbody || !c->body_dev || c->vbody[i] < 0) return;
     double v[3];
@@ -479,7 +479,7 @@ void bodies_retry_target(const cloth *c, int i, double hs, double tg[3])
     for (int a = 0; a < 3; a++) tg[a] += c->body_dev[3 * i + a] + hs * v[a];
 }
 
-void bodies_retry_commit(cloth *c, double hs)
+void oc_bodies_retry_commit(cloth *c, double hs)
 {
     if (!c->nbody || !c->body_dev || !c->body_held) return;
     size_t nb = (size_t)c->nbody;
@@ -494,7 +494,7 @@ void bodies_retry_commit(cloth *c, double hs)
     }
 }
 
-void bodies_retry_finish(cloth *c)
+void oc_bodies_retry_finish(cloth *c)
 {
     if (!c->nbody || !c->body_dev) return;
     size_t nb = (size_t)c->nbody;
@@ -504,7 +504,7 @@ void bodies_retry_finish(cloth *c)
 /* ------------------------------------------------- Newton iterations */
 
 /* A Newton iteration solves the bodies' rows on their residual, M ddu = rhs - M du1 - sum J^T P
- * (A ddv - b); bodies_newton_take then sets du = du1 + t ddu. */
+ * (A ddv - b); oc_bodies_newton_take then sets du = du1 + t ddu. */
 static double *body_u1(const cloth *c) { return bw(c, 0) + 57 * (size_t)c->nbody; }
 
 /* rhs_g += s M_g v_g for every body */
@@ -521,7 +521,7 @@ static void add_mass_times(cloth *c, const double *v, double s)
         }
 }
 
-void bodies_newton_begin(cloth *c)
+void oc_bodies_newton_begin(cloth *c)
 {
     size_t nb = (size_t)c->nbody;
     double *u = c->body_ws + 78 * nb, *u1 = body_u1(c);
@@ -548,7 +548,7 @@ static double body_quad(const double *M, const double *rhs, const double *u1, co
     return E;
 }
 
-double bodies_newton_energy(const cloth *c, double t)
+double oc_bodies_newton_energy(const cloth *c, double t)
 {
     size_t nb = (size_t)c->nbody;
     const double *M = c->body_ws, *rhs = c->body_ws + 72 * nb, *du = c->body_ws + 78 * nb, *u1 = body_u1(c);
@@ -557,7 +557,7 @@ double bodies_newton_energy(const cloth *c, double t)
     return E;
 }
 
-double bodies_energy(const cloth *c)
+double oc_bodies_energy(const cloth *c)
 {
     size_t nb = (size_t)c->nbody;
     const double *M = c->body_ws, *rhs = c->body_ws + 72 * nb, *u = c->body_ws + 78 * nb;
@@ -567,7 +567,7 @@ double bodies_energy(const cloth *c)
     return E;
 }
 
-double bodies_newton_slope(const cloth *c)
+double oc_bodies_newton_slope(const cloth *c)
 {
     size_t nb = (size_t)c->nbody;
     const double *rhs = c->body_ws + 72 * nb, *du = c->body_ws + 78 * nb;
@@ -576,7 +576,7 @@ double bodies_newton_slope(const cloth *c)
     return s;
 }
 
-void bodies_newton_take(cloth *c, double t)
+void oc_bodies_newton_take(cloth *c, double t)
 {
     size_t nb = (size_t)c->nbody;
     double *u = c->body_ws + 78 * nb, *u1 = body_u1(c);
@@ -591,7 +591,7 @@ static void body_residual(const mpcg_bodies *B, int g, double r[6])
     for (int a = 0; a < 6; a++) r[a] = B->ex.r[6 * g + a] + B->ex.rhs[6 * g + a];
 }
 
-double bodies_residual_work(const cloth *c, const mpcg_problem *P, const double *b)
+double oc_bodies_residual_work(const cloth *c, const mpcg_problem *P, const double *b)
 {
     const mpcg_bodies *B = P->extra->ctx;
     bodies_reduce(B, P, b, B->ex.y, -1.0, B->ex.r);
@@ -604,7 +604,7 @@ double bodies_residual_work(const cloth *c, const mpcg_problem *P, const double 
     return w;
 }
 
-double bodies_residual_energy(const mpcg_problem *P, const double *b)
+double oc_bodies_residual_energy(const mpcg_problem *P, const double *b)
 {
     const mpcg_bodies *B = P->extra->ctx;
     bodies_reduce(B, P, b, B->ex.y, -1.0, B->ex.r);
@@ -619,7 +619,7 @@ double bodies_residual_energy(const mpcg_problem *P, const double *b)
     return s;
 }
 
-void bodies_held_motion(const cloth *c, int i, double out[3])
+void oc_bodies_held_motion(const cloth *c, int i, double out[3])
 {
     out[0] = out[1] = out[2] = 0.0;
     if (!c->body_held || !c->vbody || c->vbody[i] < 0) return;
@@ -629,7 +629,7 @@ void bodies_held_motion(const cloth *c, int i, double out[3])
     rigid_vel(U, r, out);
 }
 
-double bodies_step_energy(const cloth *c)
+double oc_bodies_step_energy(const cloth *c)
 {
     size_t nb = (size_t)c->nbody;
     const double *M = c->body_ws, *du = c->body_ws + 78 * nb;
@@ -643,13 +643,13 @@ double bodies_step_energy(const cloth *c)
  * limit's later corrections do not converge within the budget. */
 static double *body_saved(const cloth *c) { return bw(c, 0) + 63 * (size_t)c->nbody; }
 
-void bodies_newton_save(cloth *c)
+void oc_bodies_newton_save(cloth *c)
 {
     size_t nb = (size_t)c->nbody;
     memcpy(body_saved(c), c->body_ws + 78 * nb, 6 * nb * sizeof(double));
 }
 
-void bodies_newton_restore(cloth *c)
+void oc_bodies_newton_restore(cloth *c)
 {
     size_t nb = (size_t)c->nbody;
     memcpy(c->body_ws + 78 * nb, body_saved(c), 6 * nb * sizeof(double));

@@ -4,7 +4,7 @@
 #include "bsr.h"
 #include "mat3.h"
 
-void bsr_free(bsr *A)
+void oc_bsr_free(bsr *A)
 {
     free(A->row_ptr);
     free(A->col);
@@ -22,14 +22,14 @@ static int cmp_int(const void *a, const void *b)
 
 /* Index of block (i, j), or -1. Rows are short (<= 17 blocks for a cloth),
  * so a linear scan is as fast as a bisection. */
-int bsr_find(const bsr *A, int i, int j)
+int oc_bsr_find(const bsr *A, int i, int j)
 {
     for (int k = A->row_ptr[i]; k < A->row_ptr[i + 1]; k++)
         if (A->col[k] == j) return k;
     return -1;
 }
 
-int bsr_build(bsr *A, int n, int nedges, const int *ei, const int *ej, int *blk)
+int oc_bsr_build(bsr *A, int n, int nedges, const int *ei, const int *ej, int *blk)
 {
     memset(A, 0, sizeof *A);
     if (n <= 0 || nedges < 0) return -1;
@@ -75,10 +75,10 @@ int bsr_build(bsr *A, int n, int nedges, const int *ei, const int *ej, int *blk)
     A->val = calloc(9 * (size_t)out + 1, sizeof *A->val); /* + the AVX rows' padding double (mat3.h) */
     A->sym = calloc(2 * (size_t)n, 1);
     if (!A->val || !A->sym) goto fail;
-    for (int i = 0; i < n; i++) A->diag[i] = bsr_find(A, i, i);
+    for (int i = 0; i < n; i++) A->diag[i] = oc_bsr_find(A, i, i);
     for (int e = 0; e < nedges; e++) {
-        blk[2 * e] = bsr_find(A, ei[e], ej[e]);
-        blk[2 * e + 1] = bsr_find(A, ej[e], ei[e]);
+        blk[2 * e] = oc_bsr_find(A, ei[e], ej[e]);
+        blk[2 * e + 1] = oc_bsr_find(A, ej[e], ei[e]);
     }
     free(count);
     free(fill);
@@ -86,18 +86,18 @@ int bsr_build(bsr *A, int n, int nedges, const int *ei, const int *ej, int *blk)
 fail:
     free(count);
     free(fill);
-    bsr_free(A);
+    oc_bsr_free(A);
     return -1;
 }
 
-void bsr_zero(bsr *A) { memset(A->val, 0, 9 * (size_t)A->nnzb * sizeof *A->val); }
+void oc_bsr_zero(bsr *A) { memset(A->val, 0, 9 * (size_t)A->nnzb * sizeof *A->val); }
 
-void bsr_zero_diag(bsr *A)
+void oc_bsr_zero_diag(bsr *A)
 {
     for (int i = 0; i < A->n; i++) memset(A->val + 9 * (size_t)A->diag[i], 0, 9 * sizeof *A->val);
 }
 
-int bsr_edges_own_offdiag(const bsr *A, int nedges, const int *blk)
+int oc_bsr_edges_own_offdiag(const bsr *A, int nedges, const int *blk)
 {
     unsigned char *hits = calloc((size_t)A->nnzb + 1, 1);
     if (!hits) return 0;
@@ -110,7 +110,7 @@ int bsr_edges_own_offdiag(const bsr *A, int nedges, const int *blk)
     return own;
 }
 
-void bsr_mul(const bsr *A, const double *x, double *y)
+void oc_bsr_mul(const bsr *A, const double *x, double *y)
 {
     for (int i = 0; i < A->n; i++) {
         double y0 = 0.0, y1 = 0.0, y2 = 0.0;
@@ -127,7 +127,7 @@ void bsr_mul(const bsr *A, const double *x, double *y)
     }
 }
 
-int bsr_check_sym(const bsr *A, const double *val, unsigned char *flag)
+int oc_bsr_check_sym(const bsr *A, const double *val, unsigned char *flag)
 {
     int count = 0;
     for (int i = 0; i < A->n; i++) {
@@ -139,10 +139,10 @@ int bsr_check_sym(const bsr *A, const double *val, unsigned char *flag)
     return count;
 }
 
-void bsr_mul_sym(const bsr *A, const double *x, double *y)
+void oc_bsr_mul_sym(const bsr *A, const double *x, double *y)
 {
     if (!A->sym) {
-        bsr_mul(A, x, y);
+        oc_bsr_mul(A, x, y);
         return;
     }
     for (int i = 0; i < A->n; i++) {
@@ -155,7 +155,7 @@ void bsr_mul_sym(const bsr *A, const double *x, double *y)
     }
 }
 
-void bsr_mul_rows(const bsr *A, const double *x, const int *rows, int m, double *y)
+void oc_bsr_mul_rows(const bsr *A, const double *x, const int *rows, int m, double *y)
 {
     for (int a = 0; a < m; a++) {
         int i = rows[a];
@@ -167,10 +167,10 @@ void bsr_mul_rows(const bsr *A, const double *x, const int *rows, int m, double 
     }
 }
 
-void bsr_mul_cols(const bsr *A, const double *x, const int *cols, int m, double *y)
+void oc_bsr_mul_cols(const bsr *A, const double *x, const int *cols, int m, double *y)
 {
     if (!cols) {
-        bsr_mul(A, x, y);
+        oc_bsr_mul(A, x, y);
         return;
     }
     memset(y, 0, 3 * (size_t)A->n * sizeof *y);
@@ -187,7 +187,7 @@ void bsr_mul_cols(const bsr *A, const double *x, const int *cols, int m, double 
     }
 }
 
-void bsr_to_dense(const bsr *A, double *dense)
+void oc_bsr_to_dense(const bsr *A, double *dense)
 {
     size_t N = 3 * (size_t)A->n;
     memset(dense, 0, N * N * sizeof *dense);

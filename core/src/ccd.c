@@ -63,7 +63,7 @@ static int turning_points(double a, double b, double c, double *r)
     return m;
 }
 
-int ccd_cubic_roots(const double *c, double ftol, double *t)
+int oc_ccd_cubic_roots(const double *c, double ftol, double *t)
 {
     if (fabs(c[0]) <= ftol && fabs(c[1]) <= ftol && fabs(c[2]) <= ftol && fabs(c[3]) <= ftol) return -1;
     /* Bernstein coefficients on [0, 1] all of one sign: no root (the curve
@@ -220,7 +220,7 @@ static void pair_geometry(int kind, const double *x, double *w, double *g)
     if (!(vec3_norm(g) > 1e-12 * vec3_norm(e1) * vec3_norm(e2))) g[0] = g[1] = g[2] = 0.0;
 }
 
-void ccd_pair_weights(int edge_edge, const double *x, double *w)
+void oc_ccd_pair_weights(int edge_edge, const double *x, double *w)
 {
     double g[3];
     pair_geometry(edge_edge ? CCD_EE : CCD_PT, x, w, g);
@@ -268,7 +268,7 @@ static int first_hit(int kind, const double *x0, const double *x1, double eta, c
 {
     double c[4], L, t[3];
     coplanarity(x0, x1, c, &L);
-    int nr = ccd_cubic_roots(c, CCD_FTOL * L * L * L, t);
+    int nr = oc_ccd_cubic_roots(c, CCD_FTOL * L * L * L, t);
     if (nr < 0) { /* coplanar throughout: the ends of the step only */
         t[0] = 0.0;
         t[1] = 1.0;
@@ -280,12 +280,12 @@ static int first_hit(int kind, const double *x0, const double *x1, double eta, c
     return 0;
 }
 
-int ccd_point_triangle(const double *x0, const double *x1, double eta, ccd_hit *hit)
+int oc_ccd_point_triangle(const double *x0, const double *x1, double eta, ccd_hit *hit)
 {
     return first_hit(CCD_PT, x0, x1, eta, hit);
 }
 
-int ccd_edge_edge(const double *x0, const double *x1, double eta, ccd_hit *hit)
+int oc_ccd_edge_edge(const double *x0, const double *x1, double eta, ccd_hit *hit)
 {
     return first_hit(CCD_EE, x0, x1, eta, hit);
 }

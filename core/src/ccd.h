@@ -16,16 +16,16 @@ typedef struct ccd_hit {
 } ccd_hit;
 
 /* 1 and *hit filled on a hit, else 0. eta > 0. */
-int ccd_point_triangle(const double *x0, const double *x1, double eta, ccd_hit *hit);
-int ccd_edge_edge(const double *x0, const double *x1, double eta, ccd_hit *hit);
+int oc_ccd_point_triangle(const double *x0, const double *x1, double eta, ccd_hit *hit);
+int oc_ccd_edge_edge(const double *x0, const double *x1, double eta, ccd_hit *hit);
 
 /* The weights (as ccd_hit's) of the closest points of a point and a
  * triangle, or with edge_edge of two edges, at the four points x (12). */
-void ccd_pair_weights(int edge_edge, const double *x, double *w);
+void oc_ccd_pair_weights(int edge_edge, const double *x, double *w);
 
 /* The roots in [0, 1] of c[0] + c[1] t + c[2] t^2 + c[3] t^3 into t,
  * ascending (a turning point within ftol of zero counts). Returns their
  * number (0-3), or -1 when every coefficient is within ftol of zero. */
-int ccd_cubic_roots(const double *c, double ftol, double *t);
+int oc_ccd_cubic_roots(const double *c, double ftol, double *t);
 
 #endif

@@ -64,47 +64,48 @@ static void unit_scaled(const double a[3], double out[3])
 
 cloth_status cloth_desc_validate(const cloth_desc *d, cloth_error *err)
 {
-    if (!d) return error_set(err, CLOTH_EINVAL, "descriptor is NULL");
+    if (!d) return oc_error_set(err, CLOTH_EINVAL, "descriptor is NULL");
     if (d->rows < 3 || d->cols < 3)
-        return error_set(err, CLOTH_EINVAL, "grid %d x %d: rows and cols must be >= 3", d->rows, d->cols);
+        return oc_error_set(err, CLOTH_EINVAL, "grid %d x %d: rows and cols must be >= 3", d->rows, d->cols);
     if ((long long)d->rows * d->cols > CLOTH_MAX_VERTICES)
-        return error_set(err, CLOTH_EINVAL, "grid %d x %d has more than %d nodes", d->rows, d->cols,
-                         CLOTH_MAX_VERTICES);
+        return oc_error_set(err, CLOTH_EINVAL, "grid %d x %d has more than %d nodes", d->rows, d->cols,
+                            CLOTH_MAX_VERTICES);
     if (!isfinite(d->width) || !(d->width > 0.0) || !isfinite(d->height) || !(d->height > 0.0))
-        return error_set(err, CLOTH_EINVAL, "size %g x %g m: width and height must be finite and > 0", d->width,
-                         d->height);
+        return oc_error_set(err, CLOTH_EINVAL, "size %g x %g m: width and height must be finite and > 0", d->width,
+                            d->height);
     const struct {
         const char *name;
         const double *v;
     } vec[] = {{"origin", d->origin}, {"axis_u", d->axis_u}, {"axis_v", d->axis_v}, {"gravity", d->gravity}};
     for (size_t k = 0; k < 4; k++)
-        if (!finite3(vec[k].v)) return error_set(err, CLOTH_EINVAL, "%s is not finite", vec[k].name);
+        if (!finite3(vec[k].v)) return oc_error_set(err, CLOTH_EINVAL, "%s is not finite", vec[k].name);
     double au[3], av[3];
     unit_scaled(d->axis_u, au);
     unit_scaled(d->axis_v, av);
     double uu = vec3_dot(au, au), vv = vec3_dot(av, av), uv = vec3_dot(au, av);
-    if (!(uu > 0.0) || !(vv > 0.0)) return error_set(err, CLOTH_EINVAL, "axis_u and axis_v must be non-zero");
+    if (!(uu > 0.0) || !(vv > 0.0)) return oc_error_set(err, CLOTH_EINVAL, "axis_u and axis_v must be non-zero");
     if (uu * vv - uv * uv <= 1e-12 * uu * vv)
-        return error_set(err, CLOTH_EINVAL, "axis_u and axis_v must not be parallel");
+        return oc_error_set(err, CLOTH_EINVAL, "axis_u and axis_v must not be parallel");
     double extent = fmax(fabs(d->origin[0]), fmax(fabs(d->origin[1]), fabs(d->origin[2]))) + d->width + d->height;
     double dx = d->width / (d->cols - 1), dy = d->height / (d->rows - 1), sp = fmin(dx, dy);
     if (!(extent <= CLOTH_MAX_EXTENT))
-        return error_set(err, CLOTH_EINVAL, "origin %g, %g, %g with size %g x %g m: the cloth must lie within %g m",
-                         d->origin[0], d->origin[1], d->origin[2], d->width, d->height, CLOTH_MAX_EXTENT);
+        return oc_error_set(err, CLOTH_EINVAL, "origin %g, %g, %g with size %g x %g m: the cloth must lie within %g m",
+                            d->origin[0], d->origin[1], d->origin[2], d->width, d->height, CLOTH_MAX_EXTENT);
     if (!(sp >= CLOTH_MIN_SPACING) || !(sp >= CLOTH_MIN_SPACING_REL * extent))
-        return error_set(err, CLOTH_EINVAL,
-                         "node spacing %g m (size %g x %g m, grid %d x %d) must be >= %g m and >= %g times the "
-                         "cloth's distance from 0 (%g m) to be resolved",
-                         sp, d->width, d->height, d->rows, d->cols, CLOTH_MIN_SPACING, CLOTH_MIN_SPACING_REL, extent);
+        return oc_error_set(err, CLOTH_EINVAL,
+                            "node spacing %g m (size %g x %g m, grid %d x %d) must be >= %g m and >= %g times the "
+                            "cloth's distance from 0 (%g m) to be resolved",
+                            sp, d->width, d->height, d->rows, d->cols, CLOTH_MIN_SPACING, CLOTH_MIN_SPACING_REL,
+                            extent);
     cloth_status s = cloth_material_validate(&d->material, err);
     if (s != CLOTH_OK) return s;
     /* a corner node carries a quarter cell, an inner one a whole cell */
     double cell = d->material.density * dx * dy;
     if (!(0.25 * cell >= DBL_MIN) || !isfinite(cell))
-        return error_set(err, CLOTH_EINVAL,
-                         "node masses from density %g kg/m^2 and cells of %g x %g m are %g kg: "
-                         "not a normal positive double",
-                         d->material.density, dx, dy, 0.25 * cell);
+        return oc_error_set(err, CLOTH_EINVAL,
+                            "node masses from density %g kg/m^2 and cells of %g x %g m are %g kg: "
+                            "not a normal positive double",
+                            d->material.density, dx, dy, 0.25 * cell);
     return cloth_solver_validate(&d->solver, err);
 }
 
@@ -163,9 +164,9 @@ static int links_to_blocks(bsr *A, int n, const link_topo *seq, int n_seq, const
             ei[n_seq + e] = lint[e].i;
             ej[n_seq + e] = lint[e].j;
         }
-        rc = bsr_build(A, n, ne, ei, ej, blk);
+        rc = oc_bsr_build(A, n, ne, ei, ej, blk);
         if (rc == 0) {
-            *own = bsr_edges_own_offdiag(A, ne, blk);
+            *own = oc_bsr_edges_own_offdiag(A, ne, blk);
             memcpy(seq_blk, blk, 2 * (size_t)n_seq * sizeof *blk);
             memcpy(int_blk, blk + 2 * (size_t)n_seq, 2 * (size_t)n_int * sizeof *blk);
         }
@@ -179,12 +180,12 @@ static int links_to_blocks(bsr *A, int n, const link_topo *seq, int n_seq, const
 void cloth_destroy(cloth *c)
 {
     if (!c) return;
-    self_contact_unbind_cloth(c);
+    oc_self_contact_unbind_cloth(c);
     free(c->mass);
     free(c->seq);
     free(c->lint);
-    state_free(&c->st);
-    state_free(&c->retry_bk);
+    oc_state_free(&c->st);
+    oc_state_free(&c->retry_bk);
     free(c->retry_xs);
     free(c->retry_fsum);
     free(c->con);
@@ -200,7 +201,7 @@ void cloth_destroy(cloth *c)
     free(c->body_ws);
     free(c->vbody);
     free(c->body_dev);
-    bsr_free(&c->A);
+    oc_bsr_free(&c->A);
     free(c->seq_blk);
     free(c->int_blk);
     free(c->air_blk);
@@ -219,7 +220,7 @@ void cloth_destroy(cloth *c)
     free(c->sl_act);
     free(c->sl_held);
     free(c->sl_vtx);
-    mg_free(&c->mg);
+    oc_mg_free(&c->mg);
     free(c);
 }
 
@@ -231,7 +232,7 @@ static int multigrid_levels(cloth *c, const cloth_solver *s)
     int want = s->precond == CLOTH_PRECOND_MULTIGRID ||
                (s->precond == CLOTH_PRECOND_AUTO && s->nonlinear == CLOTH_NEWTON);
     if (!want || c->mg.nlev > 0) return 0;
-    int r = mg_create(&c->mg, c->rows, c->cols, &c->A);
+    int r = oc_mg_create(&c->mg, c->rows, c->cols, &c->A);
     return r == -2 && s->precond == CLOTH_PRECOND_AUTO ? 0 : r;
 }
 
@@ -241,13 +242,13 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
         err->code = CLOTH_OK;
         err->message[0] = '\0';
     }
-    if (!out) return error_set(err, CLOTH_EINVAL, "cloth_create: out is NULL");
+    if (!out) return oc_error_set(err, CLOTH_EINVAL, "cloth_create: out is NULL");
     *out = NULL;
     cloth_status s = cloth_desc_validate(d, err);
     if (s != CLOTH_OK) return s;
 
     cloth *c = calloc(1, sizeof *c);
-    if (!c) return error_set(err, CLOTH_ENOMEM, "cloth_create: out of memory");
+    if (!c) return oc_error_set(err, CLOTH_ENOMEM, "cloth_create: out of memory");
     c->desc = *d;
     int R = d->rows, C = d->cols, n = R * C;
     c->rows = R;
@@ -257,7 +258,7 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
 
     c->mass = malloc((size_t)n * sizeof *c->mass);
     double *x0 = malloc(n3 * sizeof *x0);
-    if (!c->mass || !x0 || state_alloc(&c->st, n, 0, 0) != 0) goto nomem;
+    if (!c->mass || !x0 || oc_state_alloc(&c->st, n, 0, 0) != 0) goto nomem;
 
     /* rest positions and lumped masses: each node carries the area of the
      * cells around it (a quarter cell per adjacent cell) */
@@ -281,10 +282,10 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
     make_links(R, C, 2, x0, c->lint);
 
     /* the state has the interlaced links' plastic state: allocate it now */
-    state_free(&c->st);
-    if (state_alloc(&c->st, n, c->n_int, c->n_seq) != 0) goto nomem;
+    oc_state_free(&c->st);
+    if (oc_state_alloc(&c->st, n, c->n_int, c->n_seq) != 0) goto nomem;
     /* the substep retry's workspace: a hard step allocates nothing either */
-    if (state_alloc(&c->retry_bk, n, c->n_int, c->n_seq) != 0) goto nomem;
+    if (oc_state_alloc(&c->retry_bk, n, c->n_int, c->n_seq) != 0) goto nomem;
     c->retry_xs = malloc(n3 * sizeof *c->retry_xs);
     c->retry_fsum = malloc(n3 * sizeof *c->retry_fsum);
     if (!c->retry_xs || !c->retry_fsum) goto nomem;
@@ -312,8 +313,8 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
     if (links_to_blocks(&c->A, n, c->seq, c->n_seq, c->lint, c->n_int, c->seq_blk, c->int_blk, &c->links_own_blocks) !=
         0)
         goto nomem;
-    if (air_blocks(c) != 0) goto nomem;
-    if (workspace_alloc(c) != 0) goto nomem;
+    if (oc_air_blocks(c) != 0) goto nomem;
+    if (oc_workspace_alloc(c) != 0) goto nomem;
     c->Ah = calloc(9 * (size_t)c->A.nnzb + 1, sizeof *c->Ah); /* + the AVX rows' padding double (mat3.h) */
     if (!c->Ah) goto nomem;
     c->cflag = calloc((size_t)n, 1);
@@ -338,10 +339,10 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
         int r = multigrid_levels(c, &d->solver);
         if (r == -2) {
             cloth_destroy(c);
-            return error_set(err, CLOTH_EINVAL,
-                             "cloth_create: the multigrid preconditioner needs a grid that coarsens (%d x %d does "
-                             "not: a side under 5 nodes); choose another preconditioner",
-                             R, C);
+            return oc_error_set(err, CLOTH_EINVAL,
+                                "cloth_create: the multigrid preconditioner needs a grid that coarsens (%d x %d does "
+                                "not: a side under 5 nodes); choose another preconditioner",
+                                R, C);
         }
         if (r != 0) goto nomem;
     }
@@ -351,7 +352,7 @@ cloth_status cloth_create(const cloth_desc *d, cloth **out, cloth_error *err)
 nomem:
     free(x0);
     cloth_destroy(c);
-    return error_set(err, CLOTH_ENOMEM, "cloth_create: out of memory for a %d x %d grid", R, C);
+    return oc_error_set(err, CLOTH_ENOMEM, "cloth_create: out of memory for a %d x %d grid", R, C);
 }
 
 const char *cloth_last_error(const cloth *c) { return c ? c->err : "cloth is NULL"; }
@@ -381,9 +382,9 @@ static void forget_history(cloth *c, int positions)
 cloth_status cloth_set_positions(cloth *c, const double *x)
 {
     if (!c) return CLOTH_EINVAL;
-    if (!x) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_positions: x is NULL");
-    if (!all_finite(x, 3 * (size_t)c->n))
-        return cloth_fail(c, CLOTH_EINVAL, "cloth_set_positions: positions must be finite");
+    if (!x) return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_positions: x is NULL");
+    if (!oc_all_finite(x, 3 * (size_t)c->n))
+        return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_positions: positions must be finite");
     memcpy(c->st.x, x, 3 * (size_t)c->n * sizeof *x);
     forget_history(c, 1);
     return CLOTH_OK;
@@ -392,9 +393,9 @@ cloth_status cloth_set_positions(cloth *c, const double *x)
 cloth_status cloth_set_velocities(cloth *c, const double *v)
 {
     if (!c) return CLOTH_EINVAL;
-    if (!v) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_velocities: v is NULL");
-    if (!all_finite(v, 3 * (size_t)c->n))
-        return cloth_fail(c, CLOTH_EINVAL, "cloth_set_velocities: velocities must be finite");
+    if (!v) return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_velocities: v is NULL");
+    if (!oc_all_finite(v, 3 * (size_t)c->n))
+        return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_velocities: velocities must be finite");
     memcpy(c->st.v, v, 3 * (size_t)c->n * sizeof *v);
     forget_history(c, 0);
     return CLOTH_OK;
@@ -403,12 +404,12 @@ cloth_status cloth_set_velocities(cloth *c, const double *v)
 cloth_status cloth_add_velocities(cloth *c, const double *dv)
 {
     if (!c) return CLOTH_EINVAL;
-    if (!dv) return cloth_fail(c, CLOTH_EINVAL, "cloth_add_velocities: dv is NULL");
+    if (!dv) return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_add_velocities: dv is NULL");
     size_t n3 = 3 * (size_t)c->n;
     for (size_t k = 0; k < n3; k++)
         if (!isfinite(dv[k]) || !isfinite(c->st.v[k] + dv[k]))
-            return cloth_fail(c, CLOTH_EINVAL, "cloth_add_velocities: dv[%zu] = %g: the velocity must stay finite", k,
-                              dv[k]);
+            return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_add_velocities: dv[%zu] = %g: the velocity must stay finite",
+                                 k, dv[k]);
     for (size_t k = 0; k < n3; k++) c->st.v[k] += dv[k];
     return CLOTH_OK;
 }
@@ -416,10 +417,10 @@ cloth_status cloth_add_velocities(cloth *c, const double *dv)
 cloth_status cloth_set_warm_start(cloth *c, const double *dv)
 {
     if (!c) return CLOTH_EINVAL;
-    if (!dv) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_warm_start: dv is NULL");
+    if (!dv) return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_warm_start: dv is NULL");
     size_t n3 = 3 * (size_t)c->n;
     for (size_t k = 0; k < n3; k++)
-        if (!isfinite(dv[k])) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_warm_start: dv[%zu] = %g", k, dv[k]);
+        if (!isfinite(dv[k])) return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_warm_start: dv[%zu] = %g", k, dv[k]);
     memcpy(c->warm_dv, dv, n3 * sizeof *dv);
     c->warm_set = 1;
     return CLOTH_OK;
@@ -429,10 +430,10 @@ cloth_status cloth_set_vertex(cloth *c, int vertex, const double x[3], const dou
 {
     if (!c) return CLOTH_EINVAL;
     if (vertex < 0 || vertex >= c->n)
-        return cloth_fail(c, CLOTH_EINVAL, "cloth_set_vertex: vertex %d out of range [0, %d)", vertex, c->n);
-    if (!x && !v) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_vertex: x and v are both NULL: nothing to set");
+        return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_vertex: vertex %d out of range [0, %d)", vertex, c->n);
+    if (!x && !v) return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_vertex: x and v are both NULL: nothing to set");
     if ((x && !finite3(x)) || (v && !finite3(v)))
-        return cloth_fail(c, CLOTH_EINVAL, "cloth_set_vertex: position and velocity must be finite");
+        return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_vertex: position and velocity must be finite");
     for (int k = 0; k < 3; k++) {
         if (x) c->st.x[3 * vertex + k] = x[k];
         if (v) c->st.v[3 * vertex + k] = v[k];
@@ -445,7 +446,7 @@ cloth_status cloth_set_material(cloth *c, const cloth_material *m)
 {
     if (!c) return CLOTH_EINVAL;
     cloth_error e;
-    if (cloth_material_validate(m, &e) != CLOTH_OK) return cloth_fail(c, e.code, "%s", e.message);
+    if (cloth_material_validate(m, &e) != CLOTH_OK) return oc_cloth_fail(c, e.code, "%s", e.message);
     c->desc.material = *m;
     return CLOTH_OK;
 }
@@ -454,15 +455,15 @@ cloth_status cloth_set_solver(cloth *c, const cloth_solver *s)
 {
     if (!c) return CLOTH_EINVAL;
     cloth_error e;
-    if (cloth_solver_validate(s, &e) != CLOTH_OK) return cloth_fail(c, e.code, "%s", e.message);
+    if (cloth_solver_validate(s, &e) != CLOTH_OK) return oc_cloth_fail(c, e.code, "%s", e.message);
     {
         int r = multigrid_levels(c, s);
         if (r == -2)
-            return cloth_fail(c, CLOTH_EINVAL,
-                              "cloth_set_solver: the multigrid preconditioner needs a grid that coarsens (%d x %d "
-                              "does not: a side under 5 nodes)",
-                              c->rows, c->cols);
-        if (r != 0) return cloth_fail(c, CLOTH_ENOMEM, "cloth_set_solver: out of memory for the multigrid levels");
+            return oc_cloth_fail(c, CLOTH_EINVAL,
+                                 "cloth_set_solver: the multigrid preconditioner needs a grid that coarsens (%d x %d "
+                                 "does not: a side under 5 nodes)",
+                                 c->rows, c->cols);
+        if (r != 0) return oc_cloth_fail(c, CLOTH_ENOMEM, "cloth_set_solver: out of memory for the multigrid levels");
     }
     c->desc.solver = *s;
     return CLOTH_OK;
@@ -471,7 +472,7 @@ cloth_status cloth_set_solver(cloth *c, const cloth_solver *s)
 cloth_status cloth_set_gravity(cloth *c, const double g[3])
 {
     if (!c) return CLOTH_EINVAL;
-    if (!g || !finite3(g)) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_gravity: gravity must be finite");
+    if (!g || !finite3(g)) return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_gravity: gravity must be finite");
     memcpy(c->desc.gravity, g, sizeof c->desc.gravity);
     return CLOTH_OK;
 }
@@ -486,7 +487,8 @@ cloth_status cloth_set_external_forces(cloth *c, const double *f)
         memset(c->f_ext, 0, n3 * sizeof *c->f_ext);
         return CLOTH_OK;
     }
-    if (!all_finite(f, n3)) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_external_forces: forces must be finite");
+    if (!oc_all_finite(f, n3))
+        return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_external_forces: forces must be finite");
     memcpy(c->f_ext, f, n3 * sizeof *c->f_ext);
     return CLOTH_OK;
 }
@@ -500,12 +502,12 @@ int cloth_link_count(const cloth *c, cloth_link_type t)
 cloth_status cloth_get_link(const cloth *c, cloth_link_type t, int index, cloth_link *out)
 {
     if (!c) return CLOTH_EINVAL;
-    if (!out) return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_get_link: out is NULL");
+    if (!out) return oc_cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_get_link: out is NULL");
     int m = cloth_link_count(c, t);
     if (t != CLOTH_SEQUENTIAL && t != CLOTH_INTERLACED)
-        return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_get_link: unknown link type %d", (int)t);
+        return oc_cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_get_link: unknown link type %d", (int)t);
     if (index < 0 || index >= m)
-        return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_get_link: index %d out of range [0, %d)", index, m);
+        return oc_cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_get_link: index %d out of range [0, %d)", index, m);
     const link_topo *L = t == CLOTH_SEQUENTIAL ? &c->seq[index] : &c->lint[index];
     out->i = L->i;
     out->j = L->j;

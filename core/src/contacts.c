@@ -13,15 +13,15 @@ static cloth_status set_plane(cloth *c, const char *who, int vertex, const doubl
                               double *planes)
 {
     if (!c) return CLOTH_EINVAL;
-    if (!normal || !point) return cloth_fail(c, CLOTH_EINVAL, "%s: %s is NULL", who, normal ? "point" : "normal");
+    if (!normal || !point) return oc_cloth_fail(c, CLOTH_EINVAL, "%s: %s is NULL", who, normal ? "point" : "normal");
     if (vertex < 0 || vertex >= c->n)
-        return cloth_fail(c, CLOTH_EINVAL, "%s: vertex %d out of range [0, %d)", who, vertex, c->n);
+        return oc_cloth_fail(c, CLOTH_EINVAL, "%s: vertex %d out of range [0, %d)", who, vertex, c->n);
     if (!finite3(normal) || !finite3(point))
-        return cloth_fail(c, CLOTH_EINVAL, "%s: %s must be finite", who, finite3(normal) ? "point" : "normal");
+        return oc_cloth_fail(c, CLOTH_EINVAL, "%s: %s must be finite", who, finite3(normal) ? "point" : "normal");
     /* scaled by the largest component first: neither huge nor tiny
      * components overflow or vanish when squared */
     double big = fmax(fabs(normal[0]), fmax(fabs(normal[1]), fabs(normal[2])));
-    if (!(big > 0.0)) return cloth_fail(c, CLOTH_EINVAL, "%s: normal must be non-zero", who);
+    if (!(big > 0.0)) return oc_cloth_fail(c, CLOTH_EINVAL, "%s: normal must be non-zero", who);
     double u[3] = {normal[0] / big, normal[1] / big, normal[2] / big};
     double len = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
     double *k = planes + 6 * (size_t)vertex;
@@ -45,11 +45,11 @@ cloth_status cloth_set_contact_pull(cloth *c, int vertex, double pull)
 {
     if (!c) return CLOTH_EINVAL;
     if (vertex < 0 || vertex >= c->n)
-        return cloth_fail(c, CLOTH_EINVAL, "cloth_set_contact_pull: vertex %d out of range [0, %d)", vertex, c->n);
-    if (!(pull >= 0.0)) return cloth_fail(c, CLOTH_EINVAL, "cloth_set_contact_pull: pull = %g must be >= 0", pull);
+        return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_contact_pull: vertex %d out of range [0, %d)", vertex, c->n);
+    if (!(pull >= 0.0)) return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_contact_pull: pull = %g must be >= 0", pull);
     if (!c->cand_on[vertex])
-        return cloth_fail(c, CLOTH_EINVAL, "cloth_set_contact_pull: vertex %d has no contact (cloth_set_contact)",
-                          vertex);
+        return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_set_contact_pull: vertex %d has no contact (cloth_set_contact)",
+                             vertex);
     c->cand_pull[vertex] = pull;
     return CLOTH_OK;
 }
@@ -172,7 +172,7 @@ static int make_second(cloth *c, int i, const double *x, double tol)
     return 1;
 }
 
-int contacts_decide(cloth *c, const double *x, double tol)
+int oc_contacts_decide(cloth *c, const double *x, double tol)
 {
     int changed = 0;
     for (int i = 0; i < c->n; i++) {
@@ -185,7 +185,7 @@ int contacts_decide(cloth *c, const double *x, double tol)
     return changed;
 }
 
-int contacts_slide(cloth *c, const double *x)
+int oc_contacts_slide(cloth *c, const double *x)
 {
     const cloth_material *m = &c->desc.material;
     double lim = (1.0 + m->delta) * (1.0 + c->desc.solver.limit_tolerance);
@@ -250,7 +250,7 @@ static int release_if_pulling(cloth *c, int i, const double *b, double pull_min,
     return go1 + go2;
 }
 
-int contacts_release(cloth *c, const double *x, const double *b, double cfac)
+int oc_contacts_release(cloth *c, const double *x, const double *b, double cfac)
 {
     double lim = (1.0 + c->desc.material.delta) * (1.0 + c->desc.solver.limit_tolerance);
     int changed = 0;
@@ -275,7 +275,7 @@ int contacts_release(cloth *c, const double *x, const double *b, double cfac)
     return changed;
 }
 
-void contacts_land(cloth *c, const double *dv)
+void oc_contacts_land(cloth *c, const double *dv)
 {
     for (int i = 0; i < c->n; i++) {
         double *z = c->z + 3 * (size_t)i;
@@ -287,13 +287,13 @@ void contacts_land(cloth *c, const double *dv)
          * on the holding body as it has moved so far */
         const double *S = c->S + 9 * (size_t)i, *dd = dv + 3 * (size_t)i;
         double d[3];
-        bodies_held_motion(c, i, d);
+        oc_bodies_held_motion(c, i, d);
         for (int r = 0; r < 3; r++) d[r] = dd[r] - d[r];
         for (int r = 0; r < 3; r++) z[r] -= d[r] - (S[3 * r] * d[0] + S[3 * r + 1] * d[1] + S[3 * r + 2] * d[2]);
     }
 }
 
-void contacts_begin(cloth *c)
+void oc_contacts_begin(cloth *c)
 {
     for (int i = 0; i < c->n; i++) {
         if (c->cand_on[i] >= 2) c->cand_on[i] = 0; /* a plane kept from the last step: a constraint now */
@@ -301,7 +301,7 @@ void contacts_begin(cloth *c)
     }
 }
 
-void contacts_undo(cloth *c)
+void oc_contacts_undo(cloth *c)
 {
     for (int i = 0; i < c->n; i++) {
         if (c->cand2_on[i] >= 2) { /* the second first: con[i] is then the vertex's own again */
@@ -328,8 +328,8 @@ cloth_status cloth_get_contact_planes(const cloth *c, int vertex, cloth_constrai
 {
     if (!c) return CLOTH_EINVAL;
     if (vertex < 0 || vertex >= c->n)
-        return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_get_contact_planes: vertex %d out of range [0, %d)", vertex,
-                          c->n);
+        return oc_cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_get_contact_planes: vertex %d out of range [0, %d)",
+                             vertex, c->n);
     int two = second_held(c, vertex);
     const cloth_constraint *q = two ? &c->con1[vertex] : &c->con[vertex];
     const double *f = c->con_force + 3 * (size_t)vertex, *n2 = c->cand2 + 6 * (size_t)vertex;

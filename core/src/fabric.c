@@ -11,7 +11,7 @@
 
 cloth_status cloth_fabric_validate(const cloth_fabric *f, cloth_error *err)
 {
-    if (!f) return error_set(err, CLOTH_EINVAL, "fabric is NULL");
+    if (!f) return oc_error_set(err, CLOTH_EINVAL, "fabric is NULL");
     const struct {
         const char *name;
         double v;
@@ -36,24 +36,24 @@ cloth_status cloth_fabric_validate(const cloth_fabric *f, cloth_error *err)
         {"crease_stiffness", f->crease_stiffness, 0},
     };
     for (size_t k = 0; k < sizeof q / sizeof q[0]; k++) {
-        if (!isfinite(q[k].v)) return error_set(err, CLOTH_EINVAL, "fabric.%s is not finite", q[k].name);
+        if (!isfinite(q[k].v)) return oc_error_set(err, CLOTH_EINVAL, "fabric.%s is not finite", q[k].name);
         if (q[k].positive ? !(q[k].v > 0.0) : q[k].v < 0.0)
-            return error_set(err, CLOTH_EINVAL, "fabric.%s = %g must be %s", q[k].name, q[k].v,
-                             q[k].positive ? "> 0" : ">= 0");
+            return oc_error_set(err, CLOTH_EINVAL, "fabric.%s = %g must be %s", q[k].name, q[k].v,
+                                q[k].positive ? "> 0" : ">= 0");
     }
-    if (f->alpha > 1.0) return error_set(err, CLOTH_EINVAL, "fabric.alpha = %g must be in [0, 1]", f->alpha);
+    if (f->alpha > 1.0) return oc_error_set(err, CLOTH_EINVAL, "fabric.alpha = %g must be in [0, 1]", f->alpha);
     if (f->set_hardening > 1.0)
-        return error_set(err, CLOTH_EINVAL, "fabric.set_hardening = %g must be in [0, 1]", f->set_hardening);
+        return oc_error_set(err, CLOTH_EINVAL, "fabric.set_hardening = %g must be in [0, 1]", f->set_hardening);
     if (f->tension_yield > f->delta)
-        return error_set(err, CLOTH_EINVAL, "fabric.tension_yield = %g must be in [0, delta = %g]", f->tension_yield,
-                         f->delta);
+        return oc_error_set(err, CLOTH_EINVAL, "fabric.tension_yield = %g must be in [0, delta = %g]", f->tension_yield,
+                            f->delta);
     if (f->tension_set > 1.0)
-        return error_set(err, CLOTH_EINVAL, "fabric.tension_set = %g must be in [0, 1]", f->tension_set);
+        return oc_error_set(err, CLOTH_EINVAL, "fabric.tension_set = %g must be in [0, 1]", f->tension_set);
     if (f->crease_stiffness > 0.0 && (f->tau_set > 0.0 || f->tau_recover > 0.0 || f->set_hardening > 0.0))
-        return error_set(err, CLOTH_EINVAL,
-                         "fabric.crease_stiffness = %g takes the crease law: tau_set, "
-                         "tau_recover and set_hardening must be 0",
-                         f->crease_stiffness);
+        return oc_error_set(err, CLOTH_EINVAL,
+                            "fabric.crease_stiffness = %g takes the crease law: tau_set, "
+                            "tau_recover and set_hardening must be 0",
+                            f->crease_stiffness);
     return CLOTH_OK;
 }
 
@@ -84,7 +84,7 @@ static double bending_per_k(double a, double b)
 static cloth_status spacing_check(double v, const char *name, cloth_error *err)
 {
     if (!isfinite(v) || !(v > 0.0))
-        return error_set(err, CLOTH_EINVAL, "fabric spacing %s = %g m must be finite and > 0", name, v);
+        return oc_error_set(err, CLOTH_EINVAL, "fabric spacing %s = %g m must be finite and > 0", name, v);
     return CLOTH_OK;
 }
 
@@ -100,11 +100,11 @@ static cloth_status link_stiffnesses(const cloth_fabric *f, double dx, double dy
     double S = f->tensile / t, Q = f->bending / (2.0 * kref * kref), r = 16.0 * Q / (q * S);
     if (!(r <= 1.0) && isfinite(r)) {
         double grow = pow(r, 0.25); /* q S grows as the spacing^4 */
-        return error_set(err, CLOTH_EINVAL,
-                         "fabric material at spacing %g x %g m: the interlaced links cannot give the fabric's "
-                         "bending (B %g N m at kappa_ref %g 1/m) within its tensile stiffness %g N/m; use cells of "
-                         "at least %g x %g m (or a larger bend_curvature)",
-                         dx, dy, f->bending, kref, f->tensile, dx * grow, dy * grow);
+        return oc_error_set(err, CLOTH_EINVAL,
+                            "fabric material at spacing %g x %g m: the interlaced links cannot give the fabric's "
+                            "bending (B %g N m at kappa_ref %g 1/m) within its tensile stiffness %g N/m; use cells of "
+                            "at least %g x %g m (or a larger bend_curvature)",
+                            dx, dy, f->bending, kref, f->tensile, dx * grow, dy * grow);
     }
     *k_b = 2.0 * Q / (q * (1.0 + sqrt(1.0 - r)));
     *k_t = S - 4.0 * *k_b;
@@ -121,7 +121,7 @@ cloth_status cloth_fabric_material(const cloth_fabric *f, double dx, double dy, 
     cloth_status s = cloth_fabric_validate(f, err);
     if (s != CLOTH_OK) return s;
     if ((s = spacing_check(dx, "dx", err)) != CLOTH_OK || (s = spacing_check(dy, "dy", err)) != CLOTH_OK) return s;
-    if (!out) return error_set(err, CLOTH_EINVAL, "fabric material: out is NULL");
+    if (!out) return oc_error_set(err, CLOTH_EINVAL, "fabric material: out is NULL");
     cloth_material m = {0};
     if ((s = link_stiffnesses(f, dx, dy, &m.k_t, &m.k_b, err)) != CLOTH_OK) return s;
     m.k_c = f->compression * m.k_t;
@@ -148,8 +148,8 @@ cloth_status cloth_fabric_material(const cloth_fabric *f, double dx, double dy, 
              {"c_t", m.c_t, 0}, {"c_b", m.c_b, 0}, {"k_crease", m.k_crease, 0}};
     for (size_t k = 0; k < sizeof r / sizeof r[0]; k++)
         if (!isfinite(r[k].v) || (r[k].positive && !(r[k].v > 0.0)))
-            return error_set(err, CLOTH_EINVAL, "fabric material at spacing %g x %g m: %s = %g is out of range", dx, dy,
-                             r[k].name, r[k].v);
+            return oc_error_set(err, CLOTH_EINVAL, "fabric material at spacing %g x %g m: %s = %g is out of range", dx,
+                                dy, r[k].name, r[k].v);
     if ((s = cloth_material_validate(&m, err)) != CLOTH_OK) return s;
     *out = m;
     return CLOTH_OK;
@@ -157,11 +157,11 @@ cloth_status cloth_fabric_material(const cloth_fabric *f, double dx, double dy, 
 
 cloth_status cloth_fabric_apply(const cloth_fabric *f, cloth_desc *d, cloth_error *err)
 {
-    if (!d) return error_set(err, CLOTH_EINVAL, "fabric apply: descriptor is NULL");
+    if (!d) return oc_error_set(err, CLOTH_EINVAL, "fabric apply: descriptor is NULL");
     if (d->rows < 2 || d->cols < 2)
-        return error_set(err, CLOTH_EINVAL, "fabric apply: grid %d x %d has no cells", d->rows, d->cols);
+        return oc_error_set(err, CLOTH_EINVAL, "fabric apply: grid %d x %d has no cells", d->rows, d->cols);
     if (!isfinite(d->width) || !(d->width > 0.0) || !isfinite(d->height) || !(d->height > 0.0))
-        return error_set(err, CLOTH_EINVAL, "fabric apply: size %g x %g m: width and height must be finite and > 0",
-                         d->width, d->height);
+        return oc_error_set(err, CLOTH_EINVAL, "fabric apply: size %g x %g m: width and height must be finite and > 0",
+                            d->width, d->height);
     return cloth_fabric_material(f, d->width / (d->cols - 1), d->height / (d->rows - 1), &d->material, err);
 }

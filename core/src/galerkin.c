@@ -49,8 +49,8 @@ static int visit(const bsr *F, const int *par, const double *w, const int *slot,
     return 0;
 }
 
-int galerkin_plan_make(galerkin_plan *g, const bsr *F, const int *par, const double *w, const bsr *K, const int *slot,
-                       const int *rc)
+int oc_galerkin_plan_make(galerkin_plan *g, const bsr *F, const int *par, const double *w, const bsr *K,
+                          const int *slot, const int *rc)
 {
     memset(g, 0, sizeof *g);
     /* a block gives at most 32 entries (16 parent pairs, twice): the counts stay ints */
@@ -75,11 +75,11 @@ int galerkin_plan_make(galerkin_plan *g, const bsr *F, const int *par, const dou
     return 0;
 fail:
     free(cnt);
-    galerkin_plan_free(g);
+    oc_galerkin_plan_free(g);
     return -1;
 }
 
-void galerkin_plan_free(galerkin_plan *g)
+void oc_galerkin_plan_free(galerkin_plan *g)
 {
     free(g->start);
     free(g->mid);
@@ -170,7 +170,7 @@ MAT3_AVX_FN static void apply_upper_avx(const galerkin_plan *g, const double *va
 }
 #endif
 
-void galerkin_apply(const galerkin_plan *g, const double *val, const double *filt, const int *fidx, bsr *K)
+void oc_galerkin_apply(const galerkin_plan *g, const double *val, const double *filt, const int *fidx, bsr *K)
 {
 #if MAT3_HAVE_AVX
     if (mat3_avx()) apply_upper_avx(g, val, filt, fidx, K);

@@ -17,12 +17,12 @@ typedef struct galerkin_plan {
 /* The plan from F onto K: par, w the 4 parents (-1 none) and weights of each F node; slot K's block at
  * each of a node's 25 stencil offsets, rc each K node's row and column. 0; -1 on no memory, an F too
  * large, or a weight the plan cannot code (not a product of bilinear weights). */
-int galerkin_plan_make(galerkin_plan *g, const bsr *F, const int *par, const double *w, const bsr *K, const int *slot,
-                       const int *rc);
-void galerkin_plan_free(galerkin_plan *g);
+int oc_galerkin_plan_make(galerkin_plan *g, const bsr *F, const int *par, const double *w, const bsr *K,
+                          const int *slot, const int *rc);
+void oc_galerkin_plan_free(galerkin_plan *g);
 
 /* K's values from F's: block k of F is filt + 9 fidx[k] where fidx (may be
  * NULL) is >= 0, else val + 9 k. */
-void galerkin_apply(const galerkin_plan *g, const double *val, const double *filt, const int *fidx, bsr *K);
+void oc_galerkin_apply(const galerkin_plan *g, const double *val, const double *filt, const int *fidx, bsr *K);
 
 #endif

@@ -20,29 +20,29 @@ typedef struct spring_law {
 } spring_law;
 
 /* Energy (J). */
-double spring_energy(const double xi[3], const double xj[3], spring_law s);
+double oc_spring_energy(const double xi[3], const double xj[3], spring_law s);
 
 /* Elastic force on node i (f_j = -f_i) and K = df_i/dx_j (3x3, may be NULL); the other blocks follow
  * from K. definiteness != 0 applies the paper's rule: the transverse term k (1 - rest/d)(I - uu^T)
  * is dropped when d < rest, so K stays semidefinite. */
-void spring_eval(const double xi[3], const double xj[3], spring_law s, int definiteness, double f_i[3], double K[9]);
+void oc_spring_eval(const double xi[3], const double xj[3], spring_law s, int definiteness, double f_i[3], double K[9]);
 
 /* Damping along the link (eq. 4): f_i = c ((v_j - v_i) . u) u, f_j = -f_i,
  * and D = df_i/dv_j = c uu^T (3x3), also df_i/dv_i = -D. D may be NULL. */
-void damper_eval(const double xi[3], const double xj[3], const double vi[3], const double vj[3], double c,
-                 double f_i[3], double D[9]);
+void oc_damper_eval(const double xi[3], const double xj[3], const double vi[3], const double vj[3], double c,
+                    double f_i[3], double D[9]);
 
 /* Spring and damper of one link at once (one square root): the total force
  * on node i and, if K is not NULL, K = df_i/dx_j and D = df_i/dv_j as above.
- * The step's hot loop; equal to spring_eval + damper_eval. */
-void link_eval(const double xi[3], const double xj[3], const double vi[3], const double vj[3], spring_law s, double c,
-               int definiteness, double f_i[3], double K[9], double D[9]);
+ * The step's hot loop; equal to oc_spring_eval + oc_damper_eval. */
+void oc_link_eval(const double xi[3], const double xj[3], const double vi[3], const double vj[3], spring_law s,
+                  double c, int definiteness, double f_i[3], double K[9], double D[9]);
 
 /* A link in the Newton step: tension and limit along its direction, compression along the frozen u0,
- * so E is convex, K semidefinite and E >= spring_energy. Returns E; f_i, K, slack may be NULL.
+ * so E is convex, K semidefinite and E >= oc_spring_energy. Returns E; f_i, K, slack may be NULL.
  * A slack link (*slack) gets w k_hi u u^T added to K. */
-double spring_eval_predicted(const double xi[3], const double xj[3], const double u0[3], spring_law s, double w,
-                             double f_i[3], double K[9], int *slack);
+double oc_spring_eval_predicted(const double xi[3], const double xj[3], const double u0[3], spring_law s, double w,
+                                double f_i[3], double K[9], int *slack);
 
 /* ------------------------------------------------------- link topology */
 
@@ -76,38 +76,38 @@ static inline spring_law int_law(const cloth_material *m, double rest, int plast
 
 /* The plastic rule for one interlaced link of current length d: updates
  * *plastic and *l1 (paper eq. 8-12). */
-void plastic_rule(double alpha, double rest, double d, int *plastic, double *l1);
+void oc_plastic_rule(double alpha, double rest, double d, int *plastic, double *l1);
 /* The same with the opt-in memory (material.plastic_memory; plastic.c). */
-void plastic_rule_memory(double alpha, int memory, double rest, double d, int *plastic, double *l1);
+void oc_plastic_rule_memory(double alpha, int memory, double rest, double d, int *plastic, double *l1);
 /* The time-dependent law (material.tau_set, tau_recover, set_hardening; viscoplastic.c) over a step of h
  * seconds ending at length d. *perm: the permanent set as a share of rest; *bent: whether the link is past
  * the yield as of the last update. */
-void plastic_rule_time(const cloth_material *m, double rest, double d, double h, int *plastic, double *l1, double *perm,
-                       int *bent);
+void oc_plastic_rule_time(const cloth_material *m, double rest, double d, double h, int *plastic, double *l1,
+                          double *perm, int *bent);
 /* The crease law (material.k_crease; crease_law.c): whether m asks for it; a link's fold angle at chord d;
  * and its rule, the set's chord *l1 kept within the yield angle 2 acos(alpha) of the fold (*plastic: l1 < rest). */
-int crease_law_on(const cloth_material *m);
-double crease_fold_angle(double rest, double d);
-void crease_rule(double alpha, double rest, double d, int *plastic, double *l1);
+int oc_crease_law_on(const cloth_material *m);
+double oc_crease_fold_angle(double rest, double d);
+void oc_crease_rule(double alpha, double rest, double d, int *plastic, double *l1);
 /* Set link e's hinge at x, pushing along its sagitta at x0: energy, force f_mid on its ends' midpoint (-f_mid
  * on the middle node), K = df_mid/dx_m (NULL allowed). Then the sums over set links: energy, f += scale forces,
  * A += scale Hessian (after the links' blocks), out += (df/dx) w, the gap E(x0) - E(x) - f(x).(x0 - x). */
-double crease_hinge(const cloth *c, int e, const double *x, const double *x0, double f_mid[3], double K[9]);
-double crease_energy(const cloth *c, const double *x, const double *x0);
-void crease_forces(const cloth *c, const double *x, const double *x0, double scale, double *f);
-void crease_matrix(cloth *c, const double *x, const double *x0, double scale);
-void crease_Kw(const cloth *c, const double *x, const double *w, double *out);
-double crease_dissipation(const cloth *c, const double *x0, const double *x);
+double oc_crease_hinge(const cloth *c, int e, const double *x, const double *x0, double f_mid[3], double K[9]);
+double oc_crease_energy(const cloth *c, const double *x, const double *x0);
+void oc_crease_forces(const cloth *c, const double *x, const double *x0, double scale, double *f);
+void oc_crease_matrix(cloth *c, const double *x, const double *x0, double scale);
+void oc_crease_Kw(const cloth *c, const double *x, const double *w, double *out);
+double oc_crease_dissipation(const cloth *c, const double *x0, const double *x);
 /* Whether m asks for the time-dependent law (any of its three fields > 0). */
-int plastic_time_on(const cloth_material *m);
+int oc_plastic_time_on(const cloth_material *m);
 struct cloth_state;
 /* Link e of state s after a step of h seconds ending at length d, by the
  * material's rule (plastic.c); returns its plastic flag. */
-int plastic_update_link(const cloth_material *m, struct cloth_state *s, int e, double rest, double d, double h);
+int oc_plastic_update_link(const cloth_material *m, struct cloth_state *s, int e, double rest, double d, double h);
 /* Tension plasticity (material.tension_yield, tension_set; tension_plastic.c): whether m asks for it, and
  * the tension set (a share of rest) of a sequential link of rest length rest, set so far `set`, at length d. */
-int tension_plastic_on(const cloth_material *m);
-double tension_set_rule(const cloth_material *m, double rest, double d, double set);
+int oc_tension_plastic_on(const cloth_material *m);
+double oc_tension_set_rule(const cloth_material *m, double rest, double d, double set);
 
 /* ------------------------------------------------------------------ state */
 
@@ -181,7 +181,7 @@ struct cloth {
     /* step workspace, sized at creation: the step allocates nothing */
     bsr A;                                      /* pattern: diagonal + one block pair per link */
     int *seq_blk, *int_blk;                     /* 2 per link: blocks (i,j) and (j,i) in A */
-    int links_own_blocks;                       /* each off-diagonal block is one link's (bsr_edges_own_offdiag) */
+    int links_own_blocks;                       /* each off-diagonal block is one link's (oc_bsr_edges_own_offdiag) */
     double *work;                               /* one allocation behind the vectors below */
     double *f, *b, *dv, *z, *y, *x_new, *v_new; /* 3n each */
     double *ddv;                                /* 3n: a Newton correction of dv */
@@ -218,7 +218,7 @@ struct cloth {
                                   dictated by the constraints, left to the plain law) */
     unsigned char *slack_age;     /* n_seq: the Newton iterates in a row each link has been
                                   slack in this step (potential.c) */
-    double diss_links;            /* the links' part of the last potential_residual's dissipation */
+    double diss_links;            /* the links' part of the last oc_potential_residual's dissipation */
     double diss_e0;               /* the links' energy at x0 without the limit (NaN: not yet this step) */
     double *dv_saved, *con_saved; /* 3n each (linearized.c): dv and con_new when the
                                   corrections last converged */
@@ -229,17 +229,17 @@ struct cloth {
 };
 
 /* Set c->err and return code (printf-style). */
-cloth_status cloth_fail(cloth *c, cloth_status code, const char *fmt, ...);
+cloth_status oc_cloth_fail(cloth *c, cloth_status code, const char *fmt, ...);
 /* Same for a cloth_error (may be NULL). */
-cloth_status error_set(cloth_error *e, cloth_status code, const char *fmt, ...);
+cloth_status oc_error_set(cloth_error *e, cloth_status code, const char *fmt, ...);
 
 /* step.c: carve the step's vectors out of c->work (0 or -1 on no memory) */
-int workspace_alloc(cloth *c);
+int oc_workspace_alloc(cloth *c);
 
 /* strain_limit.c: the elongation limit on sequential links by fast
  * projection. Moves x (and v by dx / h, h the step) for at most `iterations`
  * Newton steps; returns the number of links over the limit before the first. */
-int strain_limit(cloth *c, double *x, double *v, const double *S, double h, int iterations);
+int oc_strain_limit(cloth *c, double *x, double *v, const double *S, double h, int iterations);
 
 /* Rigid bodies solved with the cloth (bodies.c): vertex i held by body g has dv_i = S_i w_i + z_i +
  * (I - S_i) J_i u_g, J_i u_g its point velocity; the CG reaches the bodies' u through ex (mpcg.h). */
@@ -255,115 +255,115 @@ typedef struct mpcg_bodies {
 
 /* bodies.c: fill B for this step's solve (h the step, cfac the method's dx/dv_new) and return its
  * operators for mpcg_problem.extra; NULL when no constrained vertex is held by a body. */
-const mpcg_extra *bodies_prepare(cloth *c, double h, double cfac, mpcg_bodies *B);
+const mpcg_extra *oc_bodies_prepare(cloth *c, double h, double cfac, mpcg_bodies *B);
 
 /* bodies.c, for the elongation limit: whether a body holds vertex i's constrained components; u^T W u's
  * body share; F_g += s J^T P u; D = Minv F (F zeroed); q_i += s P J D; bodies' du += s D. */
-int body_holds(const cloth *c, int i);
+int oc_body_holds(const cloth *c, int i);
 /* the bodies' inverse mass with their held vertices, at the levers of the
  * positions the projection works on (c->sl_x; the step's start if NULL) */
-void body_limit_begin(cloth *c);
-double body_wnorm(const cloth *c, const double *S, int i, const double u[3]);
-void body_push(cloth *c, const double *S, int i, const double u[3], double s);
-void body_solve(cloth *c);
-void body_move(const cloth *c, const double *S, int i, double s, double *q);
-void body_kept(cloth *c, double s);
+void oc_body_limit_begin(cloth *c);
+double oc_body_wnorm(const cloth *c, const double *S, int i, const double u[3]);
+void oc_body_push(cloth *c, const double *S, int i, const double u[3], double s);
+void oc_body_solve(cloth *c);
+void oc_body_move(const cloth *c, const double *S, int i, double s, double *q);
+void oc_body_kept(cloth *c, double s);
 /* bodies.c, for the substep retry (step.c): reset the sums at a depth's start; shift a held vertex's
  * target by what earlier substeps gave its body; add each taken substep's du; set the total as the step's. */
-void bodies_retry_reset(cloth *c);
-void bodies_retry_target(const cloth *c, int i, double hs, double tg[3]);
-void bodies_retry_commit(cloth *c, double hs);
-void bodies_retry_finish(cloth *c);
+void oc_bodies_retry_reset(cloth *c);
+void oc_bodies_retry_target(const cloth *c, int i, double hs, double tg[3]);
+void oc_bodies_retry_commit(cloth *c, double hs);
+void oc_bodies_retry_finish(cloth *c);
 /* linearized.c's corrections: the du when they last converged saved, and
  * restored */
-void bodies_newton_save(cloth *c);
-void bodies_newton_restore(cloth *c);
+void oc_bodies_newton_save(cloth *c);
+void oc_bodies_newton_restore(cloth *c);
 /* linearized.c: the step linearised about its start (see its comment) */
-cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, double frac, cloth_step_stats *st);
+cloth_failure oc_linearized_step(cloth *c, double h, int bdf2, const double *xs, double frac, cloth_step_stats *st);
 /* A Newton iteration (newton.c): the bodies' rows on their residual while
  * the correction du is solved (begin); their share of the potential at
  * u + t du, its slope along du; then u += t du (take; t 0: unchanged). */
-void bodies_newton_begin(cloth *c);
-double bodies_newton_energy(const cloth *c, double t);
-double bodies_newton_slope(const cloth *c);
-void bodies_newton_take(cloth *c, double t);
+void oc_bodies_newton_begin(cloth *c);
+double oc_bodies_newton_energy(const cloth *c, double t);
+double oc_bodies_newton_slope(const cloth *c);
+void oc_bodies_newton_take(cloth *c, double t);
 /* J_i u: how far vertex i's holding body has moved it with the velocity
  * change u taken so far in the step (0 if no body solved with the cloth
  * holds it); a contact made within the step lands there */
-void bodies_held_motion(const cloth *c, int i, double out[3]);
+void oc_bodies_held_motion(const cloth *c, int i, double out[3]);
 /* du^T M du over the bodies (M as scaled for the solve), during an
  * iteration: the bodies' share of the Newton step's size */
-double bodies_step_energy(const cloth *c);
+double oc_bodies_step_energy(const cloth *c);
 /* the bodies' share of the potential at u, outside an iteration */
-double bodies_energy(const cloth *c);
+double oc_bodies_energy(const cloth *c);
 /* sum of R_g^T M_g^-1 R_g over the bodies' rows, b = -R the cloth's */
-double bodies_residual_energy(const mpcg_problem *P, const double *b);
+double oc_bodies_residual_energy(const mpcg_problem *P, const double *b);
 /* The bodies' residual's work at their velocities after the iterate,
  * sum (V0 + u)^T r_g (r_g as above, unsquared; V0 cloth_body.velocity) */
-double bodies_residual_work(const cloth *c, const mpcg_problem *P, const double *b);
+double oc_bodies_residual_work(const cloth *c, const mpcg_problem *P, const double *b);
 
 /* limit_multipliers.c: whether both ends of a link are held in full by the same thing (the world or one
  * body), so no multiplier can change its length; and the multipliers' update s = max(0, s + d - lmax)
  * at x, returning the largest change / lmax. */
-int link_held_together(const cloth *c, const link_topo *L);
+int oc_link_held_together(const cloth *c, const link_topo *L);
 /* contacts.c: make planes of the free candidates that x puts behind their
  * surface by more than tol (returns how many); then set z to land them in
  * the next iteration from dv, zero elsewhere */
-int contacts_decide(cloth *c, const double *x, double tol);
-void contacts_land(cloth *c, const double *dv);
+int oc_contacts_decide(cloth *c, const double *x, double tol);
+void oc_contacts_land(cloth *c, const double *dv);
 /* sticking contacts (ndof 3 with a contact) at an end of a sequential link
  * that x puts past its limit (beyond limit_tolerance) slide on their
  * surface's plane; returns how many */
-int contacts_slide(cloth *c, const double *x);
+int oc_contacts_slide(cloth *c, const double *x);
 /* Contacts on a plane (set, made or let slide) whose force (b / cfac) pulls, at any strength at a link
  * end x puts past the limit or on a plane the step made, elsewhere by more than their cand_pull:
  * released for the step. Returns how many. */
-int contacts_release(cloth *c, const double *x, const double *b, double cfac);
+int oc_contacts_release(cloth *c, const double *x, const double *b, double cfac);
 /* at a step's start: planes kept from the last step stay constraints; on
  * its failure: the planes it made are candidates again */
-void contacts_begin(cloth *c);
-void contacts_undo(cloth *c);
-double limit_multipliers_update(cloth *c, const double *x, int grow);
+void oc_contacts_begin(cloth *c);
+void oc_contacts_undo(cloth *c);
+double oc_limit_multipliers_update(cloth *c, const double *x, int grow);
 /* every link's penalty factor 1 again (a step's start) */
-void limit_multipliers_begin(cloth *c);
+void oc_limit_multipliers_begin(cloth *c);
 
 /* constraints.c: the filter S_i of each vertex and z_i = (I - S_i)(v_target - v0), given x_new = a +
  * cfac v_new; a substep aims at frac of the way from xs (the step's start) to the target. */
-void constraints_build(cloth *c, const double *a, const double *v0, double cfac, const double *xs, double frac);
+void oc_constraints_build(cloth *c, const double *a, const double *v0, double cfac, const double *xs, double frac);
 
-/* air.c: the grid triangles' air drag (cloth_set_air). air_on: any drag
- * set. air_blocks: find each triangle's off-diagonal blocks in A at
+/* air.c: the grid triangles' air drag (cloth_set_air). oc_air_on: any drag
+ * set. oc_air_blocks: find each triangle's off-diagonal blocks in A at
  * creation (0, or -1 on no memory). */
-int air_on(const cloth *c);
-int air_blocks(cloth *c);
+int oc_air_on(const cloth *c);
+int oc_air_blocks(cloth *c);
 /* Frames at xf + hf vf, velocities v: f += s F_air, A += t (area/9) D on each
  * triangle's vertex pairs (f, A may be NULL; -dF_a/dv_b = (area/9) D).
  * Returns the dissipation potential 1/2 sum area r^T D r. */
-double air_eval(const cloth *c, const double *xf, const double *vf, double hf, const double *v, double s, double *f,
-                bsr *A, double t);
+double oc_air_eval(const cloth *c, const double *xf, const double *vf, double hf, const double *v, double s, double *f,
+                   bsr *A, double t);
 /* The air's total force on the attempt's solution (x_new, v_new from the
  * state), in the frame the method's solve used, into out. */
-void air_step_force(const cloth *c, double h, double out[3], double tq[3]);
+void oc_air_step_force(const cloth *c, double h, double out[3], double tq[3]);
 
 /* state.c */
-int state_alloc(struct cloth_state *s, int n, int n_int, int n_seq);
-void state_free(struct cloth_state *s);
-void state_copy(struct cloth_state *dst, const struct cloth_state *src);
+int oc_state_alloc(struct cloth_state *s, int n, int n_int, int n_seq);
+void oc_state_free(struct cloth_state *s);
+void oc_state_copy(struct cloth_state *dst, const struct cloth_state *src);
 
 /* forces.c: f = internal forces, plus gravity, external forces and air drag if with_gravity. */
-void forces_eval(const cloth *c, const double *x, const double *v, int with_gravity, double *f);
-double elastic_energy(const cloth *c, const double *x);
+void oc_forces_eval(const cloth *c, const double *x, const double *v, int with_gravity, double *f);
+double oc_elastic_energy(const cloth *c, const double *x);
 /* Largest (d - l0) / l0 over sequential links at positions x (NaN if any is). */
-double max_strain_of(const cloth *c, const double *x);
+double oc_max_strain_of(const cloth *c, const double *x);
 /* The passes over the links after a step, each length computed once (forces.c; bit for bit
- * max_strain_of, cloth_update_plastic and cloth_energies): max sequential strain and energy at x;
+ * oc_max_strain_of, cloth_update_plastic and cloth_energies): max sequential strain and energy at x;
  * the plastic update with the interlaced energy added to *elastic; the energies given the elastic part. */
-double max_strain_seq_energy(const cloth *c, const double *x, double *e_seq);
-int update_plastic_energy(cloth *c, double h, double *elastic);
-cloth_energy energies_with_elastic(const cloth *c, double elastic);
+double oc_max_strain_seq_energy(const cloth *c, const double *x, double *e_seq);
+int oc_update_plastic_energy(cloth *c, double h, double *elastic);
+cloth_energy oc_energies_with_elastic(const cloth *c, double elastic);
 
 /* small vector helpers */
 static inline int finite3(const double a[3]) { return a[0] - a[0] == 0.0 && a[1] - a[1] == 0.0 && a[2] - a[2] == 0.0; }
-int all_finite(const double *a, size_t n);
+int oc_all_finite(const double *a, size_t n);
 
 #endif

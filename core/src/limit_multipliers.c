@@ -8,12 +8,12 @@
 /* the body solved with the cloth holding vertex i, or -1 */
 static int held_by(const cloth *c, int i) { return c->body_held && c->vbody && c->vbody[i] >= 0 ? c->vbody[i] : -1; }
 
-int link_held_together(const cloth *c, const link_topo *L)
+int oc_link_held_together(const cloth *c, const link_topo *L)
 {
     return c->con[L->i].ndof == 3 && c->con[L->j].ndof == 3 && held_by(c, L->i) == held_by(c, L->j);
 }
 
-void limit_multipliers_begin(cloth *c)
+void oc_limit_multipliers_begin(cloth *c)
 {
     for (int e = 0; e < c->n_seq; e++) {
         c->lim_rho[e] = 1.0;
@@ -41,14 +41,14 @@ static void grow_penalty(cloth *c, int e, double viol)
     c->lim_viol[e] = viol;
 }
 
-double limit_multipliers_update(cloth *c, const double *x, int grow)
+double oc_limit_multipliers_update(cloth *c, const double *x, int grow)
 {
     const cloth_material *m = &c->desc.material;
     if (!(m->k_delta > 0.0) || !(m->k_t > 0.0)) return 0.0;
     double lim = 1.0 + m->delta, worst = 0.0;
     for (int e = 0; e < c->n_seq; e++) {
         const link_topo *L = &c->seq[e];
-        if (link_held_together(c, L) || dictated(c, e)) {
+        if (oc_link_held_together(c, L) || dictated(c, e)) {
             c->lim_shift[e] = 0.0;
             continue;
         }

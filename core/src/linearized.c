@@ -36,7 +36,7 @@ static void assemble(cloth *c, const double *x, const double *v, double beta_h, 
                              : seq_law(m, L[e].rest, c->st.seq_set[e]);
             if (!t) s.lim -= c->lim_shift[e];
             double *K = Ks + 9 * (size_t)e;
-            link_eval(x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, s, damp, defin, f, K, D);
+            oc_link_eval(x + 3 * i, x + 3 * j, v + 3 * i, v + 3 * j, s, damp, defin, f, K, D);
             for (int r = 0; r < 3; r++) {
                 fout[3 * i + r] += f[r];
                 fout[3 * j + r] -= f[r];
@@ -45,12 +45,12 @@ static void assemble(cloth *c, const double *x, const double *v, double beta_h, 
             assemble_link(c, i, j, bl + 2 * e, blk);
         }
     }
-    if (crease_law_on(m)) { /* the crease law's hinges (crease_law.c) */
-        crease_forces(c, x, x, 1.0, fout);
-        crease_matrix(c, x, x, gamma_h2);
+    if (oc_crease_law_on(m)) { /* the crease law's hinges (crease_law.c) */
+        oc_crease_forces(c, x, x, 1.0, fout);
+        oc_crease_matrix(c, x, x, gamma_h2);
     }
     /* air drag: its normals and areas at x, constant over the step (no df/dx) */
-    if (air_on(c)) air_eval(c, x, NULL, 0.0, v, 1.0, fout, A, beta_h);
+    if (oc_air_on(c)) oc_air_eval(c, x, NULL, 0.0, v, 1.0, fout, A, beta_h);
 }
 
 /* out += (df/dx) w, link by link: link (i, j) adds K (w_j - w_i) to i and
@@ -82,7 +82,7 @@ static void constraint_forces(cloth *c, const double *dv, const double *b, doubl
     size_t n3 = 3 * (size_t)c->n;
     memset(c->con_new, 0, n3 * sizeof *c->con_new);
     if (c->n_con == 0) return;
-    bsr_mul_rows(&c->A, dv, c->clist, c->n_con, c->y); /* only the constrained rows are read */
+    oc_bsr_mul_rows(&c->A, dv, c->clist, c->n_con, c->y); /* only the constrained rows are read */
     for (int i = 0; i < c->n; i++) {
         if (c->con[i].ndof == 0) continue;
         const double *Si = c->S + 9 * (size_t)i;
@@ -98,7 +98,7 @@ static int crossed_limit(const cloth *c, const double *x0, const double *x1)
     double lim = 1.0 + c->desc.material.delta, lim1 = 1.0 + NEWTON_CROSS * c->desc.material.delta;
     for (int e = 0; e < c->n_seq; e++) {
         const link_topo *L = &c->seq[e];
-        if (link_held_together(c, L)) continue; /* its length is the targets' */
+        if (oc_link_held_together(c, L)) continue; /* its length is the targets' */
         double l1 = lim1 * L->rest, d1 = 0.0, d0 = 0.0;
         for (int r = 0; r < 3; r++) {
             double w1 = x1[3 * L->j + r] - x1[3 * L->i + r], w0 = x0[3 * L->j + r] - x0[3 * L->i + r];
@@ -127,7 +127,7 @@ static double free_norm(const cloth *c, const double *b)
 /* Backward Euler (bdf2 = 0) or BDF2 (Choi-Ko 2002), f linearised about (x0, v0), x_new = a + cfac v_new:
  * BE (M - h D - h^2 K) dv = h f0 + K (h^2 v0), a = x0; BDF2 (M - 2/3 h D - 4/9 h^2 K) dv = 2/3 h f0
  * + 1/3 M (v0 - v_-1) + K (2/9 h (x0 - x_-1) + 4/9 h^2 v0), a = x0 + (x0 - x_-1)/3. */
-cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, double frac, cloth_step_stats *st)
+cloth_failure oc_linearized_step(cloth *c, double h, int bdf2, const double *xs, double frac, cloth_step_stats *st)
 {
     const struct cloth_state *S0 = &c->st;
     const double *x0 = S0->x, *v0 = S0->v;
@@ -140,15 +140,15 @@ cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, do
         w[k] = bdf2 ? (2.0 / 9.0) * h * (x0[k] - S0->x_prev[k]) + (4.0 / 9.0) * h * h * v0[k] : h * h * v0[k];
     }
     memset(c->lim_shift, 0, (size_t)c->n_seq * sizeof *c->lim_shift);
-    limit_multipliers_begin(c); /* its penalties stay 1 (its law has none) */
+    oc_limit_multipliers_begin(c); /* its penalties stay 1 (its law has none) */
     assemble(c, x0, v0, beta * h, beta * beta * h * h, c->f);
     for (size_t k = 0; k < n3; k++) b[k] = beta * h * c->f[k];
     if (bdf2)
         for (size_t k = 0; k < n3; k++) b[k] += c->mass[k / 3] * (v0[k] - S0->v_prev[k]) / 3.0;
     add_Kw(c, w, b);
-    if (crease_law_on(&c->desc.material)) crease_Kw(c, x0, w, b);
+    if (oc_crease_law_on(&c->desc.material)) oc_crease_Kw(c, x0, w, b);
 
-    constraints_build(c, a, v0, cfac, xs, frac);
+    oc_constraints_build(c, a, v0, cfac, xs, frac);
     const cloth_solver *sv = &c->desc.solver;
     if (sv->warm_start) memcpy(c->dv, S0->dv_prev, n3 * sizeof *c->dv);
     else memset(c->dv, 0, n3 * sizeof *c->dv);
@@ -156,8 +156,8 @@ cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, do
         {&c->A, b,   c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL, sv->cg_tolerance, sv->cg_max_iterations,
          NULL,  0.0, 0,    0.0,  NULL,   0};
     mpcg_bodies bodies;
-    P.extra = bodies_prepare(c, h, cfac, &bodies);
-    mpcg_result r = linsolve_run(c, &P, c->dv);
+    P.extra = oc_bodies_prepare(c, h, cfac, &bodies);
+    mpcg_result r = oc_linsolve_run(c, &P, c->dv);
     st->iterations += r.iterations;
     if (!(st->residual >= r.residual)) st->residual = r.residual;
     if (r.failure != CLOTH_FAIL_NONE) return r.failure;
@@ -196,9 +196,9 @@ cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, do
             }
             memcpy(c->dv_saved, c->dv, n3 * sizeof *c->dv);
             memcpy(c->con_saved, c->con_new, n3 * sizeof *c->con_new);
-            bodies_newton_save(c);
+            oc_bodies_newton_save(c);
             saved = 1;
-            if (limit_multipliers_update(c, c->x_new, 0) <= LIMIT_TOL) {
+            if (oc_limit_multipliers_update(c, c->x_new, 0) <= LIMIT_TOL) {
                 done = 1;
                 break;
             }
@@ -208,9 +208,9 @@ cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, do
         if (it >= sv->newton_iterations) break;
         memset(c->z, 0, n3 * sizeof *c->z);
         memset(ddv, 0, n3 * sizeof *ddv);
-        bodies_newton_begin(c);
-        mpcg_result r2 = linsolve_run(c, &P, ddv);
-        bodies_newton_take(c, r2.failure == CLOTH_FAIL_NONE ? 1.0 : 0.0);
+        oc_bodies_newton_begin(c);
+        mpcg_result r2 = oc_linsolve_run(c, &P, ddv);
+        oc_bodies_newton_take(c, r2.failure == CLOTH_FAIL_NONE ? 1.0 : 0.0);
         st->iterations += r2.iterations;
         st->newton++;
         /* a correction that fails (CG capped on the stiffer matrix, or
@@ -229,7 +229,7 @@ cloth_failure linearized_step(cloth *c, double h, int bdf2, const double *xs, do
     if (pending && saved) { /* the corrections for the last multipliers did not converge */
         memcpy(c->dv, c->dv_saved, n3 * sizeof *c->dv);
         memcpy(c->con_new, c->con_saved, n3 * sizeof *c->con_new);
-        bodies_newton_restore(c);
+        oc_bodies_newton_restore(c);
         for (size_t k = 0; k < n3; k++) {
             double ak = bdf2 ? x0[k] + (x0[k] - S0->x_prev[k]) / 3.0 : x0[k];
             c->v_new[k] = v0[k] + c->dv[k];

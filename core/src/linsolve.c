@@ -49,7 +49,7 @@ static cloth_precond precond_used(const cloth *c)
     return sv->nonlinear == CLOTH_NEWTON && c->mg.nlev > 0 ? CLOTH_PRECOND_MULTIGRID : CLOTH_PRECOND_BLOCK_JACOBI;
 }
 
-mpcg_result linsolve_run(cloth *c, mpcg_problem *P, double *x)
+mpcg_result oc_linsolve_run(cloth *c, mpcg_problem *P, double *x)
 {
     cloth_precond pc = precond_used(c);
     jacobi_ctx j = {c->n, c->jac};
@@ -57,15 +57,15 @@ mpcg_result linsolve_run(cloth *c, mpcg_problem *P, double *x)
     P->pc = NULL;
     P->ctx = NULL;
     if (pc == CLOTH_PRECOND_MULTIGRID) {
-        mg_setup(&c->mg, &c->A, c->S, c->cflag, c->pre);
-        P->sym_checked = c->mg.nlev > 1; /* mg_setup checked A->sym */
-        P->pc = mg_apply;
+        oc_mg_setup(&c->mg, &c->A, c->S, c->cflag, c->pre);
+        P->sym_checked = c->mg.nlev > 1; /* oc_mg_setup checked A->sym */
+        P->pc = oc_mg_apply;
         P->ctx = &c->mg;
     } else if (pc == CLOTH_PRECOND_JACOBI) {
         P->pc = jacobi_apply;
         P->ctx = &j;
     }
-    mpcg_result r = pc == CLOTH_PRECOND_SSOR ? ssor_run(P, c->cflag, c->Ah, x, c->cg) : mpcg_run(P, x, c->cg);
+    mpcg_result r = pc == CLOTH_PRECOND_SSOR ? oc_ssor_run(P, c->cflag, c->Ah, x, c->cg) : oc_mpcg_run(P, x, c->cg);
     P->ctx = NULL;
     P->pc = NULL;
     P->sym_checked = 0;

@@ -9,6 +9,6 @@
 
 /* x: in, the guess for the free components; out, the solution. The
  * multigrid's coarse levels are built anew from c->A for every solve. */
-mpcg_result linsolve_run(cloth *c, mpcg_problem *P, double *x);
+mpcg_result oc_linsolve_run(cloth *c, mpcg_problem *P, double *x);
 
 #endif

@@ -6,7 +6,7 @@
 #include "mat3.h"
 #include "mpcg.h"
 
-void filter_apply(int n, const double *S, const double *x, double *y)
+void oc_filter_apply(int n, const double *S, const double *x, double *y)
 {
     for (int i = 0; i < n; i++) {
         const double *B = S + 9 * (size_t)i, *a = x + 3 * (size_t)i;
@@ -26,34 +26,34 @@ static double dot(const double *a, const double *b, size_t n)
     return s;
 }
 
-mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const double *z, const double *Pinv, double tol,
-                       int max_iter, double *x, double *w)
+mpcg_result oc_mpcg_solve(const bsr *A, const double *b, const double *S, const double *z, const double *Pinv,
+                          double tol, int max_iter, double *x, double *w)
 {
     mpcg_problem P = {A, b, S, z, Pinv, NULL, 0, NULL, NULL, tol, max_iter, NULL, 0.0, 0, 0.0, NULL, 0};
-    return mpcg_run(&P, x, w);
+    return oc_mpcg_run(&P, x, w);
 }
 
-mpcg_result mpcg_solve_pc(const bsr *A, const double *b, const double *S, const double *z, const double *Dinv,
-                          mpcg_precond_fn pc, void *ctx, double tol, int max_iter, double *x, double *w)
+mpcg_result oc_mpcg_solve_pc(const bsr *A, const double *b, const double *S, const double *z, const double *Dinv,
+                             mpcg_precond_fn pc, void *ctx, double tol, int max_iter, double *x, double *w)
 {
     mpcg_problem P = {A, b, S, z, Dinv, NULL, 0, pc, ctx, tol, max_iter, NULL, 0.0, 0, 0.0, NULL, 0};
-    return mpcg_run(&P, x, w);
+    return oc_mpcg_run(&P, x, w);
 }
 
 /* y = S y in place, on the constrained vertices only (all if con is NULL) */
 static void filter_inplace(const mpcg_problem *P, double *y)
 {
     if (!P->con) {
-        filter_apply(P->A->n, P->S, y, y);
+        oc_filter_apply(P->A->n, P->S, y, y);
         return;
     }
     for (int k = 0; k < P->ncon; k++) {
         int i = P->con[k];
-        filter_apply(1, P->S + 9 * (size_t)i, y + 3 * (size_t)i, y + 3 * (size_t)i);
+        oc_filter_apply(1, P->S + 9 * (size_t)i, y + 3 * (size_t)i, y + 3 * (size_t)i);
     }
 }
 
-/* The fused loops of mpcg_run (no extra unknowns): the separate passes' operations and ascending dot product
+/* The fused loops of oc_mpcg_run (no extra unknowns): the separate passes' operations and ascending dot product
  * order, so bitwise the same with fewer passes. `fil` walks the ascending list of constrained vertices
  * (all when P->con is NULL): is vertex i filtered? */
 typedef struct con_walk {
@@ -71,7 +71,7 @@ static inline int con_next(con_walk *w, int i)
     return 0;
 }
 
-/* y_i = S_i y_i (filter_apply's arithmetic, which is mat3vec's) */
+/* y_i = S_i y_i (oc_filter_apply's arithmetic, which is mat3vec's) */
 static inline void filter3(const double *Si, double *y)
 {
     double a[3] = {y[0], y[1], y[2]};
@@ -165,7 +165,7 @@ static int con_sorted(const mpcg_problem *P)
     return 1;
 }
 
-int mpcg_reference(const mpcg_problem *P, double *x, double *r, double *u, double *ref, mpcg_result *res)
+int oc_mpcg_reference(const mpcg_problem *P, double *x, double *r, double *u, double *ref, mpcg_result *res)
 {
     size_t N = 3 * (size_t)P->A->n;
     const mpcg_extra *E = P->extra;
@@ -173,11 +173,11 @@ int mpcg_reference(const mpcg_problem *P, double *x, double *r, double *u, doubl
     if (P->ref_floor > 0.0) {
         memcpy(r, P->b, N * sizeof *r);
         filter_inplace(P, r);
-        filter_apply(P->A->n, P->Dinv, r, u);
+        oc_filter_apply(P->A->n, P->Dinv, r, u);
         free_ref = fmax(dot(r, u, N), P->ref_floor);
     }
     /* z is zero but at the constrained vertices */
-    bsr_mul_cols(P->A, P->z, P->con, P->ncon, u);
+    oc_bsr_mul_cols(P->A, P->z, P->con, P->ncon, u);
     for (size_t k = 0; k < N; k++) r[k] = P->b[k] - u[k];
     double bref = 0.0;
     if (E) {
@@ -192,7 +192,7 @@ int mpcg_reference(const mpcg_problem *P, double *x, double *r, double *u, doubl
         bref = dot(E->r, E->s, (size_t)E->size);
     }
     filter_inplace(P, r);
-    filter_apply(P->A->n, P->Dinv, r, u);
+    oc_filter_apply(P->A->n, P->Dinv, r, u);
     *ref = fmin(dot(r, u, N), free_ref) + bref;
     if (!isfinite(*ref)) {
         res->failure = CLOTH_FAIL_NAN;
@@ -227,7 +227,7 @@ static int tail_within(const mpcg_problem *P, const double *p, double alpha, dou
     return !first && r < 1.0 && last * r * r <= P->abs_err2 * (1.0 - r) * (1.0 - r);
 }
 
-mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
+mpcg_result oc_mpcg_run(const mpcg_problem *P, double *x, double *w)
 {
     const bsr *A = P->A;
     const double *b = P->b, *z = P->z, *Dinv = P->Dinv;
@@ -246,22 +246,22 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
 #define PRECONDITION()                              \
     do {                                            \
         if (P->pc) P->pc(P->ctx, r, s);             \
-        else filter_apply(n, Dinv, r, s);           \
+        else oc_filter_apply(n, Dinv, r, s);        \
         filter_inplace(P, s);                       \
         if (E) E->precondition(E->ctx, E->r, E->s); \
     } while (0)
-#define NORM2() (filter_apply(n, Dinv, r, u), dot(r, u, N) + (E ? dot(E->r, E->s, NE) : 0.0))
+#define NORM2() (oc_filter_apply(n, Dinv, r, u), dot(r, u, N) + (E ? dot(E->r, E->s, NE) : 0.0))
 #define DOT(a, b) (dot(a, b, N) + (E ? dot(E->a, E->b, NE) : 0.0))
 
     /* reference: the reduced right-hand side S (b - A z) */
     double ref;
-    if (mpcg_reference(P, x, r, t, &ref, &res)) return res;
+    if (oc_mpcg_reference(P, x, r, t, &ref, &res)) return res;
 
     /* x = S guess + z (and the extra y = 0) */
     filter_inplace(P, x);
     for (size_t k = 0; k < N; k++) x[k] += z[k];
-    bsr_mul(A, x, t);
-    if (A->sym && !P->sym_checked) bsr_check_sym(A, A->val, A->sym); /* for bsr_mul_sym below */
+    oc_bsr_mul(A, x, t);
+    if (A->sym && !P->sym_checked) oc_bsr_check_sym(A, A->val, A->sym); /* for oc_bsr_mul_sym below */
     for (size_t k = 0; k < N; k++) r[k] = b[k] - t[k];
     if (E) { /* the extra residual rhs - M y + E^T (b - A x) at y = 0 */
         memset(E->y, 0, NE * sizeof *E->y);
@@ -295,10 +295,10 @@ mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w)
         if (E) { /* q = [S; E^T] A (p + E p_y) + (0, M p_y) */
             memcpy(t, p, N * sizeof *t);
             E->expand(E->ctx, P, E->p, t);
-            bsr_mul_sym(A, t, q);
+            oc_bsr_mul_sym(A, t, q);
             E->reduce(E->ctx, P, q, E->p, 1.0, E->q);
         } else if (!fused) {
-            bsr_mul_sym(A, p, q);
+            oc_bsr_mul_sym(A, p, q);
         }
         double pq;
         if (fused) {

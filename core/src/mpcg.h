@@ -13,9 +13,9 @@ typedef struct mpcg_result {
 
 /* Solve A x = b for the free components, the constrained ones held at z (S, Pinv: 9n per-vertex filter
  * and preconditioner blocks; x 3n in: warm start, out: solution with (I - S) x = z; w 6 * 3n scratch).
- * Stops when |S r|_P <= tol |S (b - A z)|_P, |y|_P^2 = y^T Pinv y (see mpcg_solve_pc). */
-mpcg_result mpcg_solve(const bsr *A, const double *b, const double *S, const double *z, const double *Pinv, double tol,
-                       int max_iter, double *x, double *w);
+ * Stops when |S r|_P <= tol |S (b - A z)|_P, |y|_P^2 = y^T Pinv y (see oc_mpcg_solve_pc). */
+mpcg_result oc_mpcg_solve(const bsr *A, const double *b, const double *S, const double *z, const double *Pinv,
+                          double tol, int max_iter, double *x, double *w);
 
 /* A preconditioner: s = M r for a symmetric positive definite M (on the free
  * directions; the solver filters s afterwards). */
@@ -72,22 +72,22 @@ typedef struct mpcg_problem {
      * root (Newton's share of its goal) */
     double abs_err2;
     const double *mass;
-    int sym_checked; /* 1: A->sym is current for A->val (bsr_check_sym done by the caller) */
+    int sym_checked; /* 1: A->sym is current for A->val (oc_bsr_check_sym done by the caller) */
 } mpcg_problem;
 
 /* The start of a solve: r = S (b - A z) and *ref its Dinv-weighted squared norm (u: 3n scratch).
  * Returns 1 when the solve ends here (NaN, A not definite, or nothing to solve: x = z); res says which. */
-int mpcg_reference(const mpcg_problem *P, double *x, double *r, double *u, double *ref, mpcg_result *res);
+int oc_mpcg_reference(const mpcg_problem *P, double *x, double *r, double *u, double *ref, mpcg_result *res);
 
 /* x: in, the warm-start guess; out, the solution. w: 6 * 3n doubles. */
-mpcg_result mpcg_run(const mpcg_problem *P, double *x, double *w);
+mpcg_result oc_mpcg_run(const mpcg_problem *P, double *x, double *w);
 
-/* As mpcg_solve with any preconditioner pc; the norm is weighted by Dinv.
+/* As oc_mpcg_solve with any preconditioner pc; the norm is weighted by Dinv.
  * w: 6 * 3n doubles. */
-mpcg_result mpcg_solve_pc(const bsr *A, const double *b, const double *S, const double *z, const double *Dinv,
-                          mpcg_precond_fn pc, void *ctx, double tol, int max_iter, double *x, double *w);
+mpcg_result oc_mpcg_solve_pc(const bsr *A, const double *b, const double *S, const double *z, const double *Dinv,
+                             mpcg_precond_fn pc, void *ctx, double tol, int max_iter, double *x, double *w);
 
 /* y = S_i x_i per vertex (may alias). */
-void filter_apply(int n, const double *S, const double *x, double *y);
+void oc_filter_apply(int n, const double *S, const double *x, double *y);
 
 #endif

@@ -31,11 +31,11 @@ static int axis_parents(int r, int Rc, int idx[2], double w[2])
     return 2;
 }
 
-void mg_free(multigrid *mg)
+void oc_mg_free(multigrid *mg)
 {
     for (int l = 0; l < MG_MAX_LEVELS; l++) {
         mg_level *L = &mg->lev[l];
-        bsr_free(&L->M);
+        oc_bsr_free(&L->M);
         if (l > 0) free(L->Dinv);
         free(L->x);
         free(L->b);
@@ -44,7 +44,7 @@ void mg_free(multigrid *mg)
         free(L->slot);
         free(L->rc);
         free(L->symrow);
-        galerkin_plan_free(&L->gp);
+        oc_galerkin_plan_free(&L->gp);
         free(L->fidx);
         free(L->fbuf);
     }
@@ -53,7 +53,7 @@ void mg_free(multigrid *mg)
 }
 
 /* The coarsest level's node count for an R x C grid (the levels of
- * mg_create, without allocating). */
+ * oc_mg_create, without allocating). */
 static long coarsest_nodes(int R, int C)
 {
     long n = (long)R * C;
@@ -106,7 +106,7 @@ static int level_pattern(mg_level *L)
     return 0;
 }
 
-int mg_create(multigrid *mg, int R, int C, const bsr *A0)
+int oc_mg_create(multigrid *mg, int R, int C, const bsr *A0)
 {
     memset(mg, 0, sizeof *mg);
     /* the coarsest level is solved densely: a grid that does not coarsen
@@ -159,7 +159,7 @@ int mg_create(multigrid *mg, int R, int C, const bsr *A0)
     }
     for (l = 0; l + 1 < mg->nlev; l++) {
         mg_level *F = &mg->lev[l], *K = &mg->lev[l + 1];
-        if (galerkin_plan_make(&F->gp, l ? &F->M : A0, F->par, F->w, &K->M, K->slot, K->rc) != 0) goto fail;
+        if (oc_galerkin_plan_make(&F->gp, l ? &F->M : A0, F->par, F->w, &K->M, K->slot, K->rc) != 0) goto fail;
     }
     if (mg->nlev > 1) {
         mg->lev[0].fidx = malloc((size_t)A0->nnzb * sizeof *mg->lev[0].fidx);
@@ -171,7 +171,7 @@ int mg_create(multigrid *mg, int R, int C, const bsr *A0)
     if (!mg->dense) goto fail;
     return 0;
 fail:
-    mg_free(mg);
+    oc_mg_free(mg);
     return -1;
 }
 
@@ -252,7 +252,7 @@ static int row_symmetric(const bsr *A, const double *Dinv, int i)
     return sym;
 }
 
-void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char *constrained, double *Dinv0)
+void oc_mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char *constrained, double *Dinv0)
 {
     mg->A0 = A;
     mg->S0 = S;
@@ -263,7 +263,7 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
     if (mg->nlev > 1) {
         mg_level *F = &mg->lev[0];
         int nf = 0;
-        if (A->sym) bsr_check_sym(A, A->val, A->sym);
+        if (A->sym) oc_bsr_check_sym(A, A->val, A->sym);
         for (int i = 0; i < F->n; i++) {
             F->symrow[i] = (unsigned char)(A->sym ? A->sym[i] && mat3_is_sym(Dinv0 + 9 * (size_t)i)
                                                   : row_symmetric(A, Dinv0, i));
@@ -275,7 +275,7 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
                 nf++;
             }
         }
-        galerkin_apply(&F->gp, A->val, F->fbuf, F->fidx, &mg->lev[1].M);
+        oc_galerkin_apply(&F->gp, A->val, F->fbuf, F->fidx, &mg->lev[1].M);
     }
     for (int l = 1; l < mg->nlev; l++) {
         mg_level *L = &mg->lev[l];
@@ -283,7 +283,7 @@ void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char 
         for (int i = 0; i < L->n; i++) inv_reg(M->val + 9 * (size_t)M->diag[i], L->Dinv + 9 * (size_t)i);
         if (l + 1 == mg->nlev) break;
         for (int i = 0; i < L->n; i++) L->symrow[i] = (unsigned char)row_symmetric(M, L->Dinv, i);
-        galerkin_apply(&L->gp, M->val, NULL, NULL, &mg->lev[l + 1].M);
+        oc_galerkin_apply(&L->gp, M->val, NULL, NULL, &mg->lev[l + 1].M);
     }
     /* coarsest level: dense, factored */
     mg_level *L = &mg->lev[mg->nlev - 1];
@@ -489,4 +489,4 @@ static void vcycle(int avx, const multigrid *mg, int l, double *x, const double 
     backward_sweep(avx, mg, l, x, b);
 }
 
-void mg_apply(void *ctx, const double *r, double *s) { vcycle(mat3_avx(), (const multigrid *)ctx, 0, s, r); }
+void oc_mg_apply(void *ctx, const double *r, double *s) { vcycle(mat3_avx(), (const multigrid *)ctx, 0, s, r); }

@@ -17,7 +17,7 @@ typedef struct mg_level {
     int *slot;             /* levels >= 1: 25n, block of M at each stencil offset
                           * (-1 = off the grid)                                    */
     double *Dinv;          /* 9n inverse diagonal blocks (level 0: the cloth's)      */
-    unsigned char *symrow; /* n: row i's blocks and Dinv_i all exactly symmetric (mg_setup;
+    unsigned char *symrow; /* n: row i's blocks and Dinv_i all exactly symmetric (oc_mg_setup;
                             * the smoother's paired loop, same bits)             */
     double *x, *b;         /* 3n                                                     */
     int *rc;               /* 2n: row and column of each node                        */
@@ -45,17 +45,17 @@ typedef struct multigrid {
 /* Levels for an R x C grid of A0's pattern, coarsened by two while a level has over 64 nodes. 0; -1 on
  * no memory (or a grid too large to plan); -2 when the coarsest level would have more than
  * MG_DENSE_MAX unknowns (a grid with a side under 5 nodes does not coarsen). */
-int mg_create(multigrid *mg, int R, int C, const bsr *A0);
-void mg_free(multigrid *mg);
+int oc_mg_create(multigrid *mg, int R, int C, const bsr *A0);
+void oc_mg_free(multigrid *mg);
 
 /* Per step: Galerkin coarse operators W^T A_l W from the filtered S A S (constraints removed before
  * coarsening), their diagonal inverses and the coarsest level's Cholesky factor. Dinv0: the fine
  * level's inverse diagonal blocks of S A S + (I - S). With several levels, A->sym is checked here. */
-void mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char *constrained, double *Dinv0);
+void oc_mg_setup(multigrid *mg, const bsr *A, const double *S, const unsigned char *constrained, double *Dinv0);
 
 /* s = V(r): one V(1,1)-cycle, forward block Gauss-Seidel before and backward
  * after the coarse correction, so the operator is symmetric and positive
  * definite (a valid CG preconditioner). ctx is the multigrid. */
-void mg_apply(void *ctx, const double *r, double *s);
+void oc_mg_apply(void *ctx, const double *r, double *s);
 
 #endif

@@ -16,8 +16,8 @@
 static mpcg_result linear_solve(cloth *c, mpcg_problem *P, double *ddv)
 {
     memset(ddv, 0, 3 * (size_t)c->n * sizeof *ddv);
-    if (P->extra) bodies_newton_begin(c);
-    return linsolve_run(c, P, ddv);
+    if (P->extra) oc_bodies_newton_begin(c);
+    return oc_linsolve_run(c, P, ddv);
 }
 
 /* The free part of vertex i's residual, S_i b_i (b_i where unconstrained) */
@@ -38,7 +38,7 @@ static double residual_norm(const cloth *c, const mpcg_problem *P, const double 
         free_part(c, i, b, e);
         s += (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) / c->mass[i];
     }
-    if (P->extra) s += bodies_residual_energy(P, b);
+    if (P->extra) s += oc_bodies_residual_energy(P, b);
     return sqrt(s / mt);
 }
 
@@ -54,12 +54,12 @@ static double line_search(cloth *c, const step_eq *q, const double *dv, const do
     for (int k = 0; k < LINE_SEARCH_HALVINGS; k++, t *= 0.5) {
         for (size_t j = 0; j < n3; j++) c->dvt[j] = dv[j] + t * ddv[j];
         if (k == 0) {
-            potential_state(c, q, c->dvt);
-            *phi = potential_residual(c, q, c->dvt, c->b);
+            oc_potential_state(c, q, c->dvt);
+            *phi = oc_potential_residual(c, q, c->dvt, c->b);
         } else {
-            *phi = potential_value(c, q, c->dvt, c->xt, c->vt);
+            *phi = oc_potential_value(c, q, c->dvt, c->xt, c->vt);
         }
-        *phi += bodies ? bodies_newton_energy(c, t) : 0.0;
+        *phi += bodies ? oc_bodies_newton_energy(c, t) : 0.0;
         *ready = k == 0;
         if (!(slope < 0.0)) break; /* not a descent direction (CG cut short): the full step */
         if (*phi <= phi0 + LINE_SEARCH_ARMIJO * t * slope) break;
@@ -92,12 +92,12 @@ static void constraint_forces(cloth *c, const double *b, double cfac)
 static void balance_momentum(cloth *c, const step_eq *q, double *dv)
 {
     double W[3], mt = 0.0;
-    if (c->n_con || air_on(c)) return;
-    potential_momentum_residual(c, q, dv, W);
+    if (c->n_con || oc_air_on(c)) return;
+    oc_potential_momentum_residual(c, q, dv, W);
     for (int i = 0; i < c->n; i++) mt += c->mass[i];
     if (!(mt > 0.0)) return;
     for (size_t k = 0; k < 3 * (size_t)c->n; k++) dv[k] -= W[k % 3] / mt;
-    potential_state(c, q, dv); /* x_new, v_new, which the step commits */
+    oc_potential_state(c, q, dv); /* x_new, v_new, which the step commits */
 }
 
 /* Component j of the dv whose positions go share of the way from x0 to those of dv = 0 */
@@ -120,15 +120,15 @@ static int newton_start(cloth *c, const step_eq *q, double *dv)
     double share = 1.0;
     if (c->self_contact) {
         for (size_t j = 0; j < n3; j++) c->vt[j] = q->a[j] + q->cfac * c->st.v[j];
-        share = self_contact_max_step(c->self_contact, c->st.x, c->vt);
+        share = oc_self_contact_max_step(c->self_contact, c->st.x, c->vt);
     }
     const double *warm = c->warm_set ? c->warm_dv : c->st.dv_prev;
     for (int k = -1; k < 3; k++) {
         if ((k == 0 && !c->desc.solver.warm_start) || (k == 2 && !c->self_contact)) continue;
         for (size_t j = 0; j < n3; j++)
             c->dvt[j] = k < 0 ? 0.0 : k == 0 ? warm[j] : k == 1 ? -c->st.v[j] : start_share(c, q, j, share);
-        double phi = potential_value(c, q, c->dvt, c->xt, c->vt);
-        if (c->self_contact && self_contact_max_step(c->self_contact, c->st.x, c->xt) < 1.0) continue;
+        double phi = oc_potential_value(c, q, c->dvt, c->xt, c->vt);
+        if (c->self_contact && oc_self_contact_max_step(c->self_contact, c->st.x, c->xt) < 1.0) continue;
         if (phi < best || k < 0) {
             best = phi;
             memcpy(dv, c->dvt, n3 * sizeof *dv);
@@ -177,7 +177,7 @@ static double step_norm(const cloth *c, const mpcg_problem *P, const double *ddv
         mt += c->mass[i];
         s += c->mass[i] * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     }
-    if (P->extra) s += bodies_step_energy(c);
+    if (P->extra) s += oc_bodies_step_energy(c);
     return sqrt(s / mt);
 }
 
@@ -219,11 +219,11 @@ static int energy_bounded(cloth *c, const step_eq *q, const mpcg_problem *P, con
         diss += 0.5 * c->mass[i] * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     }
     if (P->extra) {
-        work += bodies_residual_work(c, P, b);
-        diss += 0.5 * bodies_step_energy(c);
+        work += oc_bodies_residual_work(c, P, b);
+        diss += 0.5 * oc_bodies_step_energy(c);
     }
     double gain = leftover_work(c, b) - work;
-    diss += potential_step_dissipation(c, q);
+    diss += oc_potential_step_dissipation(c, q);
     return gain <= NEWTON_GAIN_SHARE * diss + 0.5 * mt * tol * tol;
 }
 
@@ -236,7 +236,7 @@ static double contact_free_share(cloth *c, const step_eq *q, const double *dv, c
         c->xt[k] = q->a[k] + q->cfac * (c->st.v[k] + dv[k]);
         c->vt[k] = c->xt[k] + q->cfac * ddv[k];
     }
-    return self_contact_max_step(c->self_contact, c->xt, c->vt);
+    return oc_self_contact_max_step(c->self_contact, c->xt, c->vt);
 }
 
 /* One Newton iteration from dv: solve, search (not on the first, which lands the constraints), take
@@ -247,13 +247,13 @@ static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *
 {
     size_t n3 = 3 * (size_t)c->n;
     double *ddv = c->ddv;
-    if (!matrix) potential_matrix(c, q, 1); /* at dv: c->x_new, c->v_new are its */
+    if (!matrix) oc_potential_matrix(c, q, 1); /* at dv: c->x_new, c->v_new are its */
     mpcg_result r = linear_solve(c, P, ddv);
     *ready = 0;
     st->iterations += r.iterations;
     if (!(st->residual >= r.residual)) st->residual = r.residual;
-    if (r.failure == CLOTH_FAIL_NAN || r.failure == CLOTH_FAIL_CG_INDEFINITE || !all_finite(ddv, n3)) {
-        if (P->extra) bodies_newton_take(c, 0.0);
+    if (r.failure == CLOTH_FAIL_NAN || r.failure == CLOTH_FAIL_CG_INDEFINITE || !oc_all_finite(ddv, n3)) {
+        if (P->extra) oc_bodies_newton_take(c, 0.0);
         return r.failure == CLOTH_FAIL_NONE ? CLOTH_FAIL_NAN : r.failure;
     }
     *size = step_norm(c, P, ddv);
@@ -261,7 +261,7 @@ static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *
     if (!first) {
         double slope = 0.0, phi1;
         for (size_t k = 0; k < n3; k++) slope -= c->b[k] * ddv[k];
-        if (P->extra) slope += bodies_newton_slope(c);
+        if (P->extra) slope += oc_bodies_newton_slope(c);
         t = line_search(c, q, dv, ddv, P->extra != NULL, t, *phi, slope, &phi1, ready);
         if (t < 1.0) st->line_search_cuts++;
         *phi = phi1;
@@ -269,7 +269,7 @@ static cloth_failure newton_iteration(cloth *c, const step_eq *q, mpcg_problem *
         *phi = NAN;
     }
     for (size_t k = 0; k < n3; k++) dv[k] += t * ddv[k];
-    if (P->extra) bodies_newton_take(c, t);
+    if (P->extra) oc_bodies_newton_take(c, t);
     *taken = t;
     return r.failure;
 }
@@ -280,7 +280,7 @@ static void contacts_changed(cloth *c, const step_eq *q, mpcg_problem *P, const 
                              cloth_step_stats *st)
 {
     st->contacts_decided += n;
-    constraints_build(c, q->a, c->st.v, q->cfac, xs, frac);
+    oc_constraints_build(c, q->a, c->st.v, q->cfac, xs, frac);
     P->ncon = c->n_con;
 }
 
@@ -290,10 +290,10 @@ static void contacts_changed(cloth *c, const step_eq *q, mpcg_problem *P, const 
 static int decide_contacts(cloth *c, const step_eq *q, mpcg_problem *P, const double *dv, const double *xs, double frac,
                            cloth_step_stats *st)
 {
-    int added = contacts_decide(c, c->x_new, q->cfac * c->desc.solver.newton_tolerance);
+    int added = oc_contacts_decide(c, c->x_new, q->cfac * c->desc.solver.newton_tolerance);
     if (!added) return 0;
     contacts_changed(c, q, P, xs, frac, added, st);
-    contacts_land(c, dv);
+    oc_contacts_land(c, dv);
     return added;
 }
 
@@ -308,22 +308,22 @@ static int loosened(cloth *c, const step_eq *q, mpcg_problem *P, const double *x
     return n;
 }
 
-cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double frac, cloth_step_stats *st,
-                          int *limit_held)
+cloth_failure oc_newton_step(cloth *c, double h, int bdf2, const double *xs, double frac, cloth_step_stats *st,
+                             int *limit_held)
 {
     const cloth_solver *sv = &c->desc.solver;
     step_eq q;
-    potential_begin(c, h, bdf2, &q);
-    constraints_build(c, q.a, c->st.v, q.cfac, xs, frac);
+    oc_potential_begin(c, h, bdf2, &q);
+    oc_constraints_build(c, q.a, c->st.v, q.cfac, xs, frac);
     double *dv = c->dv, *b = c->b;
     memcpy(c->lim_shift, c->st.lim_shift, (size_t)c->n_seq * sizeof *c->lim_shift);
-    limit_multipliers_begin(c);
+    oc_limit_multipliers_begin(c);
     int landed = newton_start(c, &q, dv);
     mpcg_problem P =
         {&c->A, b,   c->S, c->z, c->pre, c->clist, c->n_con, NULL, NULL, sv->newton_cg_tolerance, sv->cg_max_iterations,
          NULL,  0.0, 1,    0.0,  NULL,   0};
     mpcg_bodies bodies;
-    P.extra = bodies_prepare(c, h, q.cfac, &bodies);
+    P.extra = oc_bodies_prepare(c, h, q.cfac, &bodies);
     double mt = 0.0;
     for (int i = 0; i < c->n; i++) mt += c->mass[i];
     /* a landing's solve is judged against the residual before it where that is smaller (inexact
@@ -342,9 +342,9 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
             if (!ready) {
                 /* with constraints to land no iterate converges: the matrix comes in the same pass */
                 matrix = pending && since < sv->newton_iterations;
-                potential_state(c, &q, dv);
-                double at = matrix ? potential_assemble(c, &q, dv, b, 1) : potential_residual(c, &q, dv, b);
-                if (phi != phi) phi = at + (P.extra ? bodies_energy(c) : 0.0);
+                oc_potential_state(c, &q, dv);
+                double at = matrix ? oc_potential_assemble(c, &q, dv, b, 1) : oc_potential_residual(c, &q, dv, b);
+                if (phi != phi) phi = at + (P.extra ? oc_bodies_energy(c) : 0.0);
             }
             ready = 0;
             assembled = 1;
@@ -358,8 +358,8 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
             /* every change the converged iterate calls for, at once: contacts
              * on a link past the limit slide or (pulling) let go, others pulling
              * past their own limit let go, candidates behind their surface hold */
-            int loose = contacts_slide(c, c->x_new);
-            loose += contacts_release(c, c->x_new, b, q.cfac);
+            int loose = oc_contacts_slide(c, c->x_new);
+            loose += oc_contacts_release(c, c->x_new, b, q.cfac);
             int changed = loosened(c, &q, &P, xs, frac, loose, st);
             int added = decide_contacts(c, &q, &P, dv, xs, frac, st);
             if (added) {
@@ -373,7 +373,7 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
                 since = 0;
             } else if (limit_rounds++ >= sv->newton_iterations) {
                 break; /* the limit left to the projection */
-            } else if (limit_multipliers_update(c, c->x_new, 1) <= sv->limit_tolerance) {
+            } else if (oc_limit_multipliers_update(c, c->x_new, 1) <= sv->limit_tolerance) {
                 *limit_held = 1;
                 break;
             } else {
@@ -391,7 +391,8 @@ cloth_failure newton_step(cloth *c, double h, int bdf2, const double *xs, double
             phi = NAN;
             since = 0;
         }
-        if (phi != phi && it > 0) phi = potential_value(c, &q, dv, c->xt, c->vt) + (P.extra ? bodies_energy(c) : 0.0);
+        if (phi != phi && it > 0)
+            phi = oc_potential_value(c, &q, dv, c->xt, c->vt) + (P.extra ? oc_bodies_energy(c) : 0.0);
         double taken = 1.0;
         /* the share serves the size test; iterations after it is met are
          * for the energy bound, whose residual only a full solve reduces */

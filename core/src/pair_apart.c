@@ -5,7 +5,7 @@
 
 static inline double larger(double a, double b) { return a > b ? a : b; }
 
-void pair_apart_frame(const double *a, const double *b, const double *c, double *f)
+void oc_pair_apart_frame(const double *a, const double *b, const double *c, double *f)
 {
     const double *v[3] = {a, b, c};
     double e1[3], e2[3], l;
@@ -24,8 +24,8 @@ void pair_apart_frame(const double *a, const double *b, const double *c, double 
     }
 }
 
-double pair_apart_point_triangle_gap(const double *p, const double *a, const double *b, const double *c,
-                                     const double *f, double enough)
+double oc_pair_apart_point_triangle_gap(const double *p, const double *a, const double *b, const double *c,
+                                        const double *f, double enough)
 {
     const double *v[3] = {a, b, c};
     double r[3];
@@ -38,11 +38,11 @@ double pair_apart_point_triangle_gap(const double *p, const double *a, const dou
     return gap;
 }
 
-int pair_apart_point_triangle(const double *p, const double *a, const double *b, const double *c, const double *f,
-                              double D)
+int oc_pair_apart_point_triangle(const double *p, const double *a, const double *b, const double *c, const double *f,
+                                 double D)
 {
     double lim = D * PAIR_APART_MARGIN;
-    return pair_apart_point_triangle_gap(p, a, b, c, f, lim) >= lim;
+    return oc_pair_apart_point_triangle_gap(p, a, b, c, f, lim) >= lim;
 }
 
 /* How far segment cd lies from the line through a along u, on the side of c's offset from it (0: not all
@@ -61,7 +61,7 @@ static double beyond_line(const double *a, const double *u, const double *c, con
     return lt > 0.0 && near > 0.0 ? near / lt : 0.0;
 }
 
-double pair_apart_edges_gap(const double *a, const double *b, const double *c, const double *d, double enough)
+double oc_pair_apart_edges_gap(const double *a, const double *b, const double *c, const double *d, double enough)
 {
     double u[3], w[3], n[3], ac[3], gap = 0.0;
     vec3_sub(b, a, u);
@@ -75,8 +75,8 @@ double pair_apart_edges_gap(const double *a, const double *b, const double *c, c
     return gap;
 }
 
-int pair_apart_edges(const double *a, const double *b, const double *c, const double *d, double D)
+int oc_pair_apart_edges(const double *a, const double *b, const double *c, const double *d, double D)
 {
     double lim = D * PAIR_APART_MARGIN;
-    return pair_apart_edges_gap(a, b, c, d, lim) >= lim;
+    return oc_pair_apart_edges_gap(a, b, c, d, lim) >= lim;
 }

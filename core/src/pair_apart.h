@@ -9,18 +9,18 @@
 /* Triangle (a, b, c)'s frame into f (12): its unit normal, then the unit
  * normals of its sides (ab, bc, ca) in its plane, outward; zeros when it is
  * degenerate (its tests then prove nothing). */
-void pair_apart_frame(const double *a, const double *b, const double *c, double *f);
+void oc_pair_apart_frame(const double *a, const double *b, const double *c, double *f);
 
 /* Point p beyond D of triangle (a, b, c), f its frame: off its plane or
  * outside one of its sides. */
-int pair_apart_point_triangle(const double *p, const double *a, const double *b, const double *c, const double *f,
-                              double D);
-double pair_apart_point_triangle_gap(const double *p, const double *a, const double *b, const double *c,
-                                     const double *f, double enough);
+int oc_pair_apart_point_triangle(const double *p, const double *a, const double *b, const double *c, const double *f,
+                                 double D);
+double oc_pair_apart_point_triangle_gap(const double *p, const double *a, const double *b, const double *c,
+                                        const double *f, double enough);
 
 /* Segment ab beyond D of segment cd: along the normal of both, or along the
  * normal to one from the other's first end. */
-int pair_apart_edges(const double *a, const double *b, const double *c, const double *d, double D);
-double pair_apart_edges_gap(const double *a, const double *b, const double *c, const double *d, double enough);
+int oc_pair_apart_edges(const double *a, const double *b, const double *c, const double *d, double D);
+double oc_pair_apart_edges_gap(const double *a, const double *b, const double *c, const double *d, double enough);
 
 #endif

@@ -7,7 +7,7 @@
 /* Region rule, run after each step: by default (the paper's) a link with d <= alpha l0 is plastic, l1
  * ratcheting to min(l1, d), and elastic again above alpha l0. With material.plastic_memory a plastic
  * link stays plastic, keeping l1 so a flattened crease re-forms (docs/materials.md, "Design notes"). */
-void plastic_rule_memory(double alpha, int memory, double rest, double d, int *plastic, double *l1)
+void oc_plastic_rule_memory(double alpha, int memory, double rest, double d, int *plastic, double *l1)
 {
     if (alpha <= 0.0) {
         *plastic = 0; /* elastic material: never plastic */
@@ -22,23 +22,23 @@ void plastic_rule_memory(double alpha, int memory, double rest, double d, int *p
     }
 }
 
-void plastic_rule(double alpha, double rest, double d, int *plastic, double *l1)
+void oc_plastic_rule(double alpha, double rest, double d, int *plastic, double *l1)
 {
-    plastic_rule_memory(alpha, 0, rest, d, plastic, l1);
+    oc_plastic_rule_memory(alpha, 0, rest, d, plastic, l1);
 }
 
-int plastic_update_link(const cloth_material *m, struct cloth_state *s, int e, double rest, double d, double h)
+int oc_plastic_update_link(const cloth_material *m, struct cloth_state *s, int e, double rest, double d, double h)
 {
     int p = s->plastic[e];
-    if (crease_law_on(m)) {
-        crease_rule(m->alpha, rest, d, &p, &s->l1[e]);
+    if (oc_crease_law_on(m)) {
+        oc_crease_rule(m->alpha, rest, d, &p, &s->l1[e]);
         s->bent[e] = m->alpha > 0.0 && d <= m->alpha * rest;
-    } else if (plastic_time_on(m)) {
+    } else if (oc_plastic_time_on(m)) {
         int b = s->bent[e];
-        plastic_rule_time(m, rest, d, h, &p, &s->l1[e], &s->perm[e], &b);
+        oc_plastic_rule_time(m, rest, d, h, &p, &s->l1[e], &s->perm[e], &b);
         s->bent[e] = (unsigned char)b;
     } else {
-        plastic_rule_memory(m->alpha, m->plastic_memory, rest, d, &p, &s->l1[e]);
+        oc_plastic_rule_memory(m->alpha, m->plastic_memory, rest, d, &p, &s->l1[e]);
         s->bent[e] = m->alpha > 0.0 && d <= m->alpha * rest; /* kept for a time law switched on later */
     }
     /* a plastic rest length is a length: no shorter than a link with a direction */
@@ -61,9 +61,9 @@ int cloth_update_plastic(cloth *c)
     const cloth_material *m = &c->desc.material;
     const double *x = c->st.x;
     int count = 0;
-    for (int e = 0; tension_plastic_on(m) && e < c->n_seq; e++)
-        c->st.seq_set[e] = tension_set_rule(m, c->seq[e].rest, length_of(x, c->seq + e), c->st.seq_set[e]);
+    for (int e = 0; oc_tension_plastic_on(m) && e < c->n_seq; e++)
+        c->st.seq_set[e] = oc_tension_set_rule(m, c->seq[e].rest, length_of(x, c->seq + e), c->st.seq_set[e]);
     for (int e = 0; e < c->n_int; e++)
-        count += plastic_update_link(m, &c->st, e, c->lint[e].rest, length_of(x, c->lint + e), 0.0); /* no time */
+        count += oc_plastic_update_link(m, &c->st, e, c->lint[e].rest, length_of(x, c->lint + e), 0.0); /* no time */
     return count;
 }

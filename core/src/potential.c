@@ -9,7 +9,7 @@
 #include "self_contact.h"
 #include "tuning.h"
 
-void potential_begin(cloth *c, double h, int bdf2, step_eq *q)
+void oc_potential_begin(cloth *c, double h, int bdf2, step_eq *q)
 {
     const struct cloth_state *s = &c->st;
     size_t n3 = 3 * (size_t)c->n;
@@ -19,7 +19,7 @@ void potential_begin(cloth *c, double h, int bdf2, step_eq *q)
     q->cfac = q->beta * h;
     for (size_t k = 0; k < n3; k++) c->na[k] = bdf2 ? s->x[k] + (s->x[k] - s->x_prev[k]) / 3.0 : s->x[k];
     q->a = c->na;
-    if (c->self_contact) self_contact_begin(c->self_contact, c, q->cfac);
+    if (c->self_contact) oc_self_contact_begin(c->self_contact, c, q->cfac);
     memset(c->slack_age, 0, (size_t)c->n_seq * sizeof *c->slack_age);
     /* the links' directions, damping's and compression's: backward Euler's at
      * x0, where the step's energy equals the springs' and elsewhere bounds it
@@ -44,7 +44,7 @@ void potential_begin(cloth *c, double h, int bdf2, step_eq *q)
     c->diss_e0 = NAN;
 }
 
-void potential_state(cloth *c, const step_eq *q, const double *dv)
+void oc_potential_state(cloth *c, const step_eq *q, const double *dv)
 {
     const double *v0 = c->st.v;
     for (size_t k = 0; k < 3 * (size_t)c->n; k++) {
@@ -141,7 +141,7 @@ static double inertia_terms(const cloth *c, const step_eq *q, const double *dv, 
 }
 
 /* Link (i, j)'s Bregman gap and damper work in backward Euler's dissipation, less its
- * energy at x0 (potential_begin's e0): its force f (limit share lim) and energy E at x. */
+ * energy at x0 (oc_potential_begin's e0): its force f (limit share lim) and energy E at x. */
 MAT3_INLINE double link_dissipation(const cloth *c, int i, int j, double E, const double f[3], const double lim[2],
                                     double damp_vu2)
 {
@@ -156,7 +156,7 @@ MAT3_INLINE double link_dissipation(const cloth *c, int i, int j, double E, cons
 
 /* One pass over the links at c->x_new, c->v_new (node-major): with b, their impulses into b, their
  * share of Phi added to P (returned) and BE's dissipation less their x0 energy into c->diss_links;
- * with mat, their Newton blocks into c->A (stiffen: potential_matrix's). */
+ * with mat, their Newton blocks into c->A (stiffen: oc_potential_matrix's). */
 MAT3_INLINE double links_pass(cloth *c, const step_eq *q, double P, double *b, int mat, int stiffen)
 {
     const cloth_material *m = &c->desc.material;
@@ -196,7 +196,7 @@ MAT3_INLINE double links_pass(cloth *c, const step_eq *q, double P, double *b, i
 static void matrix_begin(cloth *c)
 {
     bsr *A = &c->A;
-    if (!c->links_own_blocks) bsr_zero(A);
+    if (!c->links_own_blocks) oc_bsr_zero(A);
     for (int i = 0; i < c->n; i++) {
         double *B = A->val + 9 * (size_t)A->diag[i];
         memset(B, 0, 9 * sizeof *B);
@@ -210,35 +210,35 @@ static double other_terms(cloth *c, const step_eq *q, double P, double *b, int m
 {
     double cf = q->cfac;
     const double *x = c->x_new, *v = c->v_new;
-    if (crease_law_on(&c->desc.material)) { /* the crease law's hinges (crease_law.c), pushing as at the start */
+    if (oc_crease_law_on(&c->desc.material)) { /* the crease law's hinges (crease_law.c), pushing as at the start */
         if (b) {
-            P += crease_energy(c, x, c->st.x);
-            crease_forces(c, x, c->st.x, cf, b);
+            P += oc_crease_energy(c, x, c->st.x);
+            oc_crease_forces(c, x, c->st.x, cf, b);
         }
-        if (mat) crease_matrix(c, x, c->st.x, cf * cf);
+        if (mat) oc_crease_matrix(c, x, c->st.x, cf * cf);
     }
     /* air drag, a damper with its normals and areas at x~ */
-    if (b && air_on(c)) P += cf * air_eval(c, c->st.x, c->st.v, q->h, v, cf, b, NULL, 0.0);
-    if (b && c->self_contact) P += self_contact_eval(c->self_contact, x, cf, b, NULL);
-    if (mat && air_on(c)) air_eval(c, c->st.x, c->st.v, q->h, v, 0.0, NULL, &c->A, cf);
-    if (mat && c->self_contact) self_contact_eval(c->self_contact, x, cf, NULL, &c->A);
+    if (b && oc_air_on(c)) P += cf * oc_air_eval(c, c->st.x, c->st.v, q->h, v, cf, b, NULL, 0.0);
+    if (b && c->self_contact) P += oc_self_contact_eval(c->self_contact, x, cf, b, NULL);
+    if (mat && oc_air_on(c)) oc_air_eval(c, c->st.x, c->st.v, q->h, v, 0.0, NULL, &c->A, cf);
+    if (mat && c->self_contact) oc_self_contact_eval(c->self_contact, x, cf, NULL, &c->A);
     return P;
 }
 
-double potential_residual(cloth *c, const step_eq *q, const double *dv, double *b)
+double oc_potential_residual(cloth *c, const step_eq *q, const double *dv, double *b)
 {
     double P = links_pass(c, q, inertia_terms(c, q, dv, b), b, 0, 0);
     return other_terms(c, q, P, b, 0);
 }
 
-void potential_matrix(cloth *c, const step_eq *q, int stiffen)
+void oc_potential_matrix(cloth *c, const step_eq *q, int stiffen)
 {
     matrix_begin(c);
     links_pass(c, q, 0.0, NULL, 1, stiffen);
     other_terms(c, q, 0.0, NULL, 1);
 }
 
-double potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b, int stiffen)
+double oc_potential_assemble(cloth *c, const step_eq *q, const double *dv, double *b, int stiffen)
 {
     double P = inertia_terms(c, q, dv, b);
     matrix_begin(c);
@@ -246,15 +246,15 @@ double potential_assemble(cloth *c, const step_eq *q, const double *dv, double *
     return other_terms(c, q, P, b, 1);
 }
 
-double potential_step_dissipation(cloth *c, const step_eq *q)
+double oc_potential_step_dissipation(cloth *c, const step_eq *q)
 {
     if (q->bdf2) return 0.0;
     if (c->diss_e0 != c->diss_e0) c->diss_e0 = energy_at_start(c);
     double D = c->diss_e0 + c->diss_links;
-    return crease_law_on(&c->desc.material) ? D + crease_dissipation(c, c->st.x, c->x_new) : D;
+    return oc_crease_law_on(&c->desc.material) ? D + oc_crease_dissipation(c, c->st.x, c->x_new) : D;
 }
 
-void potential_momentum_residual(const cloth *c, const step_eq *q, const double *dv, double out[3])
+void oc_potential_momentum_residual(const cloth *c, const step_eq *q, const double *dv, double out[3])
 {
     out[0] = out[1] = out[2] = 0.0;
     for (int i = 0; i < c->n; i++)
@@ -265,7 +265,7 @@ void potential_momentum_residual(const cloth *c, const step_eq *q, const double 
         }
 }
 
-double potential_value(const cloth *c, const step_eq *q, const double *dv, double *x, double *v)
+double oc_potential_value(const cloth *c, const step_eq *q, const double *dv, double *x, double *v)
 {
     const cloth_material *m = &c->desc.material;
     double cf = q->cfac, P = 0.0;
@@ -284,13 +284,13 @@ double potential_value(const cloth *c, const step_eq *q, const double *dv, doubl
         P += spring_predicted(x + 3 * i, x + 3 * j, u, law_of(c, t, e), 0.0, NULL, NULL, NULL) +
              0.5 * cf * damp * vu * vu;
     }
-    if (crease_law_on(m)) P += crease_energy(c, x, c->st.x);
-    if (air_on(c)) P += cf * air_eval(c, c->st.x, c->st.v, q->h, v, 0.0, NULL, NULL, 0.0);
-    if (c->self_contact) P += self_contact_eval(c->self_contact, x, cf, NULL, NULL);
+    if (oc_crease_law_on(m)) P += oc_crease_energy(c, x, c->st.x);
+    if (oc_air_on(c)) P += cf * oc_air_eval(c, c->st.x, c->st.v, q->h, v, 0.0, NULL, NULL, 0.0);
+    if (c->self_contact) P += oc_self_contact_eval(c->self_contact, x, cf, NULL, NULL);
     return P;
 }
 
-double potential_dissipation(const cloth *c, const step_eq *q)
+double oc_potential_dissipation(const cloth *c, const step_eq *q)
 {
     if (q->bdf2) return 0.0;
     const cloth_material *m = &c->desc.material;
@@ -316,6 +316,6 @@ double potential_dissipation(const cloth *c, const step_eq *q)
             D += gap + damp * rate * rate;
         }
     }
-    if (crease_law_on(m)) D += crease_dissipation(c, x0, x);
+    if (oc_crease_law_on(m)) D += oc_crease_dissipation(c, x0, x);
     return D;
 }

@@ -36,7 +36,7 @@ struct self_contact {
     double *lo, *hi;                   /* 3 n each: the vertices' regions (boxes) the candidates cover */
     int listed;                        /* whether the candidates are listed */
     long version;                      /* counts the lists' changes */
-    double *xstart;                    /* 3 n: the step's start positions (self_contact_begin) */
+    double *xstart;                    /* 3 n: the step's start positions (oc_self_contact_begin) */
     int *out;                          /* n: the vertices outside their regions */
     unsigned char *mark;               /* n: zero but while their pairs are found */
     int has_start;                     /* whether xstart is set */
@@ -95,7 +95,7 @@ static int edges_of(int ntri, const int *tri, int **out)
     return m;
 }
 
-self_contact *self_contact_create(int n, int ntri, const int *tri, double thickness)
+self_contact *oc_self_contact_create(int n, int ntri, const int *tri, double thickness)
 {
     self_contact *s = calloc(1, sizeof *s);
     if (!s) return NULL;
@@ -121,22 +121,22 @@ self_contact *self_contact_create(int n, int ntri, const int *tri, double thickn
     s->mark = calloc((size_t)(n > 0 ? n : 1), 1);
     s->frame = malloc(12 * (size_t)(ntri > 0 ? ntri : 1) * sizeof *s->frame);
     s->vbox = malloc(6 * (size_t)(n > 0 ? n : 1) * sizeof *s->vbox);
-    s->grid = sweep_grid_create();
+    s->grid = oc_sweep_grid_create();
     /* room for a crumpled sheet's candidates, so that steps seldom allocate */
     int ok = s->nedge >= 0 && s->box && s->lo && s->hi && s->xnear && refs_ok && s->xstart && s->out && s->mark &&
              s->frame && s->vbox && s->grid;
     if (!ok || pair_reserve(&s->vt, 8 * n) || pair_reserve(&s->ee, 8 * n)) {
-        self_contact_destroy(s);
+        oc_self_contact_destroy(s);
         return NULL;
     }
     return s;
 }
 
-void self_contact_destroy(self_contact *s)
+void oc_self_contact_destroy(self_contact *s)
 {
     if (!s) return;
     if (s->owner) s->owner->self_contact = NULL;
-    sweep_grid_destroy(s->grid);
+    oc_sweep_grid_destroy(s->grid);
     free(s->edges);
     free(s->box);
     free(s->lo);
@@ -158,7 +158,7 @@ void self_contact_destroy(self_contact *s)
     free(s);
 }
 
-void self_contact_bind(self_contact *s, cloth *c)
+void oc_self_contact_bind(self_contact *s, cloth *c)
 {
     if (s->owner == c) return;
     if (s->owner) s->owner->self_contact = NULL;
@@ -167,18 +167,18 @@ void self_contact_bind(self_contact *s, cloth *c)
     c->self_contact = s;
 }
 
-void self_contact_unbind_cloth(cloth *c)
+void oc_self_contact_unbind_cloth(cloth *c)
 {
     if (c->self_contact) c->self_contact->owner = NULL;
     c->self_contact = NULL;
 }
 
-self_contact_work self_contact_get_work(const self_contact *s) { return s->work; }
+self_contact_work oc_self_contact_get_work(const self_contact *s) { return s->work; }
 
 /* b''(D / 2), the same for every D: 2 ln 2 + 4 + 1 */
 static double curvature_at_half(void) { return 2.0 * log(2.0) + 4.0 + 1.0; }
 
-void self_contact_begin(self_contact *s, const cloth *c, double cfac)
+void oc_self_contact_begin(self_contact *s, const cloth *c, double cfac)
 {
     /* IPC's scale: the barrier's curvature at half the thickness is the
      * mean vertex's mass in Newton's matrix (cfac^2 kappa b'') */
@@ -275,12 +275,12 @@ static int list_pairs(self_contact *s, int ee, const double *x0, const double *x
     int k = ee ? 2 : 3, nf = ee ? s->nedge : s->ntri;
     pair_list *l = first ? &s->swept : ee ? &s->ee : &s->vt;
     for (int t = 0; t < nf; t++) corners_box(idx + k * t, k, x0, x1, pad, s->box + 6 * (size_t)t);
-    if (sweep_grid_build(s->grid, s->box, nf) < 0) return -1;
+    if (oc_sweep_grid_build(s->grid, s->box, nf) < 0) return -1;
     for (int a = 0; a < (ee ? s->nedge : s->n); a++) {
         const int *cand, *u = ee ? idx + 2 * a : &a;
         double q[6];
         corners_box(u, ee ? 2 : 1, x0, x1, 0.0, q);
-        int m = sweep_grid_query(s->grid, q, &cand);
+        int m = oc_sweep_grid_query(s->grid, q, &cand);
         if (append(l, a, cand, m, idx, k, u, ee ? 2 : 1, ee ? a : -1) < 0) return -1;
         for (int i = 0; first && i < l->n; i++) {
             int v[4];
@@ -475,7 +475,7 @@ static double pair_terms(const self_contact *s, const int *v, const double *c, c
     for (int k = 0; k < 4; k++) vec3_axpy(n, c[k], x + 3 * v[k]);
     double d = vec3_norm(n);
     /* on the other primitive to rounding: no direction; the updates never
-     * take a pair there (self_contact_max_step) */
+     * take a pair there (oc_self_contact_max_step) */
     if (!(d < D) || !(d > 1e-9 * D)) return 0.0;
     for (int r = 0; r < 3; r++) n[r] /= d;
     double lr = log(d / D), g = d - D;
@@ -497,7 +497,7 @@ static double pair_at(const self_contact *s, const int *v, int edge_edge, const 
     double y[12], c[4];
     for (int k = 0; k < 4; k++)
         for (int r = 0; r < 3; r++) y[3 * k + r] = x[3 * v[k] + r];
-    ccd_pair_weights(edge_edge, y, c);
+    oc_ccd_pair_weights(edge_edge, y, c);
     return pair_terms(s, v, c, x, cfac, b, A);
 }
 
@@ -514,7 +514,7 @@ static double pair_gap(const self_contact *s, int ee, int i, const double *x, do
         v[0] = e[0], v[1] = e[1], v[2] = f[0], v[3] = f[1];
         g = box_gap(s->box + 6 * (size_t)a, s->box + 6 * (size_t)t);
         if (g >= enough) return g;
-        double sep = pair_apart_edges_gap(x + 3 * v[0], x + 3 * v[1], x + 3 * v[2], x + 3 * v[3], enough);
+        double sep = oc_pair_apart_edges_gap(x + 3 * v[0], x + 3 * v[1], x + 3 * v[2], x + 3 * v[3], enough);
         return sep > g ? sep : g;
     }
     const int *tv = s->tri + 3 * t;
@@ -522,8 +522,8 @@ static double pair_gap(const self_contact *s, int ee, int i, const double *x, do
     v[0] = a, v[1] = tv[0], v[2] = tv[1], v[3] = tv[2];
     g = box_gap(pt, s->box + 6 * (size_t)t);
     if (g >= enough) return g;
-    double sep = pair_apart_point_triangle_gap(p, x + 3 * v[1], x + 3 * v[2], x + 3 * v[3], s->frame + 12 * (size_t)t,
-                                               enough);
+    double sep = oc_pair_apart_point_triangle_gap(p, x + 3 * v[1], x + 3 * v[2], x + 3 * v[3],
+                                                  s->frame + 12 * (size_t)t, enough);
     return sep > g ? sep : g;
 }
 
@@ -533,7 +533,7 @@ static void prim_box(self_contact *s, int ee, int f, const double *x0, const dou
 {
     const int *idx = ee ? s->edges + 2 * f : s->tri + 3 * f;
     corners_box(idx, ee ? 2 : 3, x0, x1, 0.0, s->box + 6 * (size_t)f);
-    if (frame) pair_apart_frame(x0 + 3 * idx[0], x0 + 3 * idx[1], x0 + 3 * idx[2], s->frame + 12 * (size_t)f);
+    if (frame) oc_pair_apart_frame(x0 + 3 * idx[0], x0 + 3 * idx[1], x0 + 3 * idx[2], s->frame + 12 * (size_t)f);
 }
 
 /* What pair_gap (x1 NULL) or first_touch reads for the vertex-triangle (ee 0) or edge-edge pairs: the
@@ -714,7 +714,7 @@ static double touch(const double *x0, const double *x1, const int *v, int pt, do
             y1[3 * k + r] = x1[3 * v[k] + r];
         }
     ccd_hit hit;
-    int h = pt ? ccd_point_triangle(y0, y1, eta, &hit) : ccd_edge_edge(y0, y1, eta, &hit);
+    int h = pt ? oc_ccd_point_triangle(y0, y1, eta, &hit) : oc_ccd_edge_edge(y0, y1, eta, &hit);
     return h ? hit.t : HUGE_VAL;
 }
 
@@ -772,14 +772,14 @@ static double max_step_untimed(self_contact *s, const double *x0, const double *
     return first <= 1.0 ? SELF_CONTACT_STOP * first : 1.0;
 }
 
-double self_contact_eval(self_contact *s, const double *x, double cfac, double *b, bsr *A)
+double oc_self_contact_eval(self_contact *s, const double *x, double cfac, double *b, bsr *A)
 {
     double t0 = wall_now(), E = eval_untimed(s, x, cfac, b, A);
     s->work.seconds += wall_now() - t0;
     return E;
 }
 
-double self_contact_max_step(self_contact *s, const double *x0, const double *x1)
+double oc_self_contact_max_step(self_contact *s, const double *x0, const double *x1)
 {
     double t0 = wall_now(), f = max_step_untimed(s, x0, x1);
     s->work.seconds += wall_now() - t0;

@@ -101,24 +101,24 @@ static int bucket(const cloth_self_collision *s, long i, long j, long k)
 
 cloth_status cloth_self_collision_create(const cloth *c, double thickness, cloth_self_collision **out, cloth_error *err)
 {
-    if (!out) return error_set(err, CLOTH_EINVAL, "cloth_self_collision_create: out is NULL");
+    if (!out) return oc_error_set(err, CLOTH_EINVAL, "cloth_self_collision_create: out is NULL");
     *out = NULL;
-    if (!c) return error_set(err, CLOTH_EINVAL, "cloth_self_collision_create: cloth is NULL");
+    if (!c) return oc_error_set(err, CLOTH_EINVAL, "cloth_self_collision_create: cloth is NULL");
     if (!(thickness > 0.0 && thickness <= 1.0))
-        return error_set(err, CLOTH_EINVAL, "cloth_self_collision_create: thickness = %g must be in (0, 1] m",
-                         thickness);
+        return oc_error_set(err, CLOTH_EINVAL, "cloth_self_collision_create: thickness = %g must be in (0, 1] m",
+                            thickness);
     cloth_desc d = cloth_get_desc(c);
     double du = d.width / (d.cols - 1), dv = d.height / (d.rows - 1);
     /* the flat grid's nearest primitives sharing no vertex: parallel cell diagonals */
     double gap = du * dv / sqrt(du * du + dv * dv);
     if (!(thickness < gap))
-        return error_set(err, CLOTH_EINVAL,
-                         "cloth_self_collision_create: thickness = %g m must be under %g m, the distance between "
-                         "the flat grid's cell diagonals (cells %g x %g m): the barrier would push the sheet apart "
-                         "at rest",
-                         thickness, gap, du, dv);
+        return oc_error_set(err, CLOTH_EINVAL,
+                            "cloth_self_collision_create: thickness = %g m must be under %g m, the distance between "
+                            "the flat grid's cell diagonals (cells %g x %g m): the barrier would push the sheet apart "
+                            "at rest",
+                            thickness, gap, du, dv);
     cloth_self_collision *s = calloc(1, sizeof *s);
-    if (!s) return error_set(err, CLOTH_ENOMEM, "cloth_self_collision_create: out of memory");
+    if (!s) return oc_error_set(err, CLOTH_ENOMEM, "cloth_self_collision_create: out of memory");
     s->rows = d.rows;
     s->cols = d.cols;
     s->n = d.rows * d.cols;
@@ -146,7 +146,7 @@ cloth_status cloth_self_collision_create(const cloth *c, double thickness, cloth
     if (!s->tri || !s->stamp || !s->head || !s->ent_tri || !s->ent_next || !s->x || !s->v || !s->xprev || !s->winv ||
         !s->now || !s->prev || !s->now_at || !s->moved_at) {
         cloth_self_collision_destroy(s);
-        return error_set(err, CLOTH_ENOMEM, "cloth_self_collision_create: out of memory");
+        return oc_error_set(err, CLOTH_ENOMEM, "cloth_self_collision_create: out of memory");
     }
     int t = 0;
     for (int r = 0; r + 1 < d.rows; r++)
@@ -156,10 +156,10 @@ cloth_status cloth_self_collision_create(const cloth *c, double thickness, cloth
             for (int h = 0; h < 2; h++, t++)
                 for (int k = 0; k < 3; k++) s->tri[3 * t + k] = corners[h][k];
         }
-    s->contact = self_contact_create(s->n, s->ntri, s->tri, thickness); /* after the triangles: their edges */
+    s->contact = oc_self_contact_create(s->n, s->ntri, s->tri, thickness); /* after the triangles: their edges */
     if (!s->contact) {
         cloth_self_collision_destroy(s);
-        return error_set(err, CLOTH_ENOMEM, "cloth_self_collision_create: out of memory");
+        return oc_error_set(err, CLOTH_ENOMEM, "cloth_self_collision_create: out of memory");
     }
     *out = s;
     return CLOTH_OK;
@@ -168,7 +168,7 @@ cloth_status cloth_self_collision_create(const cloth *c, double thickness, cloth
 void cloth_self_collision_destroy(cloth_self_collision *s)
 {
     if (!s) return;
-    self_contact_destroy(s->contact);
+    oc_self_contact_destroy(s->contact);
     free(s->tri);
     free(s->stamp);
     free(s->head);
@@ -259,12 +259,12 @@ cloth_status cloth_self_collision_apply(cloth_self_collision *s, cloth *c, cloth
     if (stats) *stats = st;
     if (!s || !c) return CLOTH_EINVAL;
     if (cloth_rows(c) != s->rows || cloth_cols(c) != s->cols)
-        return cloth_fail(c, CLOTH_EINVAL,
-                          "cloth_self_collision_apply: the cloth is %d x %d, the pass was made "
-                          "for %d x %d",
-                          cloth_rows(c), cloth_cols(c), s->rows, s->cols);
+        return oc_cloth_fail(c, CLOTH_EINVAL,
+                             "cloth_self_collision_apply: the cloth is %d x %d, the pass was made "
+                             "for %d x %d",
+                             cloth_rows(c), cloth_cols(c), s->rows, s->cols);
     size_t n = (size_t)s->n;
-    self_contact_bind(s->contact, c);
+    oc_self_contact_bind(s->contact, c);
     memcpy(s->x, cloth_positions(c), 3 * n * sizeof *s->x);
     if (!s->have_prev) {
         memcpy(s->xprev, s->x, 3 * n * sizeof *s->x);

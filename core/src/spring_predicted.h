@@ -1,4 +1,4 @@
-/* A link in the Newton step, inline for the assembly's loop (spring_eval_predicted in internal.h):
+/* A link in the Newton step, inline for the assembly's loop (oc_spring_eval_predicted in internal.h):
  * tension and the limit along the link, compression along the frozen direction u0; a slack link's
  * Newton matrix gains w k_hi u u^T (potential.c). */
 #ifndef ODECLOTH_SPRING_PREDICTED_H

@@ -18,7 +18,7 @@ static inline double link_vec(const double xi[3], const double xj[3], double u[3
     return d;
 }
 
-double spring_energy(const double xi[3], const double xj[3], spring_law s)
+double oc_spring_energy(const double xi[3], const double xj[3], spring_law s)
 {
     /* the length as link_vec computes it (the direction is not needed) */
     double u0 = xj[0] - xi[0], u1 = xj[1] - xi[1], u2 = xj[2] - xi[2];
@@ -26,15 +26,15 @@ double spring_energy(const double xi[3], const double xj[3], spring_law s)
     return 0.5 * (e >= 0.0 ? s.k_hi : s.k_lo) * e * e + 0.5 * s.k_lim * el * el;
 }
 
-void spring_eval(const double xi[3], const double xj[3], spring_law s, int definiteness, double f_i[3], double K[9])
+void oc_spring_eval(const double xi[3], const double xj[3], spring_law s, int definiteness, double f_i[3], double K[9])
 {
     static const double zero[3] = {0.0, 0.0, 0.0};
     double D[9];
-    link_eval(xi, xj, zero, zero, s, 0.0, definiteness, f_i, K, D);
+    oc_link_eval(xi, xj, zero, zero, s, 0.0, definiteness, f_i, K, D);
 }
 
-void damper_eval(const double xi[3], const double xj[3], const double vi[3], const double vj[3], double c,
-                 double f_i[3], double D[9])
+void oc_damper_eval(const double xi[3], const double xj[3], const double vi[3], const double vj[3], double c,
+                    double f_i[3], double D[9])
 {
     double u[3];
     double d = link_vec(xi, xj, u);
@@ -50,8 +50,8 @@ void damper_eval(const double xi[3], const double xj[3], const double vi[3], con
             for (int b = 0; b < 3; b++) D[3 * a + b] = c * u[a] * u[b];
 }
 
-void link_eval(const double xi[3], const double xj[3], const double vi[3], const double vj[3], spring_law s, double c,
-               int definiteness, double f_i[3], double K[9], double D[9])
+void oc_link_eval(const double xi[3], const double xj[3], const double vi[3], const double vj[3], spring_law s,
+                  double c, int definiteness, double f_i[3], double K[9], double D[9])
 {
     double u[3];
     double d = link_vec(xi, xj, u);
@@ -82,8 +82,8 @@ void link_eval(const double xi[3], const double xj[3], const double vi[3], const
         }
 }
 
-double spring_eval_predicted(const double xi[3], const double xj[3], const double u0[3], spring_law s, double w,
-                             double f_i[3], double K[9], int *slack)
+double oc_spring_eval_predicted(const double xi[3], const double xj[3], const double u0[3], spring_law s, double w,
+                                double f_i[3], double K[9], int *slack)
 {
     return spring_predicted(xi, xj, u0, s, w, f_i, K, slack);
 }

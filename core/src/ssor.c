@@ -27,7 +27,7 @@ static void build_filtered(const bsr *A, const double *S, const unsigned char *c
     /* rows of symmetric blocks with a symmetric Dinv_i: the paired loops */
     if (A->sym) {
         unsigned char *fl = A->sym + A->n;
-        bsr_check_sym(A, Ah, fl);
+        oc_bsr_check_sym(A, Ah, fl);
         for (int i = 0; i < A->n; i++) fl[i] = fl[i] && mat3_is_sym(Dinv + 9 * (size_t)i);
     }
 }
@@ -140,7 +140,7 @@ static double dot(const double *a, const double *b, size_t n)
     return s;
 }
 
-/* ssor_run's body; avx (a constant): the AVX loops (mat3.h) */
+/* oc_ssor_run's body; avx (a constant): the AVX loops (mat3.h) */
 MAT3_INLINE mpcg_result ssor_run_k(int avx, const mpcg_problem *P, const unsigned char *cflag, double *Ah, double *x,
                                    double *w)
 {
@@ -152,13 +152,13 @@ MAT3_INLINE mpcg_result ssor_run_k(int avx, const mpcg_problem *P, const unsigne
     mpcg_result res = {0, 0.0, CLOTH_FAIL_NONE};
     /* bodies solved with the cloth: the plain modified CG (block Jacobi)
      * carries their unknowns; this one does not */
-    if (P->extra) return mpcg_run(P, x, w);
+    if (P->extra) return oc_mpcg_run(P, x, w);
     build_filtered(A, P->S, cflag, Dinv, Ah);
     /* u = rh0 = S (b - A z); ref, the stopping norm's reference */
     double ref;
-    if (mpcg_reference(P, x, u, t, &ref, &res)) return res;
+    if (oc_mpcg_reference(P, x, u, t, &ref, &res)) return res;
     /* warm start xh0 = S x: y0 = Q xh0, r~0 = P^-1 (rh0 - Ah xh0) */
-    filter_apply(n, P->S, x, x);
+    oc_filter_apply(n, P->S, x, x);
     tri_mul(avx, A, Ah, 1, x, p); /* p = Q xh0 = y0 */
     tri_mul(avx, A, Ah, 0, x, q); /* q = P xh0 */
     /* Ah xh0 = P xh0 + Q xh0 - D xh0 */
@@ -250,7 +250,7 @@ MAT3_AVX_FN static mpcg_result ssor_run_avx(const mpcg_problem *P, const unsigne
 }
 #endif
 
-mpcg_result ssor_run(const mpcg_problem *P, const unsigned char *cflag, double *Ah, double *x, double *w)
+mpcg_result oc_ssor_run(const mpcg_problem *P, const unsigned char *cflag, double *Ah, double *x, double *w)
 {
 #if MAT3_HAVE_AVX
     if (mat3_avx()) return ssor_run_avx(P, cflag, Ah, x, w);

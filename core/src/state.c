@@ -7,7 +7,7 @@
 #include <string.h>
 #include "internal.h"
 
-int state_alloc(struct cloth_state *s, int n, int n_int, int n_seq)
+int oc_state_alloc(struct cloth_state *s, int n, int n_int, int n_seq)
 {
     memset(s, 0, sizeof *s);
     size_t n3 = 3 * (size_t)n;
@@ -27,13 +27,13 @@ int state_alloc(struct cloth_state *s, int n, int n_int, int n_seq)
     s->seq_set = calloc((size_t)n_seq + 1, sizeof *s->seq_set);
     if (!s->x || !s->v || !s->x_prev || !s->v_prev || !s->dv_prev || !s->plastic || !s->l1 || !s->perm || !s->bent ||
         !s->lim_shift || !s->seq_set) {
-        state_free(s);
+        oc_state_free(s);
         return -1;
     }
     return 0;
 }
 
-void state_free(struct cloth_state *s)
+void oc_state_free(struct cloth_state *s)
 {
     free(s->x);
     free(s->v);
@@ -49,7 +49,7 @@ void state_free(struct cloth_state *s)
     memset(s, 0, sizeof *s);
 }
 
-void state_copy(struct cloth_state *dst, const struct cloth_state *src)
+void oc_state_copy(struct cloth_state *dst, const struct cloth_state *src)
 {
     size_t n3 = 3 * (size_t)src->n * sizeof(double);
     memcpy(dst->x, src->x, n3);
@@ -72,7 +72,7 @@ cloth_state *cloth_state_create(const cloth *c)
     if (!c) return NULL;
     cloth_state *s = malloc(sizeof *s);
     if (!s) return NULL;
-    if (state_alloc(s, c->n, c->n_int, c->n_seq) != 0) {
+    if (oc_state_alloc(s, c->n, c->n_int, c->n_seq) != 0) {
         free(s);
         return NULL;
     }
@@ -82,27 +82,27 @@ cloth_state *cloth_state_create(const cloth *c)
 void cloth_state_destroy(cloth_state *s)
 {
     if (!s) return;
-    state_free(s);
+    oc_state_free(s);
     free(s);
 }
 
 cloth_status cloth_save(const cloth *c, cloth_state *s)
 {
     if (!c) return CLOTH_EINVAL;
-    if (!s) return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_save: state is NULL");
+    if (!s) return oc_cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_save: state is NULL");
     if (s->n != c->n || s->n_int != c->n_int)
-        return cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_save: state was made for another cloth size");
-    state_copy(s, &c->st);
+        return oc_cloth_fail((cloth *)c, CLOTH_EINVAL, "cloth_save: state was made for another cloth size");
+    oc_state_copy(s, &c->st);
     return CLOTH_OK;
 }
 
 cloth_status cloth_restore(cloth *c, const cloth_state *s)
 {
     if (!c) return CLOTH_EINVAL;
-    if (!s) return cloth_fail(c, CLOTH_EINVAL, "cloth_restore: state is NULL");
+    if (!s) return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_restore: state is NULL");
     if (s->n != c->n || s->n_int != c->n_int)
-        return cloth_fail(c, CLOTH_EINVAL, "cloth_restore: state was made for another cloth size");
-    state_copy(&c->st, s);
+        return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_restore: state was made for another cloth size");
+    oc_state_copy(&c->st, s);
     return CLOTH_OK;
 }
 
@@ -239,11 +239,12 @@ static void state_arrays(const struct cloth_state *s, double *a[5])
 cloth_status cloth_state_write(const cloth_state *s, void *buf, size_t cap, size_t *written, cloth_error *err)
 {
     if (written) *written = 0;
-    if (!s) return error_set(err, CLOTH_EINVAL, "cloth_state_write: state is NULL");
-    if (!buf) return error_set(err, CLOTH_EINVAL, "cloth_state_write: buffer is NULL");
+    if (!s) return oc_error_set(err, CLOTH_EINVAL, "cloth_state_write: state is NULL");
+    if (!buf) return oc_error_set(err, CLOTH_EINVAL, "cloth_state_write: buffer is NULL");
     size_t n = (size_t)s->n, m = (size_t)s->n_int, need = cloth_state_size_bytes(s);
     if (cap < need)
-        return error_set(err, CLOTH_EINVAL, "cloth_state_write: buffer of %zu bytes, the state needs %zu", cap, need);
+        return oc_error_set(err, CLOTH_EINVAL, "cloth_state_write: buffer of %zu bytes, the state needs %zu", cap,
+                            need);
     unsigned char *p = buf, *q = p;
     memcpy(q, STATE_MAGIC, 8);
     put_u32(q + 8, STATE_VERSION);
@@ -273,14 +274,14 @@ static cloth_status check_perm(const unsigned char *q, size_t m, size_t qs, clot
     for (size_t e = 0; e < m; e++, q += 8) {
         double v = get_f64(q);
         if (!(v >= 0.0 && v < 1.0))
-            return error_set(err, CLOTH_EINVAL, "cloth_state_read: perm[%zu] = %g must be in [0, 1)", e, v);
+            return oc_error_set(err, CLOTH_EINVAL, "cloth_state_read: perm[%zu] = %g must be in [0, 1)", e, v);
     }
     for (size_t e = 0; e < m; e++, q++)
-        if (*q > 1) return error_set(err, CLOTH_EINVAL, "cloth_state_read: bent[%zu] = %u must be 0 or 1", e, *q);
+        if (*q > 1) return oc_error_set(err, CLOTH_EINVAL, "cloth_state_read: bent[%zu] = %u must be 0 or 1", e, *q);
     for (size_t e = 0; e < qs; e++, q += 8) {
         double v = get_f64(q);
         if (!(v >= 0.0 && isfinite(v)))
-            return error_set(err, CLOTH_EINVAL, "cloth_state_read: seq_set[%zu] = %g must be finite and >= 0", e, v);
+            return oc_error_set(err, CLOTH_EINVAL, "cloth_state_read: seq_set[%zu] = %g must be finite and >= 0", e, v);
     }
     return CLOTH_OK;
 }
@@ -291,48 +292,49 @@ static const char *const array_name[5] = {"x", "v", "x_prev", "v_prev", "dv_prev
 static cloth_status check_record(const cloth_state *s, const unsigned char *p, size_t len, cloth_error *err)
 {
     if (len < STATE_HEADER)
-        return error_set(err, CLOTH_EINVAL, "cloth_state_read: %zu bytes, shorter than the %u-byte header", len,
-                         STATE_HEADER);
+        return oc_error_set(err, CLOTH_EINVAL, "cloth_state_read: %zu bytes, shorter than the %u-byte header", len,
+                            STATE_HEADER);
     if (memcmp(p, STATE_MAGIC, 8) != 0)
-        return error_set(err, CLOTH_EINVAL, "cloth_state_read: not an odecloth state (bad magic)");
+        return oc_error_set(err, CLOTH_EINVAL, "cloth_state_read: not an odecloth state (bad magic)");
     uint32_t ver = get_u32(p + 8), n = get_u32(p + 12), m = get_u32(p + 16), hp = get_u32(p + 20);
     if (ver < 1u || ver > STATE_VERSION)
-        return error_set(err, CLOTH_EINVAL, "cloth_state_read: format version %u, this library reads 1 to %u",
-                         (unsigned)ver, STATE_VERSION);
+        return oc_error_set(err, CLOTH_EINVAL, "cloth_state_read: format version %u, this library reads 1 to %u",
+                            (unsigned)ver, STATE_VERSION);
     if (n != (uint32_t)s->n || m != (uint32_t)s->n_int)
-        return error_set(err, CLOTH_EINVAL,
-                         "cloth_state_read: the record is for %u vertices and %u interlaced links, the state "
-                         "for %d and %d",
-                         (unsigned)n, (unsigned)m, s->n, s->n_int);
+        return oc_error_set(err, CLOTH_EINVAL,
+                            "cloth_state_read: the record is for %u vertices and %u interlaced links, the state "
+                            "for %d and %d",
+                            (unsigned)n, (unsigned)m, s->n, s->n_int);
     size_t need = state_record_bytes(s, ver);
     if (len != need)
-        return error_set(err, CLOTH_EINVAL, "cloth_state_read: %zu bytes, a record of this size has %zu", len, need);
+        return oc_error_set(err, CLOTH_EINVAL, "cloth_state_read: %zu bytes, a record of this size has %zu", len, need);
     uint64_t sum = get_u64(p + need - 8);
     if (sum != fnv1a(p, need - 8))
-        return error_set(err, CLOTH_EINVAL, "cloth_state_read: checksum mismatch (the record is damaged)");
-    if (hp > 1) return error_set(err, CLOTH_EINVAL, "cloth_state_read: has_prev = %u must be 0 or 1", (unsigned)hp);
+        return oc_error_set(err, CLOTH_EINVAL, "cloth_state_read: checksum mismatch (the record is damaged)");
+    if (hp > 1) return oc_error_set(err, CLOTH_EINVAL, "cloth_state_read: has_prev = %u must be 0 or 1", (unsigned)hp);
     double hprev = get_f64(p + 24);
     if (!isfinite(hprev) || hprev < 0.0 || (hp && !(hprev > 0.0)))
-        return error_set(err, CLOTH_EINVAL,
-                         "cloth_state_read: h_prev = %g must be finite and >= 0 (> 0 with "
-                         "history)",
-                         hprev);
+        return oc_error_set(err, CLOTH_EINVAL,
+                            "cloth_state_read: h_prev = %g must be finite and >= 0 (> 0 with "
+                            "history)",
+                            hprev);
     const unsigned char *q = p + STATE_HEADER;
     for (int k = 0; k < 5; k++)
         for (size_t i = 0; i < 3 * (size_t)n; i++, q += 8)
             if (!isfinite(get_f64(q)))
-                return error_set(err, CLOTH_EINVAL, "cloth_state_read: %s[%zu] is not finite", array_name[k], i);
+                return oc_error_set(err, CLOTH_EINVAL, "cloth_state_read: %s[%zu] is not finite", array_name[k], i);
     for (size_t e = 0; e < m; e++, q += 8) {
         double l1 = get_f64(q);
         if (!isfinite(l1) || !(l1 > 0.0))
-            return error_set(err, CLOTH_EINVAL, "cloth_state_read: l1[%zu] = %g must be finite and > 0", e, l1);
+            return oc_error_set(err, CLOTH_EINVAL, "cloth_state_read: l1[%zu] = %g must be finite and > 0", e, l1);
     }
     for (size_t e = 0; e < m; e++, q++)
-        if (*q > 1) return error_set(err, CLOTH_EINVAL, "cloth_state_read: plastic[%zu] = %u must be 0 or 1", e, *q);
+        if (*q > 1) return oc_error_set(err, CLOTH_EINVAL, "cloth_state_read: plastic[%zu] = %u must be 0 or 1", e, *q);
     for (int e = 0; ver > 1u && e < s->n_seq; e++, q += 8) {
         double sh = get_f64(q);
         if (!isfinite(sh) || sh < 0.0)
-            return error_set(err, CLOTH_EINVAL, "cloth_state_read: lim_shift[%d] = %g must be finite and >= 0", e, sh);
+            return oc_error_set(err, CLOTH_EINVAL, "cloth_state_read: lim_shift[%d] = %g must be finite and >= 0", e,
+                                sh);
     }
     size_t qs = ver > 3u ? (size_t)s->n_seq : 0;
     return ver > 2u ? check_perm(p + need - 8 - 8 * qs - 9 * (size_t)m, m, qs, err) : CLOTH_OK;
@@ -340,8 +342,8 @@ static cloth_status check_record(const cloth_state *s, const unsigned char *p, s
 
 cloth_status cloth_state_read(cloth_state *s, const void *buf, size_t len, cloth_error *err)
 {
-    if (!s) return error_set(err, CLOTH_EINVAL, "cloth_state_read: state is NULL");
-    if (!buf) return error_set(err, CLOTH_EINVAL, "cloth_state_read: buffer is NULL");
+    if (!s) return oc_error_set(err, CLOTH_EINVAL, "cloth_state_read: state is NULL");
+    if (!buf) return oc_error_set(err, CLOTH_EINVAL, "cloth_state_read: buffer is NULL");
     const unsigned char *p = buf;
     cloth_status r = check_record(s, p, len, err);
     if (r != CLOTH_OK) return r;
@@ -371,26 +373,26 @@ cloth_status cloth_state_read(cloth_state *s, const void *buf, size_t len, cloth
 
 cloth_status cloth_state_write_file(const cloth_state *s, FILE *f, cloth_error *err)
 {
-    if (!s) return error_set(err, CLOTH_EINVAL, "cloth_state_write_file: state is NULL");
-    if (!f) return error_set(err, CLOTH_EINVAL, "cloth_state_write_file: file is NULL");
+    if (!s) return oc_error_set(err, CLOTH_EINVAL, "cloth_state_write_file: state is NULL");
+    if (!f) return oc_error_set(err, CLOTH_EINVAL, "cloth_state_write_file: file is NULL");
     size_t need = cloth_state_size_bytes(s);
     unsigned char *buf = malloc(need);
-    if (!buf) return error_set(err, CLOTH_ENOMEM, "cloth_state_write_file: no memory for %zu bytes", need);
+    if (!buf) return oc_error_set(err, CLOTH_ENOMEM, "cloth_state_write_file: no memory for %zu bytes", need);
     cloth_status r = cloth_state_write(s, buf, need, NULL, err);
     if (r == CLOTH_OK && fwrite(buf, 1, need, f) != need)
-        r = error_set(err, CLOTH_EINVAL, "cloth_state_write_file: writing %zu bytes failed", need);
+        r = oc_error_set(err, CLOTH_EINVAL, "cloth_state_write_file: writing %zu bytes failed", need);
     free(buf);
     return r;
 }
 
 cloth_status cloth_state_read_file(cloth_state *s, FILE *f, cloth_error *err)
 {
-    if (!s) return error_set(err, CLOTH_EINVAL, "cloth_state_read_file: state is NULL");
-    if (!f) return error_set(err, CLOTH_EINVAL, "cloth_state_read_file: file is NULL");
+    if (!s) return oc_error_set(err, CLOTH_EINVAL, "cloth_state_read_file: state is NULL");
+    if (!f) return oc_error_set(err, CLOTH_EINVAL, "cloth_state_read_file: file is NULL");
     /* exactly one record: the size of s's, read to its end and no further */
     size_t need = cloth_state_size_bytes(s);
     unsigned char *buf = malloc(need);
-    if (!buf) return error_set(err, CLOTH_ENOMEM, "cloth_state_read_file: no memory for %zu bytes", need);
+    if (!buf) return oc_error_set(err, CLOTH_ENOMEM, "cloth_state_read_file: no memory for %zu bytes", need);
     size_t got = fread(buf, 1, STATE_HEADER, f);
     cloth_status r;
     if (got == STATE_HEADER && memcmp(buf, STATE_MAGIC, 8) == 0 && get_u32(buf + 12) == (uint32_t)s->n &&
@@ -399,7 +401,7 @@ cloth_status cloth_state_read_file(cloth_state *s, FILE *f, cloth_error *err)
     /* a short or foreign record: check_record names what is wrong */
     r = cloth_state_read(s, buf, got, err);
     if (r != CLOTH_OK && got < need && ferror(f))
-        r = error_set(err, CLOTH_EINVAL, "cloth_state_read_file: reading failed after %zu bytes", got);
+        r = oc_error_set(err, CLOTH_EINVAL, "cloth_state_read_file: reading failed after %zu bytes", got);
     free(buf);
     return r;
 }

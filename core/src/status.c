@@ -36,7 +36,7 @@ static cloth_status vset(char *buf, size_t n, cloth_status code, const char *fmt
     return code;
 }
 
-cloth_status cloth_fail(cloth *c, cloth_status code, const char *fmt, ...)
+cloth_status oc_cloth_fail(cloth *c, cloth_status code, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -45,7 +45,7 @@ cloth_status cloth_fail(cloth *c, cloth_status code, const char *fmt, ...)
     return code;
 }
 
-cloth_status error_set(cloth_error *e, cloth_status code, const char *fmt, ...)
+cloth_status oc_error_set(cloth_error *e, cloth_status code, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -57,7 +57,7 @@ cloth_status error_set(cloth_error *e, cloth_status code, const char *fmt, ...)
     return code;
 }
 
-int all_finite(const double *a, size_t n)
+int oc_all_finite(const double *a, size_t n)
 {
     /* x - x is 0 for finite x and NaN for NaN or inf; one branch at the end. */
     double acc = 0.0;

@@ -10,7 +10,7 @@
 #include "newton.h"
 #include "self_contact.h"
 
-int workspace_alloc(cloth *c)
+int oc_workspace_alloc(cloth *c)
 {
     size_t n3 = 3 * (size_t)c->n, nl = 3 * ((size_t)c->n_seq + (size_t)c->n_int);
     /* f b dv z y x_new v_new con_new jac na dvt xt vt sl_x0 ddv dv_saved
@@ -46,14 +46,14 @@ typedef struct measured {
 static cloth_failure explicit_step(cloth *c, double h, int symplectic, const double *xs, double frac)
 {
     const double *x0 = c->st.x, *v0 = c->st.v;
-    forces_eval(c, x0, v0, 1, c->f);
-    constraints_build(c, x0, v0, h, xs, frac);
+    oc_forces_eval(c, x0, v0, 1, c->f);
+    oc_constraints_build(c, x0, v0, h, xs, frac);
     memset(c->con_new, 0, 3 * (size_t)c->n * sizeof *c->con_new);
     for (int i = 0; i < c->n; i++) {
         const double *Si = c->S + 9 * (size_t)i, *z = c->z + 3 * (size_t)i;
         double dv[3], fdv[3];
         for (int r = 0; r < 3; r++) dv[r] = h * c->f[3 * i + r] / c->mass[i];
-        filter_apply(1, Si, dv, fdv);
+        oc_filter_apply(1, Si, dv, fdv);
         for (int r = 0; r < 3; r++) {
             double v1 = v0[3 * i + r] + fdv[r] + z[r];
             c->v_new[3 * i + r] = v1;
@@ -74,7 +74,7 @@ static void fill_stats(cloth *c, cloth_step_stats *st, const measured *ms)
 {
     st->constrained = c->n_con;
     if (ms) {
-        st->energy = energies_with_elastic(c, ms->elastic);
+        st->energy = oc_energies_with_elastic(c, ms->elastic);
         st->max_strain = ms->max_strain;
         st->plastic_links = ms->plastic;
         return;
@@ -89,7 +89,7 @@ static void fill_stats(cloth *c, cloth_step_stats *st, const measured *ms)
 /* Wall seconds the bound self-contact has spent since its creation (0: none bound) */
 static double self_contact_clock(const cloth *c)
 {
-    return c->self_contact ? self_contact_get_work(c->self_contact).seconds : 0.0;
+    return c->self_contact ? oc_self_contact_get_work(c->self_contact).seconds : 0.0;
 }
 
 /* sc0: self_contact_clock when the step began */
@@ -118,14 +118,14 @@ static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, 
     case CLOTH_SYMPLECTIC_EULER: fail = explicit_step(c, h, 1, xs, frac); break;
     default:
         /* BDF2's first step, or a step after h changed, is backward Euler */
-        if (sv->nonlinear == CLOTH_NEWTON) fail = newton_step(c, h, bdf2, xs, frac, st, &held);
-        else fail = linearized_step(c, h, bdf2, xs, frac, st);
+        if (sv->nonlinear == CLOTH_NEWTON) fail = oc_newton_step(c, h, bdf2, xs, frac, st, &held);
+        else fail = oc_linearized_step(c, h, bdf2, xs, frac, st);
         if (fail != CLOTH_FAIL_NONE && last && c->self_contact && sv->nonlinear == CLOTH_NEWTON) {
             /* a step the self-contact barrier cannot take, as the smallest substep:
              * taken without it, its pairs left to the pass after the step */
             struct self_contact *sc = c->self_contact;
             c->self_contact = NULL;
-            fail = newton_step(c, h, bdf2, xs, frac, st, &held);
+            fail = oc_newton_step(c, h, bdf2, xs, frac, st, &held);
             c->self_contact = sc;
             st->self_contact_dropped++;
         }
@@ -135,18 +135,18 @@ static cloth_failure attempt(cloth *c, double h, const double *xs, double frac, 
         }
         break;
     }
-    if (fail == CLOTH_FAIL_NONE && !(all_finite(c->x_new, n3) && all_finite(c->v_new, n3))) fail = CLOTH_FAIL_NAN;
+    if (fail == CLOTH_FAIL_NONE && !(oc_all_finite(c->x_new, n3) && oc_all_finite(c->v_new, n3))) fail = CLOTH_FAIL_NAN;
     memset(c->sl_dv, 0, n3 * sizeof *c->sl_dv);
     if (fail == CLOTH_FAIL_NONE && !held && sv->strain_limit_iterations > 0) {
         memcpy(c->sl_dv, c->v_new, n3 * sizeof *c->sl_dv);
-        st->strain_limited += strain_limit(c, c->x_new, c->v_new, c->S, h, sv->strain_limit_iterations);
+        st->strain_limited += oc_strain_limit(c, c->x_new, c->v_new, c->S, h, sv->strain_limit_iterations);
         for (size_t k = 0; k < n3; k++) c->sl_dv[k] = c->v_new[k] - c->sl_dv[k];
     }
-    if (fail == CLOTH_FAIL_NONE && !(all_finite(c->x_new, n3) && all_finite(c->v_new, n3))) fail = CLOTH_FAIL_NAN;
+    if (fail == CLOTH_FAIL_NONE && !(oc_all_finite(c->x_new, n3) && oc_all_finite(c->v_new, n3))) fail = CLOTH_FAIL_NAN;
     /* the constraint forces too: A dv - b can overflow while x and v do not */
-    if (fail == CLOTH_FAIL_NONE && !all_finite(c->con_new, n3)) fail = CLOTH_FAIL_NAN;
+    if (fail == CLOTH_FAIL_NONE && !oc_all_finite(c->con_new, n3)) fail = CLOTH_FAIL_NAN;
     if (fail == CLOTH_FAIL_NONE) {
-        double m = ms->max_strain = max_strain_seq_energy(c, c->x_new, &ms->elastic);
+        double m = ms->max_strain = oc_max_strain_seq_energy(c, c->x_new, &ms->elastic);
         if (!(m <= sv->strain_fail)) fail = m != m ? CLOTH_FAIL_NAN : CLOTH_FAIL_STRAIN;
     }
     return fail;
@@ -170,7 +170,7 @@ static void commit(cloth *c, double h, measured *ms)
         memcpy(s->dv_prev, c->dv, n3 * sizeof *c->dv);
         memcpy(s->lim_shift, c->lim_shift, (size_t)c->n_seq * sizeof *c->lim_shift);
     }
-    ms->plastic = update_plastic_energy(c, h, &ms->elastic); /* cloth_update_plastic */
+    ms->plastic = oc_update_plastic_energy(c, h, &ms->elastic); /* cloth_update_plastic */
 }
 
 /* Retry after the whole step failed: 2^d substeps of h / 2^d, d = 1..halvings, until a depth takes
@@ -182,7 +182,7 @@ static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failu
     size_t n3 = 3 * (size_t)c->n;
     struct cloth_state *bk = &c->retry_bk;
     double *xs = c->retry_xs, *fsum = c->retry_fsum, air[3], asum[3], airt[3], atsum[3];
-    state_copy(bk, &c->st);
+    oc_state_copy(bk, &c->st);
     memcpy(xs, c->st.x, n3 * sizeof *xs);
     long k = 0;
     for (int d = 1; d <= halvings; d++) {
@@ -196,32 +196,32 @@ static cloth_failure substep_retry(cloth *c, double h, int halvings, cloth_failu
         memset(atsum, 0, sizeof atsum);
         /* bodies solved with the cloth: their du carries from substep to
          * substep (bodies.c) */
-        bodies_retry_reset(c);
+        oc_bodies_retry_reset(c);
         c->body_retry = 1;
         c->body_hs = hs;
         for (k = 0; k < parts; k++) {
             fail = attempt(c, hs, xs, (double)(k + 1) / (double)parts, d == halvings, st, ms);
             if (fail != CLOTH_FAIL_NONE) break;
-            air_step_force(c, hs, air, airt);
+            oc_air_step_force(c, hs, air, airt);
             for (int r = 0; r < 3; r++) {
                 asum[r] += air[r] / (double)parts;
                 atsum[r] += airt[r] / (double)parts;
             }
             commit(c, hs, ms);
-            bodies_retry_commit(c, hs);
+            oc_bodies_retry_commit(c, hs);
             for (size_t q = 0; q < n3; q++) fsum[q] += c->con_new[q] / (double)parts;
         }
         c->body_retry = 0;
         if (fail == CLOTH_FAIL_NONE) break;
         st->substeps_failed++;
-        state_copy(&c->st, bk);
+        oc_state_copy(&c->st, bk);
     }
     st->substeps = fail == CLOTH_FAIL_NONE ? (int)k : (int)k + 1;
     if (fail == CLOTH_FAIL_NONE) {
         memcpy(c->con_force, fsum, n3 * sizeof *fsum);
         memcpy(c->air_force, asum, sizeof asum);
         memcpy(c->air_torque, atsum, sizeof atsum);
-        bodies_retry_finish(c);
+        oc_bodies_retry_finish(c);
     }
     return fail;
 }
@@ -239,13 +239,13 @@ cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
         st.failure = CLOTH_FAIL_BAD_STEP;
         fill_stats(c, &st, NULL);
         finish(c, &st, out, CLOTH_EINVAL, sc0);
-        return cloth_fail(c, CLOTH_EINVAL, "cloth_step: h = %g must be finite and > 0", h);
+        return oc_cloth_fail(c, CLOTH_EINVAL, "cloth_step: h = %g must be finite and > 0", h);
     }
     measured ms = {0.0, 0.0, 0};
-    contacts_begin(c);
+    oc_contacts_begin(c);
     cloth_failure fail = attempt(c, h, NULL, 1.0, sv->max_substep_halvings == 0, &st, &ms);
     if (fail == CLOTH_FAIL_NONE) {
-        air_step_force(c, h, c->air_force, c->air_torque);
+        oc_air_step_force(c, h, c->air_force, c->air_torque);
         commit(c, h, &ms);
         memcpy(c->con_force, c->con_new, 3 * (size_t)c->n * sizeof *c->con_force);
     } else {
@@ -254,14 +254,14 @@ cloth_status cloth_step(cloth *c, double h, cloth_step_stats *out)
         if (sv->max_substep_halvings > 0) fail = substep_retry(c, h, sv->max_substep_halvings, fail, &st, &ms);
     }
     if (fail != CLOTH_FAIL_NONE) {
-        contacts_undo(c);
+        oc_contacts_undo(c);
         st.failure = fail;
         fill_stats(c, &st, NULL); /* the unchanged state */
         finish(c, &st, out, CLOTH_ESTEP, sc0);
         if (st.halvings > 0)
-            return cloth_fail(c, CLOTH_ESTEP, "cloth_step: %s, also in substeps of h/%ld (state unchanged)",
-                              cloth_failure_string(fail), 1L << st.halvings);
-        return cloth_fail(c, CLOTH_ESTEP, "cloth_step: %s (state unchanged)", cloth_failure_string(fail));
+            return oc_cloth_fail(c, CLOTH_ESTEP, "cloth_step: %s, also in substeps of h/%ld (state unchanged)",
+                                 cloth_failure_string(fail), 1L << st.halvings);
+        return oc_cloth_fail(c, CLOTH_ESTEP, "cloth_step: %s (state unchanged)", cloth_failure_string(fail));
     }
     fill_stats(c, &st, &ms); /* the committed positions are x_new */
     return finish(c, &st, out, CLOTH_OK, sc0);

@@ -18,7 +18,7 @@ static int bodies_on(const cloth *c)
 /* u^T W u for a vertex: W = S / m (0 if pinned), plus its body's part */
 static double wnorm(const cloth *c, const double *S, int i, const double u[3])
 {
-    double b = bodies_on(c) && body_holds(c, i) ? body_wnorm(c, S, i, u) : 0.0;
+    double b = bodies_on(c) && oc_body_holds(c, i) ? oc_body_wnorm(c, S, i, u) : 0.0;
     if (c->con[i].ndof == 3) return b;
     if (c->con[i].ndof == 0) return b + 1.0 / c->mass[i];
     const double *Si = S + 9 * (size_t)i;
@@ -31,7 +31,7 @@ static double wnorm(const cloth *c, const double *S, int i, const double u[3])
  * bodies_spread) */
 static void add_wu(const cloth *c, const double *S, int i, const double u[3], double s, double *q)
 {
-    if (bodies_on(c) && body_holds(c, i)) body_push((cloth *)c, S, i, u, s);
+    if (bodies_on(c) && oc_body_holds(c, i)) oc_body_push((cloth *)c, S, i, u, s);
     if (c->con[i].ndof == 3) return;
     double *qi = q + 3 * (size_t)i, k = s / c->mass[i];
     if (c->con[i].ndof == 0) {
@@ -48,13 +48,13 @@ static void add_wu(const cloth *c, const double *S, int i, const double u[3], do
 static void bodies_spread(const cloth *c, int m, const int *act, const double *S, double *q, unsigned char *touched)
 {
     if (!bodies_on(c)) return;
-    body_solve((cloth *)c);
+    oc_body_solve((cloth *)c);
     for (int t = 0; t < 2; t++)
         for (int a = 0; a < m; a++) {
             int i = t ? c->seq[act[a]].j : c->seq[act[a]].i;
-            if (touched[i] || !body_holds(c, i)) continue;
+            if (touched[i] || !oc_body_holds(c, i)) continue;
             touched[i] = 1;
-            body_move(c, S, i, 1.0, q);
+            oc_body_move(c, S, i, 1.0, q);
         }
     for (int a = 0; a < m; a++) touched[c->seq[act[a]].i] = touched[c->seq[act[a]].j] = 0;
 }
@@ -115,7 +115,7 @@ static void apply_step(const cloth *c, const double *S, int m, const int *act, d
     }
     if (bodies_on(c))
         for (int i = 0; i < c->n; i++)
-            if (!touched[i] && body_holds(c, i)) body_move(c, S, i, s, x);
+            if (!touched[i] && oc_body_holds(c, i)) oc_body_move(c, S, i, s, x);
     for (int a = 0; a < m; a++) touched[c->seq[act[a]].i] = touched[c->seq[act[a]].j] = 0;
 }
 
@@ -124,7 +124,7 @@ static void apply_step(const cloth *c, const double *S, int m, const int *act, d
 static int rigid_pair(const cloth *c, int i, int j)
 {
     if (c->con[i].ndof != 3 || c->con[j].ndof != 3) return 0;
-    int bi = bodies_on(c) && body_holds(c, i), bj = bodies_on(c) && body_holds(c, j);
+    int bi = bodies_on(c) && oc_body_holds(c, i), bj = bodies_on(c) && oc_body_holds(c, j);
     return bi && bj && c->vbody[i] == c->vbody[j];
 }
 
@@ -202,7 +202,7 @@ static void clear_step(const cloth *c, int m, const int *act, double *q)
     }
 }
 
-int strain_limit(cloth *c, double *x, double *v, const double *S, double h, int iterations)
+int oc_strain_limit(cloth *c, double *x, double *v, const double *S, double h, int iterations)
 {
     double limit = 1.0 + c->desc.material.delta;
     int *act = c->sl_act;
@@ -214,7 +214,7 @@ int strain_limit(cloth *c, double *x, double *v, const double *S, double h, int 
     if (bodies_on(c)) { /* the held vertices' levers from where they are now */
         memcpy(c->sl_x0, x, 3 * (size_t)c->n * sizeof *x);
         c->sl_x = c->sl_x0;
-        body_limit_begin(c);
+        oc_body_limit_begin(c);
     }
     double merit = violation(c, x, limit, &first), mu = SL_MU_MIN;
     int over = first;
@@ -294,7 +294,7 @@ int strain_limit(cloth *c, double *x, double *v, const double *S, double h, int 
         }
         if (kept) { /* velocities follow; pushing links leave */
             apply_step(c, S, m, act, v, q, s / h, touched);
-            if (bodies_on(c)) body_kept(c, s / h);
+            if (bodies_on(c)) oc_body_kept(c, s / h);
             for (int a = 0; a < m; a++) in[act[a]] = lam[a] > 0.0;
             merit = merit1;
             over = over1;

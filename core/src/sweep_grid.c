@@ -23,7 +23,7 @@ struct sweep_grid {
     size_t nentry, entry_cap;
 };
 
-sweep_grid *sweep_grid_create(void)
+sweep_grid *oc_sweep_grid_create(void)
 {
     sweep_grid *g = calloc(1, sizeof *g);
     if (!g) return NULL;
@@ -34,7 +34,7 @@ sweep_grid *sweep_grid_create(void)
     return g;
 }
 
-void sweep_grid_destroy(sweep_grid *g)
+void oc_sweep_grid_destroy(sweep_grid *g)
 {
     if (!g) return;
     free(g->big);
@@ -46,9 +46,9 @@ void sweep_grid_destroy(sweep_grid *g)
     free(g);
 }
 
-int sweep_grid_big(const sweep_grid *g) { return g ? g->nbig : 0; }
+int oc_sweep_grid_big(const sweep_grid *g) { return g ? g->nbig : 0; }
 
-const double *sweep_grid_bound(const sweep_grid *g) { return g->bound; }
+const double *oc_sweep_grid_bound(const sweep_grid *g) { return g->bound; }
 
 static int overlap(const double *a, const double *b)
 {
@@ -164,7 +164,7 @@ static size_t file_boxes(sweep_grid *g, int mode)
     return total;
 }
 
-int sweep_grid_build(sweep_grid *g, const double *box, int n)
+int oc_sweep_grid_build(sweep_grid *g, const double *box, int n)
 {
     g->box = box;
     g->n = n < 0 ? 0 : n;
@@ -214,7 +214,7 @@ int sweep_grid_build(sweep_grid *g, const double *box, int n)
     return 0;
 }
 
-int sweep_grid_query(sweep_grid *g, const double *box, const int **items)
+int oc_sweep_grid_query(sweep_grid *g, const double *box, const int **items)
 {
     int m = 0;
     int64_t lo[3], hi[3];

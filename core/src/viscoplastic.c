@@ -5,7 +5,7 @@
 #include <math.h>
 #include "internal.h"
 
-int plastic_time_on(const cloth_material *m)
+int oc_plastic_time_on(const cloth_material *m)
 {
     return m->tau_set > 0.0 || m->tau_recover > 0.0 || m->set_hardening > 0.0;
 }
@@ -13,8 +13,8 @@ int plastic_time_on(const cloth_material *m)
 /* What is left of a difference after h seconds of decay at tau (0: none). */
 static double decay(double h, double tau) { return tau > 0.0 ? exp(-h / tau) : 0.0; }
 
-void plastic_rule_time(const cloth_material *m, double rest, double d, double h, int *plastic, double *l1, double *perm,
-                       int *bent)
+void oc_plastic_rule_time(const cloth_material *m, double rest, double d, double h, int *plastic, double *l1,
+                          double *perm, int *bent)
 {
     double lp = rest - *perm * rest;
     if (m->alpha <= 0.0) {

@@ -4,15 +4,17 @@
 # name leaked (defined and exported, not declared); and no function the
 # headers name that the library defines left unmarked (so hidden). The
 # installed static library defines globally only those functions too (its
-# internal names are local: a user's own functions cannot clash with them).
-# usage: check.sh SHARED INTERNAL PUBLIC_STATIC HEADER... (a library: shared,
-# the build's static archive of its objects, the installed static library;
-# and the headers it implements)
+# internal names are local: a user's own functions cannot clash with them),
+# and every other global of the library's objects carries its internal prefix.
+# usage: check.sh SHARED INTERNAL PUBLIC_STATIC PREFIX HEADER... (a library:
+# shared, the build's static archive of its objects, the installed static
+# library, its internal names' prefix; and the headers it implements)
 set -u
 lib=$1
 static=$2
 public=$3
-shift 3
+prefix=$4
+shift 4
 if ! command -v nm >/dev/null; then
     echo "symbols: nm not found (binutils)"
     exit 1
@@ -36,30 +38,32 @@ leaked=$(comm -23 <(echo "$exported") <(echo "$declared"))
 # every global the installed static library defines (functions and data)
 global=$(nm --defined-only --extern-only "$public" 2>/dev/null | awk 'NF == 3 { print $3 }' | sort -u)
 static_leaked=$(comm -23 <(echo "$global") <(echo "$declared"))
+# every global the objects define, functions and data, that no header declares
+internal=$(nm --defined-only --extern-only "$static" 2>/dev/null | awk 'NF == 3 { print $3 }' | sort -u |
+    comm -23 - <(echo "$declared"))
+unprefixed=$(echo "$internal" | grep -v "^$prefix" || true)
 status=0
-if [ -n "$missing" ]; then
-    echo "symbols: declared ODECLOTH_API in the headers but not exported by $(basename "$lib"):"
-    echo "$missing" | sed 's/^/  /'
+# report MESSAGE LIST: the message and the list's lines, a failure, if the list is not empty
+report() {
+    if [ -n "$2" ]; then
+        echo "symbols: $1"
+        echo "$2" | sed 's/^/  /'
+        status=1
+    fi
+}
+if [ -z "$internal" ]; then
+    echo "symbols: no internal name read from $static"
     status=1
 fi
-if [ -n "$unmarked" ]; then
-    echo "symbols: named in the headers and defined in $(basename "$static") but not ODECLOTH_API (hidden):"
-    echo "$unmarked" | sed 's/^/  /'
-    status=1
-fi
-if [ -n "$leaked" ]; then
-    echo "symbols: exported by $(basename "$lib") but not declared ODECLOTH_API in a public header:"
-    echo "$leaked" | sed 's/^/  /'
-    status=1
-fi
+report "internal names in $(basename "$static") without the prefix $prefix:" "$unprefixed"
+report "declared ODECLOTH_API in the headers but not exported by $(basename "$lib"):" "$missing"
+report "named in the headers and defined in $(basename "$static") but not ODECLOTH_API (hidden):" "$unmarked"
+report "exported by $(basename "$lib") but not declared ODECLOTH_API in a public header:" "$leaked"
 if [ -z "$global" ]; then
     echo "symbols: nothing read from $public"
     status=1
-elif [ -n "$static_leaked" ]; then
-    echo "symbols: global in $(basename "$public") but not declared ODECLOTH_API in a public header:"
-    echo "$static_leaked" | sed 's/^/  /'
-    status=1
 fi
+report "global in $(basename "$public") but not declared ODECLOTH_API in a public header:" "$static_leaked"
 echo "symbols: $(basename "$lib"): $(echo "$exported" | wc -l) exported, $(echo "$declared" | wc -l) declared;" \
     "$(basename "$public"): $(echo "$global" | wc -l) global"
 exit $status

@@ -77,7 +77,7 @@ typedef struct cloth_material {
                            unbending still resisted by k_s toward l1), so a
                            crease spread flat re-forms when let go; bent
                            deeper than l1 it still ratchets (l1 = min d).
-                           Decided in plastic_rule_memory (core/src/plastic.c).
+                           Decided in oc_plastic_rule_memory (core/src/plastic.c).
                            Must be 0 or 1. With tau_recover > 0 the
                            recovery law below decides instead. */
     /* Plasticity in time (ours; core/src/viscoplastic.c, docs/materials.md): bent, l1 relaxes toward d;
