@@ -142,6 +142,7 @@ typedef struct scene {
     int ngeoms;
     dBodyID ball;
     cloth_self_collision *self; /* --self-collision, else NULL */
+    double pass_s;              /* s, the last step's self-collision pass after it */
 } scene;
 
 /* The user's collisions between bodies and the plane (the cloth's are the
@@ -337,7 +338,9 @@ static cloth_status scene_step(scene *s, double h, cloth_step_stats *st)
         if (s->joints) dJointGroupEmpty(s->joints);
         *st = dClothGetStats(s->cl)->core;
     }
+    double w = bench_wall_now();
     if (rc == CLOTH_OK && s->self) rc = cloth_self_collision_apply(s->self, s->core, NULL);
+    s->pass_s = bench_wall_now() - w;
     return rc;
 }
 
@@ -482,11 +485,11 @@ static void finish_row(const scene *s, trace *t, links *L, long newton, long cg,
 static void steps_row(const scene *s, const row *r, int k, const cloth_step_stats *st, int ok, double energy)
 {
     const dClothStepStats *ps = s->cl ? dClothGetStats(s->cl) : NULL;
-    fprintf(g_steps, "%s,%s,%d,%d,%.3f,%d,%d,%d,%d,%d,%d,%d,%.5f,%.6g,%d,%d,%d,%.3f\n", scene_name[s->kind], r->variant,
-            r->N, k, 1e3 * r->wall_s, st->newton, st->iterations, st->limit_updates, st->line_search_cuts,
+    fprintf(g_steps, "%s,%s,%d,%d,%.3f,%d,%d,%d,%d,%d,%d,%d,%.5f,%.6g,%d,%d,%d,%.3f,%.3f\n", scene_name[s->kind],
+            r->variant, r->N, k, 1e3 * r->wall_s, st->newton, st->iterations, st->limit_updates, st->line_search_cuts,
             st->contacts_decided, st->substeps, !ok, st->max_strain, energy, ps ? ps->resolves : 0,
             ps ? ps->newton_all : st->newton, ps ? ps->cg_all : st->iterations,
-            1e3 * (ps ? ps->self_contact_seconds_all : st->self_contact_seconds));
+            1e3 * (ps ? ps->self_contact_seconds_all : st->self_contact_seconds), 1e3 * s->pass_s);
 }
 
 /* Steps the scene for `seconds` or until the wall budget is spent; only
@@ -708,7 +711,8 @@ static const char usage[] =
     "           past it stops with status timeout and its figures so far\n"
     "--self-collision T  the self-collision pass (odecloth/selfcollision.h) of thickness T m\n"
     "           after every step, bound to the cloth so Newton steps keep it inside too\n"
-    "           (default 0: off); --steps' self_contact_ms is that barrier's time\n"
+    "           (default 0: off); --steps' self_contact_ms is that barrier's time, self_pass_ms\n"
+    "           the pass's after the step (both within wall_ms)\n"
     "--fabric F  cotton, wool, silk, denim or polyester: that cloth_fabric preset's springs for\n"
     "           each grid and its own weight, in place of cloth_material_preset(CLOTH_COTTON) at\n"
     "           0.2 kg (the CSV's fabric column; edge_radius_m and edge_height_m, the boundary's\n"
@@ -907,7 +911,7 @@ int main(int argc, char **argv)
     if (o.steps && !(g_steps = bench_open_csv(&o.b, "bench_drape_steps"))) return 1;
     if (g_steps)
         fputs("scene,variant,N,step,wall_ms,newton,cg,limit_updates,line_search_cuts,contacts_decided,substeps,"
-              "failed,max_strain,energy,resolves,newton_all,cg_all,self_contact_ms\n",
+              "failed,max_strain,energy,resolves,newton_all,cg_all,self_contact_ms,self_pass_ms\n",
               g_steps);
     print_load();
     printf("%g s simulated at h = 1/%g, wall budget %g s per run\n", seconds, HZ, o.max_wall);
