@@ -82,7 +82,7 @@ cloth_status dClothStep(dClothID c, dReal h)
     memcpy(c->step.fuser, cloth_external_forces(core), 3 * (size_t)c->n * sizeof *c->step.fuser);
     cloth_save(core, c->step.save);
     cloth_status s = CLOTH_OK;
-    int passes = 0, newton = cloth_get_desc(core).solver.nonlinear == CLOTH_NEWTON;
+    int passes = 0;
     for (;;) {
         dcloth_constrain(c, h, &st);
         dcloth_couple_bodies(c);
@@ -93,12 +93,11 @@ cloth_status dClothStep(dClothID c, dReal h)
         st.self_contact_seconds_all += st.core.self_contact_seconds;
         if (s != CLOTH_OK) break;
         if (!dcloth_revise(c, h, passes, &st) || passes >= DCLOTH_RESOLVE_PASSES) break;
-        /* Newton solves again from where this solve ended, a start it weighs against its others (the
-         * linearised step would take it unweighed, as its CG's start) */
+        /* solve again from where this solve ended: a start Newton weighs against its others */
         const double *v1 = cloth_velocities(core);
         for (size_t q = 0; q < 3 * (size_t)c->n; q++) c->step.dv[q] = v1[q] - c->step.v0[q];
         cloth_restore(core, c->step.save);
-        if (newton) cloth_set_warm_start(core, c->step.dv);
+        cloth_set_warm_start(core, c->step.dv);
     }
     st.resolves = passes - 1;
     cloth_set_external_forces(core, c->step.fuser); /* the user's again: friction is this step's alone */
