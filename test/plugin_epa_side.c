@@ -7,13 +7,13 @@
  *   - triangles at random (fixed seed) over a cylinder's and a box's top (EPA's), grown to touch it within
  *     1e-9 m: every answer apart, or within 8 degrees of +z no deeper than 1e-6 m, where libccd alone
  *     answers some along -z, through the far side (counted, more than none, lest the test test nothing);
- *   - links (segments grown by a radius, as the edge tests query them) over a cylinder's and a convex
- *     box's top, the same through dcloth_epa_near_side after libccd's answer. */
+ *   - links grown by a radius over a cylinder's and a convex box's top, the same through the edge tests'
+ *     own query (dcloth_link_distance). */
 #include <math.h>
 #include <string.h>
 
 #include "check.h"
-#include "epa_side.h"
+#include "edges.h"
 #include "geom_support.h"
 #include "triangle_query.h"
 
@@ -102,30 +102,6 @@ static void touching(dGeomID g, const double half[3], double top, double reach, 
     CHECK(far_raw > 0, "class %d: libccd alone answered none through the far side", dGeomGetClass(g));
 }
 
-/* A segment [a, b] grown by r, as libccd's second shape */
-typedef struct seg {
-    const double *a, *b;
-    double r;
-} seg;
-
-static void seg_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out)
-{
-    const seg *s = obj;
-    const double *d = dir->v;
-    const double *e = s->a[0] * d[0] + s->a[1] * d[1] + s->a[2] * d[2] >=
-                              s->b[0] * d[0] + s->b[1] * d[1] + s->b[2] * d[2]
-                          ? s->a
-                          : s->b;
-    double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]), f = l > 0.0 ? s->r / l : 0.0;
-    for (int k = 0; k < 3; k++) out->v[k] = e[k] + f * d[k];
-}
-
-static void seg_center(const void *obj, ccd_vec3_t *out)
-{
-    const seg *s = obj;
-    for (int k = 0; k < 3; k++) out->v[k] = 0.5 * (s->a[k] + s->b[k]);
-}
-
 /* Random links over the top of g (at height top, within reach of its axis), grown to touch it */
 static void links_touching(dGeomID g, const double half[3], const double *pts, double top, double reach, int trials,
                            uint64_t seed)
@@ -136,9 +112,8 @@ static void links_touching(dGeomID g, const double half[3], const double *pts, d
         gs.pts = pts;
         gs.npts = 8;
     }
-    ccd_t ccd = tight(0.005);
-    ccd.support2 = seg_support;
-    ccd.center2 = seg_center;
+    ccd_t ccd;
+    dcloth_link_ccd(0.005, &ccd);
     int far_raw = 0, bad = 0;
     for (int k = 0; k < trials; k++) {
         double a[3], b[3], cx = (2.0 * rnd(&seed) - 1.0) * reach, cy = (2.0 * rnd(&seed) - 1.0) * reach;
@@ -149,17 +124,16 @@ static void links_touching(dGeomID g, const double half[3], const double *pts, d
         }
         a[2] = z + 0.0003 * (2.0 * rnd(&seed) - 1.0);
         b[2] = z + 0.0003 * (2.0 * rnd(&seed) - 1.0);
-        seg sg = {a, b, fmin(a[2], b[2]) - top + 1e-9 * (2.0 * rnd(&seed) - 1.0)};
+        dcloth_seg_shape sg = {a, b, fmin(a[2], b[2]) - top + 1e-9 * (2.0 * rnd(&seed) - 1.0)};
         ccd_real_t depth;
-        ccd_vec3_t n, p;
-        if (ccdGJKPenetration(q.shape, &sg, &ccd, &depth, &n, &p) != 0) continue;
-        far_raw += n.v[2] < -0.99 * sqrt(n.v[0] * n.v[0] + n.v[1] * n.v[1] + n.v[2] * n.v[2]);
-        if (dcloth_epa_near_side(q.support, q.shape, seg_support, &sg, ccd.epa_tolerance, &depth, &n) != 0) continue;
-        double l = sqrt(n.v[0] * n.v[0] + n.v[1] * n.v[1] + n.v[2] * n.v[2]);
-        if (n.v[2] >= 0.99 * l && depth <= 1e-6) continue;
-        if (!bad++) fprintf(stderr, "link %d: depth %.3g along (%.3g %.3g %.3g)\n", k, depth, n.v[0], n.v[1], n.v[2]);
+        ccd_vec3_t n0, p0;
+        if (ccdGJKPenetration(q.shape, &sg, &ccd, &depth, &n0, &p0) == 0)
+            far_raw += n0.v[2] < -0.99 * sqrt(n0.v[0] * n0.v[0] + n0.v[1] * n0.v[1] + n0.v[2] * n0.v[2]);
+        double n[3], d = dcloth_link_distance(&gs, a, b, sg.r, &ccd, n);
+        if (d == INFINITY || (n[2] >= 0.99 && sg.r - d <= 1e-6)) continue;
+        if (!bad++) fprintf(stderr, "link %d: depth %.3g along (%.3g %.3g %.3g)\n", k, sg.r - d, n[0], n[1], n[2]);
     }
-    printf("links, class %d: %d of %d through the far side by libccd alone, %d after the near side\n", dGeomGetClass(g),
+    printf("links, class %d: %d of %d through the far side by libccd alone, %d by the link query\n", dGeomGetClass(g),
            far_raw, trials, bad);
     CHECK(bad == 0, "links, class %d: %d answers not up within 8 degrees, at most 1e-6 m deep", dGeomGetClass(g), bad);
     CHECK(far_raw > 0, "links, class %d: libccd alone answered none through the far side", dGeomGetClass(g));

@@ -255,15 +255,9 @@ static int link_query(const dClothID c, const tri_grid *gr, int stamp, int tie, 
     return 1;
 }
 
-/* A segment grown by r, as a libccd shape */
-typedef struct seg_shape {
-    const double *a, *b;
-    double r;
-} seg_shape;
-
 static void seg_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out)
 {
-    const seg_shape *s = obj;
+    const dcloth_seg_shape *s = obj;
     const double *d = dir->v, *e = dcloth_dot3(s->a, d) >= dcloth_dot3(s->b, d) ? s->a : s->b;
     double l = sqrt(dcloth_dot3(d, d)), f = l > 0.0 ? s->r / l : 0.0;
     for (int k = 0; k < 3; k++) out->v[k] = e[k] + f * d[k];
@@ -271,16 +265,23 @@ static void seg_support(const void *obj, const ccd_vec3_t *dir, ccd_vec3_t *out)
 
 static void seg_center(const void *obj, ccd_vec3_t *out)
 {
-    const seg_shape *s = obj;
+    const dcloth_seg_shape *s = obj;
     for (int k = 0; k < 3; k++) out->v[k] = 0.5 * (s->a[k] + s->b[k]);
 }
 
-/* The distance from the convex to segment [a, b] if under r (0 or less:
- * they meet), with n the way out of the convex toward it; INFINITY if not */
-static double convex_distance(const dcloth_geom_shape *cv, const double *a, const double *b, double r, ccd_t *ccd,
-                              double n[3])
+void dcloth_link_ccd(double t, ccd_t *ccd)
 {
-    seg_shape sg = {a, b, r};
+    CCD_INIT(ccd);
+    ccd->support1 = dcloth_geom_support, ccd->support2 = seg_support;
+    ccd->center1 = dcloth_geom_center, ccd->center2 = seg_center;
+    ccd->max_iterations = 40;
+    ccd->epa_tolerance = EDGE_EPA * t;
+}
+
+double dcloth_link_distance(const dcloth_geom_shape *cv, const double *a, const double *b, double r, ccd_t *ccd,
+                            double n[3])
+{
+    dcloth_seg_shape sg = {a, b, r};
     ccd_real_t depth;
     ccd_vec3_t dir, pos;
     if (ccdGJKPenetration(cv, &sg, ccd, &depth, &dir, &pos) != 0 ||
@@ -300,9 +301,9 @@ static int convex_query(const dcloth_geom_shape *cv, const double *a, const doub
                         double n[3], double q[3])
 {
     double na[3], nb[3];
-    double mid = convex_distance(cv, a, b, r, ccd, n);
+    double mid = dcloth_link_distance(cv, a, b, r, ccd, n);
     if (!(mid > 0.0) || !(mid < r)) return 0;
-    double ends = fmin(convex_distance(cv, a, a, r, ccd, na), convex_distance(cv, b, b, r, ccd, nb));
+    double ends = fmin(dcloth_link_distance(cv, a, a, r, ccd, na), dcloth_link_distance(cv, b, b, r, ccd, nb));
     if (!(mid < ends - tol)) return 0;
     ccd_vec3_t d = {{n[0], n[1], n[2]}}, sp;
     dcloth_geom_support(cv, &d, &sp);
@@ -360,11 +361,7 @@ int dcloth_edge_contacts(dClothID c, const struct dcloth_surf *sf, double h, dou
     tri_grid gr;
     if (nt < 0 || (cls != dConvexClass && grid_build(c, nt, &gr) < 0)) return -1;
     ccd_t ccd;
-    CCD_INIT(&ccd);
-    ccd.support1 = dcloth_geom_support, ccd.support2 = seg_support;
-    ccd.center1 = dcloth_geom_center, ccd.center2 = seg_center;
-    ccd.max_iterations = 40;
-    ccd.epa_tolerance = EDGE_EPA * sf->thickness;
+    dcloth_link_ccd(sf->thickness, &ccd);
     dReal aabb[6];
     dGeomGetAABB(g, aabb);
     dBodyID body = dGeomGetBody(g);
