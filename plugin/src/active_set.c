@@ -68,7 +68,7 @@ void dcloth_constrain(dClothID c, double h, dClothStepStats *st)
     cloth_release_all(core);
     for (size_t q = 0; q < 3 * (size_t)c->n; q++) c->step.fext[q] = c->step.fuser[q] + c->fadd[q];
     st->pins = st->contacts = st->sticking = st->released = 0;
-    st->max_penetration = 0.0;
+    st->max_penetration = c->step.deepest; /* the search's, and the late contacts' below */
     for (int i = 0; i < c->n; i++) {
         vpin *p = &c->pin[i];
         if (!p->active) continue;

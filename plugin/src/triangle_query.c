@@ -378,6 +378,10 @@ int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, cc
     double w[3];
     barycentric(ts.v, pos.v, w);
     double w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+    /* the triangle's deepest point in the shell, where it weighs a vertex the step moves */
+    double moved = 0.0;
+    for (int a = 0; a < 3; a++) moved += c->pin[p[a]].active ? 0.0 : w[a];
+    if (moved > 0.0 && lift > c->step.deepest) c->step.deepest = lift;
     /* ahead: a triangle approaching a static geom, still apart. If every weighted vertex reaches the
      * separating plane within the step, each gets its own height as gap, so the triangle lands as it lies;
      * else the shares hold it, lest it fall through (docs/contacts.md, "Design notes from the code"). */
