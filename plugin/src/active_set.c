@@ -52,8 +52,7 @@ static void second_candidate(dClothID c, int i, double h, const vcontact *nw, in
     const double *x = cloth_positions(c->core) + 3 * i;
     double p[3], d = nw->sec_gap + RESOLVE_DEPTH * nw->sec_thickness;
     for (int r = 0; r < 3; r++) p[r] = x[r] + h * nw->sec_vbody[r] - d * nw->sec_normal[r];
-    if (newton && nw->sec_geom && !nw->pinched && isfinite(p[0] + p[1] + p[2]))
-        cloth_set_contact_second(c->core, i, nw->sec_normal, p);
+    if (newton && nw->sec_geom && isfinite(p[0] + p[1] + p[2])) cloth_set_contact_second(c->core, i, nw->sec_normal, p);
 }
 
 /* This pass's constraints, from the step's start: pins, then contacts by the contact rule (the others left

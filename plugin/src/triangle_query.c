@@ -259,10 +259,14 @@ static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, 
     for (int r = 0; r < 3; r++) pt[r] = xv[r] - height * n[r];
     dcloth_point_velocity(q->body, pos->v, vb);
     if (dcloth_merge_tie(c, q, vc, k, n, gap, pt, vb, w)) return;
+    /* another geom's deeper contact is kept, this one its second surface, as the vertex tests do */
+    int other = vc->geom && vc->geom != q->g;
+    if (other && vc->gap <= gap) dcloth_offer_second(vc, q->g, q->surf->thickness, q->body, n, pt, gap);
     if (vc->geom && vc->gap <= gap) return;
     /* on a face's own plane, a vertex's own contact with the geom is the
      * same plane: kept where they tie to rounding */
     if (exact && vc->geom == q->g && vc->gap <= gap + TRI_TIE * q->surf->thickness) return;
+    vcontact was = *vc;
     /* the point reported (and pushed at while asleep): under the vertex on the geom's face (support)
      * where known, else on the plane through EPA's point, which may be any point of the overlap */
     dcloth_set_contact(vc, q->surf, q->body, n, pt, gap);
@@ -273,6 +277,8 @@ static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, 
     vc->weight = w;
     vc->ties = 1;
     memcpy(vc->tie_sum, n, sizeof vc->tie_sum);
+    if (other) /* the one replaced, the second */
+        dcloth_offer_second(vc, was.geom, was.thickness, was.body, was.normal, was.point, was.gap);
 }
 
 /* A moving triangle's contact (from its swept shape ts and the loose EPA) taken from its shell (ts grown
