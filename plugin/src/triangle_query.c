@@ -383,10 +383,15 @@ int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, cc
      * triangle and clamped into it */
     double w[3];
     barycentric(ts.v, pos.v, w);
-    double w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+    /* the lift is shared over the vertices the step moves, a pinned one taking none, so that their shares
+     * (w_a lift / sum w_b^2 over them) move the contact point by the lift */
+    double w2 = 0.0, moved = 0.0;
+    for (int a = 0; a < 3; a++) {
+        w2 += c->pin[p[a]].active ? 0.0 : w[a] * w[a];
+        moved += c->pin[p[a]].active ? 0.0 : w[a];
+    }
+    if (!(w2 > 0.0)) w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]; /* only pinned ones: theirs, ignored */
     /* the triangle's deepest point in the shell, where it weighs a vertex the step moves */
-    double moved = 0.0;
-    for (int a = 0; a < 3; a++) moved += c->pin[p[a]].active ? 0.0 : w[a];
     if (moved > 0.0 && lift > c->step.deepest) c->step.deepest = lift;
     /* ahead: a triangle approaching a static geom, still apart. If every weighted vertex reaches the
      * separating plane within the step, each gets its own height as gap, so the triangle lands as it lies;
