@@ -14,7 +14,7 @@
  * Asserted, every step: the step succeeds, and every vertex over the top
  * face (|x|, |y| inside it by a cell) is at least T - TOL above it, TOL =
  * 0.2 T as in plugin_colliders, from its coordinates (not from the
- * plugin's stats, measured before each step). At the end
+ * plugin's stats: max_penetration counts only vertex contacts). At the end
  * the cloth rests flat on the top: its centre vertex within TOL of TOP + T.
  *
  * Why: a direction off a mesh face's normal across its flat diagonal must

@@ -127,12 +127,9 @@ typedef struct dClothStepStats {
     int candidates;                  /* geoms whose AABB met the cloth's              */
     int triangle_contacts;           /* vertex contacts set by cloth-triangle tests
                                 (box by its geometry; capsule, cylinder, libccd) */
-    dReal max_penetration;           /* m, the deepest point of the cloth inside a
-                                geom's thickness shell before the step (0 if
-                                none): a vertex by its own distance, a
-                                triangle or a link by its deepest point, as
-                                its test against the geom measured it (the
-                                vertices the step moves: pinned ones not)    */
+    dReal max_penetration;           /* m, deepest vertex inside its thickness shell,
+                                by its own distance, before the step (0 if
+                                none)                                         */
     double seconds_contacts;         /* s, wall time finding contacts (broad + narrow) */
     double seconds_total;            /* s, wall time of the whole dClothStep           */
     int sleeping;                    /* 1: the cloth slept through this step (no solve;
@@ -156,6 +153,12 @@ typedef struct dClothStepStats {
     double self_contact_seconds_all; /* s, wall time of the cloth's self-contact
                                 barrier in all the step's solves (core's is
                                 the last solve's)                             */
+    dReal max_penetration_all;       /* m, the deepest point of the cloth inside a
+                                geom's thickness shell before the step (0 if
+                                none): a vertex by its own distance (every
+                                geom), a triangle or a link by its deepest
+                                point, as its test measured it (the vertices
+                                the step moves: pinned ones not)              */
 } dClothStepStats;
 
 /* Stats of the last dClothStep. */
