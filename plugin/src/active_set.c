@@ -52,8 +52,7 @@ static void second_candidate(dClothID c, int i, double h, const vcontact *nw, in
     const double *x = cloth_positions(c->core) + 3 * i;
     double p[3], d = nw->sec_gap + RESOLVE_DEPTH * nw->sec_thickness;
     for (int r = 0; r < 3; r++) p[r] = x[r] + h * nw->sec_vbody[r] - d * nw->sec_normal[r];
-    if (newton && nw->sec_geom && !nw->pinched && isfinite(p[0] + p[1] + p[2]))
-        cloth_set_contact_second(c->core, i, nw->sec_normal, p);
+    if (newton && nw->sec_geom && isfinite(p[0] + p[1] + p[2])) cloth_set_contact_second(c->core, i, nw->sec_normal, p);
 }
 
 /* This pass's constraints, from the step's start: pins, then contacts by the contact rule (the others left
@@ -69,6 +68,7 @@ void dcloth_constrain(dClothID c, double h, dClothStepStats *st)
     for (size_t q = 0; q < 3 * (size_t)c->n; q++) c->step.fext[q] = c->step.fuser[q] + c->fadd[q];
     st->pins = st->contacts = st->sticking = st->released = 0;
     st->max_penetration = 0.0;
+    st->max_penetration_all = c->step.deepest; /* the search's, and the late contacts' below */
     for (int i = 0; i < c->n; i++) {
         vpin *p = &c->pin[i];
         if (!p->active) continue;
@@ -110,6 +110,7 @@ void dcloth_constrain(dClothID c, double h, dClothStepStats *st)
         st->contacts++;
         st->sticking += nw->sticking;
         if (!nw->from_triangle && -nw->gap > st->max_penetration) st->max_penetration = -nw->gap;
+        if (!nw->from_triangle && -nw->gap > st->max_penetration_all) st->max_penetration_all = -nw->gap;
     }
     cloth_set_external_forces(core, c->step.fext);
 }

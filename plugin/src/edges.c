@@ -211,7 +211,7 @@ static int grid_build(dClothID c, int nt, tri_grid *gr)
 
 /* Link [a, b] against gr's triangles within reach r: 1 if its middle is
  * nearer than its ends, or if `tie`, ties with the nearer and is nearer than
- * the other (*d2, p on the link, q on the geom); 0 if not or if it meets it. */
+ * the other (*d2, p on the link, q on the geom); 0 if not, -1 if it meets it. */
 static int link_query(const dClothID c, const tri_grid *gr, int stamp, int tie, const double *a, const double *b,
                       double r, double *d2, double p[3], double q[3])
 {
@@ -231,7 +231,7 @@ static int link_query(const dClothID c, const tri_grid *gr, int stamp, int tie, 
                         bx[5] < lo[2] || bx[4] > hi[2])
                         continue;
                     c->edge.stamp[j] = stamp;
-                    if (segment_meets(a, b, t)) return 0;
+                    if (segment_meets(a, b, t)) return -1;
                     double ea = point_triangle(a, t, t + 3, t + 6), eb = point_triangle(b, t, t + 3, t + 6);
                     end_a = fmin(end_a, ea);
                     end_b = fmin(end_b, eb);
@@ -296,12 +296,12 @@ double dcloth_link_distance(const dcloth_geom_shape *cv, const double *a, const 
 
 /* Link [a, b] against convex cv within reach r, as link_query: 1 if its
  * middle is nearer than its ends by more than EPA's tolerance (tol), then
- * n and q, a point of the convex's supporting plane along n. */
+ * its distance *dist, n and q, a point of the convex's supporting plane along n. */
 static int convex_query(const dcloth_geom_shape *cv, const double *a, const double *b, double r, double tol, ccd_t *ccd,
-                        double n[3], double q[3])
+                        double *dist, double n[3], double q[3])
 {
     double na[3], nb[3];
-    double mid = dcloth_link_distance(cv, a, b, r, ccd, n);
+    double mid = *dist = dcloth_link_distance(cv, a, b, r, ccd, n);
     if (!(mid > 0.0) || !(mid < r)) return 0;
     double ends = fmin(dcloth_link_distance(cv, a, a, r, ccd, na), dcloth_link_distance(cv, b, b, r, ccd, nb));
     if (!(mid < ends - tol)) return 0;
@@ -337,6 +337,12 @@ static int offer(dClothID c, int i, const struct dcloth_surf *sf, dBodyID body, 
     if (was.geom)          /* the plane replaced, the second */
         dcloth_offer_second(vc, was.geom, was.thickness, was.body, was.normal, was.point, was.gap);
     return 1;
+}
+
+/* Link [i, j]'s nearest point `depth` m inside the shell, where the step moves the link: the stats' figure */
+static void note_depth(dClothID c, int i, int j, double depth)
+{
+    if (!(c->pin[i].active && c->pin[j].active) && depth > c->step.deepest) c->step.deepest = depth;
 }
 
 /* Whether vertex i sits inside the geom by its own contact with it, or is
@@ -382,12 +388,18 @@ int dcloth_edge_contacts(dClothID c, const struct dcloth_surf *sf, double h, dou
             fmin(a[1], b[1]) - r > aabb[3] || fmax(a[2], b[2]) + r < aabb[4] || fmin(a[2], b[2]) - r > aabb[5])
             continue;
         if (left_alone(c, L.i, g, body, newton) || left_alone(c, L.j, g, body, newton)) continue;
-        double d2, p[3], q[3], n[3];
+        double d2, dist, p[3], q[3], n[3];
         if (cls == dConvexClass) {
-            if (!convex_query(&cv, a, b, r, 10.0 * ccd.epa_tolerance, &ccd, n, q)) continue;
+            int hit = convex_query(&cv, a, b, r, 10.0 * ccd.epa_tolerance, &ccd, &dist, n, q);
+            note_depth(c, L.i, L.j, sf->thickness - dist);
+            if (!hit) continue;
         } else {
-            if (!link_query(c, &gr, e + 1, newton, a, b, r, &d2, p, q)) continue;
-            for (int m = 0; m < 3; m++) n[m] = (p[m] - q[m]) / sqrt(d2);
+            int met = link_query(c, &gr, e + 1, newton, a, b, r, &d2, p, q);
+            if (met < 0) note_depth(c, L.i, L.j, sf->thickness); /* through a face: a point on the surface */
+            if (met <= 0) continue;
+            dist = sqrt(d2);
+            note_depth(c, L.i, L.j, sf->thickness - dist);
+            for (int m = 0; m < 3; m++) n[m] = (p[m] - q[m]) / dist;
         }
         if (!c->pin[L.i].active) hits += offer(c, L.i, sf, body, n, q);
         if (!c->pin[L.j].active) hits += offer(c, L.j, sf, body, n, q);

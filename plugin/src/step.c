@@ -28,6 +28,7 @@ static double wall(void)
 static int find_contacts(dClothID c, double h)
 {
     double extra = dcloth_newton_reach(c, h);
+    c->step.deepest = 0.0;
     if (dcloth_find_surfaces(c, h, extra) < 0) return -1;
     dcloth_vertex_contacts(c, h, extra);
     c->step.tri_hits = 0;

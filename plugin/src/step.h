@@ -14,6 +14,8 @@ struct step_scratch {
     cloth_state *save; /* the core's state at the step's start (re-solves) */
     int tri_hits;      /* vertex contacts set by triangle tests this step */
     int edge_hits;     /* vertex contacts set by link tests this step */
+    double deepest;    /* m, the deepest point of the cloth inside a geom's thickness shell the contact
+                          search measured at the step's start: a vertex's, a triangle's or a link's */
 };
 
 #endif

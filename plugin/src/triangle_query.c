@@ -259,10 +259,14 @@ static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, 
     for (int r = 0; r < 3; r++) pt[r] = xv[r] - height * n[r];
     dcloth_point_velocity(q->body, pos->v, vb);
     if (dcloth_merge_tie(c, q, vc, k, n, gap, pt, vb, w)) return;
+    /* another geom's deeper contact is kept, this one its second surface, as the vertex tests do */
+    int other = vc->geom && vc->geom != q->g;
+    if (other && vc->gap <= gap) dcloth_offer_second(vc, q->g, q->surf->thickness, q->body, n, pt, gap);
     if (vc->geom && vc->gap <= gap) return;
     /* on a face's own plane, a vertex's own contact with the geom is the
      * same plane: kept where they tie to rounding */
     if (exact && vc->geom == q->g && vc->gap <= gap + TRI_TIE * q->surf->thickness) return;
+    vcontact was = *vc;
     /* the point reported (and pushed at while asleep): under the vertex on the geom's face (support)
      * where known, else on the plane through EPA's point, which may be any point of the overlap */
     dcloth_set_contact(vc, q->surf, q->body, n, pt, gap);
@@ -273,6 +277,8 @@ static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, 
     vc->weight = w;
     vc->ties = 1;
     memcpy(vc->tie_sum, n, sizeof vc->tie_sum);
+    if (other) /* the one replaced, the second */
+        dcloth_offer_second(vc, was.geom, was.thickness, was.body, was.normal, was.point, was.gap);
 }
 
 /* A moving triangle's contact (from its swept shape ts and the loose EPA) taken from its shell (ts grown
@@ -377,7 +383,16 @@ int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, cc
      * triangle and clamped into it */
     double w[3];
     barycentric(ts.v, pos.v, w);
-    double w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+    /* the lift is shared over the vertices the step moves, a pinned one taking none, so that their shares
+     * (w_a lift / sum w_b^2 over them) move the contact point by the lift */
+    double w2 = 0.0, moved = 0.0;
+    for (int a = 0; a < 3; a++) {
+        w2 += c->pin[p[a]].active ? 0.0 : w[a] * w[a];
+        moved += c->pin[p[a]].active ? 0.0 : w[a];
+    }
+    if (!(w2 > 0.0)) w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]; /* only pinned ones: theirs, ignored */
+    /* the triangle's deepest point in the shell, where it weighs a vertex the step moves */
+    if (moved > 0.0 && lift > c->step.deepest) c->step.deepest = lift;
     /* ahead: a triangle approaching a static geom, still apart. If every weighted vertex reaches the
      * separating plane within the step, each gets its own height as gap, so the triangle lands as it lies;
      * else the shares hold it, lest it fall through (docs/contacts.md, "Design notes from the code"). */

@@ -234,6 +234,7 @@ void dcloth_vertex_contacts(dClothID c, double h, double extra)
             if (!vertex_query(c, g, xi, reach, &dist, nrm)) continue;
             double gap = dist - t, point[3];
             vcontact *vc = &c->vc_new[i];
+            if (!c->pin[i].active && -gap > c->step.deepest) c->step.deepest = -gap;
             for (int k = 0; k < 3; k++) point[k] = xi[k] - nrm[k] * dist;
             dcloth_offer_opposite(vc, g, body, nrm, gap, point);
             if (vc->geom && vc->gap <= gap) { /* a deeper one is kept, this one its second */

@@ -153,6 +153,12 @@ typedef struct dClothStepStats {
     double self_contact_seconds_all; /* s, wall time of the cloth's self-contact
                                 barrier in all the step's solves (core's is
                                 the last solve's)                             */
+    dReal max_penetration_all;       /* m, the deepest point of the cloth inside a
+                                geom's thickness shell before the step (0 if
+                                none): a vertex by its own distance (every
+                                geom), a triangle or a link by its deepest
+                                point, as its test measured it (the vertices
+                                the step moves: pinned ones not)              */
 } dClothStepStats;
 
 /* Stats of the last dClothStep. */
