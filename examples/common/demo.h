@@ -159,6 +159,7 @@ typedef struct demo_metrics {
     int plastic_links;      /* interlaced links in the plastic region           */
     int wrinkles;           /* ridges: see demo_wrinkles                        */
     double max_penetration; /* m, over the whole run (plugin stats)            */
+    double deepest_point;   /* m, over the run: max_penetration_all (plugin stats) */
     double max_strain;      /* over the whole run (core stats, after limiting)  */
     double min_bend;        /* deepest bend over the run: smallest d / l0 of an
                               interlaced link (a link yields at d / l0 <= alpha) */

@@ -161,6 +161,7 @@ void demo_track_step(dClothID c, demo_metrics *m)
     double bend = demo_deepest_bend(c);
     if (m->steps == 0 || bend < m->min_bend) m->min_bend = bend;
     if (st->max_penetration > m->max_penetration) m->max_penetration = st->max_penetration;
+    if (st->max_penetration_all > m->deepest_point) m->deepest_point = st->max_penetration_all;
     if (st->core.max_strain > m->max_strain) m->max_strain = st->core.max_strain;
     m->steps++;
 }
@@ -169,9 +170,9 @@ void demo_print_metrics(FILE *f, const char *label, const demo_metrics *m)
 {
     fprintf(f,
             "%-22s crease %6.2f deg (max %5.1f)  height %.3f m  plastic links %4d  wrinkles %3d  "
-            "max penetration %.2f mm  max strain %.4f  deepest bend %.3f  wall %.1f s\n",
+            "max penetration %.2f mm (deepest point %.2f)  max strain %.4f  deepest bend %.3f  wall %.1f s\n",
             label, m->crease_deg, m->crease_max_deg, m->height, m->plastic_links, m->wrinkles, 1e3 * m->max_penetration,
-            m->max_strain, m->min_bend, m->wall);
+            1e3 * m->deepest_point, m->max_strain, m->min_bend, m->wall);
 }
 
 int demo_csv_row(const char *path, const char *demo, const char *label, double alpha, const demo_metrics *m)
@@ -186,10 +187,10 @@ int demo_csv_row(const char *path, const char *demo, const char *label, double a
     }
     if (fresh)
         fprintf(f, "demo,label,alpha,crease_deg,crease_max_deg,height_m,plastic_links,wrinkles,"
-                   "max_penetration_m,max_strain,deepest_bend,wall_s,steps\n");
-    fprintf(f, "%s,%s,%g,%.4f,%.3f,%.5f,%d,%d,%.6g,%.6f,%.4f,%.3f,%d\n", demo, label, alpha, m->crease_deg,
+                   "max_penetration_m,max_strain,deepest_bend,wall_s,steps,deepest_point_m\n");
+    fprintf(f, "%s,%s,%g,%.4f,%.3f,%.5f,%d,%d,%.6g,%.6f,%.4f,%.3f,%d,%.6g\n", demo, label, alpha, m->crease_deg,
             m->crease_max_deg, m->height, m->plastic_links, m->wrinkles, m->max_penetration, m->max_strain, m->min_bend,
-            m->wall, m->steps);
+            m->wall, m->steps, m->deepest_point);
     if (fclose(f)) {
         fprintf(stderr, "%s: write failed: %s\n", path, strerror(errno));
         return -1;

@@ -68,7 +68,6 @@ void dcloth_constrain(dClothID c, double h, dClothStepStats *st)
     for (size_t q = 0; q < 3 * (size_t)c->n; q++) c->step.fext[q] = c->step.fuser[q] + c->fadd[q];
     st->pins = st->contacts = st->sticking = st->released = 0;
     st->max_penetration = 0.0;
-    st->max_penetration_all = c->step.deepest; /* the search's, and the late contacts' below */
     for (int i = 0; i < c->n; i++) {
         vpin *p = &c->pin[i];
         if (!p->active) continue;
@@ -110,8 +109,9 @@ void dcloth_constrain(dClothID c, double h, dClothStepStats *st)
         st->contacts++;
         st->sticking += nw->sticking;
         if (!nw->from_triangle && -nw->gap > st->max_penetration) st->max_penetration = -nw->gap;
-        if (!nw->from_triangle && -nw->gap > st->max_penetration_all) st->max_penetration_all = -nw->gap;
     }
+    /* the search's deepest point, or a late contact's */
+    st->max_penetration_all = fmax(c->step.deepest, st->max_penetration);
     cloth_set_external_forces(core, c->step.fext);
 }
 

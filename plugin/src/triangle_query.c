@@ -266,7 +266,8 @@ static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, 
     /* on a face's own plane, a vertex's own contact with the geom is the
      * same plane: kept where they tie to rounding */
     if (exact && vc->geom == q->g && vc->gap <= gap + TRI_TIE * q->surf->thickness) return;
-    vcontact was = *vc;
+    vcontact was;
+    if (other) was = *vc; /* the one this replaces, offered as the second below */
     /* the point reported (and pushed at while asleep): under the vertex on the geom's face (support)
      * where known, else on the plane through EPA's point, which may be any point of the overlap */
     dcloth_set_contact(vc, q->surf, q->body, n, pt, gap);
@@ -277,8 +278,7 @@ static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, 
     vc->weight = w;
     vc->ties = 1;
     memcpy(vc->tie_sum, n, sizeof vc->tie_sum);
-    if (other) /* the one replaced, the second */
-        dcloth_offer_second(vc, was.geom, was.thickness, was.body, was.normal, was.point, was.gap);
+    if (other) dcloth_offer_second(vc, was.geom, was.thickness, was.body, was.normal, was.point, was.gap);
 }
 
 /* A moving triangle's contact (from its swept shape ts and the loose EPA) taken from its shell (ts grown
