@@ -9,8 +9,8 @@
  *     deepest vertex, triangle or link, before the step) within the thickness.
  * At the end the cloth lies on the body: its lowest vertex 10 cm or more above the floor.
  * Run with the argument "corner" (ctest's plugin_fast_drop_corner), the box alone; without it the
- * others. Open defect, so that run is disabled: at 6 m/s the box's top corner ends the second step
- * through a cloth triangle, past the shell (docs/contacts.md, "How deep the cloth goes").
+ * others. The box's top corner meets a cell that the first step's contacts nearly stopped, which the
+ * step then drags down onto it: the late triangle tests' case (docs/contacts.md, "How deep the cloth goes").
  */
 #include <math.h>
 #include <stdlib.h>

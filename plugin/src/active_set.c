@@ -7,6 +7,7 @@
 #include "active_set.h"
 #include "body_motion.h"
 #include "contact_rule.h"
+#include "late_triangles.h"
 #include "vertex_contacts.h"
 #include "vertex_force.h"
 
@@ -252,6 +253,8 @@ int dcloth_revise(dClothID c, double h, int passes, dClothStepStats *st)
      * carry them farther than their start velocity says) that ended
      * inside a shell: contacts from now on, and the step solved again */
     int more = dcloth_find_late_contacts(c, c->step.x0, cloth_positions(core), RESOLVE_DEPTH);
+    /* and triangles' vertices, where a slow start hid a triangle from its swept test */
+    more += dcloth_late_triangles(c, h);
     st->late_contacts += more;
     more += hold_inside(c, h);
     int peel = let_go_pulling(c, letgo_tension(&cd));

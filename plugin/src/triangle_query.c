@@ -252,7 +252,7 @@ static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, 
                                double plane, const ccd_vec3_t *pos, double w, int exact)
 {
     vcontact *vc = &c->vc_new[i];
-    const double *xv = cloth_positions(c->core) + 3 * (size_t)i;
+    const double *xv = (q->x ? q->x : cloth_positions(c->core)) + 3 * (size_t)i;
     /* only deeper than the vertex's own contact, with no rounding margin */
     dcloth_offer_opposite(vc, q->g, q->body, n, gap, pos->v);
     double height = dcloth_dot3(n, xv) - plane, pt[3], vb[3];
@@ -335,7 +335,7 @@ static double heights(const convex_query *q, const tri_shape *ts, const double *
  * deeper than what they have; returns how many it set. */
 int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, ccd_t *ccd, ccd_t *fine)
 {
-    const double *x = cloth_positions(c->core), *v = cloth_velocities(c->core);
+    const double *x = q->x ? q->x : cloth_positions(c->core), *v = q->v ? q->v : cloth_velocities(c->core);
     double t = q->surf->thickness;
     double shell_r = t * (1.0 + DCLOTH_CONTACT_MARGIN); /* the triangle grown by thickness and margin */
     const int *p = c->tri + 3 * k;
@@ -349,7 +349,7 @@ int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, cc
     /* a sweep beyond the geom's own size sees nothing more (and an
      * overflowing one, |v| = inf, crashed libccd: found by
      * plugin_fuzz_api) */
-    double reach = h * sweep;
+    double reach = fmax(h * sweep, q->reach_min);
     if (!(reach <= q->span)) reach = q->span;
     tri_shape ts = {{x + 3 * p[0], x + 3 * p[1], x + 3 * p[2]}, shell_r + reach};
     for (int a = 0; a < 3; a++) {

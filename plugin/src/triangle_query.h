@@ -23,6 +23,8 @@ typedef struct convex_query {
     int moving;                     /* the geom moves more than SWEEP_NEGLIGIBLE per step */
     int cls;                        /* the geom's class (dTriMeshClass: face is set) */
     const dcloth_polytope *poly;    /* the shape as a polytope (an exact box), or NULL */
+    const double *x, *v;            /* the cloth's positions and velocities tested; NULL: its own */
+    double reach_min;               /* m: the least sweep a triangle is tested over */
 } convex_query;
 
 /* libccd's support and centre of a cloth triangle grown by a radius (the query's second shape) */

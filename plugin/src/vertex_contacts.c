@@ -187,6 +187,11 @@ static int vertex_query(dClothID c, dGeomID g, const double *x, double reach, do
     return *dist < reach;
 }
 
+int dcloth_vertex_distance(dClothID c, dGeomID g, const double *x, double reach, double *dist, double nrm[3])
+{
+    return vertex_query(c, g, x, reach, dist, nrm);
+}
+
 int dcloth_find_late_contacts(dClothID c, const double *x0, const double *x1, double depth)
 {
     int found = 0;

@@ -121,9 +121,9 @@ typedef struct dClothStepStats {
     int resolves;                    /* extra solves: free vertices that ended inside
                                 their shell were held and the step redone     */
     int late_contacts;               /* vertices the contact search had not reached at
-                                the step's start that ended inside a shell:
-                                contacts from then on (each such solve is
-                                one of the resolves)                          */
+                                the step's start that ended inside a shell, or
+                                whose triangle did: contacts from then on
+                                (each such solve is one of the resolves)      */
     int candidates;                  /* geoms whose AABB met the cloth's              */
     int triangle_contacts;           /* vertex contacts set by cloth-triangle tests
                                 (box by its geometry; capsule, cylinder, libccd) */
