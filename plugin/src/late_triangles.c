@@ -1,4 +1,4 @@
-/* Cloth triangles a solve carried into a convex geom's shell from beyond the start's swept test: the
+/* Cloth triangles a solve carried into a geom's shell from beyond the start's swept test: the
  * implicit step can drag a slow triangle farther than its own velocity says. Each is tested again over
  * the motion the solve found, from the step's start, and its vertices take the contact it gives. */
 #include <math.h>
@@ -6,6 +6,7 @@
 #include "body_motion.h"
 #include "convex_query.h"
 #include "late_triangles.h"
+#include "mesh_contacts.h"
 #include "triangle_query.h"
 #include "vertex_contacts.h"
 
@@ -52,30 +53,58 @@ static int deeper_than_vertices(dClothID c, const convex_query *q, const double 
     return tri > vert + RESOLVE_DEPTH * t;
 }
 
-/* Triangle k against q after a solve: tested again from the start (x0, v0) over the motion to x1 where
- * it ends deeper than RESOLVE_DEPTH in the shell and its start test, over h times its speed, missed */
-static int late_triangle(dClothID c, convex_query *q, int k, double h, ccd_t *ccd, ccd_t *fine)
+/* Whether cloth triangle k moved, relative to q's body, farther than its start test's swept shape covers
+ * (its reach plus the margin and RESOLVE_DEPTH: within that, ending in the shell means the start test
+ * overlapped); its reach then, how far it moved and its end positions relative to the body in e */
+static int moved_beyond(dClothID c, const convex_query *q, int k, double h, double *reach, double *far, double e[9])
 {
     const int *p = c->tri + 3 * k;
     if (c->pin[p[0]].active && c->pin[p[1]].active && c->pin[p[2]].active) return 0;
-    const double *x0 = c->step.x0, *v0 = c->step.v0, *x1 = cloth_positions(c->core);
+    const double *x0 = c->step.x0, *v0 = c->step.v0;
     double t = q->surf->thickness, sweep = 0.0;
     for (int a = 0; a < 3; a++) sweep = fmax(sweep, dcloth_relative_speed(q->body, x0 + 3 * p[a], v0 + 3 * p[a]));
-    double e[9], reach = fmin(h * sweep, q->span), far = moved(q->body, p, x0, x1, h, e);
-    /* within the start's shape, grown by its shell and reach, where no vertex moved farther than this */
-    if (!(far > reach + (DCLOTH_CONTACT_MARGIN + RESOLVE_DEPTH) * t)) return 0;
+    *reach = fmin(h * sweep, q->span);
+    *far = moved(q->body, p, x0, cloth_positions(c->core), h, e);
+    return *far > *reach + (DCLOTH_CONTACT_MARGIN + RESOLVE_DEPTH) * t;
+}
+
+/* Triangle k against q after a solve: tested again from the start (x0, v0) over the motion the solve
+ * found where it moved beyond its start test's shape, ends with the geom between its vertices, and its
+ * start test missed */
+static int late_triangle(dClothID c, convex_query *q, int k, double h, ccd_t *ccd, ccd_t *fine)
+{
+    double reach, far, e[9], t = q->surf->thickness;
+    if (!moved_beyond(c, q, k, h, &reach, &far, e)) return 0;
     const double *end[3] = {e, e + 3, e + 6};
     if (!deeper_than_vertices(c, q, end, t, fine)) return 0;
-    const double *start[3] = {x0 + 3 * p[0], x0 + 3 * p[1], x0 + 3 * p[2]};
+    const int *p = c->tri + 3 * k;
+    const double *x0 = c->step.x0, *start[3] = {x0 + 3 * p[0], x0 + 3 * p[1], x0 + 3 * p[2]};
     int swept = reach > SWEEP_NEGLIGIBLE * t;
     if (overlap(q, start, t * (1.0 + DCLOTH_CONTACT_MARGIN) + reach, swept ? ccd : fine) > 0.0) return 0;
     q->x = x0;
-    q->v = v0;
+    q->v = c->step.v0;
     q->reach_min = fmin(far, q->span);
     int hits = dcloth_triangle_query(c, q, k, h, ccd, fine);
     q->x = q->v = NULL;
     q->reach_min = 0.0;
     return hits;
+}
+
+/* A mesh's pairs: cloth triangle k's box over where the late test looks (its start grown by the shell and
+ * how far it moved), where it moved beyond its start test's shape */
+static int late_bounds(dClothID c, const convex_query *q, int k, double h, double span, double b[6])
+{
+    double reach, far, e[9];
+    (void)span;
+    if (!moved_beyond(c, q, k, h, &reach, &far, e)) return 0;
+    const double *x0 = c->step.x0;
+    const int *p = c->tri + 3 * k;
+    double r = q->surf->thickness * (1.0 + DCLOTH_CONTACT_MARGIN) + far;
+    for (int a = 0; a < 3; a++) {
+        b[2 * a] = fmin(x0[3 * p[0] + a], fmin(x0[3 * p[1] + a], x0[3 * p[2] + a])) - r;
+        b[2 * a + 1] = fmax(x0[3 * p[0] + a], fmax(x0[3 * p[1] + a], x0[3 * p[2] + a])) + r;
+    }
+    return 1;
 }
 
 int dcloth_late_triangles(dClothID c, double h)
@@ -87,7 +116,10 @@ int dcloth_late_triangles(dClothID c, double h)
         convex_query q;
         ccd_t ccd, fine;
         if (!dcloth_convex_query_of(c, &c->broad.surf[a], h, &q, &gs, &box, &ccd, &fine)) continue;
-        if (gs.cls == dTriMeshClass) continue;
+        if (gs.cls == dTriMeshClass) {
+            found += dcloth_mesh_pairs(c, &q, h, &ccd, &fine, late_bounds, late_triangle);
+            continue;
+        }
         for (int k = 0; k < c->ntri; k++) found += late_triangle(c, &q, k, h, &ccd, &fine);
     }
     return found;

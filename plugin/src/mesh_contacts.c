@@ -133,10 +133,33 @@ static int bucket(long long key, int nbuck)
     return (int)(h >> 32) & (nbuck - 1);
 }
 
-static int grid_build(dClothID c, const convex_query *q, double h, double geom_span, double *s, double lo[3],
-                      long long dim[3])
+/* Cloth triangle k's box for the step's start tests: grown as triangle_query grows it */
+static int start_bounds(dClothID c, const struct convex_query *q, int k, double h, double span, double b[6])
 {
-    int nt = c->ntri;
+    const double *x = cloth_positions(c->core), *v = cloth_velocities(c->core);
+    const int *p = c->tri + 3 * k;
+    double sweep = 0.0;
+    for (int a = 0; a < 3; a++) sweep = fmax(sweep, dcloth_relative_speed(q->body, x + 3 * p[a], v + 3 * p[a]));
+    double reach = h * sweep;
+    if (!(reach <= span)) reach = span;
+    double r = q->surf->thickness * (1.0 + DCLOTH_CONTACT_MARGIN) + reach;
+    for (int a = 0; a < 3; a++) {
+        b[2 * a] = fmin(x[3 * p[0] + a], fmin(x[3 * p[1] + a], x[3 * p[2] + a])) - r;
+        b[2 * a + 1] = fmax(x[3 * p[0] + a], fmax(x[3 * p[1] + a], x[3 * p[2] + a])) + r;
+    }
+    return 1;
+}
+
+static int start_test(dClothID c, struct convex_query *q, int k, double h, ccd_t *ccd, ccd_t *fine)
+{
+    return dcloth_triangle_query(c, q, k, h, ccd, fine);
+}
+
+/* Returns how many cloth triangles bounds gave a box, or -1 (out of memory, or boxes not finite) */
+static int grid_build(dClothID c, const convex_query *q, double h, double geom_span, dcloth_tri_bounds bounds,
+                      double *s, double lo[3], long long dim[3])
+{
+    int nt = c->ntri, in = 0;
     if (8 * nt > c->mesh.grid_cap) {
         int cap = 8 * nt, nb = 1;
         while (nb < 2 * cap) nb *= 2;
@@ -156,28 +179,26 @@ static int grid_build(dClothID c, const convex_query *q, double h, double geom_s
         c->mesh.grid_cap = cap;
         c->mesh.grid_nbuck = nb;
     }
-    const double *x = cloth_positions(c->core), *v = cloth_velocities(c->core);
-    double shell_r = q->surf->thickness * (1.0 + DCLOTH_CONTACT_MARGIN), side = 0.0, hi[3];
+    double side = 0.0, hi[3];
     for (int a = 0; a < 3; a++) {
         lo[a] = INFINITY;
         hi[a] = -INFINITY;
     }
     for (int k = 0; k < nt; k++) {
-        const int *p = c->tri + 3 * k;
-        double sweep = 0.0;
-        for (int a = 0; a < 3; a++) sweep = fmax(sweep, dcloth_relative_speed(q->body, x + 3 * p[a], v + 3 * p[a]));
-        double reach = h * sweep;
-        if (!(reach <= geom_span)) reach = geom_span;
-        double r = shell_r + reach, *b = c->mesh.grid_box + 6 * k;
+        double *b = c->mesh.grid_box + 6 * k;
+        c->mesh.grid_stamp[k] = 0;
+        if (!bounds(c, q, k, h, geom_span, b)) {
+            b[0] = INFINITY, b[1] = -INFINITY; /* empty: left out of the grid */
+            continue;
+        }
+        in++;
         for (int a = 0; a < 3; a++) {
-            b[2 * a] = fmin(x[3 * p[0] + a], fmin(x[3 * p[1] + a], x[3 * p[2] + a])) - r;
-            b[2 * a + 1] = fmax(x[3 * p[0] + a], fmax(x[3 * p[1] + a], x[3 * p[2] + a])) + r;
             side = fmax(side, b[2 * a + 1] - b[2 * a]);
             lo[a] = fmin(lo[a], b[2 * a]);
             hi[a] = fmax(hi[a], b[2 * a + 1]);
         }
-        c->mesh.grid_stamp[k] = 0;
     }
+    if (!in) return 0;
     if (!(side > 0.0) || !isfinite(side)) return -1;
     /* at most ~1e6 cells a side: a larger span (a cloth flung far) uses
      * larger cells */
@@ -189,6 +210,7 @@ static int grid_build(dClothID c, const convex_query *q, double h, double geom_s
     int n = 0;
     for (int k = 0; k < nt; k++) {
         const double *b = c->mesh.grid_box + 6 * k;
+        if (!(b[0] <= b[1])) continue;
         long long i0[3], i1[3], i[3];
         for (int a = 0; a < 3; a++) {
             i0[a] = (long long)((b[2 * a] - lo[a]) / side);
@@ -207,13 +229,19 @@ static int grid_build(dClothID c, const convex_query *q, double h, double geom_s
                     c->mesh.grid_head[bk] = n++;
                 }
     }
-    return 0;
+    return in;
 }
 
 /* A trimesh's triangles as prisms (prism_shape), each against the cloth triangles near it
  * (grid_build); a prism half as deep as the triangle's shortest edge and the mesh's least side,
  * at most MESH_PRISM_DEPTH thicknesses (tuning.h). Triangles of zero area are skipped. */
 int dcloth_mesh_contacts(dClothID c, convex_query *q, double h, ccd_t *ccd, ccd_t *fine)
+{
+    return dcloth_mesh_pairs(c, q, h, ccd, fine, start_bounds, start_test);
+}
+
+int dcloth_mesh_pairs(dClothID c, convex_query *q, double h, ccd_t *ccd, ccd_t *fine, dcloth_tri_bounds bounds,
+                      dcloth_pair_test test)
 {
     int nt = dGeomTriMeshGetTriangleCount(q->g), hits = 0;
     dReal gb[6];
@@ -222,7 +250,8 @@ int dcloth_mesh_contacts(dClothID c, convex_query *q, double h, ccd_t *ccd, ccd_
     long long dim[3];
     for (int a = 0; a < 6; a++) gbox[a] = gb[a];
     /* out of memory: vertex contacts only */
-    if (nt <= 0 || mesh_fetch(c, q->g, nt) || grid_build(c, q, h, dcloth_diagonal(gbox), &s, lo, dim)) return 0;
+    if (nt <= 0 || mesh_fetch(c, q->g, nt) || grid_build(c, q, h, dcloth_diagonal(gbox), bounds, &s, lo, dim) <= 0)
+        return 0;
     /* the mesh's box in its own frame: its least side bounds the prisms */
     const dReal *o = dGeomGetPosition(q->g), *R = dGeomGetRotation(q->g);
     double llo[3] = {INFINITY, INFINITY, INFINITY}, lhi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -302,7 +331,7 @@ int dcloth_mesh_contacts(dClothID c, convex_query *q, double h, ccd_t *ccd, ccd_
                         if (b[1] < q->aabb[0] || b[0] > q->aabb[1] || b[3] < q->aabb[2] || b[2] > q->aabb[3] ||
                             b[5] < q->aabb[4] || b[4] > q->aabb[5])
                             continue;
-                        hits += dcloth_triangle_query(c, q, k, h, ccd, fine);
+                        hits += test(c, q, k, h, ccd, fine);
                     }
                 }
     }

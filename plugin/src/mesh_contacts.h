@@ -26,9 +26,18 @@ struct mesh_scratch {
     int grid_nbuck, grid_cap;
 };
 
+/* Cloth triangle k's box b (6 bounds) for the pairs with a mesh's prisms over the step of h seconds (span:
+ * the mesh's diagonal, the most a sweep need cover); 0 leaves the triangle out */
+typedef int (*dcloth_tri_bounds)(dClothID c, const struct convex_query *q, int k, double h, double span, double b[6]);
+/* One pair: cloth triangle k against q's prism; the vertex contacts it set */
+typedef int (*dcloth_pair_test)(dClothID c, struct convex_query *q, int k, double h, ccd_t *ccd, ccd_t *fine);
+
 /* The trimesh q->g's triangles, as prisms, against the cloth triangles near them over the step of h
  * seconds (q: the geom's query, its shape set here; ccd, fine: libccd's loose and tight queries, their
  * first shape set here); the vertex contacts set (none when memory ran out) */
 int dcloth_mesh_contacts(dClothID c, struct convex_query *q, double h, ccd_t *ccd, ccd_t *fine);
+/* The same pairs for the cloth triangles bounds boxes, each decided by test */
+int dcloth_mesh_pairs(dClothID c, struct convex_query *q, double h, ccd_t *ccd, ccd_t *fine, dcloth_tri_bounds bounds,
+                      dcloth_pair_test test);
 
 #endif
