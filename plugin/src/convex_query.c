@@ -20,7 +20,8 @@ int dcloth_convex_query_of(dClothID c, const struct dcloth_surf *sf, double h, c
                         .g = g,
                         .body = dGeomGetBody(g),
                         .surf = sf};
-    q->moving = dcloth_geom_speed(g) * h > SWEEP_NEGLIGIBLE * t; /* not ODE's jitter of a body at rest */
+    q->travel = dcloth_geom_speed(g) * h;
+    q->moving = q->travel > SWEEP_NEGLIGIBLE * t; /* not ODE's jitter of a body at rest */
     q->cls = gs->cls;
     if (gs->cls == dBoxClass && !dcloth_geom_list_has(&c->tri_epa, g)) {
         const dReal *o = dGeomGetPosition(g);

@@ -55,16 +55,23 @@ static int deeper_than_vertices(dClothID c, const convex_query *q, const double 
 
 /* Whether cloth triangle k moved, relative to q's body, farther than its start test's swept shape covers
  * (its reach plus the margin and RESOLVE_DEPTH: within that, ending in the shell means the start test
- * overlapped); its reach then, how far it moved and its end positions relative to the body in e */
-static int moved_beyond(dClothID c, const convex_query *q, int k, double h, double *reach, double *far, double e[9])
+ * overlapped) and ended where it may reach into the shell of what lies in box; its reach then, how far
+ * it moved and its end positions relative to the body in e */
+static int moved_beyond(dClothID c, const convex_query *q, const double box[6], int k, double h, double *reach,
+                        double *far, double e[9])
 {
     const int *p = c->tri + 3 * k;
     if (c->pin[p[0]].active && c->pin[p[1]].active && c->pin[p[2]].active) return 0;
-    const double *x0 = c->step.x0, *v0 = c->step.v0;
-    double t = q->surf->thickness, sweep = 0.0;
+    const double *x0 = c->step.x0, *v0 = c->step.v0, *x1 = cloth_positions(c->core);
+    double t = q->surf->thickness, sweep = 0.0, r = t + q->travel;
+    for (int a = 0; a < 3; a++) { /* its end, within the geom's travel, must reach into the shell */
+        double lo = fmin(x1[3 * p[0] + a], fmin(x1[3 * p[1] + a], x1[3 * p[2] + a])) - r;
+        double hi = fmax(x1[3 * p[0] + a], fmax(x1[3 * p[1] + a], x1[3 * p[2] + a])) + r;
+        if (hi < box[2 * a] || lo > box[2 * a + 1]) return 0;
+    }
     for (int a = 0; a < 3; a++) sweep = fmax(sweep, dcloth_relative_speed(q->body, x0 + 3 * p[a], v0 + 3 * p[a]));
     *reach = fmin(h * sweep, q->span);
-    *far = moved(q->body, p, x0, cloth_positions(c->core), h, e);
+    *far = moved(q->body, p, x0, x1, h, e);
     return *far > *reach + (DCLOTH_CONTACT_MARGIN + RESOLVE_DEPTH) * t;
 }
 
@@ -74,7 +81,7 @@ static int moved_beyond(dClothID c, const convex_query *q, int k, double h, doub
 static int late_triangle(dClothID c, convex_query *q, int k, double h, ccd_t *ccd, ccd_t *fine)
 {
     double reach, far, e[9], t = q->surf->thickness;
-    if (!moved_beyond(c, q, k, h, &reach, &far, e)) return 0;
+    if (!moved_beyond(c, q, q->aabb, k, h, &reach, &far, e)) return 0;
     const double *end[3] = {e, e + 3, e + 6};
     if (!deeper_than_vertices(c, q, end, t, fine)) return 0;
     const int *p = c->tri + 3 * k;
@@ -94,9 +101,12 @@ static int late_triangle(dClothID c, convex_query *q, int k, double h, ccd_t *cc
  * how far it moved), where it moved beyond its start test's shape */
 static int late_bounds(dClothID c, const convex_query *q, int k, double h, double span, double b[6])
 {
-    double reach, far, e[9];
+    double reach, far, e[9], box[6];
     (void)span;
-    if (!moved_beyond(c, q, k, h, &reach, &far, e)) return 0;
+    dReal gb[6];
+    dGeomGetAABB(q->g, gb);
+    for (int a = 0; a < 6; a++) box[a] = gb[a];
+    if (!moved_beyond(c, q, box, k, h, &reach, &far, e)) return 0;
     const double *x0 = c->step.x0;
     const int *p = c->tri + 3 * k;
     double r = q->surf->thickness * (1.0 + DCLOTH_CONTACT_MARGIN) + far;

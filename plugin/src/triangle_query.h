@@ -20,6 +20,7 @@ typedef struct convex_query {
     dGeomID g;
     dBodyID body;
     const struct dcloth_surf *surf; /* the geom's mu and thickness this step */
+    double travel;                  /* m: the most any point of the geom moves in the step */
     int moving;                     /* the geom moves more than SWEEP_NEGLIGIBLE per step */
     int cls;                        /* the geom's class (dTriMeshClass: face is set) */
     const dcloth_polytope *poly;    /* the shape as a polytope (an exact box), or NULL */
