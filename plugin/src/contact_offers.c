@@ -78,3 +78,43 @@ void dcloth_drop_unfit_seconds(dClothID c)
         if (vc->sec_geom && !dcloth_second_fits(vc, vc->sec_body, vc->sec_normal)) vc->sec_geom = 0;
     }
 }
+
+/* the thickness of candidate geom g this step (the cloth's if g is no candidate) */
+static double surf_thickness(dClothID c, dGeomID g)
+{
+    for (int a = 0; a < c->broad.ncand; a++)
+        if (c->broad.surf[a].g == g) return c->broad.surf[a].thickness;
+    return c->thickness;
+}
+
+double dcloth_pinch_room(const vcontact *vc, double h)
+{
+    const double *n = vc->normal;
+    double nn = dcloth_dot3(n, vc->opp_normal);
+    if (!vc->opp_geom || vc->opp_geom == vc->geom || !(nn < -DCLOTH_PINCH_COS)) return INFINITY;
+    double d1 = h * dcloth_dot3(vc->vbody, n) - vc->gap;
+    return (h * dcloth_dot3(vc->opp_vbody, vc->opp_normal) - vc->opp_gap) / nn - d1;
+}
+
+void dcloth_opposites_as_seconds(dClothID c, double h)
+{
+    const double *x = cloth_positions(c->core);
+    for (int i = 0; i < c->n; i++) {
+        vcontact *vc = &c->vc_new[i];
+        dBodyID b = vc->opp_body;
+        /* none where the pinch rule aims midway (room < 0) or no opposite faces the contact (infinite) */
+        double room = dcloth_pinch_room(vc, h);
+        if (!vc->geom || !(room >= 0.0 && isfinite(room)) || (b && !dBodyIsKinematic(b))) continue;
+        if (vc->sec_geom && vc->sec_gap <= vc->opp_gap) continue; /* a deeper second is kept */
+        double t = surf_thickness(c, vc->opp_geom), point[3];
+        for (int r = 0; r < 3; r++) point[r] = x[3 * i + r] - (vc->opp_gap + t) * vc->opp_normal[r];
+        if (!plane_finite(vc->opp_normal, point, vc->opp_gap)) continue;
+        vc->sec_geom = vc->opp_geom;
+        vc->sec_body = b;
+        vc->sec_thickness = t;
+        vc->sec_gap = vc->opp_gap;
+        memcpy(vc->sec_normal, vc->opp_normal, sizeof vc->sec_normal);
+        memcpy(vc->sec_point, point, sizeof vc->sec_point);
+        memcpy(vc->sec_vbody, vc->opp_vbody, sizeof vc->sec_vbody);
+    }
+}

@@ -21,5 +21,11 @@ void dcloth_offer_second(vcontact *vc, dGeomID g, double t, dBodyID body, const 
 int dcloth_second_fits(const vcontact *vc, dBodyID body, const double n[3]);
 /* after all the tests: drop each second that no longer fits the contact they left */
 void dcloth_drop_unfit_seconds(dClothID c);
+/* then: a vertex with no second keeps its opposite there (a static or kinematic geom's), so the Newton
+ * step holds it against the surface squeezing it from the other side too, not only against its own */
+void dcloth_opposites_as_seconds(dClothID c, double h);
+/* how far (m, along vc's normal) vc's target for a step of h seconds lies from entering its opposite's
+ * surface: below 0 it is pinched (contact_rule aims midway); infinite where no opposite faces it */
+double dcloth_pinch_room(const vcontact *vc, double h);
 
 #endif

@@ -5,6 +5,7 @@
 #include <string.h>
 #include "dcloth_internal.h"
 #include "body_motion.h"
+#include "contact_offers.h"
 #include "contact_rule.h"
 
 /* Pinched: this contact's target would enter the opposite contact's surface. The vertex then aims
@@ -12,20 +13,9 @@
  * what the two thicknesses lack, so the cloth enters neither (docs/contacts.md, "Design notes"). */
 static void pinch(vcontact *nw, double h)
 {
-    const double *n = nw->normal;
-    double d1 = h * dcloth_dot3(nw->vbody, n) - nw->gap, dmid = d1;
-    nw->pinched = 0;
-    if (nw->opp_geom && nw->opp_geom != nw->geom) {
-        double nn = dcloth_dot3(n, nw->opp_normal);
-        if (nn < -DCLOTH_PINCH_COS) {
-            double dmax = (h * dcloth_dot3(nw->opp_vbody, nw->opp_normal) - nw->opp_gap) / nn;
-            if (d1 > dmax) {
-                nw->pinched = 1;
-                dmid = 0.5 * (d1 + dmax);
-            }
-        }
-    }
-    nw->pinch_shift = dmid - d1;
+    double room = dcloth_pinch_room(nw, h);
+    nw->pinched = room < 0.0;
+    nw->pinch_shift = nw->pinched ? 0.5 * room : 0.0;
 }
 
 /* A vertex sticking to a kinematic body is held at an anchor fixed in the body's frame, as a pin is,

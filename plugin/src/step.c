@@ -40,6 +40,7 @@ static int find_contacts(dClothID c, double h)
         c->step.edge_hits += e;
     }
     dcloth_drop_unfit_seconds(c);
+    dcloth_opposites_as_seconds(c, h);
     return c->broad.ncand;
 }
 

@@ -261,7 +261,9 @@ static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, 
     if (dcloth_merge_tie(c, q, vc, k, n, gap, pt, vb, w)) return;
     /* another geom's deeper contact is kept, this one its second surface, as the vertex tests do */
     int other = vc->geom && vc->geom != q->g;
-    if (other && vc->gap <= gap) dcloth_offer_second(vc, q->g, q->surf->thickness, q->body, n, pt, gap);
+    /* and so is a plane of the same geom the vertex touches: at an edge it needs both faces' planes */
+    int touch = gap < DCLOTH_CONTACT_SLOP * q->surf->thickness;
+    if ((other || touch) && vc->gap <= gap) dcloth_offer_second(vc, q->g, q->surf->thickness, q->body, n, pt, gap);
     if (vc->geom && vc->gap <= gap) return;
     /* on a face's own plane, a vertex's own contact with the geom is the
      * same plane: kept where they tie to rounding */
