@@ -39,13 +39,13 @@ static double overlap(const convex_query *q, const double *const v[3], double r,
     return depth;
 }
 
-/* Whether triangle v ends deeper in q's shell (thickness t) than its deepest vertex by more than the
- * RESOLVE_DEPTH a vertex may end inside: the geom is between its vertices */
+/* Whether the geom ends through triangle v (deeper than the thickness t in its shell), and deeper than
+ * its deepest vertex by more than the RESOLVE_DEPTH a vertex may end inside: between its vertices */
 static int deeper_than_vertices(dClothID c, const convex_query *q, const double *const v[3], double t,
                                 const ccd_t *fine)
 {
     double tri = overlap(q, v, t, fine), vert = 0.0;
-    if (!(tri > RESOLVE_DEPTH * t)) return 0;
+    if (!(tri > t)) return 0;
     for (int a = 0; a < 3; a++) {
         double dist, nrm[3];
         if (dcloth_vertex_distance(c, q->g, v[a], t, &dist, nrm)) vert = fmax(vert, t - dist);
