@@ -56,20 +56,6 @@ static void second_candidate(dClothID c, int i, double h, const vcontact *nw, in
     if (newton && nw->sec_geom && isfinite(p[0] + p[1] + p[2])) cloth_set_contact_second(c->core, i, nw->sec_normal, p);
 }
 
-/* A pinched vertex held midway (target) along its own normal, with no second of a third geom nor a deeper
- * one of its own: the opposite's normal through that target as its second, so it does not slide along the
- * midway plane into the opposite surface (a static or kinematic one's: the second's geom takes no force) */
-static void pinch_second(dClothID c, int i, const vcontact *nw, const double target[3], int newton)
-{
-    dBodyID b = nw->opp_body;
-    if (!newton || !nw->pinched ||
-        (nw->sec_geom && (nw->sec_geom != nw->geom || nw->sec_gap <= nw->opp_gap + RESOLVE_DEPTH * nw->thickness)) ||
-        (b && !dBodyIsKinematic(b)))
-        return;
-    if (!(-dcloth_dot3(nw->normal, nw->opp_normal) < DCLOTH_SECOND_COS)) return; /* too near parallel */
-    cloth_set_contact_second(c->core, i, nw->opp_normal, target);
-}
-
 /* This pass's constraints, from the step's start: pins, then contacts by the contact rule (the others left
  * free or as the Newton step's candidates), and the external forces with sliding friction. */
 void dcloth_constrain(dClothID c, double h, dClothStepStats *st)
@@ -120,7 +106,6 @@ void dcloth_constrain(dClothID c, double h, dClothStepStats *st)
             if (by_triangle_rule(c, i) && !shared(c, i)) cloth_set_contact_pull(core, i, LETGO_PULL * letgo_t);
         }
         second_candidate(c, i, h, nw, newton);
-        pinch_second(c, i, nw, k.target, newton);
         for (int r = 0; r < 3; r++) c->step.fext[3 * i + r] += nw->friction[r];
         st->contacts++;
         st->sticking += nw->sticking;

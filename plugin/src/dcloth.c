@@ -73,9 +73,6 @@ cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *d, d
     c->step.dv = calloc(3 * (size_t)c->n, sizeof *c->step.dv);
     c->reactions.vfix = calloc(3 * (size_t)c->n, sizeof *c->reactions.vfix);
     c->active_set.share_sum = calloc((size_t)c->n, sizeof *c->active_set.share_sum);
-    c->triangles.xend = calloc(3 * (size_t)c->n, sizeof *c->triangles.xend);
-    c->triangles.was = calloc((size_t)c->n, sizeof *c->triangles.was);
-    c->triangles.ended = calloc((size_t)c->n, sizeof *c->triangles.ended);
     c->reactions.holder = calloc((size_t)c->n, sizeof *c->reactions.holder);
     c->turn.bodies = calloc((size_t)c->n, sizeof *c->turn.bodies);
     c->turn.dv = calloc(3 * (size_t)c->n, sizeof *c->turn.dv);
@@ -84,9 +81,8 @@ cloth_status dClothCreate(dWorldID world, dSpaceID space, const dClothDesc *d, d
     c->vertex.sphere = dCreateSphere(0, c->thickness);
     c->vertex.ray = dCreateRay(0, 1.0);
     if (!c->tri || !c->vc || !c->vc_new || !c->pin || !c->step.fext || !c->step.fuser || !c->fadd || !c->step.x0 ||
-        !c->step.v0 || !c->step.dv || !c->reactions.vfix || !c->active_set.share_sum || !c->triangles.xend ||
-        !c->triangles.was || !c->triangles.ended || !c->reactions.holder || !c->turn.bodies || !c->turn.dv ||
-        !c->step.save || !c->broad.box || !c->vertex.sphere || !c->vertex.ray) {
+        !c->step.v0 || !c->step.dv || !c->reactions.vfix || !c->active_set.share_sum || !c->reactions.holder ||
+        !c->turn.bodies || !c->turn.dv || !c->step.save || !c->broad.box || !c->vertex.sphere || !c->vertex.ray) {
         dClothDestroy(c);
         return create_fail(err, CLOTH_ENOMEM, "out of memory");
     }
@@ -124,9 +120,6 @@ void dClothDestroy(dClothID c)
     free(c->step.dv);
     free(c->reactions.vfix);
     free(c->active_set.share_sum);
-    free(c->triangles.xend);
-    free(c->triangles.was);
-    free(c->triangles.ended);
     free(c->reactions.holder);
     free(c->turn.bodies);
     free(c->turn.dv);

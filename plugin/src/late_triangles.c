@@ -1,9 +1,7 @@
 /* Cloth triangles a solve carried into a geom's shell from beyond the start's swept test: the
  * implicit step can drag a slow triangle farther than its own velocity says. Each is tested again over
- * the motion the solve found, from the step's start, and its vertices take the contact it gives; one a
- * solve left with the geom between its vertices has its contact taken again where it ended. */
+ * the motion the solve found, from the step's start, and its vertices take the contact it gives. */
 #include <math.h>
-#include <string.h>
 #include "dcloth_internal.h"
 #include "body_motion.h"
 #include "convex_query.h"
@@ -99,52 +97,8 @@ static int late_triangle(dClothID c, convex_query *q, int k, double h, ccd_t *cc
     return hits;
 }
 
-/* Triangle k where the solve left it (c->triangles.xend), deeper than RESOLVE_DEPTH in q's shell and than
- * its vertices: the geom is between them, where the start's contact point may weigh none of the vertices
- * the step moved in. Its contact is taken again there, each vertex's gap measured from its start. */
-static int end_triangle(dClothID c, convex_query *q, int k, double h, ccd_t *fine)
-{
-    struct triangle_tests *tt = &c->triangles;
-    const int *p = c->tri + 3 * k;
-    if (c->pin[p[0]].active && c->pin[p[1]].active && c->pin[p[2]].active) return 0;
-    const double *xe = tt->xend, *end[3] = {xe + 3 * p[0], xe + 3 * p[1], xe + 3 * p[2]};
-    if (!deeper_than_vertices(c, q, end, q->surf->thickness, fine)) return 0;
-    if (!tt->saved) memcpy(tt->was, c->vc_new, (size_t)c->n * sizeof *tt->was);
-    tt->saved = 1;
-    q->x = xe;
-    q->x_from = c->step.x0;
-    dcloth_triangle_query(c, q, k, h, fine, fine);
-    q->x = q->x_from = NULL;
-    for (int a = 0; a < 3; a++) tt->ended[p[a]] |= c->vc_new[p[a]].query == c->triangles.query;
-    return 0;
-}
-
-/* After the end tests: a vertex's contact they set is kept only where it is deeper than before them by
- * more than a free vertex may end inside (RESOLVE_DEPTH), whatever order the triangles came in; how many */
-static int keep_deeper(dClothID c)
-{
-    struct triangle_tests *tt = &c->triangles;
-    int kept = 0;
-    for (int i = 0; tt->saved && i < c->n; i++) {
-        vcontact *vc = &c->vc_new[i], *was = &tt->was[i];
-        if (!tt->ended[i]) continue;
-        tt->ended[i] = 0;
-        if (was->geom && !(vc->gap < was->gap - RESOLVE_DEPTH * vc->thickness)) *vc = *was;
-        else kept++;
-    }
-    tt->saved = 0;
-    return kept;
-}
-
-/* Triangle k against q after a solve: the late test above where it applies, else the end test */
-static int after_solve(dClothID c, convex_query *q, int k, double h, ccd_t *ccd, ccd_t *fine)
-{
-    int hits = late_triangle(c, q, k, h, ccd, fine);
-    return hits ? hits : end_triangle(c, q, k, h, fine);
-}
-
 /* A mesh's pairs: cloth triangle k's box over where the late test looks (its start grown by the shell and
- * how far it moved), where it moved beyond its start test's shape; else its end's, grown by the shell */
+ * how far it moved), where it moved beyond its start test's shape */
 static int late_bounds(dClothID c, const convex_query *q, int k, double h, double span, double b[6])
 {
     double reach, far, e[9], box[6];
@@ -152,36 +106,15 @@ static int late_bounds(dClothID c, const convex_query *q, int k, double h, doubl
     dReal gb[6];
     dGeomGetAABB(q->g, gb);
     for (int a = 0; a < 6; a++) box[a] = gb[a];
-    const int *p = c->tri + 3 * k;
-    double t1 = q->surf->thickness * (1.0 + DCLOTH_CONTACT_MARGIN);
-    if (!moved_beyond(c, q, box, k, h, &reach, &far, e)) {
-        const double *xe = c->triangles.xend;
-        for (int a = 0; a < 3; a++) {
-            b[2 * a] = fmin(xe[3 * p[0] + a], fmin(xe[3 * p[1] + a], xe[3 * p[2] + a])) - t1;
-            b[2 * a + 1] = fmax(xe[3 * p[0] + a], fmax(xe[3 * p[1] + a], xe[3 * p[2] + a])) + t1;
-        }
-        return 1;
-    }
+    if (!moved_beyond(c, q, box, k, h, &reach, &far, e)) return 0;
     const double *x0 = c->step.x0;
-    double r = t1 + far;
+    const int *p = c->tri + 3 * k;
+    double r = q->surf->thickness * (1.0 + DCLOTH_CONTACT_MARGIN) + far;
     for (int a = 0; a < 3; a++) {
         b[2 * a] = fmin(x0[3 * p[0] + a], fmin(x0[3 * p[1] + a], x0[3 * p[2] + a])) - r;
         b[2 * a + 1] = fmax(x0[3 * p[0] + a], fmax(x0[3 * p[1] + a], x0[3 * p[2] + a])) + r;
     }
     return 1;
-}
-
-/* Where the solve left each vertex relative to body: moved back by h times the body's velocity under
- * its start */
-static void ends(dClothID c, dBodyID body, double h)
-{
-    const double *x0 = c->step.x0, *x1 = cloth_positions(c->core);
-    double *xe = c->triangles.xend;
-    for (int i = 0; i < c->n; i++) {
-        double vb[3];
-        dcloth_point_velocity(body, x0 + 3 * i, vb);
-        for (int r = 0; r < 3; r++) xe[3 * i + r] = x1[3 * i + r] - h * vb[r];
-    }
 }
 
 int dcloth_late_triangles(dClothID c, double h)
@@ -193,12 +126,11 @@ int dcloth_late_triangles(dClothID c, double h)
         convex_query q;
         ccd_t ccd, fine;
         if (!dcloth_convex_query_of(c, &c->broad.surf[a], h, &q, &gs, &box, &ccd, &fine)) continue;
-        ends(c, q.body, h);
         if (gs.cls == dTriMeshClass) {
-            found += dcloth_mesh_pairs(c, &q, h, &ccd, &fine, late_bounds, after_solve);
+            found += dcloth_mesh_pairs(c, &q, h, &ccd, &fine, late_bounds, late_triangle);
             continue;
         }
-        for (int k = 0; k < c->ntri; k++) found += after_solve(c, &q, k, h, &ccd, &fine);
+        for (int k = 0; k < c->ntri; k++) found += late_triangle(c, &q, k, h, &ccd, &fine);
     }
-    return found + keep_deeper(c);
+    return found;
 }

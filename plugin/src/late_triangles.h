@@ -6,8 +6,7 @@
 
 /* After a solve of the step of h seconds (from c->step.x0, v0 to the cloth's positions): each cloth
  * triangle that ended deeper than RESOLVE_DEPTH in a convex geom's shell, which the start's swept test
- * did not reach, tested again over the motion the solve found; else, ended deeper than its vertices too,
- * tested where it ended (each vertex's gap from its start); how many vertex contacts that set. */
+ * did not reach, tested again over the motion the solve found; how many vertex contacts that set. */
 int dcloth_late_triangles(dClothID c, double h);
 
 #endif

@@ -253,7 +253,6 @@ static void tri_vertex_contact(dClothID c, const convex_query *q, int k, int i, 
 {
     vcontact *vc = &c->vc_new[i];
     const double *xv = (q->x ? q->x : cloth_positions(c->core)) + 3 * (size_t)i;
-    if (q->x_from) gap += dcloth_dot3(n, q->x_from + 3 * (size_t)i) - dcloth_dot3(n, xv); /* from the start */
     /* only deeper than the vertex's own contact, with no rounding margin */
     dcloth_offer_opposite(vc, q->g, q->body, n, gap, pos->v);
     double height = dcloth_dot3(n, xv) - plane, pt[3], vb[3];
@@ -352,7 +351,7 @@ int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, cc
     /* a sweep beyond the geom's own size sees nothing more (and an
      * overflowing one, |v| = inf, crashed libccd: found by
      * plugin_fuzz_api) */
-    double reach = q->x_from ? 0.0 : fmax(h * sweep, q->reach_min);
+    double reach = fmax(h * sweep, q->reach_min);
     if (!(reach <= q->span)) reach = q->span;
     tri_shape ts = {{x + 3 * p[0], x + 3 * p[1], x + 3 * p[2]}, shell_r + reach};
     for (int a = 0; a < 3; a++) {
@@ -395,7 +394,7 @@ int dcloth_triangle_query(dClothID c, const convex_query *q, int k, double h, cc
     }
     if (!(w2 > 0.0)) w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]; /* only pinned ones: theirs, ignored */
     /* the triangle's deepest point in the shell, where it weighs a vertex the step moves */
-    if (moved > 0.0 && lift > c->step.deepest && !q->x_from) c->step.deepest = lift;
+    if (moved > 0.0 && lift > c->step.deepest) c->step.deepest = lift;
     /* ahead: a triangle approaching a static geom, still apart. If every weighted vertex reaches the
      * separating plane within the step, each gets its own height as gap, so the triangle lands as it lies;
      * else the shares hold it, lest it fall through (docs/contacts.md, "Design notes from the code"). */

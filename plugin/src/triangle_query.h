@@ -25,8 +25,6 @@ typedef struct convex_query {
     int cls;                        /* the geom's class (dTriMeshClass: face is set) */
     const dcloth_polytope *poly;    /* the shape as a polytope (an exact box), or NULL */
     const double *x, *v;            /* the cloth's positions and velocities tested; NULL: its own */
-    const double *x_from;           /* or NULL; else x is where a solve ended, tested at rest, and each
-                                     * vertex's gap is measured from x_from, the step's start */
     double reach_min;               /* m: the least sweep a triangle is tested over */
 } convex_query;
 

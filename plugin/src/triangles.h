@@ -9,12 +9,6 @@
  * notes the one that set it (vcontact's query) */
 struct triangle_tests {
     unsigned query;
-    /* late_triangles.c: where a solve left the vertices, relative to one geom's body; the contacts before
-     * the end tests (was, kept once one runs: saved) and which vertices they set (ended) */
-    double *xend;
-    struct vcontact *was;
-    unsigned char *ended;
-    int saved;
 };
 
 /* cloth triangles against a box (by its geometry, polytope.c), capsule, cylinder, convex or trimesh (libccd) over a step of h
