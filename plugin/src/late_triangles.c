@@ -1,4 +1,4 @@
-/* Cloth triangles a solve carried into a geom's shell from beyond the start's swept test: the
+/* Cloth triangles a geom ends a solve through, carried there from beyond the start's swept test: the
  * implicit step can drag a slow triangle farther than its own velocity says. Each is tested again over
  * the motion the solve found, from the step's start, and its vertices take the contact it gives. */
 #include <math.h>

@@ -163,9 +163,7 @@ static int mesh_inside(dClothID c, dGeomID g, const double *x, double *dist, dou
     return 1;
 }
 
-/* The distance from x to geom g's surface and the outward normal there, if
- * within reach: 1, else 0 */
-static int vertex_query(dClothID c, dGeomID g, const double *x, double reach, double *dist, double nrm[3])
+int dcloth_vertex_distance(dClothID c, dGeomID g, const double *x, double reach, double *dist, double nrm[3])
 {
     if (dGeomGetClass(g) == dHeightfieldClass) {
         if (!heightfield_query(c, g, x, reach, dist, nrm)) return 0;
@@ -187,11 +185,6 @@ static int vertex_query(dClothID c, dGeomID g, const double *x, double reach, do
     return *dist < reach;
 }
 
-int dcloth_vertex_distance(dClothID c, dGeomID g, const double *x, double reach, double *dist, double nrm[3])
-{
-    return vertex_query(c, g, x, reach, dist, nrm);
-}
-
 int dcloth_find_late_contacts(dClothID c, const double *x0, const double *x1, double depth)
 {
     int found = 0;
@@ -202,7 +195,7 @@ int dcloth_find_late_contacts(dClothID c, const double *x0, const double *x1, do
         for (int i = 0; i < c->n; i++) {
             vcontact *vc = &c->vc_new[i];
             double dist, nrm[3];
-            if (vc->geom || c->pin[i].active || !vertex_query(c, g, x1 + 3 * i, t, &dist, nrm)) continue;
+            if (vc->geom || c->pin[i].active || !dcloth_vertex_distance(c, g, x1 + 3 * i, t, &dist, nrm)) continue;
             if (!(dist < (1.0 - depth) * t)) continue;
             /* the shell's plane at the end position, as seen from the start */
             double point[3];
@@ -236,7 +229,7 @@ void dcloth_vertex_contacts(dClothID c, double h, double extra)
                 xi[1] - reach > aabb[3] || xi[2] + reach < aabb[4] || xi[2] - reach > aabb[5])
                 continue;
             double dist, nrm[3];
-            if (!vertex_query(c, g, xi, reach, &dist, nrm)) continue;
+            if (!dcloth_vertex_distance(c, g, xi, reach, &dist, nrm)) continue;
             double gap = dist - t, point[3];
             vcontact *vc = &c->vc_new[i];
             if (!c->pin[i].active && -gap > c->step.deepest) c->step.deepest = -gap;
