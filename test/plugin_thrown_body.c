@@ -84,12 +84,11 @@ static void throw_body(int k, int N)
             strain = fmax(strain, cloth_max_strain(dClothGetCore(c)));
             pen = fmax(pen, st->max_penetration_all);
         }
-        printf("%-8s at %.0f m/s into a %dx%d curtain: %d held, strain %.4f, deepest %.2f mm in a shell\n",
-               names[k], SPEED, N, N, held, strain, 1e3 * pen);
+        printf("%-8s at %.0f m/s into a %dx%d curtain: %d held, strain %.4f, deepest %.2f mm in a shell\n", names[k],
+               SPEED, N, N, held, strain, 1e3 * pen);
         CHECK(held == 0, "%s: %d steps held", names[k], held);
         CHECK(strain <= 2.0 * delta, "%s: strain %.4f past 2 delta", names[k], strain);
-        CHECK(pen <= d.thickness, "%s: a point %.2f mm inside a %.1f mm shell", names[k], 1e3 * pen,
-              1e3 * d.thickness);
+        CHECK(pen <= d.thickness, "%s: a point %.2f mm inside a %.1f mm shell", names[k], 1e3 * pen, 1e3 * d.thickness);
         dClothDestroy(c);
     }
     dSpaceDestroy(sp);
