@@ -53,10 +53,9 @@ static int deeper_than_vertices(dClothID c, const convex_query *q, const double 
     return tri > vert + RESOLVE_DEPTH * t;
 }
 
-/* Whether cloth triangle k moved, relative to q's body, farther than its start test's swept shape covers
- * (its reach plus the margin and RESOLVE_DEPTH: within that, ending in the shell means the start test
- * overlapped) and ended where it may reach into the shell of what lies in box; its reach then, how far
- * it moved and its end positions relative to the body in e */
+/* Whether triangle k, ending near box, moved relative to q's body beyond its start test's swept shape
+ * (reach plus margin and RESOLVE_DEPTH: within it, ending in the shell means that test overlapped);
+ * its reach, how far it moved, and its end relative to the body (e) */
 static int moved_beyond(dClothID c, const convex_query *q, const double box[6], int k, double h, double *reach,
                         double *far, double e[9])
 {
